@@ -1,1 +1,32 @@
-pub fn placeholder() {}
+//! linkwork: planar mechanism kinematics in absolute coordinates.
+//!
+//! Every moving body has q_i = (x_i, y_i, theta_i); every joint and driver is a set of
+//! rows of Phi(q, t) = 0. A `Description` (bodies, joints, drivers, motion laws) compiles
+//! into an immutable `Model`; a `Data` holds every mutable buffer. One time step is
+//! `position` (Newton) -> `velocity` (Phi_q qd = nu) -> `acceleration` (Phi_q qdd = gamma),
+//! all from one factorization of Phi_q; `sweep` runs it over a time grid.
+
+pub mod acceleration;
+pub mod assembly;
+pub mod data;
+pub mod description;
+pub mod drivers;
+pub mod error;
+pub mod joints;
+pub mod linear;
+pub mod model;
+pub mod motion;
+pub mod position;
+pub mod sweep;
+pub mod velocity;
+
+pub use acceleration::solve_acceleration;
+pub use data::Data;
+pub use description::{BodyDesc, Description, DriverDesc, JointDesc, PointDesc, GROUND};
+pub use error::{ModelError, SolveError};
+pub use linear::{LinearKind, Pivots};
+pub use model::{Model, Options};
+pub use motion::MotionLaw;
+pub use position::{solve_position, PositionInfo};
+pub use sweep::{check_times, solve, sweep, SweepOutput};
+pub use velocity::solve_velocity;

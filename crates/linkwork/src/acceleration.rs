@@ -1,0 +1,30 @@
+//! Acceleration analysis: Phi_q qdd = gamma, with the factorization left by
+//! `solve_position` and the velocities from `solve_velocity`.
+
+use crate::assembly;
+use crate::data::Data;
+use crate::error::SolveError;
+use crate::model::Model;
+
+/// Reads data.q, data.qd (and the factors) and writes data.qdd.
+pub fn solve_acceleration(
+    model: &Model,
+    data: &mut Data,
+    t: f64,
+    step: usize,
+) -> Result<(), SolveError> {
+    assembly::gamma(model, data, t);
+    data.factor.solve(&model.symbolic, &mut data.rhs);
+    for ((qdd, x), s) in data.qdd.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
+        *qdd = x * s;
+    }
+    if data.qdd.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(SolveError::NonFinite {
+            step,
+            time: t,
+            what: "the accelerations".into(),
+        })
+    }
+}

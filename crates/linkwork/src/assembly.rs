@@ -1,0 +1,96 @@
+//! Assembly of Phi, Phi_q, nu and gamma from the joints' blocks. The solver works on the
+//! scaled system (D_r Phi_q D_c)(D_c^-1 x) = D_r b with D_r = 1/L on length rows and
+//! D_c = L on x, y columns, so that it is dimensionless: the same mechanism in metres and
+//! millimetres has the same scaled Jacobian, tolerances and pivots.
+
+use crate::data::Data;
+use crate::joints::{Constraint, Frame, Rows, MAX_ROWS};
+use crate::model::{ConstraintEntry, Model};
+
+#[inline(always)]
+fn frame(frames: &[Frame], body: Option<usize>) -> &Frame {
+    match body {
+        Some(i) => &frames[i],
+        None => &Frame::GROUND,
+    }
+}
+
+/// Recomputes each body's frame (cos, sin, velocity) from q and qd.
+#[inline]
+pub(crate) fn update_frames(data: &mut Data) {
+    for (i, f) in data.frames.iter_mut().enumerate() {
+        let (q, qd) = (&data.q[3 * i..3 * i + 3], &data.qd[3 * i..3 * i + 3]);
+        *f = Frame::new([q[0], q[1], q[2]], [qd[0], qd[1], qd[2]]);
+    }
+}
+
+/// Writes the scaled phi and the scaled values of Phi_q at data.q, time t.
+/// Returns the inf-norm of the scaled phi (NaN if any entry is not finite).
+#[inline]
+pub(crate) fn position(model: &Model, data: &mut Data, t: f64) -> f64 {
+    update_frames(data);
+    let l = model.length_scale;
+    let col = [l, l, 1.0];
+    let mut norm = 0.0f64;
+    for c in &model.constraints {
+        let mut rows = Rows::default();
+        c.kind.position(
+            frame(&data.frames, c.body_a),
+            frame(&data.frames, c.body_b),
+            t,
+            &mut rows,
+        );
+        for i in 0..c.n_rows {
+            let rs = c.row_scale[i];
+            let p = rows.phi[i] * rs;
+            data.phi[c.row0 + i] = p;
+            // NaN must not vanish in max(): keep it
+            norm = if p.abs() > norm || p.is_nan() {
+                p.abs()
+            } else {
+                norm
+            };
+            for j in 0..3 {
+                if c.body_a.is_some() {
+                    data.jac[c.slots_a[i][j] as usize] = rows.jac_a[i][j] * rs * col[j];
+                }
+                if c.body_b.is_some() {
+                    data.jac[c.slots_b[i][j] as usize] = rows.jac_b[i][j] * rs * col[j];
+                }
+            }
+        }
+    }
+    norm
+}
+
+fn write_rhs(c: &ConstraintEntry, v: &[f64; MAX_ROWS], rhs: &mut [f64]) {
+    for i in 0..c.n_rows {
+        rhs[c.row0 + i] = v[i] * c.row_scale[i];
+    }
+}
+
+/// Writes the scaled nu (= -Phi_t) into data.rhs.
+#[inline]
+pub(crate) fn nu(model: &Model, data: &mut Data, t: f64) {
+    for c in &model.constraints {
+        let mut v = [0.0; MAX_ROWS];
+        c.kind.nu(t, &mut v);
+        write_rhs(c, &v, &mut data.rhs);
+    }
+}
+
+/// Writes the scaled gamma into data.rhs, at data.q and data.qd.
+#[inline]
+pub(crate) fn gamma(model: &Model, data: &mut Data, t: f64) {
+    update_frames(data);
+    for c in &model.constraints {
+        let mut v = [0.0; MAX_ROWS];
+        c.kind.gamma(
+            frame(&data.frames, c.body_a),
+            frame(&data.frames, c.body_b),
+            t,
+            &mut v,
+        );
+        write_rhs(c, &v, &mut data.rhs);
+    }
+}

@@ -1,0 +1,51 @@
+//! The mutable workspace of one solve or sweep: every buffer allocated once, here.
+
+use crate::joints::Frame;
+use crate::linear::{Factor, Pivots};
+use crate::model::Model;
+
+/// Per-thread state for `Model`; create with `Data::new(&model)`.
+pub struct Data {
+    /// n_coords: positions (x, y, theta per body)
+    pub q: Vec<f64>,
+    /// n_coords: velocities
+    pub qd: Vec<f64>,
+    /// n_coords: accelerations
+    pub qdd: Vec<f64>,
+    /// n_rows: the scaled residual (length rows / L) at the last Newton evaluation
+    pub phi: Vec<f64>,
+    /// n_coords: right-hand side and solution of the linear solves (scaled)
+    pub(crate) rhs: Vec<f64>,
+    /// values of the scaled Phi_q, laid out by the model's symbolic factor
+    pub(crate) jac: Vec<f64>,
+    /// n_bodies
+    pub(crate) frames: Vec<Frame>,
+    pub(crate) factor: Factor,
+    /// Newton iterations of the last position solve
+    pub iterations: usize,
+    /// scaled residual norm (inf) at the last Newton evaluation
+    pub residual: f64,
+    /// pivots of the last factorization of Phi_q
+    pub pivots: Pivots,
+}
+
+impl Data {
+    pub fn new(model: &Model) -> Data {
+        Data {
+            q: model.q_start.clone(),
+            qd: vec![0.0; model.n_coords],
+            qdd: vec![0.0; model.n_coords],
+            phi: vec![0.0; model.n_rows],
+            rhs: vec![0.0; model.n_coords],
+            jac: vec![0.0; model.symbolic.n_values()],
+            frames: vec![Frame::GROUND; model.n_bodies],
+            factor: Factor::new(&model.symbolic),
+            iterations: 0,
+            residual: f64::NAN,
+            pivots: Pivots {
+                ratio: f64::NAN,
+                column: 0,
+            },
+        }
+    }
+}

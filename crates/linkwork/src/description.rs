@@ -1,0 +1,157 @@
+//! The model description: bodies placed in an approximate starting configuration,
+//! joints and drivers at world points. Plain data, read from JSON; `model::compile`
+//! validates it and turns it into a `Model`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::motion::MotionLaw;
+
+/// The name of the fixed frame; it has no coordinates.
+pub const GROUND: &str = "ground";
+
+/// A whole mechanism as the user described it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Description {
+    #[serde(default)]
+    pub name: String,
+    pub bodies: Vec<BodyDesc>,
+    #[serde(default)]
+    pub joints: Vec<JointDesc>,
+    #[serde(default)]
+    pub drivers: Vec<DriverDesc>,
+    #[serde(default)]
+    pub points: Vec<PointDesc>,
+}
+
+/// A moving body and its approximate starting pose (world origin and angle).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDesc {
+    pub name: String,
+    pub x: f64,
+    pub y: f64,
+    pub theta: f64,
+}
+
+/// A joint between two bodies (either may be the ground), placed at world points.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum JointDesc {
+    /// Pin at `at`.
+    Revolute {
+        name: String,
+        body_a: String,
+        body_b: String,
+        at: [f64; 2],
+    },
+    /// `body_b` slides on `body_a` along `axis` through `at`.
+    Prismatic {
+        name: String,
+        body_a: String,
+        body_b: String,
+        at: [f64; 2],
+        axis: [f64; 2],
+    },
+    /// Weld: `body_b` keeps its starting pose relative to `body_a`.
+    Fixed {
+        name: String,
+        body_a: String,
+        body_b: String,
+    },
+}
+
+/// A driver: one row g(q) - f(t) = 0 with a motion law f.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum DriverDesc {
+    /// theta_body = f(t).
+    Angle {
+        name: String,
+        body: String,
+        law: MotionLaw,
+    },
+    /// theta_b - theta_a = f(t).
+    RelativeAngle {
+        name: String,
+        body_a: String,
+        body_b: String,
+        law: MotionLaw,
+    },
+    /// |r_Pb - r_Pa| = f(t).
+    Distance {
+        name: String,
+        body_a: String,
+        at_a: [f64; 2],
+        body_b: String,
+        at_b: [f64; 2],
+        law: MotionLaw,
+    },
+    /// x or y of a point of `body` = f(t).
+    Coordinate {
+        name: String,
+        body: String,
+        at: [f64; 2],
+        axis: String,
+        law: MotionLaw,
+    },
+    /// The slide of a prismatic joint = f(t).
+    Translation {
+        name: String,
+        joint: String,
+        law: MotionLaw,
+    },
+}
+
+/// A named point fixed in a body, given at its world position at the start.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointDesc {
+    pub name: String,
+    pub body: String,
+    pub at: [f64; 2],
+}
+
+impl Description {
+    /// Reads a description from JSON; the error names the line and column.
+    pub fn from_json(text: &str) -> Result<Self, crate::ModelError> {
+        serde_json::from_str(text).map_err(|e| crate::ModelError::Description(e.to_string()))
+    }
+
+    /// Writes the description as JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a description always serialises")
+    }
+}
+
+impl JointDesc {
+    pub fn name(&self) -> &str {
+        match self {
+            JointDesc::Revolute { name, .. }
+            | JointDesc::Prismatic { name, .. }
+            | JointDesc::Fixed { name, .. } => name,
+        }
+    }
+}
+
+impl DriverDesc {
+    pub fn name(&self) -> &str {
+        match self {
+            DriverDesc::Angle { name, .. }
+            | DriverDesc::RelativeAngle { name, .. }
+            | DriverDesc::Distance { name, .. }
+            | DriverDesc::Coordinate { name, .. }
+            | DriverDesc::Translation { name, .. } => name,
+        }
+    }
+
+    pub fn law(&self) -> &MotionLaw {
+        match self {
+            DriverDesc::Angle { law, .. }
+            | DriverDesc::RelativeAngle { law, .. }
+            | DriverDesc::Distance { law, .. }
+            | DriverDesc::Coordinate { law, .. }
+            | DriverDesc::Translation { law, .. } => law,
+        }
+    }
+}

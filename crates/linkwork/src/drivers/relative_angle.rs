@@ -1,0 +1,43 @@
+//! Relative angle driver: theta_b - theta_a - f(t) = 0.
+
+use crate::joints::{Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::motion::MotionLaw;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RelativeAngleDriver {
+    pub law: MotionLaw,
+}
+
+impl Constraint for RelativeAngleDriver {
+    fn n_rows(&self) -> usize {
+        1
+    }
+    fn row_kinds(&self) -> &'static [RowKind] {
+        &[RowKind::Angle]
+    }
+    #[inline]
+    fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows) {
+        out.phi[0] = b.theta - a.theta - self.law.eval(t)[0];
+        out.jac_a[0] = [0.0, 0.0, -1.0];
+        out.jac_b[0] = [0.0, 0.0, 1.0];
+    }
+    #[inline]
+    fn nu(&self, t: f64, nu: &mut [f64; MAX_ROWS]) {
+        nu[0] = self.law.eval(t)[1];
+    }
+    #[inline]
+    fn gamma(&self, _a: &Frame, _b: &Frame, t: f64, g: &mut [f64; MAX_ROWS]) {
+        g[0] = self.law.eval(t)[2];
+    }
+    fn law(&self) -> Option<&MotionLaw> {
+        Some(&self.law)
+    }
+}
+
+impl Sample for RelativeAngleDriver {
+    fn sample() -> Self {
+        RelativeAngleDriver {
+            law: super::sample_law(),
+        }
+    }
+}

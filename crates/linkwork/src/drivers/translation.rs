@@ -1,0 +1,52 @@
+//! Translation driver of a prismatic joint: the slide e . d - f(t) = 0, with e the
+//! joint's axis (fixed in a) and d = r_b(u_b) - r_a(u_a); the slide is 0 at the start.
+
+use crate::joints::prismatic::{line_gamma, line_row};
+use crate::joints::{Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::motion::MotionLaw;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct TranslationDriver {
+    pub u_a: [f64; 2],
+    pub u_b: [f64; 2],
+    /// unit axis in a's frame
+    pub e_a: [f64; 2],
+    pub law: MotionLaw,
+}
+
+impl Constraint for TranslationDriver {
+    fn n_rows(&self) -> usize {
+        1
+    }
+    fn row_kinds(&self) -> &'static [RowKind] {
+        &[RowKind::Length]
+    }
+    #[inline]
+    fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows) {
+        line_row(self.e_a, self.u_a, self.u_b, a, b, 0, out);
+        out.phi[0] -= self.law.eval(t)[0];
+    }
+    #[inline]
+    fn nu(&self, t: f64, nu: &mut [f64; MAX_ROWS]) {
+        nu[0] = self.law.eval(t)[1];
+    }
+    #[inline]
+    fn gamma(&self, a: &Frame, b: &Frame, t: f64, g: &mut [f64; MAX_ROWS]) {
+        g[0] = line_gamma(self.e_a, self.u_a, self.u_b, a, b) + self.law.eval(t)[2];
+    }
+    fn law(&self) -> Option<&MotionLaw> {
+        Some(&self.law)
+    }
+}
+
+impl Sample for TranslationDriver {
+    fn sample() -> Self {
+        let (s, c) = (-0.6f64).sin_cos();
+        TranslationDriver {
+            u_a: [0.1, 0.0],
+            u_b: [0.0, 0.2],
+            e_a: [c, s],
+            law: super::sample_law(),
+        }
+    }
+}

@@ -1,0 +1,120 @@
+//! Errors of the engine: one enum for a model that cannot be compiled, one for a solve
+//! that cannot be completed. Every message names the body, joint, driver or time step.
+
+use thiserror::Error;
+
+/// A model description that cannot be compiled.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ModelError {
+    /// The description text could not be read (syntax, missing field, unknown key).
+    #[error("model description: {0}")]
+    Description(String),
+    /// Something is wrong with one body.
+    #[error("body '{name}': {problem}")]
+    Body { name: String, problem: String },
+    /// Something is wrong with one joint or driver.
+    #[error("{kind} '{name}': {problem}")]
+    Constraint {
+        kind: &'static str,
+        name: String,
+        problem: String,
+    },
+    /// Something is wrong with one named point.
+    #[error("point '{name}': {problem}")]
+    Point { name: String, problem: String },
+    /// Two things share one name.
+    #[error("duplicate name '{name}': used by {first} and by {second}")]
+    DuplicateName {
+        name: String,
+        first: &'static str,
+        second: &'static str,
+    },
+    /// Kinematic analysis needs as many rows as coordinates.
+    #[error(
+        "{n_rows} constraint rows for {n_coords} coordinates ({n_bodies} moving bodies x 3): \
+         {dof} degree(s) of freedom left; {advice}"
+    )]
+    RowCount {
+        n_rows: usize,
+        n_coords: usize,
+        n_bodies: usize,
+        dof: i64,
+        advice: &'static str,
+    },
+}
+
+/// A position, velocity or acceleration solve that cannot be completed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SolveError {
+    /// Newton-Raphson did not reach the starting configuration.
+    #[error(
+        "could not assemble the mechanism at t = {time}: residual {residual:.3e} after {iterations} \
+         Newton iterations, largest in {constraint}"
+    )]
+    Assembly {
+        time: f64,
+        iterations: usize,
+        residual: f64,
+        constraint: String,
+    },
+    /// Newton-Raphson did not converge at a later step.
+    #[error(
+        "no convergence at step {step} (t = {time}): residual {residual:.3e} after {iterations} \
+         Newton iterations, largest in {constraint}"
+    )]
+    NoConvergence {
+        step: usize,
+        time: f64,
+        iterations: usize,
+        residual: f64,
+        constraint: String,
+    },
+    /// Phi_q is singular (a dead point, a lock-up, or a redundant constraint).
+    #[error(
+        "singular configuration at step {step} (t = {time}): pivot ratio {pivot_ratio:.3e} at \
+         coordinate {coordinate}; constraints on that body: {constraints}"
+    )]
+    Singular {
+        step: usize,
+        time: f64,
+        pivot_ratio: f64,
+        coordinate: String,
+        constraints: String,
+    },
+    /// A NaN or infinity appeared.
+    #[error("non-finite value at step {step} (t = {time}) in {what}")]
+    NonFinite {
+        step: usize,
+        time: f64,
+        what: String,
+    },
+    /// The time grid cannot be swept.
+    #[error("time grid, step {step}: {problem}")]
+    Times { step: usize, problem: String },
+    /// The caller asked the sweep to stop (an interrupt, a cancelled progress bar).
+    #[error("sweep cancelled at step {step}")]
+    Cancelled { step: usize },
+    /// A driver's motion law is not defined at a requested time.
+    #[error("driver '{driver}': t = {time} is outside its spline table [{start}, {end}]")]
+    OutOfRange {
+        driver: String,
+        time: f64,
+        start: f64,
+        end: f64,
+    },
+}
+
+impl SolveError {
+    /// The time step the error refers to, if any.
+    pub fn step(&self) -> Option<usize> {
+        match self {
+            SolveError::Assembly { .. } => Some(0),
+            SolveError::NoConvergence { step, .. }
+            | SolveError::Singular { step, .. }
+            | SolveError::NonFinite { step, .. }
+            | SolveError::Times { step, .. }
+            | SolveError::Cancelled { step } => Some(*step),
+            SolveError::OutOfRange { .. } => None,
+        }
+    }
+}

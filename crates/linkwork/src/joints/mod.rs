@@ -1,0 +1,209 @@
+//! The joint library. A joint (or driver) is a set of rows of Phi(q, t) = 0 between at
+//! most two bodies. It never sees global indices: it gets the frames of its two sides
+//! (the ground is the identity frame) and writes its residual, its Jacobian blocks
+//! (n_rows x 3 per side), nu and gamma. `assembly` alone maps blocks into Phi_q.
+//!
+//! Adding a joint type: one file, one line in `constraint_list!` below.
+
+pub mod fixed;
+pub mod prismatic;
+pub mod revolute;
+
+use crate::drivers::{angle, coordinate, distance, relative_angle, translation};
+use crate::motion::MotionLaw;
+
+/// The most rows one joint or driver writes.
+pub const MAX_ROWS: usize = 3;
+
+/// The unit of a row: length rows are scaled by 1/L in the solver, angle rows are not.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowKind {
+    Length,
+    Angle,
+}
+
+/// One side of a joint: a body's pose and velocity, with cos and sin of its angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame {
+    /// world position of the body frame origin, R
+    pub r: [f64; 2],
+    pub theta: f64,
+    pub c: f64,
+    pub s: f64,
+    /// dR/dt
+    pub rd: [f64; 2],
+    /// dtheta/dt
+    pub thetad: f64,
+}
+
+impl Frame {
+    /// The ground: identity, at rest.
+    pub const GROUND: Frame = Frame {
+        r: [0.0, 0.0],
+        theta: 0.0,
+        c: 1.0,
+        s: 0.0,
+        rd: [0.0, 0.0],
+        thetad: 0.0,
+    };
+
+    /// A frame at pose (x, y, theta) with velocity (xd, yd, thetad).
+    pub fn new(q: [f64; 3], qd: [f64; 3]) -> Frame {
+        let (s, c) = q[2].sin_cos();
+        Frame {
+            r: [q[0], q[1]],
+            theta: q[2],
+            c,
+            s,
+            rd: [qd[0], qd[1]],
+            thetad: qd[2],
+        }
+    }
+
+    /// A(theta) u: a body-fixed vector in world axes.
+    #[inline(always)]
+    pub fn rot(&self, u: [f64; 2]) -> [f64; 2] {
+        [self.c * u[0] - self.s * u[1], self.s * u[0] + self.c * u[1]]
+    }
+
+    /// B(theta) u = dA/dtheta u = A u turned by +90 degrees.
+    #[inline(always)]
+    pub fn rot_d(&self, u: [f64; 2]) -> [f64; 2] {
+        [
+            -self.s * u[0] - self.c * u[1],
+            self.c * u[0] - self.s * u[1],
+        ]
+    }
+
+    /// World position of the body point u: R + A u.
+    #[inline(always)]
+    pub fn point(&self, u: [f64; 2]) -> [f64; 2] {
+        let p = self.rot(u);
+        [self.r[0] + p[0], self.r[1] + p[1]]
+    }
+
+    /// World velocity of the body point u: Rd + B u thetad.
+    #[inline(always)]
+    pub fn point_velocity(&self, u: [f64; 2]) -> [f64; 2] {
+        let p = self.rot_d(u);
+        [
+            self.rd[0] + p[0] * self.thetad,
+            self.rd[1] + p[1] * self.thetad,
+        ]
+    }
+
+    /// The part of a body point's acceleration that does not involve qdd: -A u thetad^2.
+    #[inline(always)]
+    pub fn point_centripetal(&self, u: [f64; 2]) -> [f64; 2] {
+        let p = self.rot(u);
+        let w2 = self.thetad * self.thetad;
+        [-p[0] * w2, -p[1] * w2]
+    }
+}
+
+/// The rows one joint writes at a configuration: phi (n_rows) and the Jacobian blocks
+/// d phi / d q_a and d phi / d q_b (n_rows x 3 each; ignored for a ground side).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Rows {
+    pub phi: [f64; MAX_ROWS],
+    pub jac_a: [[f64; 3]; MAX_ROWS],
+    pub jac_b: [[f64; 3]; MAX_ROWS],
+}
+
+/// What every joint and driver provides.
+pub trait Constraint {
+    /// Number of rows (at most MAX_ROWS).
+    fn n_rows(&self) -> usize;
+    /// The unit of each row.
+    fn row_kinds(&self) -> &'static [RowKind];
+    /// phi and its Jacobian blocks at the frames' poses, time t.
+    fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows);
+    /// nu = -phi_t (zero for time-independent joints).
+    fn nu(&self, _t: f64, _nu: &mut [f64; MAX_ROWS]) {}
+    /// gamma = -(phi_q qd)_q qd - 2 phi_qt qd - phi_tt at the frames' poses and velocities.
+    fn gamma(&self, a: &Frame, b: &Frame, t: f64, gamma: &mut [f64; MAX_ROWS]);
+    /// The motion law of a driver.
+    fn law(&self) -> Option<&MotionLaw> {
+        None
+    }
+}
+
+/// Gives one valid, non-trivial instance of a type, for tests over every joint.
+pub trait Sample {
+    fn sample() -> Self;
+}
+
+macro_rules! constraint_list {
+    ($($variant:ident($ty:ty) = $label:literal),* $(,)?) => {
+        /// Every joint and driver type, dispatched statically.
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum ConstraintKind {
+            $($variant($ty)),*
+        }
+
+        impl ConstraintKind {
+            /// The type's name as it appears in model descriptions.
+            pub fn label(&self) -> &'static str {
+                match self { $(ConstraintKind::$variant(_) => $label),* }
+            }
+        }
+
+        impl Constraint for ConstraintKind {
+            #[inline]
+            fn n_rows(&self) -> usize {
+                match self { $(ConstraintKind::$variant(j) => j.n_rows()),* }
+            }
+            #[inline]
+            fn row_kinds(&self) -> &'static [RowKind] {
+                match self { $(ConstraintKind::$variant(j) => j.row_kinds()),* }
+            }
+            #[inline]
+            fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows) {
+                match self { $(ConstraintKind::$variant(j) => j.position(a, b, t, out)),* }
+            }
+            #[inline]
+            fn nu(&self, t: f64, nu: &mut [f64; MAX_ROWS]) {
+                match self { $(ConstraintKind::$variant(j) => j.nu(t, nu)),* }
+            }
+            #[inline]
+            fn gamma(&self, a: &Frame, b: &Frame, t: f64, gamma: &mut [f64; MAX_ROWS]) {
+                match self { $(ConstraintKind::$variant(j) => j.gamma(a, b, t, gamma)),* }
+            }
+            fn law(&self) -> Option<&MotionLaw> {
+                match self { $(ConstraintKind::$variant(j) => j.law()),* }
+            }
+        }
+
+        /// One valid instance of every joint and driver type.
+        pub fn samples() -> Vec<ConstraintKind> {
+            vec![$(ConstraintKind::$variant(<$ty as Sample>::sample())),*]
+        }
+    };
+}
+
+constraint_list! {
+    Revolute(revolute::Revolute) = "revolute",
+    Prismatic(prismatic::Prismatic) = "prismatic",
+    Fixed(fixed::Fixed) = "fixed",
+    AngleDriver(angle::AngleDriver) = "angle driver",
+    RelativeAngleDriver(relative_angle::RelativeAngleDriver) = "relative angle driver",
+    DistanceDriver(distance::DistanceDriver) = "distance driver",
+    CoordinateDriver(coordinate::CoordinateDriver) = "coordinate driver",
+    TranslationDriver(translation::TranslationDriver) = "translation driver",
+}
+
+#[inline(always)]
+pub(crate) fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+
+#[inline(always)]
+pub(crate) fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+/// The vector turned by +90 degrees.
+#[inline(always)]
+pub(crate) fn perp(a: [f64; 2]) -> [f64; 2] {
+    [-a[1], a[0]]
+}

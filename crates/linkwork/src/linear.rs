@@ -1,0 +1,328 @@
+//! The linear-solver seam: dense LU (faer, partial pivoting) for small systems, sparse LU
+//! (faer, COLAMD column order, simplicial left-looking factorization) for large ones.
+//! The symbolic part lives in the `Model`, the numeric factors and scratch in `Data`;
+//! nothing is allocated per step once the first factorization has sized faer's buffers.
+//! faer does not report a numerically zero pivot, so the pivots are checked here.
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::lu::partial_pivoting::{factor as dense_factor, solve as dense_solve};
+use faer::perm::PermRef;
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, simplicial, SymbolicLu};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, MatRef, Par};
+
+use crate::joints::MAX_ROWS;
+use crate::model::ConstraintEntry;
+
+/// Which linear algebra solves Phi_q x = b.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LinearKind {
+    /// dense up to `Options::dense_max` coordinates, sparse above
+    Auto,
+    Dense,
+    Sparse,
+}
+
+/// The pivots of a factorization: their spread says how close Phi_q is to singular.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pivots {
+    /// smallest |pivot| / largest |pivot| of the scaled Phi_q (0 if singular, NaN if not finite)
+    pub ratio: f64,
+    /// the coordinate (column of Phi_q) of the smallest pivot
+    pub column: usize,
+}
+
+/// The part of a factorization that depends only on the pattern (in the model).
+#[derive(Debug)]
+pub(crate) enum SymbolicFactor {
+    Dense {
+        n: usize,
+    },
+    Sparse {
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        lu: SymbolicLu<usize>,
+    },
+}
+
+impl SymbolicFactor {
+    /// Lays out the value array for every constraint block (filling the slots) and,
+    /// for the sparse path, computes the column ordering once.
+    pub(crate) fn new(
+        kind: LinearKind,
+        n: usize,
+        constraints: &mut [ConstraintEntry],
+    ) -> SymbolicFactor {
+        match kind {
+            LinearKind::Dense | LinearKind::Auto => {
+                // column-major n x n
+                for_each_entry(constraints, |row, col| (col * n + row) as u32);
+                SymbolicFactor::Dense { n }
+            }
+            LinearKind::Sparse => {
+                let mut entries: Vec<(usize, usize)> = Vec::new();
+                for_each_entry(constraints, |row, col| {
+                    entries.push((col, row));
+                    0
+                });
+                entries.sort_unstable();
+                entries.dedup();
+                let mut col_ptr = vec![0usize; n + 1];
+                let row_idx: Vec<usize> = entries.iter().map(|&(_, r)| r).collect();
+                for &(c, _) in &entries {
+                    col_ptr[c + 1] += 1;
+                }
+                for c in 0..n {
+                    col_ptr[c + 1] += col_ptr[c];
+                }
+                for_each_entry(constraints, |row, col| {
+                    let range = &row_idx[col_ptr[col]..col_ptr[col + 1]];
+                    (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern"))
+                        as u32
+                });
+                let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+                let lu = factorize_symbolic_lu(sym, Default::default())
+                    .expect("symbolic LU of a square pattern");
+                SymbolicFactor::Sparse {
+                    n,
+                    col_ptr,
+                    row_idx,
+                    lu,
+                }
+            }
+        }
+    }
+
+    pub(crate) fn kind(&self) -> LinearKind {
+        match self {
+            SymbolicFactor::Dense { .. } => LinearKind::Dense,
+            SymbolicFactor::Sparse { .. } => LinearKind::Sparse,
+        }
+    }
+
+    /// Length of the value array of Phi_q.
+    pub(crate) fn n_values(&self) -> usize {
+        match self {
+            SymbolicFactor::Dense { n } => n * n,
+            SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
+        }
+    }
+
+    /// Structural non-zeros of Phi_q.
+    pub(crate) fn nnz(&self) -> usize {
+        match self {
+            SymbolicFactor::Dense { n } => n * n,
+            SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
+        }
+    }
+}
+
+/// Calls `slot(row, col)` for every Jacobian block entry of every constraint and stores
+/// what it returns as that entry's slot.
+fn for_each_entry(constraints: &mut [ConstraintEntry], mut slot: impl FnMut(usize, usize) -> u32) {
+    for c in constraints.iter_mut() {
+        for i in 0..c.n_rows.min(MAX_ROWS) {
+            for j in 0..3 {
+                if let Some(b) = c.body_a {
+                    c.slots_a[i][j] = slot(c.row0 + i, 3 * b + j);
+                }
+                if let Some(b) = c.body_b {
+                    c.slots_b[i][j] = slot(c.row0 + i, 3 * b + j);
+                }
+            }
+        }
+    }
+}
+
+/// Numeric factors and scratch (in `Data`).
+pub(crate) enum Factor {
+    Dense {
+        /// n x n column-major: L (unit lower) and U in place
+        lu: Vec<f64>,
+        perm: Vec<usize>,
+        perm_inv: Vec<usize>,
+        stack: MemBuffer,
+    },
+    Sparse {
+        numeric: simplicial::SimplicialLu<usize, f64>,
+        row_perm: Vec<usize>,
+        row_perm_inv: Vec<usize>,
+        stack: MemBuffer,
+    },
+}
+
+impl Factor {
+    pub(crate) fn new(sym: &SymbolicFactor) -> Factor {
+        match sym {
+            SymbolicFactor::Dense { n } => {
+                let n = *n;
+                let req = StackReq::any_of(&[
+                    dense_factor::lu_in_place_scratch::<usize, f64>(
+                        n,
+                        n,
+                        Par::Seq,
+                        Default::default(),
+                    ),
+                    dense_solve::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
+                ]);
+                Factor::Dense {
+                    lu: vec![0.0; n * n],
+                    perm: vec![0; n],
+                    perm_inv: vec![0; n],
+                    stack: MemBuffer::new(req),
+                }
+            }
+            SymbolicFactor::Sparse { n, .. } => {
+                let n = *n;
+                let req = StackReq::any_of(&[
+                    simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n),
+                    simplicial::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
+                ]);
+                Factor::Sparse {
+                    numeric: simplicial::SimplicialLu::new(),
+                    row_perm: vec![0; n],
+                    row_perm_inv: vec![0; n],
+                    stack: MemBuffer::new(req),
+                }
+            }
+        }
+    }
+
+    /// Factors Phi_q (its values laid out as the symbolic factor says) and returns its
+    /// pivots. A zero or non-finite pivot is reported in `Pivots::ratio`, not as an error.
+    pub(crate) fn factor(&mut self, sym: &SymbolicFactor, values: &[f64]) -> Pivots {
+        match (self, sym) {
+            (
+                Factor::Dense {
+                    lu,
+                    perm,
+                    perm_inv,
+                    stack,
+                },
+                SymbolicFactor::Dense { n },
+            ) => {
+                let n = *n;
+                lu.copy_from_slice(values);
+                let a = MatMut::from_column_major_slice_mut(lu, n, n);
+                dense_factor::lu_in_place(
+                    a,
+                    perm,
+                    perm_inv,
+                    Par::Seq,
+                    MemStack::new(stack),
+                    Default::default(),
+                );
+                pivots((0..n).map(|k| (k, lu[k * n + k])))
+            }
+            (
+                Factor::Sparse {
+                    numeric,
+                    row_perm,
+                    row_perm_inv,
+                    stack,
+                },
+                SymbolicFactor::Sparse {
+                    n,
+                    col_ptr,
+                    row_idx,
+                    lu,
+                },
+            ) => {
+                let sym = SymbolicSparseColMatRef::new_checked(*n, *n, col_ptr, None, row_idx);
+                let a = SparseColMatRef::new(sym, values);
+                let col_perm = lu.col_perm();
+                let ok = simplicial::factorize_simplicial_numeric_lu(
+                    row_perm,
+                    row_perm_inv,
+                    numeric,
+                    a,
+                    col_perm,
+                    MemStack::new(stack),
+                );
+                if ok.is_err() {
+                    return Pivots {
+                        ratio: 0.0,
+                        column: 0,
+                    };
+                }
+                // the diagonal of U, column k of U being column col_perm[k] of Phi_q
+                let u = numeric.u_factor_unsorted();
+                let fwd = col_perm.arrays().0;
+                pivots((0..*n).map(|k| {
+                    let rows = u.row_idx_of_col_raw(k);
+                    let vals = u.val_of_col(k);
+                    let d = rows
+                        .iter()
+                        .zip(vals)
+                        .find(|(&r, _)| r == k)
+                        .map_or(0.0, |(_, &v)| v);
+                    (fwd[k], d)
+                }))
+            }
+            _ => unreachable!("factor and symbolic factor of different kinds"),
+        }
+    }
+
+    /// Solves Phi_q x = rhs in place with the last factorization.
+    pub(crate) fn solve(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
+        let n = rhs.len();
+        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        match (self, sym) {
+            (
+                Factor::Dense {
+                    lu,
+                    perm,
+                    perm_inv,
+                    stack,
+                },
+                SymbolicFactor::Dense { .. },
+            ) => {
+                let lu = MatRef::from_column_major_slice(lu, n, n);
+                let p = PermRef::new_checked(perm, perm_inv, n);
+                dense_solve::solve_in_place(lu, lu, p, x, Par::Seq, MemStack::new(stack));
+            }
+            (
+                Factor::Sparse {
+                    numeric,
+                    row_perm,
+                    row_perm_inv,
+                    stack,
+                },
+                SymbolicFactor::Sparse { lu, .. },
+            ) => {
+                let p = PermRef::new_checked(row_perm, row_perm_inv, n);
+                numeric.solve_in_place_with_conj(
+                    p,
+                    lu.col_perm(),
+                    Conj::No,
+                    x,
+                    Par::Seq,
+                    MemStack::new(stack),
+                );
+            }
+            _ => unreachable!("factor and symbolic factor of different kinds"),
+        }
+    }
+}
+
+/// Ratio of the smallest to the largest |pivot|, and where the smallest is.
+fn pivots(diag: impl Iterator<Item = (usize, f64)>) -> Pivots {
+    let (mut lo, mut hi, mut column) = (f64::INFINITY, 0.0f64, 0);
+    for (col, d) in diag {
+        let d = d.abs();
+        if !d.is_finite() {
+            return Pivots {
+                ratio: f64::NAN,
+                column: col,
+            };
+        }
+        if d < lo {
+            lo = d;
+            column = col;
+        }
+        hi = hi.max(d);
+    }
+    let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
+    Pivots { ratio, column }
+}

@@ -1,0 +1,604 @@
+//! Compiling a description into an immutable `Model`: names resolved to indices, local
+//! vectors derived from the starting poses, rows counted, scales fixed, the sparsity
+//! pattern of Phi_q and its symbolic factorization computed once. A `Model` is
+//! `Send + Sync`; every mutable buffer lives in `Data`.
+
+use std::collections::HashMap;
+
+use crate::description::{Description, DriverDesc, JointDesc, GROUND};
+use crate::drivers::{
+    angle::AngleDriver, coordinate::CoordinateDriver, distance::DistanceDriver,
+    relative_angle::RelativeAngleDriver, translation::TranslationDriver,
+};
+use crate::error::ModelError;
+use crate::joints::{
+    fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, RowKind,
+    MAX_ROWS,
+};
+use crate::linear::{LinearKind, SymbolicFactor};
+use crate::motion::MotionLaw;
+
+/// Solver settings, fixed at compile time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// Newton stops when the scaled residual (length rows / L) is below this ...
+    pub tol_residual: f64,
+    /// ... and so is the scaled Newton step (x, y / L; theta in rad).
+    pub tol_step: f64,
+    /// Newton iterations allowed at each step of a sweep.
+    pub max_iter: usize,
+    /// Newton iterations allowed to assemble from the starting configuration.
+    pub max_iter_assembly: usize,
+    /// A pivot ratio (smallest / largest |pivot| of the scaled Phi_q) below this is singular.
+    pub singular_tol: f64,
+    /// Dense or sparse LU; `Auto` picks dense up to `dense_max` coordinates.
+    pub linear: LinearKind,
+    pub dense_max: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            tol_residual: 1e-12,
+            tol_step: 1e-12,
+            max_iter: 25,
+            max_iter_assembly: 100,
+            singular_tol: 1e-12,
+            linear: LinearKind::Auto,
+            dense_max: 48,
+        }
+    }
+}
+
+/// One joint or driver of a compiled model.
+#[derive(Debug, Clone)]
+pub struct ConstraintEntry {
+    pub name: String,
+    /// "joint" or "driver"
+    pub role: &'static str,
+    pub kind: ConstraintKind,
+    /// moving body index of each side (None: the ground)
+    pub body_a: Option<usize>,
+    pub body_b: Option<usize>,
+    /// first row in Phi
+    pub row0: usize,
+    pub n_rows: usize,
+    /// scale of each row: 1/L for length rows, 1 for angle rows
+    pub row_scale: [f64; MAX_ROWS],
+    /// where entry (i, j) of each side's Jacobian block goes in the value array
+    pub(crate) slots_a: [[u32; 3]; MAX_ROWS],
+    pub(crate) slots_b: [[u32; 3]; MAX_ROWS],
+}
+
+/// A named point fixed in a body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedPoint {
+    pub name: String,
+    pub body: Option<usize>,
+    /// position in the body frame
+    pub local: [f64; 2],
+}
+
+/// A compiled mechanism: immutable, shared between threads.
+#[derive(Debug)]
+pub struct Model {
+    pub name: String,
+    pub description: Description,
+    /// n_bodies
+    pub body_names: Vec<String>,
+    /// n_coords: "<body>.x", "<body>.y", "<body>.theta"
+    pub columns: Vec<String>,
+    /// n_coords: the starting configuration as described
+    pub q_start: Vec<f64>,
+    /// joints, then drivers
+    pub constraints: Vec<ConstraintEntry>,
+    pub points: Vec<NamedPoint>,
+    pub n_bodies: usize,
+    pub n_coords: usize,
+    pub n_rows: usize,
+    /// L: the largest distance between the described points; lengths are measured in L
+    pub length_scale: f64,
+    /// n_coords: L for x and y, 1 for theta (the solver works on q / col_scale)
+    pub col_scale: Vec<f64>,
+    pub options: Options,
+    /// the linear algebra chosen, with its symbolic analysis
+    pub(crate) symbolic: SymbolicFactor,
+    /// the time interval every driver law is defined on
+    pub time_domain: (f64, f64),
+}
+
+fn finite2(p: [f64; 2]) -> bool {
+    p[0].is_finite() && p[1].is_finite()
+}
+
+fn local(q0: Option<[f64; 3]>, p: [f64; 2]) -> [f64; 2] {
+    match q0 {
+        None => p,
+        Some([x, y, th]) => {
+            let (s, c) = th.sin_cos();
+            let d = [p[0] - x, p[1] - y];
+            [c * d[0] + s * d[1], -s * d[0] + c * d[1]]
+        }
+    }
+}
+
+struct Bodies<'a> {
+    index: HashMap<&'a str, usize>,
+    poses: Vec<[f64; 3]>,
+}
+
+impl Bodies<'_> {
+    /// Ok(None) for the ground, Ok(Some(i)) for body i.
+    fn find(&self, name: &str) -> Result<Option<usize>, String> {
+        if name == GROUND {
+            return Ok(None);
+        }
+        self.index
+            .get(name)
+            .map(|&i| Some(i))
+            .ok_or_else(|| format!("refers to body '{name}', which is not in the model"))
+    }
+    fn pose(&self, b: Option<usize>) -> Option<[f64; 3]> {
+        b.map(|i| self.poses[i])
+    }
+    fn theta(&self, b: Option<usize>) -> f64 {
+        b.map_or(0.0, |i| self.poses[i][2])
+    }
+    fn pair(&self, a: &str, b: &str) -> Result<(Option<usize>, Option<usize>), String> {
+        let (ia, ib) = (self.find(a)?, self.find(b)?);
+        if ia == ib {
+            return Err(format!(
+                "connects '{a}' to itself; its two sides must be different bodies"
+            ));
+        }
+        Ok((ia, ib))
+    }
+}
+
+impl Model {
+    /// Compiles a description with default options.
+    pub fn new(description: Description) -> Result<Model, ModelError> {
+        Model::with_options(description, Options::default())
+    }
+
+    /// Compiles a description read from JSON.
+    pub fn from_json(text: &str, options: Options) -> Result<Model, ModelError> {
+        Model::with_options(Description::from_json(text)?, options)
+    }
+
+    /// Validates the description and compiles it.
+    pub fn with_options(description: Description, options: Options) -> Result<Model, ModelError> {
+        check_options(&options)?;
+        let desc = &description;
+
+        // bodies: unique names, finite poses
+        let mut names: HashMap<String, &'static str> = HashMap::new();
+        let mut claim = |name: &str, what: &'static str| -> Result<(), ModelError> {
+            if name.is_empty() {
+                return Err(ModelError::Description(format!(
+                    "a {what} has an empty name"
+                )));
+            }
+            if let Some(first) = names.insert(name.to_string(), what) {
+                return Err(ModelError::DuplicateName {
+                    name: name.to_string(),
+                    first,
+                    second: what,
+                });
+            }
+            Ok(())
+        };
+        claim(GROUND, "the ground")?;
+        let mut bodies = Bodies {
+            index: HashMap::new(),
+            poses: Vec::new(),
+        };
+        for (i, b) in desc.bodies.iter().enumerate() {
+            claim(&b.name, "a body")?;
+            if !(b.x.is_finite() && b.y.is_finite() && b.theta.is_finite()) {
+                return Err(ModelError::Body {
+                    name: b.name.clone(),
+                    problem: format!(
+                        "starting pose ({}, {}, {}) is not finite",
+                        b.x, b.y, b.theta
+                    ),
+                });
+            }
+            bodies.index.insert(&b.name, i);
+            bodies.poses.push([b.x, b.y, b.theta]);
+        }
+        for j in &desc.joints {
+            claim(j.name(), "a joint")?;
+        }
+        for d in &desc.drivers {
+            claim(d.name(), "a driver")?;
+        }
+        let mut point_names: HashMap<&str, ()> = HashMap::new();
+        for p in &desc.points {
+            if point_names.insert(&p.name, ()).is_some() {
+                return Err(ModelError::Point {
+                    name: p.name.clone(),
+                    problem: "is defined twice".into(),
+                });
+            }
+        }
+        drop(claim);
+
+        let length_scale = length_scale(desc);
+        let mut entries: Vec<(
+            String,
+            &'static str,
+            ConstraintKind,
+            Option<usize>,
+            Option<usize>,
+        )> = Vec::new();
+        let mut prismatic_of: HashMap<&str, (Prismatic, Option<usize>, Option<usize>)> =
+            HashMap::new();
+        for j in &desc.joints {
+            let fail = |problem: String| ModelError::Constraint {
+                kind: "joint",
+                name: j.name().into(),
+                problem,
+            };
+            let (kind, a, b) = match j {
+                JointDesc::Revolute {
+                    body_a, body_b, at, ..
+                } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if !finite2(*at) {
+                        return Err(fail(format!("position {at:?} is not finite")));
+                    }
+                    let joint = Revolute {
+                        u_a: local(bodies.pose(a), *at),
+                        u_b: local(bodies.pose(b), *at),
+                    };
+                    (ConstraintKind::Revolute(joint), a, b)
+                }
+                JointDesc::Prismatic {
+                    name,
+                    body_a,
+                    body_b,
+                    at,
+                    axis,
+                } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if !finite2(*at) || !finite2(*axis) {
+                        return Err(fail(format!(
+                            "position {at:?} or axis {axis:?} is not finite"
+                        )));
+                    }
+                    let norm = axis[0].hypot(axis[1]);
+                    if norm == 0.0 {
+                        return Err(fail(
+                            "has a zero-length axis; give the sliding direction".into(),
+                        ));
+                    }
+                    let e = local(
+                        Some([0.0, 0.0, bodies.theta(a)]),
+                        [axis[0] / norm, axis[1] / norm],
+                    );
+                    let joint = Prismatic {
+                        u_a: local(bodies.pose(a), *at),
+                        u_b: local(bodies.pose(b), *at),
+                        e_a: e,
+                        theta0: bodies.theta(b) - bodies.theta(a),
+                    };
+                    prismatic_of.insert(name, (joint.clone(), a, b));
+                    (ConstraintKind::Prismatic(joint), a, b)
+                }
+                JointDesc::Fixed { body_a, body_b, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    let origin_b = bodies.pose(b).map_or([0.0, 0.0], |p| [p[0], p[1]]);
+                    let joint = Fixed {
+                        u_a: local(bodies.pose(a), origin_b),
+                        theta0: bodies.theta(b) - bodies.theta(a),
+                    };
+                    (ConstraintKind::Fixed(joint), a, b)
+                }
+            };
+            entries.push((j.name().to_string(), "joint", kind, a, b));
+        }
+        for d in &desc.drivers {
+            let fail = |problem: String| ModelError::Constraint {
+                kind: "driver",
+                name: d.name().into(),
+                problem,
+            };
+            let mut law = d.law().clone();
+            law.check().map_err(fail)?;
+            if let MotionLaw::Spline(s) = &mut law {
+                s.prepare();
+            }
+            let (kind, a, b) = match d {
+                DriverDesc::Angle { body, .. } => {
+                    let b = bodies.find(body).map_err(fail)?;
+                    if b.is_none() {
+                        return Err(fail("drives the ground, which cannot move".into()));
+                    }
+                    (ConstraintKind::AngleDriver(AngleDriver { law }), None, b)
+                }
+                DriverDesc::RelativeAngle { body_a, body_b, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    (
+                        ConstraintKind::RelativeAngleDriver(RelativeAngleDriver { law }),
+                        a,
+                        b,
+                    )
+                }
+                DriverDesc::Distance {
+                    body_a,
+                    at_a,
+                    body_b,
+                    at_b,
+                    ..
+                } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if !finite2(*at_a) || !finite2(*at_b) {
+                        return Err(fail(format!("points {at_a:?}, {at_b:?} are not finite")));
+                    }
+                    if (at_b[0] - at_a[0]).hypot(at_b[1] - at_a[1]) <= 1e-12 * length_scale {
+                        return Err(fail(
+                            "its two points coincide at the start; a distance driver needs them apart".into(),
+                        ));
+                    }
+                    let drv = DistanceDriver {
+                        u_a: local(bodies.pose(a), *at_a),
+                        u_b: local(bodies.pose(b), *at_b),
+                        law,
+                    };
+                    (ConstraintKind::DistanceDriver(drv), a, b)
+                }
+                DriverDesc::Coordinate { body, at, axis, .. } => {
+                    let b = bodies.find(body).map_err(fail)?;
+                    if b.is_none() {
+                        return Err(fail(
+                            "drives a point of the ground, which cannot move".into(),
+                        ));
+                    }
+                    if !finite2(*at) {
+                        return Err(fail(format!("point {at:?} is not finite")));
+                    }
+                    let axis = match axis.as_str() {
+                        "x" => 0,
+                        "y" => 1,
+                        other => {
+                            return Err(fail(format!("axis must be \"x\" or \"y\", not {other:?}")))
+                        }
+                    };
+                    let drv = CoordinateDriver {
+                        u: local(bodies.pose(b), *at),
+                        axis,
+                        law,
+                    };
+                    (ConstraintKind::CoordinateDriver(drv), None, b)
+                }
+                DriverDesc::Translation { joint, .. } => {
+                    let Some((p, a, b)) = prismatic_of.get(joint.as_str()) else {
+                        return Err(fail(format!(
+                            "refers to '{joint}', which is not a prismatic joint of the model"
+                        )));
+                    };
+                    let drv = TranslationDriver {
+                        u_a: p.u_a,
+                        u_b: p.u_b,
+                        e_a: p.e_a,
+                        law,
+                    };
+                    (ConstraintKind::TranslationDriver(drv), *a, *b)
+                }
+            };
+            entries.push((d.name().to_string(), "driver", kind, a, b));
+        }
+
+        // rows against coordinates
+        let n_bodies = desc.bodies.len();
+        let n_coords = 3 * n_bodies;
+        let n_rows: usize = entries.iter().map(|e| e.2.n_rows()).sum();
+        if n_bodies == 0 {
+            return Err(ModelError::Description(
+                "the model has no moving body".into(),
+            ));
+        }
+        if n_rows != n_coords {
+            let dof = n_coords as i64 - n_rows as i64;
+            let advice = if dof > 0 {
+                "add drivers (or joints) until none is left"
+            } else {
+                "remove drivers or redundant joints (kinematic analysis needs exactly as many rows as coordinates)"
+            };
+            return Err(ModelError::RowCount {
+                n_rows,
+                n_coords,
+                n_bodies,
+                dof,
+                advice,
+            });
+        }
+
+        // a body that no row touches can never be solved for
+        let mut touched = vec![false; n_bodies];
+        for (_, _, _, a, b) in &entries {
+            for i in [a, b].into_iter().flatten() {
+                touched[*i] = true;
+            }
+        }
+        if let Some(i) = touched.iter().position(|t| !t) {
+            return Err(ModelError::Body {
+                name: desc.bodies[i].name.clone(),
+                problem: "is not connected by any joint or driver".into(),
+            });
+        }
+
+        let mut points = Vec::new();
+        for p in &desc.points {
+            let body = bodies.find(&p.body).map_err(|problem| ModelError::Point {
+                name: p.name.clone(),
+                problem,
+            })?;
+            if !finite2(p.at) {
+                return Err(ModelError::Point {
+                    name: p.name.clone(),
+                    problem: format!("{:?} is not finite", p.at),
+                });
+            }
+            points.push(NamedPoint {
+                name: p.name.clone(),
+                body,
+                local: local(bodies.pose(body), p.at),
+            });
+        }
+
+        // rows, scales and the pattern of Phi_q
+        let mut constraints = Vec::with_capacity(entries.len());
+        let mut row0 = 0;
+        for (name, role, kind, body_a, body_b) in entries {
+            let n = kind.n_rows();
+            let mut row_scale = [1.0; MAX_ROWS];
+            for (k, rk) in kind.row_kinds().iter().enumerate() {
+                row_scale[k] = if *rk == RowKind::Length {
+                    1.0 / length_scale
+                } else {
+                    1.0
+                };
+            }
+            constraints.push(ConstraintEntry {
+                name,
+                role,
+                kind,
+                body_a,
+                body_b,
+                row0,
+                n_rows: n,
+                row_scale,
+                slots_a: [[u32::MAX; 3]; MAX_ROWS],
+                slots_b: [[u32::MAX; 3]; MAX_ROWS],
+            });
+            row0 += n;
+        }
+        let linear = match options.linear {
+            LinearKind::Auto if n_coords <= options.dense_max => LinearKind::Dense,
+            LinearKind::Auto => LinearKind::Sparse,
+            k => k,
+        };
+        let symbolic = SymbolicFactor::new(linear, n_coords, &mut constraints);
+
+        let mut time_domain = (f64::NEG_INFINITY, f64::INFINITY);
+        for c in &constraints {
+            if let Some((t0, t1)) = c.kind.law().and_then(|l| l.domain()) {
+                time_domain = (time_domain.0.max(t0), time_domain.1.min(t1));
+            }
+        }
+
+        let mut columns = Vec::with_capacity(n_coords);
+        let mut q_start = Vec::with_capacity(n_coords);
+        let mut col_scale = Vec::with_capacity(n_coords);
+        for (b, pose) in desc.bodies.iter().zip(&bodies.poses) {
+            for (k, axis) in ["x", "y", "theta"].iter().enumerate() {
+                columns.push(format!("{}.{}", b.name, axis));
+                q_start.push(pose[k]);
+                col_scale.push(if k < 2 { length_scale } else { 1.0 });
+            }
+        }
+
+        Ok(Model {
+            name: desc.name.clone(),
+            body_names: desc.bodies.iter().map(|b| b.name.clone()).collect(),
+            columns,
+            q_start,
+            constraints,
+            points,
+            n_bodies,
+            n_coords,
+            n_rows,
+            length_scale,
+            col_scale,
+            options,
+            symbolic,
+            time_domain,
+            description,
+        })
+    }
+
+    /// Which linear algebra the model uses.
+    pub fn linear_kind(&self) -> LinearKind {
+        self.symbolic.kind()
+    }
+
+    /// Number of structurally non-zero entries of Phi_q.
+    pub fn nnz(&self) -> usize {
+        self.symbolic.nnz()
+    }
+
+    /// Index of a body by name.
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.body_names.iter().position(|b| b == name)
+    }
+
+    /// The name of the constraint that owns a row.
+    pub fn row_owner(&self, row: usize) -> &ConstraintEntry {
+        let k = self
+            .constraints
+            .partition_point(|c| c.row0 + c.n_rows <= row);
+        &self.constraints[k]
+    }
+
+    /// "body.x" etc. for a coordinate, and the constraints touching its body.
+    pub(crate) fn describe_coordinate(&self, col: usize) -> (String, String) {
+        let body = col / 3;
+        let touching: Vec<&str> = self
+            .constraints
+            .iter()
+            .filter(|c| c.body_a == Some(body) || c.body_b == Some(body))
+            .map(|c| c.name.as_str())
+            .collect();
+        (self.columns[col].clone(), touching.join(", "))
+    }
+}
+
+fn check_options(o: &Options) -> Result<(), ModelError> {
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if !(positive(o.tol_residual) && positive(o.tol_step) && positive(o.singular_tol))
+        || o.max_iter == 0
+        || o.max_iter_assembly == 0
+    {
+        return Err(ModelError::Description(format!(
+            "solver options must be positive (tolerances finite and > 0, iteration caps >= 1): {o:?}"
+        )));
+    }
+    Ok(())
+}
+
+/// L: the largest distance between any two described points (body origins, joint and
+/// driver points, named points); 1 if they all coincide.
+fn length_scale(desc: &Description) -> f64 {
+    let mut pts: Vec<[f64; 2]> = desc.bodies.iter().map(|b| [b.x, b.y]).collect();
+    for j in &desc.joints {
+        match j {
+            JointDesc::Revolute { at, .. } | JointDesc::Prismatic { at, .. } => pts.push(*at),
+            JointDesc::Fixed { .. } => {}
+        }
+    }
+    for d in &desc.drivers {
+        match d {
+            DriverDesc::Distance { at_a, at_b, .. } => pts.extend([*at_a, *at_b]),
+            DriverDesc::Coordinate { at, .. } => pts.push(*at),
+            _ => {}
+        }
+    }
+    pts.extend(desc.points.iter().map(|p| p.at));
+    pts.retain(|p| finite2(*p));
+    // bounding-box diagonal: within a factor sqrt(2) of the diameter, and O(n)
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let diag = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    if diag.is_finite() && diag > 0.0 {
+        diag
+    } else {
+        1.0
+    }
+}

@@ -1,0 +1,123 @@
+//! Position analysis: Newton-Raphson on Phi(q, t) = 0.
+//!
+//! Each iteration evaluates Phi and Phi_q, factors Phi_q and computes the Newton step.
+//! It stops when the scaled residual and the scaled step are both below tolerance, and
+//! applies that last (tiny) step: so the factorization left in `Data` is of Phi_q within
+//! `tol_step` of the converged q, and serves the velocity and acceleration solves.
+
+use crate::assembly;
+use crate::data::Data;
+use crate::error::SolveError;
+use crate::model::Model;
+
+/// Largest scaled step while assembling from a rough starting guess; keeps Newton on
+/// the branch nearest the described configuration.
+const ASSEMBLY_MAX_STEP: f64 = 0.5;
+
+/// Diagnostics of one position solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PositionInfo {
+    pub iterations: usize,
+    /// scaled residual inf-norm at the last evaluation
+    pub residual: f64,
+    /// smallest / largest pivot of the scaled Phi_q
+    pub pivot_ratio: f64,
+}
+
+/// Solves Phi(q, t) = 0 starting from data.q; writes data.q, data.phi, the factors.
+///
+/// `step` is the sweep step (for error messages); `assembly` allows more iterations and
+/// limits the step length, for a start from a rough configuration.
+pub fn solve_position(
+    model: &Model,
+    data: &mut Data,
+    t: f64,
+    step: usize,
+    assembly: bool,
+) -> Result<PositionInfo, SolveError> {
+    let opts = &model.options;
+    let max_iter = if assembly {
+        opts.max_iter_assembly
+    } else {
+        opts.max_iter
+    };
+    let mut residual = f64::NAN;
+    for it in 1..=max_iter {
+        residual = assembly::position(model, data, t);
+        if !residual.is_finite() {
+            let row = data.phi.iter().position(|p| !p.is_finite()).unwrap_or(0);
+            let c = model.row_owner(row);
+            return Err(SolveError::NonFinite {
+                step,
+                time: t,
+                what: format!("the residual of {} '{}'", c.role, c.name),
+            });
+        }
+        let pivots = data.factor.factor(&model.symbolic, &data.jac);
+        data.pivots = pivots;
+        if !(pivots.ratio >= opts.singular_tol) {
+            let (coordinate, constraints) = model.describe_coordinate(pivots.column);
+            return Err(SolveError::Singular {
+                step,
+                time: t,
+                pivot_ratio: pivots.ratio,
+                coordinate,
+                constraints,
+            });
+        }
+        for (r, p) in data.rhs.iter_mut().zip(&data.phi) {
+            *r = -p;
+        }
+        data.factor.solve(&model.symbolic, &mut data.rhs);
+        let step_norm = data.rhs.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+        if !step_norm.is_finite() {
+            return Err(SolveError::NonFinite {
+                step,
+                time: t,
+                what: "the Newton step".into(),
+            });
+        }
+        let damping = if assembly && step_norm > ASSEMBLY_MAX_STEP {
+            ASSEMBLY_MAX_STEP / step_norm
+        } else {
+            1.0
+        };
+        for ((q, d), s) in data.q.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
+            *q += damping * d * s;
+        }
+        if residual <= opts.tol_residual && step_norm <= opts.tol_step {
+            data.iterations = it;
+            data.residual = residual;
+            return Ok(PositionInfo {
+                iterations: it,
+                residual,
+                pivot_ratio: pivots.ratio,
+            });
+        }
+    }
+    data.iterations = max_iter;
+    data.residual = residual;
+    let worst =
+        data.phi.iter().enumerate().fold(
+            (0, 0.0f64),
+            |w, (i, p)| if p.abs() > w.1 { (i, p.abs()) } else { w },
+        );
+    let c = model.row_owner(worst.0);
+    let constraint = format!("{} '{}'", c.role, c.name);
+    Err(if assembly {
+        SolveError::Assembly {
+            time: t,
+            iterations: max_iter,
+            residual,
+            constraint,
+        }
+    } else {
+        SolveError::NoConvergence {
+            step,
+            time: t,
+            iterations: max_iter,
+            residual,
+            constraint,
+        }
+    })
+}

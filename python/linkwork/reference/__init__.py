@@ -1,0 +1,24 @@
+"""An independent, plain-NumPy implementation of linkwork's formulation, used to check
+the engine.
+
+It reads the model description only (``Mechanism.to_dict()`` or the dict itself) and
+never imports the engine. Dense matrices, ``np.linalg.solve``, one small class per joint
+and driver type (``formulation``), motion laws in ``laws``, assembly and solves in
+``model``.
+
+>>> import linkwork as lw
+>>> from linkwork.reference import ReferenceModel
+>>> m = lw.Mechanism()
+>>> crank = m.link("crank", (0, 0), (1, 0))
+>>> _ = m.revolute(m.ground, crank, at=(0, 0))
+>>> _ = m.drive_angle(crank, lw.Linear(0.0, 2.0))
+>>> ref = ReferenceModel(m)
+>>> q, qd, qdd = ref.solve(0.5)
+>>> round(float(q[2]), 12), round(float(qd[2]), 12)
+(1.0, 2.0)
+"""
+
+from .laws import check_law, motion_law
+from .model import ConvergenceError, ReferenceModel
+
+__all__ = ["ReferenceModel", "ConvergenceError", "motion_law", "check_law"]

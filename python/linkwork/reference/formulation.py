@@ -1,0 +1,400 @@
+"""The constraint formulation in absolute coordinates, written out joint by joint.
+
+Every moving body i has q_i = (x_i, y_i, theta_i). A point fixed in body i is
+r = R_i + A(theta_i) u, with A the 2x2 rotation and u the point's local vector, taken
+from the body's starting pose: u = A(theta_0)^T (P_world - R_0). The ground is the
+identity frame and has no coordinates.
+
+Each joint or driver below is a small class that, given the poses (and rates) of its
+two bodies, returns
+- ``phi``: its residual rows,
+- ``jacobian``: one (n_rows x 3) block per body, columns (x, y, theta),
+- ``nu``: the right-hand side of Phi_q qd = nu (-Phi_t),
+- ``gamma``: the right-hand side of Phi_q qdd = gamma, in closed form.
+Nothing here knows global row or column numbers; ``ReferenceModel`` places the blocks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .laws import check_law, motion_law
+
+GROUND = "ground"
+
+
+def rot(theta: float) -> np.ndarray:
+    """A(theta), the 2x2 rotation."""
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[c, -s], [s, c]])
+
+
+def rot_d(theta: float) -> np.ndarray:
+    """dA/dtheta = A(theta + pi/2)."""
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[-s, -c], [c, -s]])
+
+
+def perp(v: np.ndarray) -> np.ndarray:
+    """v rotated by +90 degrees."""
+    return np.array([-v[1], v[0]])
+
+
+@dataclass
+class Pose:
+    """One body's state: position R, angle theta (and A, dA/dtheta), rates Rd, thd."""
+
+    R: np.ndarray  # 2
+    theta: float
+    Rd: np.ndarray  # 2
+    thd: float
+
+    def __post_init__(self) -> None:
+        self.A = rot(self.theta)  # 2 x 2
+        self.B = rot_d(self.theta)  # 2 x 2, dA/dtheta
+
+    def r(self, u: np.ndarray) -> np.ndarray:
+        """World position of the point with local vector u."""
+        return self.R + self.A @ u
+
+    def v(self, u: np.ndarray) -> np.ndarray:
+        """World velocity of the point with local vector u."""
+        return self.Rd + self.B @ u * self.thd
+
+    def centripetal(self, u: np.ndarray) -> np.ndarray:
+        """A u thd^2: the velocity-squared part of the point's acceleration, negated."""
+        return self.A @ u * self.thd**2
+
+
+# --- shared pieces ----------------------------------------------------------------------
+
+
+def _pin(pa: Pose, pb: Pose, ua: np.ndarray, ub: np.ndarray):
+    """d = r_b(u_b) - r_a(u_a): value (2), blocks (2 x 3), gamma (2)."""
+    value = pb.r(ub) - pa.r(ua)
+    jac_a = np.column_stack([-np.eye(2), -(pa.B @ ua)])
+    jac_b = np.column_stack([np.eye(2), pb.B @ ub])
+    gamma = pb.centripetal(ub) - pa.centripetal(ua)
+    return value, jac_a, jac_b, gamma
+
+
+def _relative_angle(pa: Pose, pb: Pose):
+    """theta_b - theta_a: value, blocks (1 x 3), gamma."""
+    return pb.theta - pa.theta, np.array([[0.0, 0.0, -1.0]]), np.array([[0.0, 0.0, 1.0]]), 0.0
+
+
+def _projection(pa: Pose, pb: Pose, ua: np.ndarray, ub: np.ndarray, w_local: np.ndarray):
+    """s = w^T d with w = A_a w_local (a direction fixed in a) and d = r_b(u_b) - r_a(u_a).
+
+    ds/dt = wd^T d + w^T dd, wd = B_a w_local thd_a. Differentiating once more, the terms
+    without qdd are -w^T d thd_a^2 + 2 wd^T dd + w^T (A_a u_a thd_a^2 - A_b u_b thd_b^2),
+    so gamma = w^T d thd_a^2 - 2 thd_a (B_a w_local)^T dd + w^T (A_b u_b thd_b^2 - A_a u_a thd_a^2).
+    """
+    w = pa.A @ w_local
+    w_theta = pa.B @ w_local  # dw/dtheta_a
+    d = pb.r(ub) - pa.r(ua)
+    d_dot = pb.v(ub) - pa.v(ua)
+    value = w @ d
+    jac_a = np.array([[-w[0], -w[1], w_theta @ d - w @ (pa.B @ ua)]])
+    jac_b = np.array([[w[0], w[1], w @ (pb.B @ ub)]])
+    gamma = (
+        (w @ d) * pa.thd**2
+        - 2.0 * pa.thd * (w_theta @ d_dot)
+        + w @ (pb.centripetal(ub) - pa.centripetal(ua))
+    )
+    return value, jac_a, jac_b, gamma
+
+
+# --- joints -------------------------------------------------------------------------------
+
+
+class Constraint:
+    """Rows g(q) - f(t) = 0 between bodies ``a`` and ``b`` (either may be the ground)."""
+
+    name: str
+    kind: str
+    a: str
+    b: str
+    n_rows: int
+    length_rows: list[bool]  # per row: True if it measures a length, False for an angle
+    row_labels: list[str]
+
+    def law_value(self, t: float) -> tuple[float, float, float]:
+        """(f, f', f'') of the row's motion law; zero for joints."""
+        return 0.0, 0.0, 0.0
+
+    def evaluate(self, pa: Pose, pb: Pose):
+        """g (n_rows), dg/dq_a, dg/dq_b (n_rows x 3), gamma of g (n_rows)."""
+        raise NotImplementedError
+
+    def phi(self, pa: Pose, pb: Pose, t: float) -> np.ndarray:
+        g = np.atleast_1d(self.evaluate(pa, pb)[0])
+        return g - self.law_value(t)[0]
+
+    def jacobian(self, pa: Pose, pb: Pose, t: float) -> tuple[np.ndarray, np.ndarray]:
+        _, jac_a, jac_b, _ = self.evaluate(pa, pb)
+        return np.atleast_2d(jac_a), np.atleast_2d(jac_b)
+
+    def nu(self, t: float) -> np.ndarray:
+        """-Phi_t = f'(t) on every row (a driver has one row)."""
+        return np.full(self.n_rows, self.law_value(t)[1])
+
+    def gamma(self, pa: Pose, pb: Pose, t: float) -> np.ndarray:
+        """-(Phi_q qd)_q qd - 2 Phi_qt qd - Phi_tt; Phi_qt = 0 and -Phi_tt = f''(t)."""
+        g = np.atleast_1d(np.asarray(self.evaluate(pa, pb)[3], dtype=float))
+        return g + self.law_value(t)[2]
+
+
+class Revolute(Constraint):
+    """Pin at P: r_b(P) - r_a(P) = 0 (2 rows)."""
+
+    kind = "revolute"
+    n_rows = 2
+
+    def __init__(self, name: str, a: str, b: str, ua: np.ndarray, ub: np.ndarray):
+        self.name, self.a, self.b, self.ua, self.ub = name, a, b, ua, ub
+        self.length_rows = [True, True]
+        self.row_labels = [f"{name}.x", f"{name}.y"]
+
+    def evaluate(self, pa, pb):
+        return _pin(pa, pb, self.ua, self.ub)
+
+
+class Prismatic(Constraint):
+    """b slides on a along the unit axis e' fixed in a, through P (2 rows):
+    theta_b - theta_a - (theta_b0 - theta_a0) = 0 and n^T (r_b(P) - r_a(P)) = 0 with
+    n = A_a n', n' = rot90(e')."""
+
+    kind = "prismatic"
+    n_rows = 2
+
+    def __init__(self, name, a, b, ua, ub, e_local, angle0):
+        self.name, self.a, self.b, self.ua, self.ub = name, a, b, ua, ub
+        self.e_local = e_local
+        self.n_local = perp(e_local)
+        self.angle0 = angle0
+        self.length_rows = [False, True]
+        self.row_labels = [f"{name}.angle", f"{name}.normal"]
+
+    def evaluate(self, pa, pb):
+        ang, ja1, jb1, g1 = _relative_angle(pa, pb)
+        off, ja2, jb2, g2 = _projection(pa, pb, self.ua, self.ub, self.n_local)
+        return (
+            np.array([ang - self.angle0, off]),
+            np.vstack([ja1, ja2]),
+            np.vstack([jb1, jb2]),
+            np.array([g1, g2]),
+        )
+
+
+class Fixed(Constraint):
+    """Weld: r_b(origin) - r_a(u_a) = 0 and theta_b - theta_a - (theta_b0 - theta_a0) = 0."""
+
+    kind = "fixed"
+    n_rows = 3
+
+    def __init__(self, name, a, b, ua, angle0):
+        self.name, self.a, self.b, self.ua = name, a, b, ua
+        self.ub = np.zeros(2)
+        self.angle0 = angle0
+        self.length_rows = [True, True, False]
+        self.row_labels = [f"{name}.x", f"{name}.y", f"{name}.angle"]
+
+    def evaluate(self, pa, pb):
+        d, ja1, jb1, g1 = _pin(pa, pb, self.ua, self.ub)
+        ang, ja2, jb2, g2 = _relative_angle(pa, pb)
+        return (
+            np.array([d[0], d[1], ang - self.angle0]),
+            np.vstack([ja1, ja2]),
+            np.vstack([jb1, jb2]),
+            np.array([g1[0], g1[1], g2]),
+        )
+
+
+# --- drivers ------------------------------------------------------------------------------
+
+
+class Driver(Constraint):
+    """One row g(q) - f(t) = 0."""
+
+    n_rows = 1
+    law: dict[str, Any]
+
+    def law_value(self, t):
+        return motion_law(self.law, t)
+
+
+class AngleDriver(Driver):
+    """theta_body - f(t) = 0 (body is b; a is the ground)."""
+
+    kind = "angle"
+
+    def __init__(self, name, body, law):
+        self.name, self.a, self.b, self.law = name, GROUND, body, law
+        self.length_rows = [False]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        return pb.theta, np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]), 0.0
+
+
+class RelativeAngleDriver(Driver):
+    """theta_b - theta_a - f(t) = 0."""
+
+    kind = "relative_angle"
+
+    def __init__(self, name, a, b, law):
+        self.name, self.a, self.b, self.law = name, a, b, law
+        self.length_rows = [False]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        return _relative_angle(pa, pb)
+
+
+class DistanceDriver(Driver):
+    """|r_b(Pb) - r_a(Pa)| - f(t) = 0.
+
+    With d = r_b - r_a, l = |d|, e = d / l: dl/dt = e^T dd, and
+    gamma = e^T (A_b u_b thd_b^2 - A_a u_a thd_a^2) - (|dd|^2 - (e^T dd)^2) / l (+ f'')."""
+
+    kind = "distance"
+
+    def __init__(self, name, a, b, ua, ub, law):
+        self.name, self.a, self.b, self.ua, self.ub, self.law = name, a, b, ua, ub, law
+        self.length_rows = [True]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        d, ja, jb, g = _pin(pa, pb, self.ua, self.ub)
+        length = float(np.hypot(d[0], d[1]))
+        if length == 0.0:
+            raise ZeroDivisionError(f"distance driver {self.name!r}: its two points coincide")
+        e = d / length
+        d_dot = pb.v(self.ub) - pa.v(self.ua)
+        gamma = e @ g - (d_dot @ d_dot - (e @ d_dot) ** 2) / length
+        return length, (e @ ja)[None, :], (e @ jb)[None, :], gamma
+
+
+class CoordinateDriver(Driver):
+    """(R + A u)_k - f(t) = 0, k = x or y (body is b; a is the ground)."""
+
+    kind = "coordinate"
+
+    def __init__(self, name, body, u, axis, law):
+        self.name, self.a, self.b, self.u, self.law = name, GROUND, body, u, law
+        self.k = {"x": 0, "y": 1}[axis]
+        self.length_rows = [True]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        k = self.k
+        jac_b = np.zeros((1, 3))
+        jac_b[0, k] = 1.0
+        jac_b[0, 2] = (pb.B @ self.u)[k]
+        return pb.r(self.u)[k], np.zeros((1, 3)), jac_b, pb.centripetal(self.u)[k]
+
+
+class TranslationDriver(Driver):
+    """e^T (r_b(P) - r_a(P)) - f(t) = 0 for a prismatic joint, e = A_a e' (the slide s)."""
+
+    kind = "translation"
+
+    def __init__(self, name, joint: Prismatic, law):
+        self.name, self.a, self.b, self.law = name, joint.a, joint.b, law
+        self.joint = joint
+        self.length_rows = [True]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        j = self.joint
+        return _projection(pa, pb, j.ua, j.ub, j.e_local)
+
+
+# --- building from the description ----------------------------------------------------------
+
+
+def build_constraints(desc: dict[str, Any], start: dict[str, tuple[float, float, float]]) -> list[Constraint]:
+    """All joints in description order, then all drivers in order."""
+
+    def body(name: Any, where: str) -> str:
+        if name not in start:
+            raise ValueError(f"{where} refers to unknown body {name!r}")
+        return name
+
+    def local(name: str, p: Any) -> np.ndarray:
+        x0, y0, th0 = start[name]
+        return rot(th0).T @ (np.asarray(p, dtype=float) - np.array([x0, y0]))
+
+    out: list[Constraint] = []
+    prismatics: dict[str, Prismatic] = {}
+    seen: set[str] = set()
+
+    def register(name: Any, where: str) -> str:
+        if name in seen:
+            raise ValueError(f"{where}: the name {name!r} is used twice")
+        seen.add(name)
+        return str(name)
+
+    for j in desc.get("joints", []):
+        kind = j.get("type")
+        name = register(j.get("name"), f"joint {j.get('name')!r}")
+        where = f"{kind} joint {name!r}"
+        a, b = body(j["body_a"], where), body(j["body_b"], where)
+        if a == b:
+            raise ValueError(f"{where} joins body {a!r} to itself")
+        if kind == "revolute":
+            out.append(Revolute(name, a, b, local(a, j["at"]), local(b, j["at"])))
+        elif kind == "prismatic":
+            axis = np.asarray(j["axis"], dtype=float)
+            norm = float(np.hypot(axis[0], axis[1]))
+            if not norm > 0.0:
+                raise ValueError(f"{where} has a zero axis")
+            e_local = rot(start[a][2]).T @ (axis / norm)
+            joint = Prismatic(name, a, b, local(a, j["at"]), local(b, j["at"]), e_local, start[b][2] - start[a][2])
+            prismatics[name] = joint
+            out.append(joint)
+        elif kind == "fixed":
+            x0, y0, _ = start[b]
+            out.append(Fixed(name, a, b, local(a, (x0, y0)), start[b][2] - start[a][2]))
+        else:
+            raise ValueError(f"joint {name!r} has unknown type {kind!r}")
+
+    for d in desc.get("drivers", []):
+        kind = d.get("type")
+        name = register(d.get("name"), f"driver {d.get('name')!r}")
+        where = f"{kind} driver {name!r}"
+        law = d.get("law")
+        if not isinstance(law, dict):
+            raise ValueError(f"{where} has no motion law")
+        try:
+            check_law(law)
+        except ValueError as err:
+            raise ValueError(f"{where}: {err}") from None
+        if kind in ("angle", "coordinate") and d.get("body") == GROUND:
+            raise ValueError(f"{where} drives the ground")
+        if kind == "angle":
+            out.append(AngleDriver(name, body(d["body"], where), law))
+        elif kind == "relative_angle":
+            a, b = body(d["body_a"], where), body(d["body_b"], where)
+            if a == b:
+                raise ValueError(f"{where} measures body {a!r} against itself")
+            out.append(RelativeAngleDriver(name, a, b, law))
+        elif kind == "distance":
+            a, b = body(d["body_a"], where), body(d["body_b"], where)
+            out.append(DistanceDriver(name, a, b, local(a, d["at_a"]), local(b, d["at_b"]), law))
+        elif kind == "coordinate":
+            b = body(d["body"], where)
+            if d.get("axis") not in ("x", "y"):
+                raise ValueError(f"{where}: axis must be 'x' or 'y', not {d.get('axis')!r}")
+            out.append(CoordinateDriver(name, b, local(b, d["at"]), d["axis"], law))
+        elif kind == "translation":
+            if d.get("joint") not in prismatics:
+                raise ValueError(f"{where}: {d.get('joint')!r} is not a prismatic joint")
+            out.append(TranslationDriver(name, prismatics[d["joint"]], law))
+        else:
+            raise ValueError(f"driver {name!r} has unknown type {kind!r}")
+    return out
