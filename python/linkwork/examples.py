@@ -64,7 +64,7 @@ def four_bar(
     point "P" at the coupler's midpoint. ``branch`` is "open" or "crossed".
     """
     cf = closed_form.four_bar(ground, crank, coupler, rocker, theta0, omega, 0.0, branch)
-    theta3, theta4 = float(cf["theta3"]), float(cf["theta4"])
+    theta3, theta4 = (math.remainder(float(cf[k]), 2.0 * math.pi) for k in ("theta3", "theta4"))
     O2, O4 = (0.0, 0.0), (float(ground), 0.0)
     A = _polar(O2, crank, theta0)
     B = _polar(A, coupler, theta3)
@@ -185,7 +185,7 @@ def six_bar(kind: str = "watt", omega: float = 5.0, theta0: float = 0.0) -> Mech
     dims = _SIX_BAR[kind]
     ground, crank, coupler, rocker = 0.35, 0.10, 0.35, 0.30
     cf = closed_form.four_bar(ground, crank, coupler, rocker, theta0, omega, 0.0, "open")
-    theta3, theta4 = float(cf["theta3"]), float(cf["theta4"])
+    theta3, theta4 = (math.remainder(float(cf[k]), 2.0 * math.pi) for k in ("theta3", "theta4"))
     O2, O4, O6 = (0.0, 0.0), (ground, 0.0), tuple(float(v) for v in dims["O6"])
     A = _polar(O2, crank, theta0)
     B = _polar(A, coupler, theta3)

@@ -15,8 +15,9 @@ named ``"ground"``; it has no coordinates.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any
 
 from .motion import Law
 
@@ -111,7 +112,13 @@ class Mechanism:
         """A pin joint at world point ``at``: 2 rows, r_P(b) - r_P(a) = 0."""
         name = self._auto("", name)
         self._joints.append(
-            {"type": "revolute", "name": name, "body_a": _name(body_a), "body_b": _name(body_b), "at": _xy(at)}
+            {
+                "type": "revolute",
+                "name": name,
+                "body_a": _name(body_a),
+                "body_b": _name(body_b),
+                "at": _xy(at),
+            }
         )
         return name
 
@@ -198,7 +205,7 @@ class Mechanism:
             "points": [dict(p) for p in self._points],
         }
 
-    def compile(self, **options: Any) -> "Model":
+    def compile(self, **options: Any) -> Model:
         """Validate and compile into an engine model (raises ``ModelError``)."""
         from .model import Model
 

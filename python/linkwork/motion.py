@@ -6,8 +6,9 @@ evaluate it. ``to_dict`` gives the model-description form shared with the engine
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any
 
 __all__ = ["Law", "Constant", "Linear", "Polynomial", "Harmonic", "Spline"]
 

@@ -1,1 +1,320 @@
+//! PyO3 bindings of the linkwork engine: conversion, errors and GIL release only.
+//! The public Python API is the plain-Python package `linkwork` on top of this.
 
+use std::sync::Arc;
+
+use linkwork::{Data, LinearKind, Model, ModelError, Options, SolveError, SweepOutput};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+mod py_errors {
+    pyo3::import_exception!(linkwork.errors, ModelError);
+}
+use py_errors::ModelError as PyModelError;
+pyo3::import_exception!(linkwork.errors, InputError);
+pyo3::import_exception!(linkwork.errors, AssemblyError);
+pyo3::import_exception!(linkwork.errors, ConvergenceError);
+pyo3::import_exception!(linkwork.errors, SingularError);
+pyo3::import_exception!(linkwork.errors, NonFiniteError);
+pyo3::import_exception!(linkwork.errors, CancelledError);
+
+fn model_err(e: ModelError) -> PyErr {
+    PyModelError::new_err(e.to_string())
+}
+
+/// The one place where engine solve errors become Python exceptions; each carries
+/// `.step` (the time step at fault, or None) and `.time` where known.
+fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
+    let msg = e.to_string();
+    let (err, time) = match e {
+        SolveError::Assembly { time, .. } => (AssemblyError::new_err(msg), Some(*time)),
+        SolveError::NoConvergence { time, .. } => (ConvergenceError::new_err(msg), Some(*time)),
+        SolveError::Singular { time, .. } => (SingularError::new_err(msg), Some(*time)),
+        SolveError::NonFinite { time, .. } => (NonFiniteError::new_err(msg), Some(*time)),
+        SolveError::Times { .. } => (InputError::new_err(msg), None),
+        SolveError::OutOfRange { time, .. } => (InputError::new_err(msg), Some(*time)),
+        SolveError::Cancelled { .. } => (CancelledError::new_err(msg), None),
+    };
+    let value = err.value(py);
+    // attributes of an exception we created ourselves: setting them cannot fail in practice
+    let _ = value.setattr("step", e.step());
+    let _ = value.setattr("time", time);
+    err
+}
+
+fn parse_linear(s: &str) -> PyResult<LinearKind> {
+    match s {
+        "auto" => Ok(LinearKind::Auto),
+        "dense" => Ok(LinearKind::Dense),
+        "sparse" => Ok(LinearKind::Sparse),
+        other => Err(PyValueError::new_err(format!(
+            "linear must be 'auto', 'dense' or 'sparse', not {other:?}"
+        ))),
+    }
+}
+
+fn linear_name(k: LinearKind) -> &'static str {
+    match k {
+        LinearKind::Auto => "auto",
+        LinearKind::Dense => "dense",
+        LinearKind::Sparse => "sparse",
+    }
+}
+
+/// A compiled mechanism (immutable; every solve gets its own workspace).
+#[pyclass(frozen, module = "linkwork._core", name = "Model")]
+struct PyModel {
+    model: Arc<Model>,
+}
+
+fn start_guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Vec<f64>> {
+    match q_guess {
+        None => Ok(model.q_start.clone()),
+        Some(a) => {
+            let q = a.as_slice()?.to_vec();
+            if q.len() != model.n_coords {
+                return Err(InputError::new_err(format!(
+                    "q_guess has {} entries; the model has {} coordinates",
+                    q.len(),
+                    model.n_coords
+                )));
+            }
+            if let Some(i) = q.iter().position(|v| !v.is_finite()) {
+                return Err(InputError::new_err(format!(
+                    "q_guess[{i}] ({}) is not finite",
+                    model.columns[i]
+                )));
+            }
+            Ok(q)
+        }
+    }
+}
+
+fn rows_to_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, m: usize) -> Bound<'py, PyAny> {
+    // moves the buffer into NumPy: no copy
+    Array2::from_shape_vec((n, m), v)
+        .expect("n x m buffer")
+        .into_pyarray(py)
+        .into_any()
+}
+
+#[pymethods]
+impl PyModel {
+    #[new]
+    #[pyo3(signature = (description_json, *, tol_residual=None, tol_step=None, max_iter=None,
+                        max_iter_assembly=None, singular_tol=None, linear="auto", dense_max=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        description_json: &str,
+        tol_residual: Option<f64>,
+        tol_step: Option<f64>,
+        max_iter: Option<usize>,
+        max_iter_assembly: Option<usize>,
+        singular_tol: Option<f64>,
+        linear: &str,
+        dense_max: Option<usize>,
+    ) -> PyResult<Self> {
+        let d = Options::default();
+        let options = Options {
+            tol_residual: tol_residual.unwrap_or(d.tol_residual),
+            tol_step: tol_step.unwrap_or(d.tol_step),
+            max_iter: max_iter.unwrap_or(d.max_iter),
+            max_iter_assembly: max_iter_assembly.unwrap_or(d.max_iter_assembly),
+            singular_tol: singular_tol.unwrap_or(d.singular_tol),
+            linear: parse_linear(linear)?,
+            dense_max: dense_max.unwrap_or(d.dense_max),
+        };
+        let model = Model::from_json(description_json, options).map_err(model_err)?;
+        Ok(PyModel {
+            model: Arc::new(model),
+        })
+    }
+
+    #[getter]
+    fn name(&self) -> &str {
+        &self.model.name
+    }
+    #[getter]
+    fn n_bodies(&self) -> usize {
+        self.model.n_bodies
+    }
+    #[getter]
+    fn n_coords(&self) -> usize {
+        self.model.n_coords
+    }
+    #[getter]
+    fn n_rows(&self) -> usize {
+        self.model.n_rows
+    }
+    #[getter]
+    fn nnz(&self) -> usize {
+        self.model.nnz()
+    }
+    #[getter]
+    fn columns(&self) -> Vec<String> {
+        self.model.columns.clone()
+    }
+    #[getter]
+    fn body_names(&self) -> Vec<String> {
+        self.model.body_names.clone()
+    }
+    #[getter]
+    fn length_scale(&self) -> f64 {
+        self.model.length_scale
+    }
+    #[getter]
+    fn linear(&self) -> &'static str {
+        linear_name(self.model.linear_kind())
+    }
+    #[getter]
+    fn q_start<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.model.q_start.clone().into_pyarray(py)
+    }
+    /// (name, role, type, n_rows, first row) of every joint and driver, in row order.
+    #[getter]
+    fn constraints(&self) -> Vec<(String, &'static str, &'static str, usize, usize)> {
+        self.model
+            .constraints
+            .iter()
+            .map(|c| (c.name.clone(), c.role, c.kind.label(), c.n_rows, c.row0))
+            .collect()
+    }
+    /// (name, body index or -1 for the ground, local x, local y) of every named point.
+    #[getter]
+    fn points(&self) -> Vec<(String, i64, f64, f64)> {
+        self.model
+            .points
+            .iter()
+            .map(|p| {
+                (
+                    p.name.clone(),
+                    p.body.map_or(-1, |b| b as i64),
+                    p.local[0],
+                    p.local[1],
+                )
+            })
+            .collect()
+    }
+
+    /// Position, velocity and acceleration at time t, assembled from q_guess (default:
+    /// the starting configuration). Returns (q, qd, qdd, iterations, residual, pivot_ratio).
+    #[pyo3(signature = (t, q_guess=None))]
+    #[allow(clippy::type_complexity)]
+    fn solve<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        q_guess: Option<PyReadonlyArray1<'py, f64>>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        usize,
+        f64,
+        f64,
+    )> {
+        let model = &self.model;
+        let mut data = Data::new(model);
+        data.q = start_guess(model, q_guess)?;
+        let info = linkwork::solve(model, &mut data, t).map_err(|e| solve_err(py, &e))?;
+        Ok((
+            data.q.into_pyarray(py),
+            data.qd.into_pyarray(py),
+            data.qdd.into_pyarray(py),
+            info.iterations,
+            info.residual,
+            info.pivot_ratio,
+        ))
+    }
+
+    /// Sweeps the times with the GIL released. Returns (results dict, error or None):
+    /// on failure at step k the dict holds the k good steps and the error says why.
+    /// `progress(done, total)` is called every `progress_every` steps (0: never);
+    /// Ctrl-C is noticed at the same points.
+    #[pyo3(signature = (times, q_guess=None, progress=None, progress_every=16384))]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        times: PyReadonlyArray1<'py, f64>,
+        q_guess: Option<PyReadonlyArray1<'py, f64>>,
+        progress: Option<Py<PyAny>>,
+        progress_every: usize,
+    ) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
+        let model = Arc::clone(&self.model);
+        let times = times.as_slice()?;
+        let mut data = Data::new(&model);
+        data.q = start_guess(&model, q_guess)?;
+        let mut out = SweepOutput::new(&model, times);
+        let total = times.len();
+        let (result, interrupt) = py.detach(|| {
+            let mut interrupt: Option<PyErr> = None;
+            let mut on_progress = |k: usize| -> bool {
+                Python::attach(|py| {
+                    let r = py.check_signals().and_then(|_| match &progress {
+                        Some(cb) => cb.call1(py, (k, total)).map(|_| ()),
+                        None => Ok(()),
+                    });
+                    match r {
+                        Ok(()) => true,
+                        Err(e) => {
+                            interrupt = Some(e);
+                            false
+                        }
+                    }
+                })
+            };
+            let r = linkwork::sweep(
+                &model,
+                &mut data,
+                times,
+                &mut out,
+                progress_every,
+                &mut on_progress,
+            );
+            (r, interrupt)
+        });
+        if result.is_ok() {
+            if let Some(cb) = &progress {
+                cb.call1(py, (total, total))?;
+            }
+        }
+        let error = match (result, interrupt) {
+            (Ok(()), _) => None,
+            (Err(_), Some(py_err)) => Some(py_err),
+            (Err(e), None) => Some(solve_err(py, &e)),
+        };
+        out.truncate();
+        let (n, m) = (out.n_done, out.n_coords);
+        let d = PyDict::new(py);
+        d.set_item("q", rows_to_array(py, out.q, n, m))?;
+        d.set_item("qd", rows_to_array(py, out.qd, n, m))?;
+        d.set_item("qdd", rows_to_array(py, out.qdd, n, m))?;
+        d.set_item("iterations", out.iterations.into_pyarray(py))?;
+        d.set_item("residual", out.residual.into_pyarray(py))?;
+        d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
+        d.set_item("times", out.times.into_pyarray(py))?;
+        Ok((d, error))
+    }
+
+    fn __repr__(&self) -> String {
+        let m = &self.model;
+        format!(
+            "<linkwork Model '{}': {} bodies, {} coordinates, {} rows, {} LU>",
+            m.name,
+            m.n_bodies,
+            m.n_coords,
+            m.n_rows,
+            linear_name(m.linear_kind())
+        )
+    }
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyModel>()?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -50,12 +50,12 @@ pub(crate) fn position(model: &Model, data: &mut Data, t: f64) -> f64 {
             } else {
                 norm
             };
-            for j in 0..3 {
+            for (j, cs) in col.iter().enumerate() {
                 if c.body_a.is_some() {
-                    data.jac[c.slots_a[i][j] as usize] = rows.jac_a[i][j] * rs * col[j];
+                    data.jac[c.slots_a[i][j] as usize] = rows.jac_a[i][j] * rs * cs;
                 }
                 if c.body_b.is_some() {
-                    data.jac[c.slots_b[i][j] as usize] = rows.jac_b[i][j] * rs * col[j];
+                    data.jac[c.slots_b[i][j] as usize] = rows.jac_b[i][j] * rs * cs;
                 }
             }
         }

@@ -122,6 +122,15 @@ fn local(q0: Option<[f64; 3]>, p: [f64; 2]) -> [f64; 2] {
     }
 }
 
+/// A constraint before its rows are laid out: name, role, kind, sides.
+type Entry = (
+    String,
+    &'static str,
+    ConstraintKind,
+    Option<usize>,
+    Option<usize>,
+);
+
 struct Bodies<'a> {
     index: HashMap<&'a str, usize>,
     poses: Vec<[f64; 3]>,
@@ -222,16 +231,9 @@ impl Model {
                 });
             }
         }
-        drop(claim);
 
         let length_scale = length_scale(desc);
-        let mut entries: Vec<(
-            String,
-            &'static str,
-            ConstraintKind,
-            Option<usize>,
-            Option<usize>,
-        )> = Vec::new();
+        let mut entries: Vec<Entry> = Vec::new();
         let mut prismatic_of: HashMap<&str, (Prismatic, Option<usize>, Option<usize>)> =
             HashMap::new();
         for j in &desc.joints {

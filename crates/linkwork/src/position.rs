@@ -55,7 +55,8 @@ pub fn solve_position(
         }
         let pivots = data.factor.factor(&model.symbolic, &data.jac);
         data.pivots = pivots;
-        if !(pivots.ratio >= opts.singular_tol) {
+        // a NaN ratio counts as singular too
+        if pivots.ratio.is_nan() || pivots.ratio < opts.singular_tol {
             let (coordinate, constraints) = model.describe_coordinate(pivots.column);
             return Err(SolveError::Singular {
                 step,

@@ -85,7 +85,7 @@ pub fn check_times(model: &Model, times: &[f64]) -> Result<(), SolveError> {
                 problem: format!("time {t} is not finite"),
             });
         }
-        if k > 0 && !((t - times[k - 1]) * direction > 0.0) {
+        if k > 0 && (t - times[k - 1]) * direction <= 0.0 {
             return Err(SolveError::Times {
                 step: k,
                 problem: format!(

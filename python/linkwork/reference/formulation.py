@@ -101,9 +101,7 @@ def _projection(pa: Pose, pb: Pose, ua: np.ndarray, ub: np.ndarray, w_local: np.
     jac_a = np.array([[-w[0], -w[1], w_theta @ d - w @ (pa.B @ ua)]])
     jac_b = np.array([[w[0], w[1], w @ (pb.B @ ub)]])
     gamma = (
-        (w @ d) * pa.thd**2
-        - 2.0 * pa.thd * (w_theta @ d_dot)
-        + w @ (pb.centripetal(ub) - pa.centripetal(ua))
+        (w @ d) * pa.thd**2 - 2.0 * pa.thd * (w_theta @ d_dot) + w @ (pb.centripetal(ub) - pa.centripetal(ua))
     )
     return value, jac_a, jac_b, gamma
 
@@ -354,7 +352,9 @@ def build_constraints(desc: dict[str, Any], start: dict[str, tuple[float, float,
             if not norm > 0.0:
                 raise ValueError(f"{where} has a zero axis")
             e_local = rot(start[a][2]).T @ (axis / norm)
-            joint = Prismatic(name, a, b, local(a, j["at"]), local(b, j["at"]), e_local, start[b][2] - start[a][2])
+            joint = Prismatic(
+                name, a, b, local(a, j["at"]), local(b, j["at"]), e_local, start[b][2] - start[a][2]
+            )
             prismatics[name] = joint
             out.append(joint)
         elif kind == "fixed":

@@ -73,7 +73,9 @@ def _spline_table(times: tuple[float, ...], values: tuple[float, ...]) -> np.nda
     """
     n = len(times)
     if n < 2 or len(values) != n:
-        raise ValueError(f"spline needs at least 2 times and as many values ({n} times, {len(values)} values)")
+        raise ValueError(
+            f"spline needs at least 2 times and as many values ({n} times, {len(values)} values)"
+        )
     if not all(math.isfinite(v) for v in times + values):
         raise ValueError("spline table holds a value that is not a finite number")
     t = np.array(times)

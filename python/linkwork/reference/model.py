@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import copy
 import math
-from itertools import combinations
 from typing import Any
 
 import numpy as np
@@ -81,7 +80,9 @@ class ReferenceModel:
         # scales for the convergence test: lengths divided by L, angles as they are
         self.length_scale = self._characteristic_length()
         self._row_scale = np.array([1.0 / self.length_scale if is_len else 1.0 for is_len in length_rows])
-        self._col_scale = np.tile([1.0 / self.length_scale, 1.0 / self.length_scale, 1.0], len(self.body_names))
+        self._col_scale = np.tile(
+            [1.0 / self.length_scale, 1.0 / self.length_scale, 1.0], len(self.body_names)
+        )
 
     # -- setup helpers ----------------------------------------------------------------------
     def _local(self, body: str, p: Any) -> np.ndarray:
@@ -91,7 +92,9 @@ class ReferenceModel:
         return np.array([c * dx + s * dy, -s * dx + c * dy])
 
     def _characteristic_length(self) -> float:
-        """Largest distance between any two world points of the description and body origins."""
+        """L: the diagonal of the bounding box of the described world points and body
+        origins (within sqrt(2) of the largest distance between two of them); 1 if they
+        all coincide."""
         pts = [(x, y) for name, (x, y, _) in self._start.items() if name != GROUND]
         for j in self.description.get("joints", []):
             if "at" in j:
@@ -102,10 +105,9 @@ class ReferenceModel:
                     pts.append(tuple(d[key]))
         for p in self.description.get("points", []):
             pts.append(tuple(p["at"]))
-        longest = 0.0
-        for p1, p2 in combinations(pts, 2):
-            longest = max(longest, math.hypot(p1[0] - p2[0], p1[1] - p2[1]))
-        return max(1e-300, longest)
+        xy = np.array(pts, dtype=float).reshape(-1, 2)
+        diagonal = float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0)))) if len(xy) else 0.0
+        return diagonal if diagonal > 0.0 else 1.0
 
     def _pose(self, name: str, q: np.ndarray, qd: np.ndarray | None = None) -> Pose:
         if name == GROUND:

@@ -1,0 +1,77 @@
+"""The one exception hierarchy of linkwork.
+
+::
+
+    LinkworkError
+    ├── ModelError          the description cannot be compiled (names the body/joint/driver)
+    ├── InputError          bad arguments to a solve (time grid, q_guess); also a ValueError
+    └── SolveError          a solve could not be completed at some time step
+        ├── AssemblyError       no configuration found at the first time
+        ├── ConvergenceError    Newton-Raphson did not converge at a later step
+        ├── SingularError       Phi_q is singular there (dead point, lock-up, redundancy)
+        ├── NonFiniteError      a NaN or infinity appeared
+        └── CancelledError      the sweep was stopped by its progress callback
+
+Solve errors carry ``step`` and ``time`` (None where not known). A failed sweep's
+exception also carries ``partial``: the `Results` of the steps before the failure.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = [
+    "LinkworkError",
+    "ModelError",
+    "InputError",
+    "SolveError",
+    "AssemblyError",
+    "ConvergenceError",
+    "SingularError",
+    "NonFiniteError",
+    "CancelledError",
+]
+
+
+class LinkworkError(Exception):
+    """Base class of every linkwork error."""
+
+
+class ModelError(LinkworkError, ValueError):
+    """The mechanism description cannot be compiled."""
+
+
+class InputError(LinkworkError, ValueError):
+    """Bad input to a solve: a time grid, a starting guess."""
+
+    step: int | None = None
+    time: float | None = None
+    partial: Any = None
+
+
+class SolveError(LinkworkError):
+    """A solve could not be completed; ``step``, ``time`` and ``partial`` say where."""
+
+    step: int | None = None
+    time: float | None = None
+    partial: Any = None
+
+
+class AssemblyError(SolveError):
+    """No configuration satisfies the constraints at the first time."""
+
+
+class ConvergenceError(SolveError):
+    """Newton-Raphson did not converge at a time step."""
+
+
+class SingularError(SolveError):
+    """Phi_q is singular: a dead point, a lock-up, or redundant constraints."""
+
+
+class NonFiniteError(SolveError):
+    """A NaN or an infinity appeared in a residual, step, velocity or acceleration."""
+
+
+class CancelledError(SolveError):
+    """The sweep was stopped by its progress callback."""

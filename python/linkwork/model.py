@@ -1,0 +1,125 @@
+"""A compiled model: the engine's immutable `Model`, with solve and sweep."""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from typing import Any, Callable
+
+import numpy as np
+
+from . import _core
+from .errors import InputError, ModelError
+from .results import Results, State
+
+__all__ = ["Model"]
+
+
+class Model:
+    """A mechanism compiled by the engine (validated; immutable).
+
+    Options: ``tol_residual`` and ``tol_step`` (Newton tolerances on the scaled residual
+    and step, default 1e-12), ``max_iter`` (25 per step), ``max_iter_assembly`` (100),
+    ``singular_tol`` (pivot ratio under which Phi_q counts as singular, 1e-12),
+    ``linear`` ("auto", "dense" or "sparse" LU) and ``dense_max`` (largest model solved
+    densely by "auto", in coordinates).
+    """
+
+    def __init__(self, mechanism: Any, **options: Any) -> None:
+        desc = mechanism.to_dict() if hasattr(mechanism, "to_dict") else dict(mechanism)
+        _check_finite(desc)
+        self.description: dict[str, Any] = desc
+        self._core = _core.Model(json.dumps(desc), **options)
+
+    name = property(lambda self: self._core.name, doc="The mechanism's name.")
+    n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
+    n_coords = property(lambda self: self._core.n_coords, doc="Coordinates: 3 per moving body.")
+    n_rows = property(lambda self: self._core.n_rows, doc="Constraint rows (joints and drivers).")
+    columns = property(lambda self: self._core.columns, doc="Names of the coordinates.")
+    body_names = property(lambda self: self._core.body_names, doc="Names of the moving bodies.")
+    linear = property(lambda self: self._core.linear, doc="'dense' or 'sparse' LU.")
+    length_scale = property(lambda self: self._core.length_scale, doc="L: lengths are measured in L.")
+    q_start = property(lambda self: self._core.q_start, doc="The starting configuration as described.")
+
+    @property
+    def constraints(self) -> list[tuple[str, str, str, int, int]]:
+        """(name, role, type, n_rows, first row) of every joint and driver."""
+        return self._core.constraints
+
+    def __repr__(self) -> str:
+        return repr(self._core)
+
+    def solve(self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None) -> State:
+        """Position, velocity and acceleration at time ``t``, assembled from ``q_guess``
+        (default: the starting configuration, so the branch is the one described)."""
+        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
+        q, qd, qdd, it, res, piv = self._core.solve(float(t), g)
+        return State(self, float(t), q, qd, qdd, it, res, piv)
+
+    def sweep(
+        self,
+        times: Sequence[float] | np.ndarray,
+        q_guess: Sequence[float] | np.ndarray | None = None,
+        progress: Callable[[int, int], Any] | bool | None = None,
+    ) -> Results:
+        """Solves position, velocity and acceleration at every time (strictly monotone),
+        each step predicted from the previous one. The GIL is released meanwhile.
+
+        ``progress``: True for a progress bar on stderr, or a callable(done, total).
+        If step k fails, the exception carries ``.partial``: the k good steps.
+        """
+        t = np.ascontiguousarray(times, dtype=np.float64)
+        if t.ndim != 1:
+            raise InputError(f"times must be one-dimensional, got shape {t.shape}")
+        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
+        callback = _ProgressBar() if progress is True else (progress or None)
+        every = max(1024, len(t) // 100) if callback is not None else 16384
+        raw, error = self._core.sweep(t, g, callback, every)
+        results = Results(self, raw)
+        if error is not None:
+            error.partial = results
+            raise error
+        return results
+
+
+_KINDS = {"bodies": "body", "joints": "joint", "drivers": "driver", "points": "point"}
+
+
+def _check_finite(desc: dict[str, Any]) -> None:
+    """Refuses NaN and infinities, naming the item and field (JSON cannot carry them
+    to the engine, which would otherwise only see a syntax error)."""
+
+    def walk(value: Any, path: str) -> str | None:
+        if isinstance(value, float) and not math.isfinite(value):
+            return f"{path} is {value}, not a finite number"
+        if isinstance(value, dict):
+            items: Any = value.items()
+        elif isinstance(value, (list, tuple)):
+            items = ((f"[{i}]", v) for i, v in enumerate(value))
+        else:
+            return None
+        for key, v in items:
+            found = walk(v, f"{path}.{key}" if isinstance(value, dict) else f"{path}{key}")
+            if found:
+                return found
+        return None
+
+    for group, kind in _KINDS.items():
+        for item in desc.get(group, []):
+            problem = walk(item, "")
+            if problem:
+                raise ModelError(f"{kind} {item.get('name')!r}: {problem.lstrip('.')}")
+
+
+class _ProgressBar:
+    """A one-line progress bar on stderr."""
+
+    def __call__(self, done: int, total: int) -> None:
+        import sys
+
+        width = 30
+        filled = width * done // max(total, 1)
+        end = "\n" if done >= total else ""
+        sys.stderr.write(f"\r  sweeping [{'#' * filled}{'.' * (width - filled)}] {done}/{total}{end}")
+        sys.stderr.flush()
