@@ -127,7 +127,7 @@ def scotch_yoke_by_slide() -> lw.Mechanism:
     driver), a bracket is welded to the rod (fixed joint)."""
     m = examples.slider_crank(crank=0.1, rod=0.35, offset=0.0, theta0=0.8)
     d = m.to_dict()
-    m._drivers.clear()
+    m.remove("crank_angle")
     bx, by = d["joints"][2]["at"]  # the pin B between rod and slider
     bracket = m.body("bracket", (bx - 0.05, by + 0.03), 0.4)
     m.fixed("rod", bracket)

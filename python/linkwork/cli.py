@@ -1,9 +1,13 @@
-"""The command line: ``linkwork demo`` sweeps a built-in mechanism and writes its results.
+"""The command line.
 
     linkwork demo [four_bar|slider_crank|...] [--steps N] [--revolutions R] [--out DIR]
+    linkwork run MODEL.json [--t0 T0] [--t1 T1] [--steps N] [--forces] [--plot] [--out DIR]
 
-prints a summary (range of every coordinate, worst residual, Newton iterations, closest
-approach to a singular configuration, speed) and writes DIR/<name>.csv and DIR/<name>.png.
+``demo`` sweeps a built-in mechanism: it prints a summary (range of every coordinate, worst
+residual, Newton iterations, closest approach to a singular configuration, speed) and
+writes DIR/<name>.csv and DIR/<name>.png. ``run`` does the same for a model file; with
+``--forces`` it adds the inverse dynamics (peak efforts and their parts, peak pin forces,
+the energy balance) and DIR/<model>_forces.csv (.png with ``--plot``).
 """
 
 from __future__ import annotations
@@ -46,6 +50,49 @@ def demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def run(args: argparse.Namespace) -> int:
+    from .mechanism import Mechanism
+
+    try:
+        mech = Mechanism.load(args.model)
+        model = mech.compile()
+    except (OSError, ValueError) as e:
+        print(f"error: {args.model}: {e}", file=sys.stderr)
+        return 1
+    times = np.linspace(args.t0, args.t1, args.steps)
+    print(f"{model!r}")
+    try:
+        results = model.sweep(times, progress=sys.stderr.isatty(), forces=args.forces)
+    except LinkworkError as e:
+        print(f"error: {e}", file=sys.stderr)
+        partial = getattr(e, "partial", None)
+        if partial is not None and len(partial):
+            print(f"(the {len(partial)} steps before the failure are in the output)", file=sys.stderr)
+            results, status = partial, 1
+        else:
+            return 1
+    else:
+        status = 0
+    print(results.summary())
+    stem = os.path.splitext(os.path.basename(args.model))[0]
+    os.makedirs(args.out, exist_ok=True)
+    written = [os.path.join(args.out, f"{stem}.csv")]
+    results.to_csv(written[0])
+    every = max(1, args.steps // 2000)
+    if args.plot:
+        written.append(os.path.join(args.out, f"{stem}.png"))
+        results.plot(written[-1], every=every)
+    if args.forces:
+        print(results.forces_summary())
+        written.append(os.path.join(args.out, f"{stem}_forces.csv"))
+        results.forces_to_csv(written[-1])
+        if args.plot:
+            written.append(os.path.join(args.out, f"{stem}_forces.png"))
+            results.plot_forces(written[-1], every=every)
+    print("wrote " + ", ".join(written))
+    return status
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="linkwork", description="Planar mechanism kinematics.")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -54,12 +101,20 @@ def main(argv: list[str] | None = None) -> int:
     d.add_argument("--steps", type=int, default=100_000, help="time steps (default 100000)")
     d.add_argument("--revolutions", type=float, default=1.0, help="crank revolutions (default 1)")
     d.add_argument("--out", default="linkwork-out", help="output folder (default linkwork-out)")
+    r = sub.add_parser("run", help="sweep a JSON model file; write CSV (and PNG with --plot)")
+    r.add_argument("model", help="model file (JSON, as written by Mechanism.save)")
+    r.add_argument("--t0", type=float, default=0.0, help="first time [s] (default 0)")
+    r.add_argument("--t1", type=float, default=1.0, help="last time [s] (default 1)")
+    r.add_argument("--steps", type=int, default=1001, help="time steps (default 1001)")
+    r.add_argument("--forces", action="store_true", help="inverse dynamics: driver efforts, joint reactions")
+    r.add_argument("--plot", action="store_true", help="also write PNG plots")
+    r.add_argument("--out", default="linkwork-out", help="output folder (default linkwork-out)")
     args = parser.parse_args(argv)
+    if args.steps < 2:
+        parser.error("--steps must be at least 2")
     if args.command == "demo":
-        if args.steps < 2:
-            parser.error("--steps must be at least 2")
         return demo(args)
-    return 2
+    return run(args)
 
 
 if __name__ == "__main__":

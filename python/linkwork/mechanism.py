@@ -69,20 +69,53 @@ class Mechanism:
         self._joints: list[dict[str, Any]] = []
         self._drivers: list[dict[str, Any]] = []
         self._points: list[dict[str, Any]] = []
+        self._loads: list[dict[str, Any]] = []
+        self.gravity: tuple[float, float] = (0.0, 0.0)
 
     # -- bodies ---------------------------------------------------------------------
-    def body(self, name: str, origin: Sequence[float] = (0.0, 0.0), angle: float = 0.0) -> Body:
-        """A moving body whose frame starts at ``origin`` rotated by ``angle`` (rad)."""
+    def body(
+        self,
+        name: str,
+        origin: Sequence[float] = (0.0, 0.0),
+        angle: float = 0.0,
+        mass: float = 0.0,
+        inertia: float = 0.0,
+        com: Sequence[float] | None = None,
+    ) -> Body:
+        """A moving body whose frame starts at ``origin`` rotated by ``angle`` (rad).
+
+        For inverse dynamics: ``mass``, ``inertia`` (about the centre of mass) and ``com``
+        (the centre of mass, a world point at the start; default the origin)."""
         x, y = _xy(origin)
-        self._bodies.append({"name": str(name), "x": x, "y": y, "theta": float(angle)})
+        body: dict[str, Any] = {"name": str(name), "x": x, "y": y, "theta": float(angle)}
+        if mass or inertia:
+            body.update(mass=float(mass), inertia=float(inertia))
+        if com is not None:
+            body["com"] = _xy(com)
+        self._bodies.append(body)
         return Body(str(name))
 
-    def link(self, name: str, start: Sequence[float], end: Sequence[float]) -> Body:
+    def link(
+        self,
+        name: str,
+        start: Sequence[float],
+        end: Sequence[float],
+        mass: float = 0.0,
+        inertia: float | None = None,
+        com: Sequence[float] | None = None,
+    ) -> Body:
         """A bar from ``start`` to ``end``: frame at ``start``, x axis along the bar,
-        so the body's theta is the bar's angle."""
+        so the body's theta is the bar's angle.
+
+        With a ``mass``, the bar is a uniform slender rod unless told otherwise: centre of
+        mass at its middle, inertia m L^2 / 12 about it."""
         sx, sy = _xy(start)
         ex, ey = _xy(end)
-        return self.body(name, (sx, sy), math.atan2(ey - sy, ex - sx))
+        if com is None and mass:
+            com = ((sx + ex) / 2.0, (sy + ey) / 2.0)
+        if inertia is None:
+            inertia = float(mass) * ((ex - sx) ** 2 + (ey - sy) ** 2) / 12.0
+        return self.body(name, (sx, sy), math.atan2(ey - sy, ex - sx), mass, inertia, com)
 
     def point(self, name: str, body: Body | str, at: Sequence[float]) -> str:
         """A named point fixed in ``body``, at world ``at`` in the starting configuration
@@ -194,6 +227,95 @@ class Mechanism:
         """The slide s of prismatic joint ``joint`` = f(t) (s = 0 at the start)."""
         return self._driver("translation", name, law, joint=str(joint))
 
+    # -- loads (inverse dynamics) ------------------------------------------------------
+    def set_gravity(self, g: Sequence[float] = (0.0, -9.81)) -> None:
+        """Gravitational acceleration in world axes (default 9.81 m/s^2 down -y)."""
+        self.gravity = (float(g[0]), float(g[1]))
+
+    def force(
+        self,
+        body: Body | str,
+        at: Sequence[float],
+        direction: Sequence[float],
+        law: Law,
+        name: str | None = None,
+    ) -> str:
+        """A force of magnitude f(t) along the fixed world ``direction`` at world point ``at``
+        (at the start) of ``body``."""
+        return self._load(
+            "force", name, body=_name(body), at=_xy(at), direction=_xy(direction), law=law.to_dict()
+        )
+
+    def torque(self, body: Body | str, law: Law, name: str | None = None) -> str:
+        """A torque f(t) on ``body`` (counter-clockwise positive)."""
+        return self._load("torque", name, body=_name(body), law=law.to_dict())
+
+    def spring(
+        self,
+        body_a: Body | str,
+        at_a: Sequence[float],
+        body_b: Body | str,
+        at_b: Sequence[float],
+        stiffness: float,
+        free_length: float | None = None,
+        damping: float = 0.0,
+        name: str | None = None,
+    ) -> str:
+        """A linear spring-damper between two points: tension k (L - free_length) + c dL/dt.
+        ``free_length`` defaults to the distance at the start."""
+        pa, pb = _xy(at_a), _xy(at_b)
+        if free_length is None:
+            free_length = math.dist(pa, pb)
+        return self._load(
+            "spring", name, body_a=_name(body_a), at_a=pa, body_b=_name(body_b), at_b=pb,
+            stiffness=float(stiffness), free_length=float(free_length), damping=float(damping),
+        )  # fmt: skip
+
+    def torsion_spring(
+        self,
+        body_a: Body | str,
+        body_b: Body | str,
+        stiffness: float,
+        free_angle: float | None = None,
+        damping: float = 0.0,
+        name: str | None = None,
+    ) -> str:
+        """A torsional spring-damper: torque on b of -(k (theta_b - theta_a - free_angle) +
+        c (w_b - w_a)) and the opposite on a. ``free_angle`` defaults to the start's."""
+        if free_angle is None:
+            free_angle = self._theta(_name(body_b)) - self._theta(_name(body_a))
+        return self._load(
+            "torsion_spring", name, body_a=_name(body_a), body_b=_name(body_b),
+            stiffness=float(stiffness), free_angle=float(free_angle), damping=float(damping),
+        )  # fmt: skip
+
+    def _theta(self, body: str) -> float:
+        if body == GROUND:
+            return 0.0
+        for b in self._bodies:
+            if b["name"] == body:
+                return float(b["theta"])
+        raise KeyError(f"no body named {body!r}")
+
+    def _load(self, kind: str, name: str | None, **fields: Any) -> str:
+        if name is None:
+            used = {ld["name"] for ld in self._loads}
+            k = 1
+            while f"L{k}" in used:
+                k += 1
+            name = f"L{k}"
+        self._loads.append({"type": kind, "name": str(name), **fields})
+        return str(name)
+
+    def remove(self, name: str) -> None:
+        """Removes the joint, driver, point or load called ``name`` (to re-drive a mechanism, say)."""
+        for group in (self._joints, self._drivers, self._points, self._loads):
+            for k, item in enumerate(group):
+                if item["name"] == name:
+                    del group[k]
+                    return
+        raise KeyError(f"no joint, driver or point named {name!r}")
+
     # -- description ------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
         """The model description shared by the engine and the reference (plain data)."""
@@ -203,7 +325,38 @@ class Mechanism:
             "joints": [dict(j) for j in self._joints],
             "drivers": [dict(d) for d in self._drivers],
             "points": [dict(p) for p in self._points],
+            "gravity": list(self.gravity),
+            "loads": [dict(ld) for ld in self._loads],
         }
+
+    @classmethod
+    def from_dict(cls, desc: dict[str, Any]) -> Mechanism:
+        """A mechanism from its description (``to_dict``'s inverse)."""
+        m = cls(str(desc.get("name", "mechanism")))
+        m._bodies = [dict(b) for b in desc.get("bodies", [])]
+        m._joints = [dict(j) for j in desc.get("joints", [])]
+        m._drivers = [dict(d) for d in desc.get("drivers", [])]
+        m._points = [dict(p) for p in desc.get("points", [])]
+        m._loads = [dict(ld) for ld in desc.get("loads", [])]
+        g = desc.get("gravity", (0.0, 0.0))
+        m.gravity = (float(g[0]), float(g[1]))
+        return m
+
+    def save(self, path: str) -> None:
+        """Writes the description as a JSON model file."""
+        import json
+
+        with open(path, "w") as f:
+            json.dump(self.to_dict(), f, indent=2)
+            f.write("\n")
+
+    @classmethod
+    def load(cls, path: str) -> Mechanism:
+        """Reads a JSON model file written by ``save`` (or by hand)."""
+        import json
+
+        with open(path) as f:
+            return cls.from_dict(json.load(f))
 
     def compile(self, **options: Any) -> Model:
         """Validate and compile into an engine model (raises ``ModelError``)."""

@@ -11,7 +11,7 @@ import numpy as np
 
 from . import _core
 from .errors import InputError, ModelError
-from .results import Results, State
+from .results import Results, State, Statics
 
 __all__ = ["Model"]
 
@@ -57,16 +57,26 @@ class Model:
         q, qd, qdd, it, res, piv = self._core.solve(float(t), g)
         return State(self, float(t), q, qd, qdd, it, res, piv)
 
+    def statics(self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None) -> Statics:
+        """The driver efforts and joint reactions that hold the mechanism at rest at time
+        ``t`` against gravity and the loads (velocities and accelerations set to zero)."""
+        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
+        q, lam, reactions = self._core.statics(float(t), g)
+        return Statics(self, float(t), q, lam, reactions)
+
     def sweep(
         self,
         times: Sequence[float] | np.ndarray,
         q_guess: Sequence[float] | np.ndarray | None = None,
         progress: Callable[[int, int], Any] | bool | None = None,
+        forces: bool = False,
     ) -> Results:
         """Solves position, velocity and acceleration at every time (strictly monotone),
         each step predicted from the previous one. The GIL is released meanwhile.
 
         ``progress``: True for a progress bar on stderr, or a callable(done, total).
+        ``forces``: also solve the inverse dynamics (driver efforts, joint reactions) from
+        the bodies' mass properties, gravity and the loads.
         If step k fails, the exception carries ``.partial``: the k good steps.
         """
         t = np.ascontiguousarray(times, dtype=np.float64)
@@ -75,7 +85,7 @@ class Model:
         g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
         callback = _ProgressBar() if progress is True else (progress or None)
         every = max(1024, len(t) // 100) if callback is not None else 16384
-        raw, error = self._core.sweep(t, g, callback, every)
+        raw, error = self._core.sweep(t, g, callback, every, forces)
         results = Results(self, raw)
         if error is not None:
             error.partial = results
@@ -83,7 +93,7 @@ class Model:
         return results
 
 
-_KINDS = {"bodies": "body", "joints": "joint", "drivers": "driver", "points": "point"}
+_KINDS = {"bodies": "body", "joints": "joint", "drivers": "driver", "points": "point", "loads": "load"}
 
 
 def _check_finite(desc: dict[str, Any]) -> None:
@@ -105,6 +115,9 @@ def _check_finite(desc: dict[str, Any]) -> None:
                 return found
         return None
 
+    gravity = desc.get("gravity", [0.0, 0.0])
+    if not all(math.isfinite(float(g)) for g in gravity):
+        raise ModelError(f"gravity {list(gravity)} is not finite")
     for group, kind in _KINDS.items():
         for item in desc.get(group, []):
             problem = walk(item, "")

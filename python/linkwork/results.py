@@ -16,7 +16,7 @@ import numpy as np
 if TYPE_CHECKING:
     from .model import Model
 
-__all__ = ["Results", "State", "BodyMotion", "PointMotion"]
+__all__ = ["Results", "State", "Statics", "BodyMotion", "PointMotion", "Reaction", "Energy"]
 
 
 @dataclass(frozen=True)
@@ -41,6 +41,37 @@ class PointMotion:
     position: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
+
+
+@dataclass(frozen=True)
+class Reaction:
+    """What a joint or driver transmits to its side b (``body_b``), each (n_steps, ...):
+    ``force`` (n, 2) in world axes and ``force_local`` in body b's frame; ``torque`` about
+    ``point``, the joint's anchor on b (n, 2) (0 for a pin); ``power`` delivered (0 for a
+    joint). The force on side a is the opposite."""
+
+    force: np.ndarray
+    force_local: np.ndarray
+    torque: np.ndarray
+    point: np.ndarray
+    power: np.ndarray
+
+
+@dataclass(frozen=True)
+class Energy:
+    """Energy bookkeeping, each (n_steps,): ``kinetic`` and ``gravity`` (potential)
+    energy from the kinematics and the mass properties alone; ``driver_power`` (sum over
+    drivers of effort x rate) and ``load_power`` (springs, dampers, forces, torques) from
+    the inverse dynamics; ``kinetic_rate`` = dT/dt from the accelerations; ``balance`` =
+    driver_power + load_power - gravity_rate - kinetic_rate, zero up to rounding."""
+
+    kinetic: np.ndarray
+    gravity: np.ndarray
+    kinetic_rate: np.ndarray
+    gravity_rate: np.ndarray
+    driver_power: np.ndarray
+    load_power: np.ndarray
+    balance: np.ndarray
 
 
 class _Kinematics:
@@ -89,6 +120,27 @@ class _Kinematics:
         """Kinematics of the point with body-frame coordinates ``local`` of ``body``."""
         return self._point(self._body_index(body), (float(local[0]), float(local[1])))
 
+    def _constraint(self, name: str) -> tuple[int, tuple[str, str, str, int, int]]:
+        for k, c in enumerate(self.model.constraints):
+            if c[0] == name:
+                return k, c
+        names = ", ".join(c[0] for c in self.model.constraints)
+        raise KeyError(f"no joint or driver named {name!r}; there are: {names}")
+
+    def _reaction(self, name: str, table: np.ndarray) -> Reaction:
+        """A Reaction from a (..., n_constraints, 4) table of Fx, Fy, torque, power."""
+        k, _ = self._constraint(name)
+        _, _, _, body_b, ux, uy = self.model._core.anchors[k]
+        r = table[..., k, :]
+        point = self._point(body_b, (ux, uy)).position
+        if body_b >= 0:
+            th = self.q[..., 3 * body_b + 2]
+            c, s = np.cos(th), np.sin(th)
+        else:
+            c, s = np.ones_like(r[..., 0]), np.zeros_like(r[..., 0])
+        local = np.stack([c * r[..., 0] + s * r[..., 1], -s * r[..., 0] + c * r[..., 1]], axis=-1)
+        return Reaction(r[..., :2], local, r[..., 2], point, r[..., 3])
+
     def _point(self, body: int, u: tuple[float, float]) -> PointMotion:
         if body < 0:  # a point of the ground
             shape = self.q.shape[:-1] + (2,)
@@ -119,6 +171,27 @@ class State(_Kinematics):
         return f"<State t={self.t:g}: {vals}>"
 
 
+class Statics(_Kinematics):
+    """Efforts and reactions holding a configuration at rest (``Model.statics``)."""
+
+    def __init__(self, model: Model, t: float, q: np.ndarray, lam: np.ndarray, reactions: np.ndarray) -> None:
+        self.model, self.t, self.q = model, t, q
+        self.qd = np.zeros_like(q)
+        self.qdd = np.zeros_like(q)
+        self.multipliers, self.reactions = lam, reactions
+
+    def effort(self, driver: str) -> float:
+        """The torque or force the driver must supply to hold the configuration."""
+        _, (_, role, _, _, row0) = self._constraint(driver)
+        if role != "driver":
+            raise KeyError(f"{driver!r} is a joint, not a driver")
+        return float(-self.multipliers[row0])
+
+    def reaction(self, name: str) -> Reaction:
+        """What joint ``name`` transmits to its side b (arrays of one state)."""
+        return self._reaction(name, self.reactions)
+
+
 class Results(_Kinematics):
     """A sweep's results: q, qd, qdd (n_steps, n_coords) and per-step diagnostics.
 
@@ -137,6 +210,148 @@ class Results(_Kinematics):
         self.iterations: np.ndarray = raw["iterations"]
         self.residual: np.ndarray = raw["residual"]
         self.pivot_ratio: np.ndarray = raw["pivot_ratio"]
+        # inverse dynamics (sweep(..., forces=True)); None otherwise
+        self.multipliers: np.ndarray | None = raw.get("lambda")  # (n_steps, n_rows)
+        self.reactions: np.ndarray | None = raw.get("reactions")  # (n_steps, n_constraints, 4)
+        self.load_power: np.ndarray | None = raw.get("load_power")  # (n_steps,)
+        self._parts = {p: raw.get("lambda_" + p) for p in ("inertia", "gravity", "loads")}
+
+    def _forces(self) -> np.ndarray:
+        if self.reactions is None:
+            raise ValueError("no forces in these results: sweep(..., forces=True) computes them")
+        return self.reactions
+
+    def _driver_row(self, driver: str) -> int:
+        _, (_, role, _, _, row0) = self._constraint(driver)
+        if role != "driver":
+            raise KeyError(f"{driver!r} is a joint, not a driver; its forces are reaction({driver!r})")
+        return row0
+
+    def effort(self, driver: str) -> np.ndarray:
+        """The torque (angle drivers) or force (distance, coordinate, translation drivers)
+        the driver exerts on its body, (n_steps,)."""
+        self._forces()
+        assert self.multipliers is not None
+        return -self.multipliers[:, self._driver_row(driver)]
+
+    def effort_parts(self, driver: str) -> dict[str, np.ndarray]:
+        """The driver's effort split by cause: ``inertia`` (accelerating the masses),
+        ``gravity`` and ``loads`` (springs, dampers, applied forces); they add up to
+        ``effort``."""
+        self._forces()
+        row = self._driver_row(driver)
+        return {p: -a[:, row] for p, a in self._parts.items() if a is not None}
+
+    def power(self, driver: str) -> np.ndarray:
+        """Power the driver delivers (effort times the rate of what it drives), (n_steps,)."""
+        self._driver_row(driver)
+        return self.reaction(driver).power
+
+    def reaction(self, name: str) -> Reaction:
+        """What joint (or driver) ``name`` transmits to its side b, over the sweep."""
+        return self._reaction(name, self._forces())
+
+    def energy(self) -> Energy:
+        """Kinetic and gravitational energy from the kinematics, the power of drivers and
+        loads from the inverse dynamics, and their balance (zero up to rounding)."""
+        table = self._forces()
+        assert self.load_power is not None
+        g = np.asarray(self.model._core.gravity)
+        kinetic = np.zeros(self.n_steps)
+        kinetic_rate = np.zeros(self.n_steps)
+        gravity = np.zeros(self.n_steps)
+        gravity_rate = np.zeros(self.n_steps)
+        for i, (mass, inertia, cx, cy) in enumerate(self.model._core.inertias):
+            c = self._point(i, (cx, cy))
+            w, a = self.qd[:, 3 * i + 2], self.qdd[:, 3 * i + 2]
+            kinetic += 0.5 * mass * np.sum(c.velocity**2, axis=1) + 0.5 * inertia * w * w
+            kinetic_rate += mass * np.sum(c.velocity * c.acceleration, axis=1) + inertia * w * a
+            gravity -= mass * c.position @ g
+            gravity_rate -= mass * c.velocity @ g
+        drivers = [k for k, c in enumerate(self.model.constraints) if c[1] == "driver"]
+        driver_power = table[:, drivers, 3].sum(axis=1)
+        balance = driver_power + self.load_power - gravity_rate - kinetic_rate
+        return Energy(kinetic, gravity, kinetic_rate, gravity_rate, driver_power, self.load_power, balance)
+
+    def effort_unit(self, driver: str) -> str:
+        """N m for drivers of angles, N for drivers of lengths (SI assumed)."""
+        kind = self._constraint(driver)[1][2]
+        return "N m" if "angle" in kind else "N"
+
+    def forces_to_csv(self, path: str) -> None:
+        """Writes t, every driver's effort (total and parts) and power, and every
+        joint's reaction on its side b (Fx, Fy world; torque about its anchor)."""
+        table = self._forces()
+        header, cols = ["t [s]"], [self.times]
+        for k, (name, role, *_) in enumerate(self.model.constraints):
+            if role == "driver":
+                unit = self.effort_unit(name)
+                header.append(f"{name}.effort [{unit}]")
+                cols.append(self.effort(name))
+                for part, v in self.effort_parts(name).items():
+                    header.append(f"{name}.effort_{part} [{unit}]")
+                    cols.append(v)
+                header.append(f"{name}.power [W]")
+                cols.append(table[:, k, 3])
+            else:
+                header += [f"{name}.Fx [N]", f"{name}.Fy [N]", f"{name}.torque [N m]"]
+                cols += [table[:, k, 0], table[:, k, 1], table[:, k, 2]]
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(header)
+            w.writerows(np.column_stack(cols).tolist())
+
+    def forces_summary(self) -> str:
+        """Peak efforts (with their parts) and peak joint forces, as text."""
+        table = self._forces()
+        lines = [
+            f"  {'driver or joint':<22}{'peak':>13}  unit   (parts at the peak: inertia / gravity / loads)"
+        ]
+        for k, (name, role, *_) in enumerate(self.model.constraints):
+            if role == "driver":
+                e = self.effort(name)
+                i = int(np.argmax(np.abs(e)))
+                parts = " / ".join(f"{v[i]:.4g}" for v in self.effort_parts(name).values())
+                unit = self.effort_unit(name)
+                lines.append(f"  {name:<22}{e[i]:>13.6g}  {unit:<5}  ({parts}) at t = {self.times[i]:g}")
+            else:
+                f = np.hypot(table[:, k, 0], table[:, k, 1])
+                lines.append(f"  {name:<22}{f.max():>13.6g}  N      (largest force magnitude)")
+        e = self.energy()
+        scale = max(float(np.abs(e.driver_power).max()), float(np.abs(e.kinetic_rate).max()), 1e-300)
+        lines.append(f"  energy balance          {np.abs(e.balance).max() / scale:.1e} of the largest power")
+        return "\n".join(lines)
+
+    def plot_forces(self, path: str, every: int = 1) -> None:
+        """A PNG of every driver's effort (split into inertia, gravity and loads) and of the
+        magnitude of every joint's reaction force over the sweep."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        table = self._forces()
+        k = slice(None, None, max(1, int(every)))
+        t = self.times[k]
+        fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(12, 4.5), constrained_layout=True)
+        for name, role, *_ in self.model.constraints:
+            if role == "driver":
+                ax0.plot(t, self.effort(name)[k], lw=2, label=f"{name} (total)")
+                for part, v in self.effort_parts(name).items():
+                    if np.any(v):
+                        ax0.plot(t, v[k], lw=1, ls="--", label=f"{name}: {part}")
+            else:
+                j = self._constraint(name)[0]
+                ax1.plot(t, np.hypot(table[k, j, 0], table[k, j, 1]), label=name)
+        ax0.set_ylabel("driver effort [N m or N]")
+        ax1.set_ylabel("joint force magnitude [N]")
+        for ax in (ax0, ax1):
+            ax.set_xlabel("t [s]")
+            ax.grid(True, alpha=0.3)
+            ax.legend(fontsize=8)
+        fig.suptitle(f"{self.model.name}: inverse dynamics over {self.n_steps} steps")
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
 
     @property
     def n_steps(self) -> int:
@@ -172,9 +387,17 @@ class Results(_Kinematics):
         ]
         return "\n".join(lines)
 
+    def units(self, column: str) -> str:
+        """The unit of a coordinate column, in the model's length unit (SI assumed: m)."""
+        return "rad" if column.endswith(".theta") else "m"
+
     def to_csv(self, path: str) -> None:
-        """Writes t, every coordinate with its derivatives, and the diagnostics."""
-        header = ["t"] + self.columns + [c + "_d" for c in self.columns] + [c + "_dd" for c in self.columns]
+        """Writes t, every coordinate with its derivatives, and the diagnostics; each
+        header names its unit."""
+        u = [self.units(c) for c in self.columns]
+        header = ["t [s]"] + [f"{c} [{x}]" for c, x in zip(self.columns, u)]
+        header += [f"{c}_d [{x}/s]" for c, x in zip(self.columns, u)]
+        header += [f"{c}_dd [{x}/s^2]" for c, x in zip(self.columns, u)]
         header += ["iterations", "residual", "pivot_ratio"]
         table = np.column_stack(
             [self.times, self.q, self.qd, self.qdd, self.iterations, self.residual, self.pivot_ratio]

@@ -50,9 +50,9 @@ fn parse_linear(s: &str) -> PyResult<LinearKind> {
         "auto" => Ok(LinearKind::Auto),
         "dense" => Ok(LinearKind::Dense),
         "sparse" => Ok(LinearKind::Sparse),
-        other => Err(PyValueError::new_err(format!(
-            "linear must be 'auto', 'dense' or 'sparse', not {other:?}"
-        ))),
+        other => {
+            Err(PyValueError::new_err(format!("linear must be 'auto', 'dense' or 'sparse', not {other:?}")))
+        }
     }
 }
 
@@ -95,10 +95,7 @@ fn start_guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyR
 
 fn rows_to_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, m: usize) -> Bound<'py, PyAny> {
     // moves the buffer into NumPy: no copy
-    Array2::from_shape_vec((n, m), v)
-        .expect("n x m buffer")
-        .into_pyarray(py)
-        .into_any()
+    Array2::from_shape_vec((n, m), v).expect("n x m buffer").into_pyarray(py).into_any()
 }
 
 #[pymethods]
@@ -128,9 +125,7 @@ impl PyModel {
             dense_max: dense_max.unwrap_or(d.dense_max),
         };
         let model = Model::from_json(description_json, options).map_err(model_err)?;
-        Ok(PyModel {
-            model: Arc::new(model),
-        })
+        Ok(PyModel { model: Arc::new(model) })
     }
 
     #[getter]
@@ -188,14 +183,7 @@ impl PyModel {
         self.model
             .points
             .iter()
-            .map(|p| {
-                (
-                    p.name.clone(),
-                    p.body.map_or(-1, |b| b as i64),
-                    p.local[0],
-                    p.local[1],
-                )
-            })
+            .map(|p| (p.name.clone(), p.body.map_or(-1, |b| b as i64), p.local[0], p.local[1]))
             .collect()
     }
 
@@ -234,7 +222,7 @@ impl PyModel {
     /// on failure at step k the dict holds the k good steps and the error says why.
     /// `progress(done, total)` is called every `progress_every` steps (0: never);
     /// Ctrl-C is noticed at the same points.
-    #[pyo3(signature = (times, q_guess=None, progress=None, progress_every=16384))]
+    #[pyo3(signature = (times, q_guess=None, progress=None, progress_every=16384, forces=false))]
     fn sweep<'py>(
         &self,
         py: Python<'py>,
@@ -242,12 +230,14 @@ impl PyModel {
         q_guess: Option<PyReadonlyArray1<'py, f64>>,
         progress: Option<Py<PyAny>>,
         progress_every: usize,
+        forces: bool,
     ) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
         let model = Arc::clone(&self.model);
         let times = times.as_slice()?;
         let mut data = Data::new(&model);
         data.q = start_guess(&model, q_guess)?;
-        let mut out = SweepOutput::new(&model, times);
+        let mut out =
+            if forces { SweepOutput::with_forces(&model, times) } else { SweepOutput::new(&model, times) };
         let total = times.len();
         let (result, interrupt) = py.detach(|| {
             let mut interrupt: Option<PyErr> = None;
@@ -266,14 +256,7 @@ impl PyModel {
                     }
                 })
             };
-            let r = linkwork::sweep(
-                &model,
-                &mut data,
-                times,
-                &mut out,
-                progress_every,
-                &mut on_progress,
-            );
+            let r = linkwork::sweep(&model, &mut data, times, &mut out, progress_every, &mut on_progress);
             (r, interrupt)
         });
         if result.is_ok() {
@@ -296,7 +279,91 @@ impl PyModel {
         d.set_item("residual", out.residual.into_pyarray(py))?;
         d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
         d.set_item("times", out.times.into_pyarray(py))?;
+        if out.forces {
+            let (r, nc) = (out.n_rows, out.n_constraints);
+            d.set_item("lambda", rows_to_array(py, out.lambda, n, r))?;
+            let [pi, pg, pl] = out.lambda_parts;
+            d.set_item("lambda_inertia", rows_to_array(py, pi, n, r))?;
+            d.set_item("lambda_gravity", rows_to_array(py, pg, n, r))?;
+            d.set_item("lambda_loads", rows_to_array(py, pl, n, r))?;
+            let reactions =
+                numpy::ndarray::Array3::from_shape_vec((n, nc, linkwork::REACTION_COLUMNS), out.reactions)
+                    .expect("n x nc x 4 buffer");
+            d.set_item("reactions", reactions.into_pyarray(py))?;
+            d.set_item("load_power", out.load_power.into_pyarray(py))?;
+        }
         Ok((d, error))
+    }
+
+    /// Inverse dynamics at one configuration at rest (qd = qdd = 0): the driver efforts
+    /// and joint reactions that hold it against gravity and the loads at time t.
+    /// Returns (q, lambda, reactions n_constraints x 4).
+    #[pyo3(signature = (t, q_guess=None))]
+    #[allow(clippy::type_complexity)]
+    fn statics<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        q_guess: Option<PyReadonlyArray1<'py, f64>>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyAny>)> {
+        let model = &self.model;
+        let mut data = Data::new(model);
+        data.q = start_guess(model, q_guess)?;
+        linkwork::check_times(model, &[t]).map_err(|e| solve_err(py, &e))?;
+        linkwork::solve_position(model, &mut data, t, 0, true).map_err(|e| solve_err(py, &e))?;
+        data.qd.fill(0.0);
+        data.qdd.fill(0.0);
+        linkwork::solve_forces(model, &mut data, t, 0).map_err(|e| solve_err(py, &e))?;
+        let mut reactions = vec![0.0; linkwork::REACTION_COLUMNS * model.constraints.len()];
+        linkwork::reactions(model, &data, t, &mut reactions);
+        let reactions = rows_to_array(py, reactions, model.constraints.len(), linkwork::REACTION_COLUMNS);
+        Ok((data.q.into_pyarray(py), data.lambda.into_pyarray(py), reactions))
+    }
+
+    /// (name, type, body_a index, body_b index; -1 for the ground) of every load.
+    #[getter]
+    fn loads(&self) -> Vec<(String, &'static str, i64, i64)> {
+        let idx = |b: Option<usize>| b.map_or(-1, |i| i as i64);
+        self.model
+            .loads
+            .iter()
+            .map(|l| {
+                let kind = match l.load {
+                    linkwork::loads::Load::Force { .. } => "force",
+                    linkwork::loads::Load::Torque { .. } => "torque",
+                    linkwork::loads::Load::Spring { .. } => "spring",
+                    linkwork::loads::Load::TorsionSpring { .. } => "torsion_spring",
+                };
+                (l.name.clone(), kind, idx(l.body_a), idx(l.body_b))
+            })
+            .collect()
+    }
+
+    /// (mass, inertia about the centre of mass, local com x, local com y) of every body.
+    #[getter]
+    fn inertias(&self) -> Vec<(f64, f64, f64, f64)> {
+        self.model.inertias.iter().map(|i| (i.mass, i.inertia, i.com[0], i.com[1])).collect()
+    }
+
+    /// (name, role, body_a index, body_b index, local anchor x, local anchor y) of every
+    /// joint and driver: where its reaction on side b is reported.
+    #[getter]
+    fn anchors(&self) -> Vec<(String, &'static str, i64, i64, f64, f64)> {
+        use linkwork::joints::Constraint;
+        let idx = |b: Option<usize>| b.map_or(-1, |i| i as i64);
+        self.model
+            .constraints
+            .iter()
+            .map(|c| {
+                let p = c.kind.anchor_b();
+                (c.name.clone(), c.role, idx(c.body_a), idx(c.body_b), p[0], p[1])
+            })
+            .collect()
+    }
+
+    #[getter]
+    fn gravity(&self) -> (f64, f64) {
+        (self.model.gravity[0], self.model.gravity[1])
     }
 
     fn __repr__(&self) -> String {

@@ -14,20 +14,11 @@ use std::hint::black_box;
 const STEPS: usize = 10_000;
 
 fn bench_mechanism(c: &mut Criterion, name: &str, desc: Description) {
-    let times: Vec<f64> = (0..STEPS)
-        .map(|k| k as f64 * 2.0 * PI / 5.0 / (STEPS - 1) as f64)
-        .collect();
+    let times: Vec<f64> = (0..STEPS).map(|k| k as f64 * 2.0 * PI / 5.0 / (STEPS - 1) as f64).collect();
     let mut group = c.benchmark_group(name);
     group.throughput(Throughput::Elements(STEPS as u64));
     for linear in [LinearKind::Dense, LinearKind::Sparse] {
-        let model = Model::with_options(
-            desc.clone(),
-            Options {
-                linear,
-                ..Options::default()
-            },
-        )
-        .unwrap();
+        let model = Model::with_options(desc.clone(), Options { linear, ..Options::default() }).unwrap();
         let mut out = SweepOutput::new(&model, &times);
         group.bench_with_input(
             BenchmarkId::new(format!("{linear:?}").to_lowercase(), STEPS),
@@ -35,15 +26,7 @@ fn bench_mechanism(c: &mut Criterion, name: &str, desc: Description) {
             |b, times| {
                 b.iter(|| {
                     let mut data = Data::new(&model);
-                    sweep(
-                        &model,
-                        &mut data,
-                        black_box(times),
-                        &mut out,
-                        0,
-                        &mut |_| true,
-                    )
-                    .unwrap();
+                    sweep(&model, &mut data, black_box(times), &mut out, 0, &mut |_| true).unwrap();
                     black_box(out.qdd[out.qdd.len() - 1])
                 })
             },
@@ -53,33 +36,8 @@ fn bench_mechanism(c: &mut Criterion, name: &str, desc: Description) {
 }
 
 fn benches(c: &mut Criterion) {
-    bench_mechanism(
-        c,
-        "four_bar",
-        four_bar(
-            &FourBar {
-                r1: 0.35,
-                r2: 0.20,
-                r3: 0.35,
-                r4: 0.25,
-            },
-            0.0,
-            5.0,
-        ),
-    );
-    bench_mechanism(
-        c,
-        "slider_crank",
-        slider_crank(
-            &SliderCrank {
-                r2: 0.10,
-                r3: 0.35,
-                e: 0.02,
-            },
-            0.0,
-            5.0,
-        ),
-    );
+    bench_mechanism(c, "four_bar", four_bar(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 0.0, 5.0));
+    bench_mechanism(c, "slider_crank", slider_crank(&SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 }, 0.0, 5.0));
 }
 
 criterion_group! {

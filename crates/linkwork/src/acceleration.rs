@@ -7,12 +7,7 @@ use crate::error::SolveError;
 use crate::model::Model;
 
 /// Reads data.q, data.qd (and the factors) and writes data.qdd.
-pub fn solve_acceleration(
-    model: &Model,
-    data: &mut Data,
-    t: f64,
-    step: usize,
-) -> Result<(), SolveError> {
+pub fn solve_acceleration(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
     assembly::gamma(model, data, t);
     data.factor.solve(&model.symbolic, &mut data.rhs);
     for ((qdd, x), s) in data.qdd.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
@@ -21,10 +16,6 @@ pub fn solve_acceleration(
     if data.qdd.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
-        Err(SolveError::NonFinite {
-            step,
-            time: t,
-            what: "the accelerations".into(),
-        })
+        Err(SolveError::NonFinite { step, time: t, what: "the accelerations".into() })
     }
 }

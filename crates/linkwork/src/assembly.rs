@@ -34,22 +34,13 @@ pub(crate) fn position(model: &Model, data: &mut Data, t: f64) -> f64 {
     let mut norm = 0.0f64;
     for c in &model.constraints {
         let mut rows = Rows::default();
-        c.kind.position(
-            frame(&data.frames, c.body_a),
-            frame(&data.frames, c.body_b),
-            t,
-            &mut rows,
-        );
+        c.kind.position(frame(&data.frames, c.body_a), frame(&data.frames, c.body_b), t, &mut rows);
         for i in 0..c.n_rows {
             let rs = c.row_scale[i];
             let p = rows.phi[i] * rs;
             data.phi[c.row0 + i] = p;
             // NaN must not vanish in max(): keep it
-            norm = if p.abs() > norm || p.is_nan() {
-                p.abs()
-            } else {
-                norm
-            };
+            norm = if p.abs() > norm || p.is_nan() { p.abs() } else { norm };
             for (j, cs) in col.iter().enumerate() {
                 if c.body_a.is_some() {
                     data.jac[c.slots_a[i][j] as usize] = rows.jac_a[i][j] * rs * cs;
@@ -85,12 +76,7 @@ pub(crate) fn gamma(model: &Model, data: &mut Data, t: f64) {
     update_frames(data);
     for c in &model.constraints {
         let mut v = [0.0; MAX_ROWS];
-        c.kind.gamma(
-            frame(&data.frames, c.body_a),
-            frame(&data.frames, c.body_b),
-            t,
-            &mut v,
-        );
+        c.kind.gamma(frame(&data.frames, c.body_a), frame(&data.frames, c.body_b), t, &mut v);
         write_rhs(c, &v, &mut data.rhs);
     }
 }

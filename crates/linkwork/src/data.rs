@@ -27,6 +27,12 @@ pub struct Data {
     pub residual: f64,
     /// pivots of the last factorization of Phi_q
     pub pivots: Pivots,
+    /// n_rows: Lagrange multipliers of M qdd + Phi_q^T lambda = Q (inverse dynamics)
+    pub lambda: Vec<f64>,
+    /// 3 x n_rows: lambda split by cause (forces::PARTS: inertia, gravity, loads)
+    pub lambda_parts: [Vec<f64>; 3],
+    /// 3 x n_coords: the parts of Q - M qdd
+    pub(crate) gen_force: [Vec<f64>; 3],
 }
 
 impl Data {
@@ -42,10 +48,10 @@ impl Data {
             factor: Factor::new(&model.symbolic),
             iterations: 0,
             residual: f64::NAN,
-            pivots: Pivots {
-                ratio: f64::NAN,
-                column: 0,
-            },
+            pivots: Pivots { ratio: f64::NAN, column: 0 },
+            lambda: vec![0.0; model.n_rows],
+            lambda_parts: std::array::from_fn(|_| vec![0.0; model.n_rows]),
+            gen_force: std::array::from_fn(|_| vec![0.0; model.n_coords]),
         }
     }
 }

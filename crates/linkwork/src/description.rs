@@ -22,6 +22,12 @@ pub struct Description {
     pub drivers: Vec<DriverDesc>,
     #[serde(default)]
     pub points: Vec<PointDesc>,
+    /// gravitational acceleration (world), for inverse dynamics
+    #[serde(default)]
+    pub gravity: [f64; 2],
+    /// applied forces, torques, springs and dampers, for inverse dynamics
+    #[serde(default)]
+    pub loads: Vec<LoadDesc>,
 }
 
 /// A moving body and its approximate starting pose (world origin and angle).
@@ -32,6 +38,58 @@ pub struct BodyDesc {
     pub x: f64,
     pub y: f64,
     pub theta: f64,
+    /// mass (0: massless)
+    #[serde(default)]
+    pub mass: f64,
+    /// moment of inertia about the centre of mass
+    #[serde(default)]
+    pub inertia: f64,
+    /// centre of mass, a world point at the start (default: the body's origin)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub com: Option<[f64; 2]>,
+}
+
+/// A load for inverse dynamics; forces and torques follow motion laws of time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LoadDesc {
+    /// A force of magnitude f(t) along a fixed world direction, at a point of a body.
+    Force { name: String, body: String, at: [f64; 2], direction: [f64; 2], law: MotionLaw },
+    /// A torque f(t) on a body (counter-clockwise positive).
+    Torque { name: String, body: String, law: MotionLaw },
+    /// A linear spring and damper between two points: tension k (L - free_length) + c dL/dt.
+    Spring {
+        name: String,
+        body_a: String,
+        at_a: [f64; 2],
+        body_b: String,
+        at_b: [f64; 2],
+        stiffness: f64,
+        free_length: f64,
+        #[serde(default)]
+        damping: f64,
+    },
+    /// A torsional spring and damper: torque on b k (theta_b - theta_a - free_angle) + c (w_b - w_a), resisting.
+    TorsionSpring {
+        name: String,
+        body_a: String,
+        body_b: String,
+        stiffness: f64,
+        free_angle: f64,
+        #[serde(default)]
+        damping: f64,
+    },
+}
+
+impl LoadDesc {
+    pub fn name(&self) -> &str {
+        match self {
+            LoadDesc::Force { name, .. }
+            | LoadDesc::Torque { name, .. }
+            | LoadDesc::Spring { name, .. }
+            | LoadDesc::TorsionSpring { name, .. } => name,
+        }
+    }
 }
 
 /// A joint between two bodies (either may be the ground), placed at world points.
@@ -39,26 +97,11 @@ pub struct BodyDesc {
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum JointDesc {
     /// Pin at `at`.
-    Revolute {
-        name: String,
-        body_a: String,
-        body_b: String,
-        at: [f64; 2],
-    },
+    Revolute { name: String, body_a: String, body_b: String, at: [f64; 2] },
     /// `body_b` slides on `body_a` along `axis` through `at`.
-    Prismatic {
-        name: String,
-        body_a: String,
-        body_b: String,
-        at: [f64; 2],
-        axis: [f64; 2],
-    },
+    Prismatic { name: String, body_a: String, body_b: String, at: [f64; 2], axis: [f64; 2] },
     /// Weld: `body_b` keeps its starting pose relative to `body_a`.
-    Fixed {
-        name: String,
-        body_a: String,
-        body_b: String,
-    },
+    Fixed { name: String, body_a: String, body_b: String },
 }
 
 /// A driver: one row g(q) - f(t) = 0 with a motion law f.
@@ -66,41 +109,15 @@ pub enum JointDesc {
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum DriverDesc {
     /// theta_body = f(t).
-    Angle {
-        name: String,
-        body: String,
-        law: MotionLaw,
-    },
+    Angle { name: String, body: String, law: MotionLaw },
     /// theta_b - theta_a = f(t).
-    RelativeAngle {
-        name: String,
-        body_a: String,
-        body_b: String,
-        law: MotionLaw,
-    },
+    RelativeAngle { name: String, body_a: String, body_b: String, law: MotionLaw },
     /// |r_Pb - r_Pa| = f(t).
-    Distance {
-        name: String,
-        body_a: String,
-        at_a: [f64; 2],
-        body_b: String,
-        at_b: [f64; 2],
-        law: MotionLaw,
-    },
+    Distance { name: String, body_a: String, at_a: [f64; 2], body_b: String, at_b: [f64; 2], law: MotionLaw },
     /// x or y of a point of `body` = f(t).
-    Coordinate {
-        name: String,
-        body: String,
-        at: [f64; 2],
-        axis: String,
-        law: MotionLaw,
-    },
+    Coordinate { name: String, body: String, at: [f64; 2], axis: String, law: MotionLaw },
     /// The slide of a prismatic joint = f(t).
-    Translation {
-        name: String,
-        joint: String,
-        law: MotionLaw,
-    },
+    Translation { name: String, joint: String, law: MotionLaw },
 }
 
 /// A named point fixed in a body, given at its world position at the start.

@@ -14,33 +14,19 @@ pub enum ModelError {
     Body { name: String, problem: String },
     /// Something is wrong with one joint or driver.
     #[error("{kind} '{name}': {problem}")]
-    Constraint {
-        kind: &'static str,
-        name: String,
-        problem: String,
-    },
+    Constraint { kind: &'static str, name: String, problem: String },
     /// Something is wrong with one named point.
     #[error("point '{name}': {problem}")]
     Point { name: String, problem: String },
     /// Two things share one name.
     #[error("duplicate name '{name}': used by {first} and by {second}")]
-    DuplicateName {
-        name: String,
-        first: &'static str,
-        second: &'static str,
-    },
+    DuplicateName { name: String, first: &'static str, second: &'static str },
     /// Kinematic analysis needs as many rows as coordinates.
     #[error(
         "{n_rows} constraint rows for {n_coords} coordinates ({n_bodies} moving bodies x 3): \
          {dof} degree(s) of freedom left; {advice}"
     )]
-    RowCount {
-        n_rows: usize,
-        n_coords: usize,
-        n_bodies: usize,
-        dof: i64,
-        advice: &'static str,
-    },
+    RowCount { n_rows: usize, n_coords: usize, n_bodies: usize, dof: i64, advice: &'static str },
 }
 
 /// A position, velocity or acceleration solve that cannot be completed.
@@ -51,43 +37,22 @@ pub enum SolveError {
         "could not assemble the mechanism at t = {time}: residual {residual:.3e} after {iterations} \
          Newton iterations, largest in {constraint}"
     )]
-    Assembly {
-        time: f64,
-        iterations: usize,
-        residual: f64,
-        constraint: String,
-    },
+    Assembly { time: f64, iterations: usize, residual: f64, constraint: String },
     /// Newton-Raphson did not converge at a later step.
     #[error(
         "no convergence at step {step} (t = {time}): residual {residual:.3e} after {iterations} \
          Newton iterations, largest in {constraint}"
     )]
-    NoConvergence {
-        step: usize,
-        time: f64,
-        iterations: usize,
-        residual: f64,
-        constraint: String,
-    },
+    NoConvergence { step: usize, time: f64, iterations: usize, residual: f64, constraint: String },
     /// Phi_q is singular (a dead point, a lock-up, or a redundant constraint).
     #[error(
         "singular configuration at step {step} (t = {time}): pivot ratio {pivot_ratio:.3e} at \
          coordinate {coordinate}; constraints on that body: {constraints}"
     )]
-    Singular {
-        step: usize,
-        time: f64,
-        pivot_ratio: f64,
-        coordinate: String,
-        constraints: String,
-    },
+    Singular { step: usize, time: f64, pivot_ratio: f64, coordinate: String, constraints: String },
     /// A NaN or infinity appeared.
     #[error("non-finite value at step {step} (t = {time}) in {what}")]
-    NonFinite {
-        step: usize,
-        time: f64,
-        what: String,
-    },
+    NonFinite { step: usize, time: f64, what: String },
     /// The time grid cannot be swept.
     #[error("time grid, step {step}: {problem}")]
     Times { step: usize, problem: String },
@@ -96,12 +61,7 @@ pub enum SolveError {
     Cancelled { step: usize },
     /// A driver's motion law is not defined at a requested time.
     #[error("driver '{driver}': t = {time} is outside its spline table [{start}, {end}]")]
-    OutOfRange {
-        driver: String,
-        time: f64,
-        start: f64,
-        end: f64,
-    },
+    OutOfRange { driver: String, time: f64, start: f64, end: f64 },
 }
 
 impl SolveError {

@@ -35,25 +35,14 @@ pub struct Pivots {
 /// The part of a factorization that depends only on the pattern (in the model).
 #[derive(Debug)]
 pub(crate) enum SymbolicFactor {
-    Dense {
-        n: usize,
-    },
-    Sparse {
-        n: usize,
-        col_ptr: Vec<usize>,
-        row_idx: Vec<usize>,
-        lu: SymbolicLu<usize>,
-    },
+    Dense { n: usize },
+    Sparse { n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>, lu: SymbolicLu<usize> },
 }
 
 impl SymbolicFactor {
     /// Lays out the value array for every constraint block (filling the slots) and,
     /// for the sparse path, computes the column ordering once.
-    pub(crate) fn new(
-        kind: LinearKind,
-        n: usize,
-        constraints: &mut [ConstraintEntry],
-    ) -> SymbolicFactor {
+    pub(crate) fn new(kind: LinearKind, n: usize, constraints: &mut [ConstraintEntry]) -> SymbolicFactor {
         match kind {
             LinearKind::Dense | LinearKind::Auto => {
                 // column-major n x n
@@ -78,18 +67,12 @@ impl SymbolicFactor {
                 }
                 for_each_entry(constraints, |row, col| {
                     let range = &row_idx[col_ptr[col]..col_ptr[col + 1]];
-                    (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern"))
-                        as u32
+                    (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern")) as u32
                 });
                 let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-                let lu = factorize_symbolic_lu(sym, Default::default())
-                    .expect("symbolic LU of a square pattern");
-                SymbolicFactor::Sparse {
-                    n,
-                    col_ptr,
-                    row_idx,
-                    lu,
-                }
+                let lu =
+                    factorize_symbolic_lu(sym, Default::default()).expect("symbolic LU of a square pattern");
+                SymbolicFactor::Sparse { n, col_ptr, row_idx, lu }
             }
         }
     }
@@ -158,13 +141,9 @@ impl Factor {
             SymbolicFactor::Dense { n } => {
                 let n = *n;
                 let req = StackReq::any_of(&[
-                    dense_factor::lu_in_place_scratch::<usize, f64>(
-                        n,
-                        n,
-                        Par::Seq,
-                        Default::default(),
-                    ),
+                    dense_factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default()),
                     dense_solve::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
+                    dense_solve::solve_transpose_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
                 ]);
                 Factor::Dense {
                     lu: vec![0.0; n * n],
@@ -178,6 +157,7 @@ impl Factor {
                 let req = StackReq::any_of(&[
                     simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n),
                     simplicial::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
+                    simplicial::solve_transpose_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
                 ]);
                 Factor::Sparse {
                     numeric: simplicial::SimplicialLu::new(),
@@ -193,15 +173,7 @@ impl Factor {
     /// pivots. A zero or non-finite pivot is reported in `Pivots::ratio`, not as an error.
     pub(crate) fn factor(&mut self, sym: &SymbolicFactor, values: &[f64]) -> Pivots {
         match (self, sym) {
-            (
-                Factor::Dense {
-                    lu,
-                    perm,
-                    perm_inv,
-                    stack,
-                },
-                SymbolicFactor::Dense { n },
-            ) => {
+            (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { n }) => {
                 let n = *n;
                 lu.copy_from_slice(values);
                 let a = MatMut::from_column_major_slice_mut(lu, n, n);
@@ -216,18 +188,8 @@ impl Factor {
                 pivots((0..n).map(|k| (k, lu[k * n + k])))
             }
             (
-                Factor::Sparse {
-                    numeric,
-                    row_perm,
-                    row_perm_inv,
-                    stack,
-                },
-                SymbolicFactor::Sparse {
-                    n,
-                    col_ptr,
-                    row_idx,
-                    lu,
-                },
+                Factor::Sparse { numeric, row_perm, row_perm_inv, stack },
+                SymbolicFactor::Sparse { n, col_ptr, row_idx, lu },
             ) => {
                 let sym = SymbolicSparseColMatRef::new_checked(*n, *n, col_ptr, None, row_idx);
                 let a = SparseColMatRef::new(sym, values);
@@ -241,10 +203,7 @@ impl Factor {
                     MemStack::new(stack),
                 );
                 if ok.is_err() {
-                    return Pivots {
-                        ratio: 0.0,
-                        column: 0,
-                    };
+                    return Pivots { ratio: 0.0, column: 0 };
                 }
                 // the diagonal of U, column k of U being column col_perm[k] of Phi_q
                 let u = numeric.u_factor_unsorted();
@@ -252,11 +211,7 @@ impl Factor {
                 pivots((0..*n).map(|k| {
                     let rows = u.row_idx_of_col_raw(k);
                     let vals = u.val_of_col(k);
-                    let d = rows
-                        .iter()
-                        .zip(vals)
-                        .find(|(&r, _)| r == k)
-                        .map_or(0.0, |(_, &v)| v);
+                    let d = rows.iter().zip(vals).find(|(&r, _)| r == k).map_or(0.0, |(_, &v)| v);
                     (fwd[k], d)
                 }))
             }
@@ -269,30 +224,47 @@ impl Factor {
         let n = rhs.len();
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match (self, sym) {
-            (
-                Factor::Dense {
-                    lu,
-                    perm,
-                    perm_inv,
-                    stack,
-                },
-                SymbolicFactor::Dense { .. },
-            ) => {
+            (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { .. }) => {
                 let lu = MatRef::from_column_major_slice(lu, n, n);
                 let p = PermRef::new_checked(perm, perm_inv, n);
                 dense_solve::solve_in_place(lu, lu, p, x, Par::Seq, MemStack::new(stack));
             }
             (
-                Factor::Sparse {
-                    numeric,
-                    row_perm,
-                    row_perm_inv,
-                    stack,
-                },
+                Factor::Sparse { numeric, row_perm, row_perm_inv, stack },
                 SymbolicFactor::Sparse { lu, .. },
             ) => {
                 let p = PermRef::new_checked(row_perm, row_perm_inv, n);
                 numeric.solve_in_place_with_conj(
+                    p,
+                    lu.col_perm(),
+                    Conj::No,
+                    x,
+                    Par::Seq,
+                    MemStack::new(stack),
+                );
+            }
+            _ => unreachable!("factor and symbolic factor of different kinds"),
+        }
+    }
+}
+
+impl Factor {
+    /// Solves Phi_q^T x = rhs in place with the last factorization (inverse dynamics).
+    pub(crate) fn solve_transpose(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
+        let n = rhs.len();
+        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        match (self, sym) {
+            (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { .. }) => {
+                let lu = MatRef::from_column_major_slice(lu, n, n);
+                let p = PermRef::new_checked(perm, perm_inv, n);
+                dense_solve::solve_transpose_in_place(lu, lu, p, x, Par::Seq, MemStack::new(stack));
+            }
+            (
+                Factor::Sparse { numeric, row_perm, row_perm_inv, stack },
+                SymbolicFactor::Sparse { lu, .. },
+            ) => {
+                let p = PermRef::new_checked(row_perm, row_perm_inv, n);
+                numeric.solve_transpose_in_place_with_conj(
                     p,
                     lu.col_perm(),
                     Conj::No,
@@ -312,10 +284,7 @@ fn pivots(diag: impl Iterator<Item = (usize, f64)>) -> Pivots {
     for (col, d) in diag {
         let d = d.abs();
         if !d.is_finite() {
-            return Pivots {
-                ratio: f64::NAN,
-                column: col,
-            };
+            return Pivots { ratio: f64::NAN, column: col };
         }
         if d < lo {
             lo = d;

@@ -5,17 +5,17 @@
 
 use std::collections::HashMap;
 
-use crate::description::{Description, DriverDesc, JointDesc, GROUND};
+use crate::description::{Description, DriverDesc, JointDesc, LoadDesc, GROUND};
 use crate::drivers::{
     angle::AngleDriver, coordinate::CoordinateDriver, distance::DistanceDriver,
     relative_angle::RelativeAngleDriver, translation::TranslationDriver,
 };
 use crate::error::ModelError;
 use crate::joints::{
-    fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, RowKind,
-    MAX_ROWS,
+    fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, RowKind, MAX_ROWS,
 };
 use crate::linear::{LinearKind, SymbolicFactor};
+use crate::loads::{Inertia, Load, LoadEntry};
 use crate::motion::MotionLaw;
 
 /// Solver settings, fixed at compile time.
@@ -103,8 +103,14 @@ pub struct Model {
     pub options: Options,
     /// the linear algebra chosen, with its symbolic analysis
     pub(crate) symbolic: SymbolicFactor,
-    /// the time interval every driver law is defined on
+    /// the time interval every driver and load law is defined on
     pub time_domain: (f64, f64),
+    /// n_bodies: mass properties (all zero: massless)
+    pub inertias: Vec<Inertia>,
+    /// gravitational acceleration (world)
+    pub gravity: [f64; 2],
+    /// applied loads
+    pub loads: Vec<LoadEntry>,
 }
 
 fn finite2(p: [f64; 2]) -> bool {
@@ -123,13 +129,7 @@ fn local(q0: Option<[f64; 3]>, p: [f64; 2]) -> [f64; 2] {
 }
 
 /// A constraint before its rows are laid out: name, role, kind, sides.
-type Entry = (
-    String,
-    &'static str,
-    ConstraintKind,
-    Option<usize>,
-    Option<usize>,
-);
+type Entry = (String, &'static str, ConstraintKind, Option<usize>, Option<usize>);
 
 struct Bodies<'a> {
     index: HashMap<&'a str, usize>,
@@ -156,9 +156,7 @@ impl Bodies<'_> {
     fn pair(&self, a: &str, b: &str) -> Result<(Option<usize>, Option<usize>), String> {
         let (ia, ib) = (self.find(a)?, self.find(b)?);
         if ia == ib {
-            return Err(format!(
-                "connects '{a}' to itself; its two sides must be different bodies"
-            ));
+            return Err(format!("connects '{a}' to itself; its two sides must be different bodies"));
         }
         Ok((ia, ib))
     }
@@ -184,33 +182,21 @@ impl Model {
         let mut names: HashMap<String, &'static str> = HashMap::new();
         let mut claim = |name: &str, what: &'static str| -> Result<(), ModelError> {
             if name.is_empty() {
-                return Err(ModelError::Description(format!(
-                    "a {what} has an empty name"
-                )));
+                return Err(ModelError::Description(format!("a {what} has an empty name")));
             }
             if let Some(first) = names.insert(name.to_string(), what) {
-                return Err(ModelError::DuplicateName {
-                    name: name.to_string(),
-                    first,
-                    second: what,
-                });
+                return Err(ModelError::DuplicateName { name: name.to_string(), first, second: what });
             }
             Ok(())
         };
         claim(GROUND, "the ground")?;
-        let mut bodies = Bodies {
-            index: HashMap::new(),
-            poses: Vec::new(),
-        };
+        let mut bodies = Bodies { index: HashMap::new(), poses: Vec::new() };
         for (i, b) in desc.bodies.iter().enumerate() {
             claim(&b.name, "a body")?;
             if !(b.x.is_finite() && b.y.is_finite() && b.theta.is_finite()) {
                 return Err(ModelError::Body {
                     name: b.name.clone(),
-                    problem: format!(
-                        "starting pose ({}, {}, {}) is not finite",
-                        b.x, b.y, b.theta
-                    ),
+                    problem: format!("starting pose ({}, {}, {}) is not finite", b.x, b.y, b.theta),
                 });
             }
             bodies.index.insert(&b.name, i);
@@ -222,63 +208,41 @@ impl Model {
         for d in &desc.drivers {
             claim(d.name(), "a driver")?;
         }
+        for l in &desc.loads {
+            claim(l.name(), "a load")?;
+        }
         let mut point_names: HashMap<&str, ()> = HashMap::new();
         for p in &desc.points {
             if point_names.insert(&p.name, ()).is_some() {
-                return Err(ModelError::Point {
-                    name: p.name.clone(),
-                    problem: "is defined twice".into(),
-                });
+                return Err(ModelError::Point { name: p.name.clone(), problem: "is defined twice".into() });
             }
         }
 
         let length_scale = length_scale(desc);
         let mut entries: Vec<Entry> = Vec::new();
-        let mut prismatic_of: HashMap<&str, (Prismatic, Option<usize>, Option<usize>)> =
-            HashMap::new();
+        let mut prismatic_of: HashMap<&str, (Prismatic, Option<usize>, Option<usize>)> = HashMap::new();
         for j in &desc.joints {
-            let fail = |problem: String| ModelError::Constraint {
-                kind: "joint",
-                name: j.name().into(),
-                problem,
-            };
+            let fail =
+                |problem: String| ModelError::Constraint { kind: "joint", name: j.name().into(), problem };
             let (kind, a, b) = match j {
-                JointDesc::Revolute {
-                    body_a, body_b, at, ..
-                } => {
+                JointDesc::Revolute { body_a, body_b, at, .. } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
                     if !finite2(*at) {
                         return Err(fail(format!("position {at:?} is not finite")));
                     }
-                    let joint = Revolute {
-                        u_a: local(bodies.pose(a), *at),
-                        u_b: local(bodies.pose(b), *at),
-                    };
+                    let joint = Revolute { u_a: local(bodies.pose(a), *at), u_b: local(bodies.pose(b), *at) };
                     (ConstraintKind::Revolute(joint), a, b)
                 }
-                JointDesc::Prismatic {
-                    name,
-                    body_a,
-                    body_b,
-                    at,
-                    axis,
-                } => {
+                JointDesc::Prismatic { name, body_a, body_b, at, axis } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
                     if !finite2(*at) || !finite2(*axis) {
-                        return Err(fail(format!(
-                            "position {at:?} or axis {axis:?} is not finite"
-                        )));
+                        return Err(fail(format!("position {at:?} or axis {axis:?} is not finite")));
                     }
                     let norm = axis[0].hypot(axis[1]);
                     if norm == 0.0 {
-                        return Err(fail(
-                            "has a zero-length axis; give the sliding direction".into(),
-                        ));
+                        return Err(fail("has a zero-length axis; give the sliding direction".into()));
                     }
-                    let e = local(
-                        Some([0.0, 0.0, bodies.theta(a)]),
-                        [axis[0] / norm, axis[1] / norm],
-                    );
+                    let e = local(Some([0.0, 0.0, bodies.theta(a)]), [axis[0] / norm, axis[1] / norm]);
                     let joint = Prismatic {
                         u_a: local(bodies.pose(a), *at),
                         u_b: local(bodies.pose(b), *at),
@@ -301,11 +265,8 @@ impl Model {
             entries.push((j.name().to_string(), "joint", kind, a, b));
         }
         for d in &desc.drivers {
-            let fail = |problem: String| ModelError::Constraint {
-                kind: "driver",
-                name: d.name().into(),
-                problem,
-            };
+            let fail =
+                |problem: String| ModelError::Constraint { kind: "driver", name: d.name().into(), problem };
             let mut law = d.law().clone();
             law.check().map_err(fail)?;
             if let MotionLaw::Spline(s) = &mut law {
@@ -321,19 +282,9 @@ impl Model {
                 }
                 DriverDesc::RelativeAngle { body_a, body_b, .. } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
-                    (
-                        ConstraintKind::RelativeAngleDriver(RelativeAngleDriver { law }),
-                        a,
-                        b,
-                    )
+                    (ConstraintKind::RelativeAngleDriver(RelativeAngleDriver { law }), a, b)
                 }
-                DriverDesc::Distance {
-                    body_a,
-                    at_a,
-                    body_b,
-                    at_b,
-                    ..
-                } => {
+                DriverDesc::Distance { body_a, at_a, body_b, at_b, .. } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
                     if !finite2(*at_a) || !finite2(*at_b) {
                         return Err(fail(format!("points {at_a:?}, {at_b:?} are not finite")));
@@ -353,9 +304,7 @@ impl Model {
                 DriverDesc::Coordinate { body, at, axis, .. } => {
                     let b = bodies.find(body).map_err(fail)?;
                     if b.is_none() {
-                        return Err(fail(
-                            "drives a point of the ground, which cannot move".into(),
-                        ));
+                        return Err(fail("drives a point of the ground, which cannot move".into()));
                     }
                     if !finite2(*at) {
                         return Err(fail(format!("point {at:?} is not finite")));
@@ -363,15 +312,9 @@ impl Model {
                     let axis = match axis.as_str() {
                         "x" => 0,
                         "y" => 1,
-                        other => {
-                            return Err(fail(format!("axis must be \"x\" or \"y\", not {other:?}")))
-                        }
+                        other => return Err(fail(format!("axis must be \"x\" or \"y\", not {other:?}"))),
                     };
-                    let drv = CoordinateDriver {
-                        u: local(bodies.pose(b), *at),
-                        axis,
-                        law,
-                    };
+                    let drv = CoordinateDriver { u: local(bodies.pose(b), *at), axis, law };
                     (ConstraintKind::CoordinateDriver(drv), None, b)
                 }
                 DriverDesc::Translation { joint, .. } => {
@@ -380,12 +323,7 @@ impl Model {
                             "refers to '{joint}', which is not a prismatic joint of the model"
                         )));
                     };
-                    let drv = TranslationDriver {
-                        u_a: p.u_a,
-                        u_b: p.u_b,
-                        e_a: p.e_a,
-                        law,
-                    };
+                    let drv = TranslationDriver { u_a: p.u_a, u_b: p.u_b, e_a: p.e_a, law };
                     (ConstraintKind::TranslationDriver(drv), *a, *b)
                 }
             };
@@ -397,9 +335,7 @@ impl Model {
         let n_coords = 3 * n_bodies;
         let n_rows: usize = entries.iter().map(|e| e.2.n_rows()).sum();
         if n_bodies == 0 {
-            return Err(ModelError::Description(
-                "the model has no moving body".into(),
-            ));
+            return Err(ModelError::Description("the model has no moving body".into()));
         }
         if n_rows != n_coords {
             let dof = n_coords as i64 - n_rows as i64;
@@ -408,13 +344,7 @@ impl Model {
             } else {
                 "remove drivers or redundant joints (kinematic analysis needs exactly as many rows as coordinates)"
             };
-            return Err(ModelError::RowCount {
-                n_rows,
-                n_coords,
-                n_bodies,
-                dof,
-                advice,
-            });
+            return Err(ModelError::RowCount { n_rows, n_coords, n_bodies, dof, advice });
         }
 
         // a body that no row touches can never be solved for
@@ -433,21 +363,16 @@ impl Model {
 
         let mut points = Vec::new();
         for p in &desc.points {
-            let body = bodies.find(&p.body).map_err(|problem| ModelError::Point {
-                name: p.name.clone(),
-                problem,
-            })?;
+            let body = bodies
+                .find(&p.body)
+                .map_err(|problem| ModelError::Point { name: p.name.clone(), problem })?;
             if !finite2(p.at) {
                 return Err(ModelError::Point {
                     name: p.name.clone(),
                     problem: format!("{:?} is not finite", p.at),
                 });
             }
-            points.push(NamedPoint {
-                name: p.name.clone(),
-                body,
-                local: local(bodies.pose(body), p.at),
-            });
+            points.push(NamedPoint { name: p.name.clone(), body, local: local(bodies.pose(body), p.at) });
         }
 
         // rows, scales and the pattern of Phi_q
@@ -457,11 +382,7 @@ impl Model {
             let n = kind.n_rows();
             let mut row_scale = [1.0; MAX_ROWS];
             for (k, rk) in kind.row_kinds().iter().enumerate() {
-                row_scale[k] = if *rk == RowKind::Length {
-                    1.0 / length_scale
-                } else {
-                    1.0
-                };
+                row_scale[k] = if *rk == RowKind::Length { 1.0 / length_scale } else { 1.0 };
             }
             constraints.push(ConstraintEntry {
                 name,
@@ -484,11 +405,17 @@ impl Model {
         };
         let symbolic = SymbolicFactor::new(linear, n_coords, &mut constraints);
 
+        let inertias = compile_inertias(desc, &bodies)?;
+        if !finite2(desc.gravity) {
+            return Err(ModelError::Description(format!("gravity {:?} is not finite", desc.gravity)));
+        }
+        let loads = compile_loads(desc, &bodies, length_scale)?;
+
         let mut time_domain = (f64::NEG_INFINITY, f64::INFINITY);
-        for c in &constraints {
-            if let Some((t0, t1)) = c.kind.law().and_then(|l| l.domain()) {
-                time_domain = (time_domain.0.max(t0), time_domain.1.min(t1));
-            }
+        let laws =
+            constraints.iter().filter_map(|c| c.kind.law()).chain(loads.iter().filter_map(|l| l.law()));
+        for (t0, t1) in laws.filter_map(|l| l.domain()) {
+            time_domain = (time_domain.0.max(t0), time_domain.1.min(t1));
         }
 
         let mut columns = Vec::with_capacity(n_coords);
@@ -517,6 +444,9 @@ impl Model {
             options,
             symbolic,
             time_domain,
+            inertias,
+            gravity: desc.gravity,
+            loads,
             description,
         })
     }
@@ -538,9 +468,7 @@ impl Model {
 
     /// The name of the constraint that owns a row.
     pub fn row_owner(&self, row: usize) -> &ConstraintEntry {
-        let k = self
-            .constraints
-            .partition_point(|c| c.row0 + c.n_rows <= row);
+        let k = self.constraints.partition_point(|c| c.row0 + c.n_rows <= row);
         &self.constraints[k]
     }
 
@@ -555,6 +483,110 @@ impl Model {
             .collect();
         (self.columns[col].clone(), touching.join(", "))
     }
+}
+
+fn compile_inertias(desc: &Description, bodies: &Bodies) -> Result<Vec<Inertia>, ModelError> {
+    let mut out = Vec::with_capacity(desc.bodies.len());
+    for (i, b) in desc.bodies.iter().enumerate() {
+        let fail = |problem: String| ModelError::Body { name: b.name.clone(), problem };
+        if !(b.mass.is_finite() && b.mass >= 0.0) {
+            return Err(fail(format!("mass {} must be finite and >= 0", b.mass)));
+        }
+        if !(b.inertia.is_finite() && b.inertia >= 0.0) {
+            return Err(fail(format!("moment of inertia {} must be finite and >= 0", b.inertia)));
+        }
+        let com = b.com.unwrap_or([b.x, b.y]);
+        if !finite2(com) {
+            return Err(fail(format!("centre of mass {com:?} is not finite")));
+        }
+        out.push(Inertia { mass: b.mass, inertia: b.inertia, com: local(Some(bodies.poses[i]), com) });
+    }
+    Ok(out)
+}
+
+fn compile_loads(
+    desc: &Description,
+    bodies: &Bodies,
+    length_scale: f64,
+) -> Result<Vec<LoadEntry>, ModelError> {
+    let mut out = Vec::with_capacity(desc.loads.len());
+    for l in &desc.loads {
+        let fail = |problem: String| ModelError::Constraint { kind: "load", name: l.name().into(), problem };
+        let non_negative = |what: &str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(fail(format!("{what} {v} must be finite and >= 0")))
+            }
+        };
+        let (load, a, b) = match l {
+            LoadDesc::Force { body, at, direction, law, .. } => {
+                let b = bodies.find(body).map_err(fail)?;
+                law.check().map_err(fail)?;
+                let norm = direction[0].hypot(direction[1]);
+                if !finite2(*at) || !norm.is_finite() || norm == 0.0 {
+                    return Err(fail(format!(
+                        "point {at:?} and direction {direction:?} must be finite, the direction non-zero"
+                    )));
+                }
+                let mut law = law.clone();
+                if let MotionLaw::Spline(s) = &mut law {
+                    s.prepare();
+                }
+                let dir = [direction[0] / norm, direction[1] / norm];
+                (Load::Force { u: local(bodies.pose(b), *at), dir, law }, None, b)
+            }
+            LoadDesc::Torque { body, law, .. } => {
+                let b = bodies.find(body).map_err(fail)?;
+                law.check().map_err(fail)?;
+                let mut law = law.clone();
+                if let MotionLaw::Spline(s) = &mut law {
+                    s.prepare();
+                }
+                (Load::Torque { law }, None, b)
+            }
+            LoadDesc::Spring { body_a, at_a, body_b, at_b, stiffness, free_length, damping, .. } => {
+                let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                non_negative("stiffness", *stiffness)?;
+                non_negative("free length", *free_length)?;
+                non_negative("damping", *damping)?;
+                if !finite2(*at_a) || !finite2(*at_b) {
+                    return Err(fail(format!("points {at_a:?}, {at_b:?} are not finite")));
+                }
+                if (at_b[0] - at_a[0]).hypot(at_b[1] - at_a[1]) <= 1e-12 * length_scale {
+                    return Err(fail(
+                        "its two points coincide at the start; a spring needs them apart".into(),
+                    ));
+                }
+                let load = Load::Spring {
+                    u_a: local(bodies.pose(a), *at_a),
+                    u_b: local(bodies.pose(b), *at_b),
+                    stiffness: *stiffness,
+                    free_length: *free_length,
+                    damping: *damping,
+                };
+                (load, a, b)
+            }
+            LoadDesc::TorsionSpring { body_a, body_b, stiffness, free_angle, damping, .. } => {
+                let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                non_negative("stiffness", *stiffness)?;
+                non_negative("damping", *damping)?;
+                if !free_angle.is_finite() {
+                    return Err(fail(format!("free angle {free_angle} is not finite")));
+                }
+                (
+                    Load::TorsionSpring { stiffness: *stiffness, free_angle: *free_angle, damping: *damping },
+                    a,
+                    b,
+                )
+            }
+        };
+        if b.is_none() && a.is_none() {
+            return Err(fail("acts on the ground only, which cannot move".into()));
+        }
+        out.push(LoadEntry { name: l.name().to_string(), load, body_a: a, body_b: b });
+    }
+    Ok(out)
 }
 
 fn check_options(o: &Options) -> Result<(), ModelError> {

@@ -42,18 +42,9 @@ impl MotionLaw {
                 }
                 [f, fd, fdd]
             }
-            MotionLaw::Harmonic {
-                mean,
-                amplitude,
-                omega,
-                phase,
-            } => {
+            MotionLaw::Harmonic { mean, amplitude, omega, phase } => {
                 let (s, c) = (omega * t + phase).sin_cos();
-                [
-                    mean + amplitude * s,
-                    amplitude * omega * c,
-                    -amplitude * omega * omega * s,
-                ]
+                [mean + amplitude * s, amplitude * omega * c, -amplitude * omega * omega * s]
             }
             MotionLaw::Spline(spline) => spline.eval(t),
         }
@@ -86,16 +77,9 @@ impl MotionLaw {
                 if coefficients.is_empty() {
                     return Err("polynomial motion law has no coefficients".into());
                 }
-                coefficients
-                    .iter()
-                    .try_for_each(|&c| finite("coefficient", c))
+                coefficients.iter().try_for_each(|&c| finite("coefficient", c))
             }
-            MotionLaw::Harmonic {
-                mean,
-                amplitude,
-                omega,
-                phase,
-            } => {
+            MotionLaw::Harmonic { mean, amplitude, omega, phase } => {
                 finite("mean", *mean)?;
                 finite("amplitude", *amplitude)?;
                 finite("omega", *omega)?;
@@ -120,11 +104,7 @@ pub struct CubicSpline {
 impl CubicSpline {
     /// A spline through the table (which `check` must accept).
     pub fn new(times: Vec<f64>, values: Vec<f64>) -> Result<Self, String> {
-        let mut s = CubicSpline {
-            times,
-            values,
-            second: Vec::new(),
-        };
+        let mut s = CubicSpline { times, values, second: Vec::new() };
         s.check()?;
         s.prepare();
         Ok(s)
@@ -139,12 +119,7 @@ impl CubicSpline {
                 self.values.len()
             ));
         }
-        if let Some(v) = self
-            .times
-            .iter()
-            .chain(&self.values)
-            .find(|v| !v.is_finite())
-        {
+        if let Some(v) = self.times.iter().chain(&self.values).find(|v| !v.is_finite()) {
             return Err(format!("spline table holds {v}, not a finite number"));
         }
         if let Some(i) = (1..n).find(|&i| self.times[i] <= self.times[i - 1]) {
@@ -198,9 +173,7 @@ impl CubicSpline {
         let h = t[k + 1] - t[k];
         let a = (t[k + 1] - x) / h;
         let b = (x - t[k]) / h;
-        let f = a * y[k]
-            + b * y[k + 1]
-            + ((a * a * a - a) * m[k] + (b * b * b - b) * m[k + 1]) * h * h / 6.0;
+        let f = a * y[k] + b * y[k + 1] + ((a * a * a - a) * m[k] + (b * b * b - b) * m[k + 1]) * h * h / 6.0;
         let fd = (y[k + 1] - y[k]) / h - (3.0 * a * a - 1.0) / 6.0 * h * m[k]
             + (3.0 * b * b - 1.0) / 6.0 * h * m[k + 1];
         let fdd = a * m[k] + b * m[k + 1];

@@ -36,11 +36,7 @@ pub fn solve_position(
     assembly: bool,
 ) -> Result<PositionInfo, SolveError> {
     let opts = &model.options;
-    let max_iter = if assembly {
-        opts.max_iter_assembly
-    } else {
-        opts.max_iter
-    };
+    let max_iter = if assembly { opts.max_iter_assembly } else { opts.max_iter };
     let mut residual = f64::NAN;
     for it in 1..=max_iter {
         residual = assembly::position(model, data, t);
@@ -72,53 +68,31 @@ pub fn solve_position(
         data.factor.solve(&model.symbolic, &mut data.rhs);
         let step_norm = data.rhs.iter().fold(0.0f64, |m, d| m.max(d.abs()));
         if !step_norm.is_finite() {
-            return Err(SolveError::NonFinite {
-                step,
-                time: t,
-                what: "the Newton step".into(),
-            });
+            return Err(SolveError::NonFinite { step, time: t, what: "the Newton step".into() });
         }
-        let damping = if assembly && step_norm > ASSEMBLY_MAX_STEP {
-            ASSEMBLY_MAX_STEP / step_norm
-        } else {
-            1.0
-        };
+        let damping =
+            if assembly && step_norm > ASSEMBLY_MAX_STEP { ASSEMBLY_MAX_STEP / step_norm } else { 1.0 };
         for ((q, d), s) in data.q.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
             *q += damping * d * s;
         }
         if residual <= opts.tol_residual && step_norm <= opts.tol_step {
             data.iterations = it;
             data.residual = residual;
-            return Ok(PositionInfo {
-                iterations: it,
-                residual,
-                pivot_ratio: pivots.ratio,
-            });
+            return Ok(PositionInfo { iterations: it, residual, pivot_ratio: pivots.ratio });
         }
     }
     data.iterations = max_iter;
     data.residual = residual;
-    let worst =
-        data.phi.iter().enumerate().fold(
-            (0, 0.0f64),
-            |w, (i, p)| if p.abs() > w.1 { (i, p.abs()) } else { w },
-        );
+    let worst = data
+        .phi
+        .iter()
+        .enumerate()
+        .fold((0, 0.0f64), |w, (i, p)| if p.abs() > w.1 { (i, p.abs()) } else { w });
     let c = model.row_owner(worst.0);
     let constraint = format!("{} '{}'", c.role, c.name);
     Err(if assembly {
-        SolveError::Assembly {
-            time: t,
-            iterations: max_iter,
-            residual,
-            constraint,
-        }
+        SolveError::Assembly { time: t, iterations: max_iter, residual, constraint }
     } else {
-        SolveError::NoConvergence {
-            step,
-            time: t,
-            iterations: max_iter,
-            residual,
-            constraint,
-        }
+        SolveError::NoConvergence { step, time: t, iterations: max_iter, residual, constraint }
     })
 }

@@ -9,14 +9,7 @@ use linkwork::{sweep, Data, LinearKind, Model, Options, SweepOutput};
 use std::f64::consts::PI;
 
 fn run(desc: linkwork::Description, linear: LinearKind, times: &[f64]) -> (Model, SweepOutput) {
-    let model = Model::with_options(
-        desc,
-        Options {
-            linear,
-            ..Options::default()
-        },
-    )
-    .unwrap();
+    let model = Model::with_options(desc, Options { linear, ..Options::default() }).unwrap();
     let mut data = Data::new(&model);
     let mut out = SweepOutput::new(&model, times);
     sweep(&model, &mut data, times, &mut out, 0, &mut |_| true).unwrap();
@@ -29,17 +22,10 @@ fn column(out: &SweepOutput, v: &[f64], j: usize) -> Vec<f64> {
 
 #[test]
 fn four_bar_matches_closed_form_over_a_revolution() {
-    let m = FourBar {
-        r1: 0.35,
-        r2: 0.20,
-        r3: 0.35,
-        r4: 0.25,
-    };
+    let m = FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 };
     let (th0, w) = (0.3, 5.0);
     let n = 721;
-    let times: Vec<f64> = (0..n)
-        .map(|k| k as f64 * 2.0 * PI / w / (n - 1) as f64)
-        .collect();
+    let times: Vec<f64> = (0..n).map(|k| k as f64 * 2.0 * PI / w / (n - 1) as f64).collect();
     for linear in [LinearKind::Dense, LinearKind::Sparse] {
         let (model, out) = run(four_bar_drawn(&m, th0 - 0.25, th0, w), linear, &times);
         assert_eq!(model.linear_kind(), linear);
@@ -110,13 +96,7 @@ fn four_bar_matches_closed_form_over_a_revolution() {
             assert!(err < 1e-10, "{linear:?} acceleration {k}: {err:e}");
         }
         // the prediction makes most steps one or two Newton iterations
-        let mean_iter = out
-            .iterations
-            .iter()
-            .skip(1)
-            .map(|&i| i as f64)
-            .sum::<f64>()
-            / (n - 1) as f64;
+        let mean_iter = out.iterations.iter().skip(1).map(|&i| i as f64).sum::<f64>() / (n - 1) as f64;
         assert!(mean_iter <= 2.5, "mean Newton iterations {mean_iter}");
         assert!(out.pivot_ratio.iter().all(|&p| p > 1e-3));
     }
@@ -124,16 +104,10 @@ fn four_bar_matches_closed_form_over_a_revolution() {
 
 #[test]
 fn offset_slider_crank_matches_closed_form_over_a_revolution() {
-    let m = SliderCrank {
-        r2: 0.10,
-        r3: 0.35,
-        e: 0.02,
-    };
+    let m = SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 };
     let (th0, w) = (-0.4, 5.0);
     let n = 721;
-    let times: Vec<f64> = (0..n)
-        .map(|k| k as f64 * 2.0 * PI / w / (n - 1) as f64)
-        .collect();
+    let times: Vec<f64> = (0..n).map(|k| k as f64 * 2.0 * PI / w / (n - 1) as f64).collect();
     for linear in [LinearKind::Dense, LinearKind::Sparse] {
         let (_, out) = run(slider_crank(&m, th0, w), linear, &times);
         let (mut th3, mut x, mut w3, mut v, mut a3, mut acc) =
@@ -162,8 +136,6 @@ fn offset_slider_crank_matches_closed_form_over_a_revolution() {
         }
         // the slider neither turns nor leaves its line
         assert!(column(&out, &out.q, 8).iter().all(|t| t.abs() < 1e-14));
-        assert!(column(&out, &out.q, 7)
-            .iter()
-            .all(|y| (y - m.e).abs() < 1e-14));
+        assert!(column(&out, &out.q, 7).iter().all(|y| (y - m.e).abs() < 1e-14));
     }
 }

@@ -21,12 +21,7 @@ impl Rng {
 
 fn phi(c: &ConstraintKind, qa: [f64; 3], qb: [f64; 3], t: f64) -> [f64; MAX_ROWS] {
     let mut r = Rows::default();
-    c.position(
-        &Frame::new(qa, [0.0; 3]),
-        &Frame::new(qb, [0.0; 3]),
-        t,
-        &mut r,
-    );
+    c.position(&Frame::new(qa, [0.0; 3]), &Frame::new(qb, [0.0; 3]), t, &mut r);
     r.phi
 }
 
@@ -51,14 +46,8 @@ fn jacobian_nu_and_gamma_match_finite_differences_for_every_constraint() {
             for j in 0..3 {
                 let mut e = [0.0; 3];
                 e[j] = h;
-                let (pa, ma) = (
-                    phi(&c, axpy(qa, 1.0, e), qb, t),
-                    phi(&c, axpy(qa, -1.0, e), qb, t),
-                );
-                let (pb, mb) = (
-                    phi(&c, qa, axpy(qb, 1.0, e), t),
-                    phi(&c, qa, axpy(qb, -1.0, e), t),
-                );
+                let (pa, ma) = (phi(&c, axpy(qa, 1.0, e), qb, t), phi(&c, axpy(qa, -1.0, e), qb, t));
+                let (pb, mb) = (phi(&c, qa, axpy(qb, 1.0, e), t), phi(&c, qa, axpy(qb, -1.0, e), t));
                 for i in 0..n {
                     let fd_a = (pa[i] - ma[i]) / (2.0 * h);
                     let fd_b = (pb[i] - mb[i]) / (2.0 * h);
@@ -83,12 +72,7 @@ fn jacobian_nu_and_gamma_match_finite_differences_for_every_constraint() {
             let (p, m) = (phi(&c, qa, qb, t + h), phi(&c, qa, qb, t - h));
             for i in 0..n {
                 let fd = -(p[i] - m[i]) / (2.0 * h);
-                assert!(
-                    (fd - nu[i]).abs() < 1e-8,
-                    "{} nu row {i}: {fd} vs {}",
-                    c.label(),
-                    nu[i]
-                );
+                assert!((fd - nu[i]).abs() < 1e-8, "{} nu row {i}: {fd} vs {}", c.label(), nu[i]);
             }
 
             // gamma: second difference along q + s qd, t + s; h = 1e-4 -> error ~1e-8

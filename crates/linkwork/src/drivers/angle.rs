@@ -36,8 +36,6 @@ impl Constraint for AngleDriver {
 
 impl Sample for AngleDriver {
     fn sample() -> Self {
-        AngleDriver {
-            law: super::sample_law(),
-        }
+        AngleDriver { law: super::sample_law() }
     }
 }

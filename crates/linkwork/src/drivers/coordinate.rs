@@ -37,14 +37,13 @@ impl Constraint for CoordinateDriver {
     fn law(&self) -> Option<&MotionLaw> {
         Some(&self.law)
     }
+    fn anchor_b(&self) -> [f64; 2] {
+        self.u
+    }
 }
 
 impl Sample for CoordinateDriver {
     fn sample() -> Self {
-        CoordinateDriver {
-            u: [0.2, -0.35],
-            axis: 1,
-            law: super::sample_law(),
-        }
+        CoordinateDriver { u: [0.2, -0.35], axis: 1, law: super::sample_law() }
     }
 }

@@ -39,20 +39,18 @@ impl Constraint for DistanceDriver {
         let ddd = sub(b.point_centripetal(self.u_b), a.point_centripetal(self.u_a));
         let len = dot(d, d).sqrt();
         let d_dd = dot(d, dd);
-        g[0] = -((dot(dd, dd) + dot(d, ddd)) / len - d_dd * d_dd / (len * len * len))
-            + self.law.eval(t)[2];
+        g[0] = -((dot(dd, dd) + dot(d, ddd)) / len - d_dd * d_dd / (len * len * len)) + self.law.eval(t)[2];
     }
     fn law(&self) -> Option<&MotionLaw> {
         Some(&self.law)
+    }
+    fn anchor_b(&self) -> [f64; 2] {
+        self.u_b
     }
 }
 
 impl Sample for DistanceDriver {
     fn sample() -> Self {
-        DistanceDriver {
-            u_a: [0.1, 0.2],
-            u_b: [0.3, -0.1],
-            law: super::sample_law(),
-        }
+        DistanceDriver { u_a: [0.1, 0.2], u_b: [0.3, -0.1], law: super::sample_law() }
     }
 }

@@ -12,10 +12,5 @@ use crate::motion::MotionLaw;
 
 /// A law for the driver samples: every term non-zero.
 pub(crate) fn sample_law() -> MotionLaw {
-    MotionLaw::Harmonic {
-        mean: 0.3,
-        amplitude: 0.2,
-        omega: 3.0,
-        phase: 0.4,
-    }
+    MotionLaw::Harmonic { mean: 0.3, amplitude: 0.2, omega: 3.0, phase: 0.4 }
 }

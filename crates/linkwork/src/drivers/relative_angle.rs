@@ -36,8 +36,6 @@ impl Constraint for RelativeAngleDriver {
 
 impl Sample for RelativeAngleDriver {
     fn sample() -> Self {
-        RelativeAngleDriver {
-            law: super::sample_law(),
-        }
+        RelativeAngleDriver { law: super::sample_law() }
     }
 }

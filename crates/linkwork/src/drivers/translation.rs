@@ -37,16 +37,14 @@ impl Constraint for TranslationDriver {
     fn law(&self) -> Option<&MotionLaw> {
         Some(&self.law)
     }
+    fn anchor_b(&self) -> [f64; 2] {
+        self.u_b
+    }
 }
 
 impl Sample for TranslationDriver {
     fn sample() -> Self {
         let (s, c) = (-0.6f64).sin_cos();
-        TranslationDriver {
-            u_a: [0.1, 0.0],
-            u_b: [0.0, 0.2],
-            e_a: [c, s],
-            law: super::sample_law(),
-        }
+        TranslationDriver { u_a: [0.1, 0.0], u_b: [0.0, 0.2], e_a: [c, s], law: super::sample_law() }
     }
 }

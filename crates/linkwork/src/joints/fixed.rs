@@ -35,9 +35,6 @@ impl Constraint for Fixed {
 
 impl Sample for Fixed {
     fn sample() -> Self {
-        Fixed {
-            u_a: [0.25, 0.1],
-            theta0: 0.7,
-        }
+        Fixed { u_a: [0.25, 0.1], theta0: 0.7 }
     }
 }

@@ -38,26 +38,13 @@ pub struct Frame {
 
 impl Frame {
     /// The ground: identity, at rest.
-    pub const GROUND: Frame = Frame {
-        r: [0.0, 0.0],
-        theta: 0.0,
-        c: 1.0,
-        s: 0.0,
-        rd: [0.0, 0.0],
-        thetad: 0.0,
-    };
+    pub const GROUND: Frame =
+        Frame { r: [0.0, 0.0], theta: 0.0, c: 1.0, s: 0.0, rd: [0.0, 0.0], thetad: 0.0 };
 
     /// A frame at pose (x, y, theta) with velocity (xd, yd, thetad).
     pub fn new(q: [f64; 3], qd: [f64; 3]) -> Frame {
         let (s, c) = q[2].sin_cos();
-        Frame {
-            r: [q[0], q[1]],
-            theta: q[2],
-            c,
-            s,
-            rd: [qd[0], qd[1]],
-            thetad: qd[2],
-        }
+        Frame { r: [q[0], q[1]], theta: q[2], c, s, rd: [qd[0], qd[1]], thetad: qd[2] }
     }
 
     /// A(theta) u: a body-fixed vector in world axes.
@@ -69,10 +56,7 @@ impl Frame {
     /// B(theta) u = dA/dtheta u = A u turned by +90 degrees.
     #[inline(always)]
     pub fn rot_d(&self, u: [f64; 2]) -> [f64; 2] {
-        [
-            -self.s * u[0] - self.c * u[1],
-            self.c * u[0] - self.s * u[1],
-        ]
+        [-self.s * u[0] - self.c * u[1], self.c * u[0] - self.s * u[1]]
     }
 
     /// World position of the body point u: R + A u.
@@ -86,10 +70,7 @@ impl Frame {
     #[inline(always)]
     pub fn point_velocity(&self, u: [f64; 2]) -> [f64; 2] {
         let p = self.rot_d(u);
-        [
-            self.rd[0] + p[0] * self.thetad,
-            self.rd[1] + p[1] * self.thetad,
-        ]
+        [self.rd[0] + p[0] * self.thetad, self.rd[1] + p[1] * self.thetad]
     }
 
     /// The part of a body point's acceleration that does not involve qdd: -A u thetad^2.
@@ -125,6 +106,10 @@ pub trait Constraint {
     /// The motion law of a driver.
     fn law(&self) -> Option<&MotionLaw> {
         None
+    }
+    /// The point of body b (body frame) about which its reaction torque is reported.
+    fn anchor_b(&self) -> [f64; 2] {
+        [0.0, 0.0]
     }
 }
 
@@ -171,6 +156,9 @@ macro_rules! constraint_list {
             }
             fn law(&self) -> Option<&MotionLaw> {
                 match self { $(ConstraintKind::$variant(j) => j.law()),* }
+            }
+            fn anchor_b(&self) -> [f64; 2] {
+                match self { $(ConstraintKind::$variant(j) => j.anchor_b()),* }
             }
         }
 

@@ -65,16 +65,14 @@ impl Constraint for Prismatic {
         g[0] = 0.0;
         g[1] = line_gamma(perp(self.e_a), self.u_a, self.u_b, a, b);
     }
+    fn anchor_b(&self) -> [f64; 2] {
+        self.u_b
+    }
 }
 
 impl Sample for Prismatic {
     fn sample() -> Self {
         let (s, c) = 0.4f64.sin_cos();
-        Prismatic {
-            u_a: [0.2, 0.05],
-            u_b: [-0.1, 0.3],
-            e_a: [c, s],
-            theta0: -0.3,
-        }
+        Prismatic { u_a: [0.2, 0.05], u_b: [-0.1, 0.3], e_a: [c, s], theta0: -0.3 }
     }
 }

@@ -12,14 +12,7 @@ pub struct Revolute {
 
 /// Rows `row`, `row + 1`: r_b(u_b) - r_a(u_a) = 0, shared with the weld.
 #[inline(always)]
-pub(crate) fn coincidence(
-    u_a: [f64; 2],
-    u_b: [f64; 2],
-    a: &Frame,
-    b: &Frame,
-    row: usize,
-    out: &mut Rows,
-) {
+pub(crate) fn coincidence(u_a: [f64; 2], u_b: [f64; 2], a: &Frame, b: &Frame, row: usize, out: &mut Rows) {
     let pa = a.point(u_a);
     let pb = b.point(u_b);
     let ba = a.rot_d(u_a);
@@ -64,13 +57,13 @@ impl Constraint for Revolute {
     fn gamma(&self, a: &Frame, b: &Frame, _t: f64, g: &mut [f64; MAX_ROWS]) {
         coincidence_gamma(self.u_a, self.u_b, a, b, 0, g);
     }
+    fn anchor_b(&self) -> [f64; 2] {
+        self.u_b
+    }
 }
 
 impl Sample for Revolute {
     fn sample() -> Self {
-        Revolute {
-            u_a: [0.3, -0.2],
-            u_b: [-0.15, 0.4],
-        }
+        Revolute { u_a: [0.3, -0.2], u_b: [-0.15, 0.4] }
     }
 }

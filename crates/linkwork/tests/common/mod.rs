@@ -4,31 +4,18 @@
 use linkwork::{BodyDesc, Description, DriverDesc, JointDesc, MotionLaw};
 
 pub fn body(name: &str, x: f64, y: f64, theta: f64) -> BodyDesc {
-    BodyDesc {
-        name: name.into(),
-        x,
-        y,
-        theta,
-    }
+    BodyDesc { name: name.into(), x, y, theta, mass: 0.0, inertia: 0.0, com: None }
 }
 
 pub fn pin(name: &str, a: &str, b: &str, at: [f64; 2]) -> JointDesc {
-    JointDesc::Revolute {
-        name: name.into(),
-        body_a: a.into(),
-        body_b: b.into(),
-        at,
-    }
+    JointDesc::Revolute { name: name.into(), body_a: a.into(), body_b: b.into(), at }
 }
 
 pub fn crank_driver(theta0: f64, omega: f64) -> DriverDesc {
     DriverDesc::Angle {
         name: "crank_angle".into(),
         body: "crank".into(),
-        law: MotionLaw::Linear {
-            value: theta0,
-            rate: omega,
-        },
+        law: MotionLaw::Linear { value: theta0, rate: omega },
     }
 }
 
@@ -61,12 +48,7 @@ pub fn four_bar_closed(m: &FourBar, th2: f64, w2: f64, a2: f64) -> ([f64; 2], [f
             - m.r4 * w4 * w4 * th4.sin(),
     ];
     // [-r3 s3, r4 s4; r3 c3, -r4 c4] [a3, a4] = c
-    let (m11, m12, m21, m22) = (
-        -m.r3 * th3.sin(),
-        m.r4 * th4.sin(),
-        m.r3 * th3.cos(),
-        -m.r4 * th4.cos(),
-    );
+    let (m11, m12, m21, m22) = (-m.r3 * th3.sin(), m.r4 * th4.sin(), m.r3 * th3.cos(), -m.r4 * th4.cos());
     let det = m11 * m22 - m12 * m21;
     let a3 = (c[0] * m22 - m12 * c[1]) / det;
     let a4 = (m11 * c[1] - m21 * c[0]) / det;
@@ -100,6 +82,8 @@ pub fn four_bar(m: &FourBar, th2: f64, omega: f64) -> Description {
         ],
         drivers: vec![crank_driver(th2, omega)],
         points: vec![],
+        gravity: [0.0, 0.0],
+        loads: vec![],
     }
 }
 
@@ -111,12 +95,7 @@ pub struct SliderCrank {
 }
 
 /// (theta3, x), (omega3, v), (alpha3, a).
-pub fn slider_crank_closed(
-    m: &SliderCrank,
-    th2: f64,
-    w2: f64,
-    a2: f64,
-) -> ([f64; 2], [f64; 2], [f64; 2]) {
+pub fn slider_crank_closed(m: &SliderCrank, th2: f64, w2: f64, a2: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
     let th3 = ((m.e - m.r2 * th2.sin()) / m.r3).asin();
     let x = m.r2 * th2.cos() + m.r3 * th3.cos();
     let w3 = -m.r2 * w2 * th2.cos() / (m.r3 * th3.cos());
@@ -135,11 +114,7 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
     let a = [m.r2 * th2.cos(), m.r2 * th2.sin()];
     Description {
         name: "slider-crank".into(),
-        bodies: vec![
-            body("crank", 0.0, 0.0, th2),
-            body("rod", a[0], a[1], th3),
-            body("slider", x, m.e, 0.0),
-        ],
+        bodies: vec![body("crank", 0.0, 0.0, th2), body("rod", a[0], a[1], th3), body("slider", x, m.e, 0.0)],
         joints: vec![
             pin("O2", "ground", "crank", [0.0, 0.0]),
             pin("A", "crank", "rod", a),
@@ -154,14 +129,13 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
         ],
         drivers: vec![crank_driver(th2, omega)],
         points: vec![],
+        gravity: [0.0, 0.0],
+        loads: vec![],
     }
 }
 
 /// Largest |a - b| over the largest |b|: the error relative to the quantity's scale.
 pub fn rel_err(a: &[f64], b: &[f64]) -> f64 {
     let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-        / scale
+    a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / scale
 }
