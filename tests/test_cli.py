@@ -14,8 +14,8 @@ from linkwork.cli import main
 
 def massive_four_bar(path) -> str:
     m = lw.Mechanism.from_dict(lw.examples.four_bar().to_dict())
-    for body, mass in zip(m._bodies, (1.0, 2.0, 1.5)):
-        body.update(mass=mass, inertia=0.01 * mass)
+    for body, mass in zip(("crank", "coupler", "rocker"), (1.0, 2.0, 1.5)):
+        m.set_mass(body, mass, inertia=0.01 * mass)
     m.set_gravity()
     m.save(str(path))
     return str(path)

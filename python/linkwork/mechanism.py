@@ -227,6 +227,20 @@ class Mechanism:
         """The slide s of prismatic joint ``joint`` = f(t) (s = 0 at the start)."""
         return self._driver("translation", name, law, joint=str(joint))
 
+    def set_mass(
+        self, body: Body | str, mass: float, inertia: float, com: Sequence[float] | None = None
+    ) -> None:
+        """Mass properties of a body already added: ``mass``, ``inertia`` about the centre
+        of mass, and ``com`` (a world point at the start; unchanged if not given)."""
+        name = _name(body)
+        for b in self._bodies:
+            if b["name"] == name:
+                b.update(mass=float(mass), inertia=float(inertia))
+                if com is not None:
+                    b["com"] = _xy(com)
+                return
+        raise KeyError(f"no body named {name!r}")
+
     # -- loads (inverse dynamics) ------------------------------------------------------
     def set_gravity(self, g: Sequence[float] = (0.0, -9.81)) -> None:
         """Gravitational acceleration in world axes (default 9.81 m/s^2 down -y)."""
