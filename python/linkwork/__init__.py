@@ -4,7 +4,7 @@ Build a `Mechanism` (bodies, joints at world points, drivers with motion laws), 
 it into a `Model`, then ``model.solve(t)`` or ``model.sweep(times)``.
 """
 
-from . import closed_form, examples, reference
+from . import closed_form, examples, reference, screw
 from .errors import (
     AssemblyError,
     CancelledError,
@@ -13,11 +13,12 @@ from .errors import (
     LinkworkError,
     ModelError,
     NonFiniteError,
+    ScrewError,
     SingularError,
     SolveError,
 )
 from .mechanism import GROUND, Body, Mechanism
-from .model import Model
+from .model import Model, sweep_batch
 from .motion import Constant, Harmonic, Law, Linear, Polynomial, Spline
 from .results import BodyMotion, PointMotion, Results, State
 
@@ -43,11 +44,14 @@ __all__ = [
     "PointMotion",
     "Polynomial",
     "Results",
+    "ScrewError",
     "SingularError",
     "SolveError",
     "Spline",
     "State",
     "closed_form",
+    "sweep_batch",
     "examples",
     "reference",
+    "screw",
 ]

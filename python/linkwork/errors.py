@@ -5,6 +5,8 @@
     LinkworkError
     ├── ModelError          the description cannot be compiled (names the body/joint/driver)
     ├── InputError          bad arguments to a solve (time grid, q_guess); also a ValueError
+    ├── ScrewError          a screw-theory question without a (unique) answer: coincident
+    │                       or collinear joints, parallel lines, a redundant arm; also a ValueError
     └── SolveError          a solve could not be completed at some time step
         ├── AssemblyError       no configuration found at the first time
         ├── ConvergenceError    Newton-Raphson did not converge at a later step
@@ -24,6 +26,7 @@ __all__ = [
     "LinkworkError",
     "ModelError",
     "InputError",
+    "ScrewError",
     "SolveError",
     "AssemblyError",
     "ConvergenceError",
@@ -47,6 +50,11 @@ class InputError(LinkworkError, ValueError):
     step: int | None = None
     time: float | None = None
     partial: Any = None
+
+
+class ScrewError(LinkworkError, ValueError):
+    """Degenerate geometry or bad input in `linkwork.screw`; the message names the joints
+    at fault (e.g. "joints 2 and 3 coincide")."""
 
 
 class SolveError(LinkworkError):

@@ -13,7 +13,7 @@ from . import _core
 from .errors import InputError, ModelError
 from .results import Results, State, Statics
 
-__all__ = ["Model"]
+__all__ = ["Model", "sweep_batch"]
 
 
 class Model:
@@ -70,6 +70,8 @@ class Model:
         q_guess: Sequence[float] | np.ndarray | None = None,
         progress: Callable[[int, int], Any] | bool | None = None,
         forces: bool = False,
+        derivatives: int = 2,
+        every: int = 1,
     ) -> Results:
         """Solves position, velocity and acceleration at every time (strictly monotone),
         each step predicted from the previous one. The GIL is released meanwhile.
@@ -77,6 +79,10 @@ class Model:
         ``progress``: True for a progress bar on stderr, or a callable(done, total).
         ``forces``: also solve the inverse dynamics (driver efforts, joint reactions) from
         the bodies' mass properties, gravity and the loads.
+        ``derivatives``: 0 solves positions only, 1 adds velocities, 2 (default) also
+        accelerations; what is not solved costs nothing and is None in the results.
+        ``every``: keep every ``every``-th step only (all are solved; each kept row's
+        diagnostics are the worst since the previous kept row).
         If step k fails, the exception carries ``.partial``: the k good steps.
         """
         t = np.ascontiguousarray(times, dtype=np.float64)
@@ -84,13 +90,52 @@ class Model:
             raise InputError(f"times must be one-dimensional, got shape {t.shape}")
         g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
         callback = _ProgressBar() if progress is True else (progress or None)
-        every = max(1024, len(t) // 100) if callback is not None else 16384
-        raw, error = self._core.sweep(t, g, callback, every, forces)
+        check = max(1024, len(t) // 100) if callback is not None else 16384
+        raw, error = self._core.sweep(t, g, callback, check, forces, int(derivatives), int(every))
         results = Results(self, raw)
         if error is not None:
             error.partial = results
             raise error
         return results
+
+
+def sweep_batch(
+    models: Sequence[Model],
+    times: Sequence[float] | np.ndarray,
+    threads: int | None = None,
+    derivatives: int = 2,
+    forces: bool = False,
+    progress: Callable[[int, int], Any] | None = None,
+    errors: str = "raise",
+    every: int = 1,
+) -> list[Any]:
+    """Sweeps many models (a design study) over the same times on worker threads, with
+    the GIL released: one `Results` per model, in order.
+
+    ``derivatives``, ``forces`` and ``every`` are as for `Model.sweep`.
+    ``threads``: worker threads (default: one per core). ``progress(done, total)`` counts
+    finished models; Ctrl-C stops every running sweep. ``errors="raise"`` raises the first
+    model's failure (with ``.index`` and ``.partial``); ``errors="return"`` puts the
+    exception, with its ``.partial``, in that model's place instead.
+    """
+    if errors not in ("raise", "return"):
+        raise InputError(f"errors must be 'raise' or 'return', not {errors!r}")
+    t = np.ascontiguousarray(times, dtype=np.float64)
+    if t.ndim != 1:
+        raise InputError(f"times must be one-dimensional, got shape {t.shape}")
+    cores = [m._core for m in models]
+    items = _core.sweep_batch(cores, t, threads or 0, int(derivatives), forces, progress, int(every))
+    out: list[Any] = []
+    for i, (model, (raw, error)) in enumerate(zip(models, items)):
+        results = Results(model, raw)
+        if error is None:
+            out.append(results)
+            continue
+        error.partial, error.index = results, i
+        if errors == "raise":
+            raise error
+        out.append(error)
+    return out
 
 
 _KINDS = {"bodies": "body", "joints": "joint", "drivers": "driver", "points": "point", "loads": "load"}

@@ -21,26 +21,28 @@ __all__ = ["Results", "State", "Statics", "BodyMotion", "PointMotion", "Reaction
 
 @dataclass(frozen=True)
 class BodyMotion:
-    """One body's coordinates and their derivatives, each (n_steps,) (or scalars)."""
+    """One body's coordinates and their derivatives, each (n_steps,) (or scalars); the
+    derivatives are None where the sweep did not solve them (``derivatives=0`` or 1)."""
 
     x: np.ndarray
     y: np.ndarray
     theta: np.ndarray
-    xd: np.ndarray
-    yd: np.ndarray
-    thetad: np.ndarray
-    xdd: np.ndarray
-    ydd: np.ndarray
-    thetadd: np.ndarray
+    xd: np.ndarray | None
+    yd: np.ndarray | None
+    thetad: np.ndarray | None
+    xdd: np.ndarray | None
+    ydd: np.ndarray | None
+    thetadd: np.ndarray | None
 
 
 @dataclass(frozen=True)
 class PointMotion:
-    """A body point's world position, velocity and acceleration, each (n_steps, 2) (or (2,))."""
+    """A body point's world position, velocity and acceleration, each (n_steps, 2) (or
+    (2,)); velocity and acceleration are None where the sweep did not solve them."""
 
     position: np.ndarray
-    velocity: np.ndarray
-    acceleration: np.ndarray
+    velocity: np.ndarray | None
+    acceleration: np.ndarray | None
 
 
 @dataclass(frozen=True)
@@ -79,8 +81,8 @@ class _Kinematics:
 
     model: Model
     q: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
+    qd: np.ndarray | None
+    qdd: np.ndarray | None
 
     @property
     def columns(self) -> list[str]:
@@ -95,18 +97,13 @@ class _Kinematics:
     def body(self, name: str) -> BodyMotion:
         """x, y, theta of a body and their first and second derivatives."""
         j = 3 * self._body_index(name)
-        q, qd, qdd = self.q[..., j : j + 3], self.qd[..., j : j + 3], self.qdd[..., j : j + 3]
-        return BodyMotion(
-            q[..., 0],
-            q[..., 1],
-            q[..., 2],
-            qd[..., 0],
-            qd[..., 1],
-            qd[..., 2],
-            qdd[..., 0],
-            qdd[..., 1],
-            qdd[..., 2],
-        )
+
+        def cols(a: np.ndarray | None) -> list[np.ndarray | None]:
+            return [None] * 3 if a is None else [a[..., j], a[..., j + 1], a[..., j + 2]]
+
+        x, y, th = cols(self.q)
+        assert x is not None and y is not None and th is not None
+        return BodyMotion(x, y, th, *cols(self.qd), *cols(self.qdd))
 
     def point(self, name: str) -> PointMotion:
         """Kinematics of a named point (``Mechanism.point``)."""
@@ -117,8 +114,21 @@ class _Kinematics:
         raise KeyError(f"no point named {name!r}; points: {', '.join(names) or 'none'}")
 
     def point_at(self, body: str, local: Sequence[float]) -> PointMotion:
-        """Kinematics of the point with body-frame coordinates ``local`` of ``body``."""
-        return self._point(self._body_index(body), (float(local[0]), float(local[1])))
+        """Kinematics of the point with body-frame coordinates ``local`` of ``body`` (the
+        ground's points stand still)."""
+        index = -1 if body == "ground" else self._body_index(body)
+        return self._point(index, (float(local[0]), float(local[1])))
+
+    def mechanical_advantage(self, input_body: str, output_body: str) -> np.ndarray:
+        """Ideal mechanical advantage, output torque over input torque, by virtual work:
+        T_out / T_in = w_in / w_out (a number per step, or a scalar). Infinite where the
+        output stops (a toggle position), 0 where the input does."""
+        if self.qd is None:
+            raise ValueError("the mechanical advantage needs velocities (derivatives >= 1)")
+        w_in = self.qd[..., 3 * self._body_index(input_body) + 2]
+        w_out = self.qd[..., 3 * self._body_index(output_body) + 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.abs(w_in / w_out)
 
     def _constraint(self, name: str) -> tuple[int, tuple[str, str, str, int, int]]:
         for k, c in enumerate(self.model.constraints):
@@ -146,12 +156,18 @@ class _Kinematics:
             shape = self.q.shape[:-1] + (2,)
             return PointMotion(np.broadcast_to(np.asarray(u), shape).copy(), np.zeros(shape), np.zeros(shape))
         j = 3 * body
-        th, w, al = self.q[..., j + 2], self.qd[..., j + 2], self.qdd[..., j + 2]
+        th = self.q[..., j + 2]
         c, s = np.cos(th), np.sin(th)
         au = np.stack([c * u[0] - s * u[1], s * u[0] + c * u[1]], axis=-1)  # A u
         bu = np.stack([-au[..., 1], au[..., 0]], axis=-1)  # B u = A u turned +90 deg
         r = self.q[..., j : j + 2] + au
+        if self.qd is None:
+            return PointMotion(r, None, None)
+        w = self.qd[..., j + 2]
         v = self.qd[..., j : j + 2] + bu * w[..., None]
+        if self.qdd is None:
+            return PointMotion(r, v, None)
+        al = self.qdd[..., j + 2]
         a = self.qdd[..., j : j + 2] + bu * al[..., None] - au * (w * w)[..., None]
         return PointMotion(r, v, a)
 
@@ -191,6 +207,11 @@ class Statics(_Kinematics):
         """What joint ``name`` transmits to its side b (arrays of one state)."""
         return self._reaction(name, self.reactions)
 
+    def mechanical_advantage(self, input_body: str, output_body: str) -> np.ndarray:
+        """Ideal mechanical advantage T_out / T_in = w_in / w_out at this configuration,
+        from the velocities the drivers' rates give at time t."""
+        return self.model.solve(self.t, q_guess=self.q).mechanical_advantage(input_body, output_body)
+
 
 class Results(_Kinematics):
     """A sweep's results: q, qd, qdd (n_steps, n_coords) and per-step diagnostics.
@@ -205,8 +226,8 @@ class Results(_Kinematics):
         self.model = model
         self.times: np.ndarray = raw["times"]
         self.q: np.ndarray = raw["q"]
-        self.qd: np.ndarray = raw["qd"]
-        self.qdd: np.ndarray = raw["qdd"]
+        self.qd: np.ndarray | None = raw["qd"]  # None with derivatives=0
+        self.qdd: np.ndarray | None = raw["qdd"]  # None with derivatives < 2
         self.iterations: np.ndarray = raw["iterations"]
         self.residual: np.ndarray = raw["residual"]
         self.pivot_ratio: np.ndarray = raw["pivot_ratio"]
@@ -263,6 +284,7 @@ class Results(_Kinematics):
         gravity_rate = np.zeros(self.n_steps)
         for i, (mass, inertia, cx, cy) in enumerate(self.model._core.inertias):
             c = self._point(i, (cx, cy))
+            assert self.qd is not None and self.qdd is not None  # forces imply derivatives=2
             w, a = self.qd[:, 3 * i + 2], self.qdd[:, 3 * i + 2]
             kinetic += 0.5 * mass * np.sum(c.velocity**2, axis=1) + 0.5 * inertia * w * w
             kinetic_rate += mass * np.sum(c.velocity * c.acceleration, axis=1) + inertia * w * a
@@ -372,12 +394,13 @@ class Results(_Kinematics):
             f"{self.model.name}: {self.n_steps} steps, t = {self.times[0]:g} .. {self.times[-1]:g}",
             f"  {'coordinate':<22}{'min':>13}{'max':>13}{'max |rate|':>13}{'max |accel|':>13}",
         ]
+
+        def peak(a: np.ndarray | None, k: int) -> str:
+            return f"{'-':>13}" if a is None else f"{np.abs(a[:, k]).max():>13.6g}"
+
         for k, c in enumerate(self.columns):
             q = self.q[:, k]
-            lines.append(
-                f"  {c:<22}{q.min():>13.6g}{q.max():>13.6g}"
-                f"{np.abs(self.qd[:, k]).max():>13.6g}{np.abs(self.qdd[:, k]).max():>13.6g}"
-            )
+            lines.append(f"  {c:<22}{q.min():>13.6g}{q.max():>13.6g}{peak(self.qd, k)}{peak(self.qdd, k)}")
         worst = int(np.argmin(self.pivot_ratio))
         lines += [
             f"  worst scaled residual   {self.residual.max():.2e}",
@@ -396,12 +419,15 @@ class Results(_Kinematics):
         header names its unit."""
         u = [self.units(c) for c in self.columns]
         header = ["t [s]"] + [f"{c} [{x}]" for c, x in zip(self.columns, u)]
-        header += [f"{c}_d [{x}/s]" for c, x in zip(self.columns, u)]
-        header += [f"{c}_dd [{x}/s^2]" for c, x in zip(self.columns, u)]
+        parts = [self.times, self.q]
+        if self.qd is not None:
+            header += [f"{c}_d [{x}/s]" for c, x in zip(self.columns, u)]
+            parts.append(self.qd)
+        if self.qdd is not None:
+            header += [f"{c}_dd [{x}/s^2]" for c, x in zip(self.columns, u)]
+            parts.append(self.qdd)
         header += ["iterations", "residual", "pivot_ratio"]
-        table = np.column_stack(
-            [self.times, self.q, self.qd, self.qdd, self.iterations, self.residual, self.pivot_ratio]
-        )
+        table = np.column_stack(parts + [self.iterations, self.residual, self.pivot_ratio])
         with open(path, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(header)
@@ -421,9 +447,9 @@ class Results(_Kinematics):
         fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
         for name in names:
             b = self.body(name)
-            axes[0, 0].plot(t, b.theta[k], label=name)
-            axes[0, 1].plot(t, b.thetad[k], label=name)
-            axes[1, 0].plot(t, b.thetadd[k], label=name)
+            for ax, v in ((axes[0, 0], b.theta), (axes[0, 1], b.thetad), (axes[1, 0], b.thetadd)):
+                if v is not None:
+                    ax.plot(t, v[k], label=name)
         for ax, what in zip(axes.flat, ["theta [rad]", "omega [rad/s]", "alpha [rad/s^2]"]):
             ax.set_xlabel("t [s]")
             ax.set_ylabel(what)

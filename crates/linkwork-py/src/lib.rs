@@ -10,6 +10,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+mod screw;
+
 mod py_errors {
     pyo3::import_exception!(linkwork.errors, ModelError);
 }
@@ -48,17 +50,19 @@ fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
 fn parse_linear(s: &str) -> PyResult<LinearKind> {
     match s {
         "auto" => Ok(LinearKind::Auto),
+        "small" => Ok(LinearKind::Small),
         "dense" => Ok(LinearKind::Dense),
         "sparse" => Ok(LinearKind::Sparse),
-        other => {
-            Err(PyValueError::new_err(format!("linear must be 'auto', 'dense' or 'sparse', not {other:?}")))
-        }
+        other => Err(PyValueError::new_err(format!(
+            "linear must be 'auto', 'small', 'dense' or 'sparse', not {other:?}"
+        ))),
     }
 }
 
 fn linear_name(k: LinearKind) -> &'static str {
     match k {
         LinearKind::Auto => "auto",
+        LinearKind::Small => "small",
         LinearKind::Dense => "dense",
         LinearKind::Sparse => "sparse",
     }
@@ -96,6 +100,92 @@ fn start_guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyR
 fn rows_to_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, m: usize) -> Bound<'py, PyAny> {
     // moves the buffer into NumPy: no copy
     Array2::from_shape_vec((n, m), v).expect("n x m buffer").into_pyarray(py).into_any()
+}
+
+fn parse_request(derivatives: u8, forces: bool, every: usize) -> PyResult<linkwork::Request> {
+    if derivatives > 2 || (forces && derivatives < 2) {
+        return Err(InputError::new_err(format!(
+            "derivatives must be 0, 1 or 2 (2 with forces=True), not {derivatives}"
+        )));
+    }
+    if every == 0 {
+        return Err(InputError::new_err("every must be at least 1"));
+    }
+    Ok(linkwork::Request { derivatives, forces, every })
+}
+
+/// A sweep's outputs as a dict of NumPy arrays (moved, not copied); qd and qdd are None
+/// when not solved, the inverse dynamics arrays absent when not asked for.
+fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, PyDict>> {
+    let (n, m) = (out.n_done, out.n_coords);
+    let d = PyDict::new(py);
+    d.set_item("q", rows_to_array(py, out.q, n, m))?;
+    let derivatives = out.request.derivatives;
+    d.set_item("qd", (derivatives >= 1).then(|| rows_to_array(py, out.qd, n, m)))?;
+    d.set_item("qdd", (derivatives >= 2).then(|| rows_to_array(py, out.qdd, n, m)))?;
+    d.set_item("iterations", out.iterations.into_pyarray(py))?;
+    d.set_item("residual", out.residual.into_pyarray(py))?;
+    d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
+    d.set_item("times", out.times.into_pyarray(py))?;
+    if out.request.forces {
+        let (r, nc) = (out.n_rows, out.n_constraints);
+        d.set_item("lambda", rows_to_array(py, out.lambda, n, r))?;
+        let [pi, pg, pl] = out.lambda_parts;
+        d.set_item("lambda_inertia", rows_to_array(py, pi, n, r))?;
+        d.set_item("lambda_gravity", rows_to_array(py, pg, n, r))?;
+        d.set_item("lambda_loads", rows_to_array(py, pl, n, r))?;
+        let reactions =
+            numpy::ndarray::Array3::from_shape_vec((n, nc, linkwork::REACTION_COLUMNS), out.reactions)
+                .expect("n x nc x 4 buffer");
+        d.set_item("reactions", reactions.into_pyarray(py))?;
+        d.set_item("load_power", out.load_power.into_pyarray(py))?;
+    }
+    Ok(d)
+}
+
+/// Sweeps many models over the same times on worker threads with the GIL released.
+/// Returns one (results dict, error or None) per model, in order. `progress(done, total)`
+/// is called with the number of finished models; Ctrl-C cancels every running sweep.
+#[pyfunction]
+#[pyo3(signature = (models, times, threads=0, derivatives=2, forces=false, progress=None, every=1))]
+#[allow(clippy::too_many_arguments)]
+fn sweep_batch<'py>(
+    py: Python<'py>,
+    models: Vec<PyRef<'py, PyModel>>,
+    times: PyReadonlyArray1<'py, f64>,
+    threads: usize,
+    derivatives: u8,
+    forces: bool,
+    progress: Option<Py<PyAny>>,
+    every: usize,
+) -> PyResult<Vec<(Bound<'py, PyDict>, Option<PyErr>)>> {
+    let request = parse_request(derivatives, forces, every)?;
+    let arcs: Vec<Arc<Model>> = models.iter().map(|m| Arc::clone(&m.model)).collect();
+    let refs: Vec<&Model> = arcs.iter().map(|m| m.as_ref()).collect();
+    let times = times.as_slice()?;
+    let total = refs.len();
+    let (items, interrupt) = py.detach(|| {
+        let mut interrupt: Option<PyErr> = None;
+        let mut last = usize::MAX;
+        let mut watch = |done: usize| -> bool {
+            Python::attach(|py| {
+                let r = py.check_signals().and_then(|_| match (&progress, done != last) {
+                    (Some(cb), true) => cb.call1(py, (done, total)).map(|_| ()),
+                    _ => Ok(()),
+                });
+                last = done;
+                r.map_err(|e| interrupt = Some(e)).is_ok()
+            })
+        };
+        (linkwork::sweep_batch(&refs, times, request, threads, &mut watch), interrupt)
+    });
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    if let Some(cb) = &progress {
+        cb.call1(py, (total, total))?;
+    }
+    items.into_iter().map(|(out, err)| Ok((output_dict(py, out)?, err.map(|e| solve_err(py, &e))))).collect()
 }
 
 #[pymethods]
@@ -222,7 +312,8 @@ impl PyModel {
     /// on failure at step k the dict holds the k good steps and the error says why.
     /// `progress(done, total)` is called every `progress_every` steps (0: never);
     /// Ctrl-C is noticed at the same points.
-    #[pyo3(signature = (times, q_guess=None, progress=None, progress_every=16384, forces=false))]
+    #[pyo3(signature = (times, q_guess=None, progress=None, progress_every=16384, forces=false, derivatives=2, every=1))]
+    #[allow(clippy::too_many_arguments)]
     fn sweep<'py>(
         &self,
         py: Python<'py>,
@@ -231,13 +322,15 @@ impl PyModel {
         progress: Option<Py<PyAny>>,
         progress_every: usize,
         forces: bool,
+        derivatives: u8,
+        every: usize,
     ) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
+        let request = parse_request(derivatives, forces, every)?;
         let model = Arc::clone(&self.model);
         let times = times.as_slice()?;
         let mut data = Data::new(&model);
         data.q = start_guess(&model, q_guess)?;
-        let mut out =
-            if forces { SweepOutput::with_forces(&model, times) } else { SweepOutput::new(&model, times) };
+        let mut out = SweepOutput::with_request(&model, times, request);
         let total = times.len();
         let (result, interrupt) = py.detach(|| {
             let mut interrupt: Option<PyErr> = None;
@@ -270,29 +363,7 @@ impl PyModel {
             (Err(e), None) => Some(solve_err(py, &e)),
         };
         out.truncate();
-        let (n, m) = (out.n_done, out.n_coords);
-        let d = PyDict::new(py);
-        d.set_item("q", rows_to_array(py, out.q, n, m))?;
-        d.set_item("qd", rows_to_array(py, out.qd, n, m))?;
-        d.set_item("qdd", rows_to_array(py, out.qdd, n, m))?;
-        d.set_item("iterations", out.iterations.into_pyarray(py))?;
-        d.set_item("residual", out.residual.into_pyarray(py))?;
-        d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
-        d.set_item("times", out.times.into_pyarray(py))?;
-        if out.forces {
-            let (r, nc) = (out.n_rows, out.n_constraints);
-            d.set_item("lambda", rows_to_array(py, out.lambda, n, r))?;
-            let [pi, pg, pl] = out.lambda_parts;
-            d.set_item("lambda_inertia", rows_to_array(py, pi, n, r))?;
-            d.set_item("lambda_gravity", rows_to_array(py, pg, n, r))?;
-            d.set_item("lambda_loads", rows_to_array(py, pl, n, r))?;
-            let reactions =
-                numpy::ndarray::Array3::from_shape_vec((n, nc, linkwork::REACTION_COLUMNS), out.reactions)
-                    .expect("n x nc x 4 buffer");
-            d.set_item("reactions", reactions.into_pyarray(py))?;
-            d.set_item("load_power", out.load_power.into_pyarray(py))?;
-        }
-        Ok((d, error))
+        Ok((output_dict(py, out)?, error))
     }
 
     /// Inverse dynamics at one configuration at rest (qd = qdd = 0): the driver efforts
@@ -313,6 +384,7 @@ impl PyModel {
         linkwork::solve_position(model, &mut data, t, 0, true).map_err(|e| solve_err(py, &e))?;
         data.qd.fill(0.0);
         data.qdd.fill(0.0);
+        // solve_forces refreshes the frames from q and qd = 0, so reactions see rest
         linkwork::solve_forces(model, &mut data, t, 0).map_err(|e| solve_err(py, &e))?;
         let mut reactions = vec![0.0; linkwork::REACTION_COLUMNS * model.constraints.len()];
         linkwork::reactions(model, &data, t, &mut reactions);
@@ -382,6 +454,8 @@ impl PyModel {
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyModel>()?;
+    screw::register(m)?;
+    m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

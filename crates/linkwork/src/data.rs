@@ -33,6 +33,11 @@ pub struct Data {
     pub lambda_parts: [Vec<f64>; 3],
     /// 3 x n_coords: the parts of Q - M qdd
     pub(crate) gen_force: [Vec<f64>; 3],
+    /// n_coords each: q at the two steps before the previous one, qd and qdd at the one
+    /// before the previous one (the sweep's predictor reads them)
+    pub(crate) hist_q: [Vec<f64>; 2],
+    pub(crate) hist_qd: Vec<f64>,
+    pub(crate) hist_qdd: Vec<f64>,
 }
 
 impl Data {
@@ -52,6 +57,9 @@ impl Data {
             lambda: vec![0.0; model.n_rows],
             lambda_parts: std::array::from_fn(|_| vec![0.0; model.n_rows]),
             gen_force: std::array::from_fn(|_| vec![0.0; model.n_coords]),
+            hist_q: std::array::from_fn(|_| vec![0.0; model.n_coords]),
+            hist_qd: vec![0.0; model.n_coords],
+            hist_qdd: vec![0.0; model.n_coords],
         }
     }
 }

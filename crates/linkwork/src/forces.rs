@@ -8,7 +8,7 @@
 use crate::assembly;
 use crate::data::Data;
 use crate::error::SolveError;
-use crate::joints::{Constraint, Frame, Rows, MAX_ROWS};
+use crate::joints::{Constraint, Frame, Rows};
 use crate::model::Model;
 
 /// The parts of Q - M qdd, in this order in `Data::lambda_parts`.
@@ -70,8 +70,8 @@ pub fn solve_forces(model: &Model, data: &mut Data, t: f64, step: usize) -> Resu
 pub const REACTION_COLUMNS: usize = 4;
 
 /// Each constraint's reaction on its side b from lambda: Fx, Fy (world), the torque
-/// about its anchor, and the power it delivers, -lambda . nu (zero for a joint; a
-/// driver's effort times its rate), written into `out` (n_constraints x 4).
+/// about its anchor, and the power it delivers, -lambda . (Phi_q qd) (zero for a joint;
+/// a driver's effort times its rate), written into `out` (n_constraints x 4).
 /// Reads data.frames (as left by `solve_forces`).
 pub fn reactions(model: &Model, data: &Data, t: f64, out: &mut [f64]) {
     for (k, c) in model.constraints.iter().enumerate() {
@@ -87,9 +87,14 @@ pub fn reactions(model: &Model, data: &Data, t: f64, out: &mut [f64]) {
         // moment about b's origin -> about the anchor p: M_p = M_o - (p - R) x F
         let arm = b.rot(c.kind.anchor_b());
         let torque = q_b[2] - (arm[0] * q_b[1] - arm[1] * q_b[0]);
-        let mut nu = [0.0; MAX_ROWS];
-        c.kind.nu(t, &mut nu);
-        let power: f64 = (0..c.n_rows).map(|i| -data.lambda[c.row0 + i] * nu[i]).sum();
+        // power of the constraint force on the motion, -lambda . (Phi_q qd): a driver's
+        // effort times its rate in a sweep (Phi_q qd = nu), zero at rest and for a joint
+        let (va, vb) = ([a.rd[0], a.rd[1], a.thetad], [b.rd[0], b.rd[1], b.thetad]);
+        let mut power = 0.0;
+        for i in 0..c.n_rows {
+            let rate: f64 = (0..3).map(|j| rows.jac_a[i][j] * va[j] + rows.jac_b[i][j] * vb[j]).sum();
+            power -= data.lambda[c.row0 + i] * rate;
+        }
         out[REACTION_COLUMNS * k..REACTION_COLUMNS * (k + 1)]
             .copy_from_slice(&[q_b[0], q_b[1], torque, power]);
     }

@@ -8,6 +8,7 @@
 
 pub mod acceleration;
 pub mod assembly;
+pub mod batch;
 pub mod data;
 pub mod description;
 pub mod drivers;
@@ -19,10 +20,13 @@ pub mod loads;
 pub mod model;
 pub mod motion;
 pub mod position;
+pub mod screw;
+pub mod small_lu;
 pub mod sweep;
 pub mod velocity;
 
 pub use acceleration::solve_acceleration;
+pub use batch::{sweep_batch, BatchItem};
 pub use data::Data;
 pub use description::{BodyDesc, Description, DriverDesc, JointDesc, PointDesc, GROUND};
 pub use error::{ModelError, SolveError};
@@ -31,5 +35,5 @@ pub use linear::{LinearKind, Pivots};
 pub use model::{Model, Options};
 pub use motion::MotionLaw;
 pub use position::{solve_position, PositionInfo};
-pub use sweep::{check_times, solve, sweep, SweepOutput};
+pub use sweep::{check_times, solve, sweep, Request, SweepOutput};
 pub use velocity::solve_velocity;

@@ -13,13 +13,18 @@ use faer::{Conj, MatMut, MatRef, Par};
 
 use crate::joints::MAX_ROWS;
 use crate::model::ConstraintEntry;
+use crate::small_lu;
 
 /// Which linear algebra solves Phi_q x = b.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LinearKind {
-    /// dense up to `Options::dense_max` coordinates, sparse above
+    /// small dense LU up to `Options::dense_max` coordinates, sparse LU above
     Auto,
+    /// linkwork's own dense LU (`small_lu`), for small systems
+    Small,
+    /// faer's dense LU
     Dense,
+    /// faer's sparse LU
     Sparse,
 }
 
@@ -35,6 +40,7 @@ pub struct Pivots {
 /// The part of a factorization that depends only on the pattern (in the model).
 #[derive(Debug)]
 pub(crate) enum SymbolicFactor {
+    Small { n: usize },
     Dense { n: usize },
     Sparse { n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>, lu: SymbolicLu<usize> },
 }
@@ -44,10 +50,14 @@ impl SymbolicFactor {
     /// for the sparse path, computes the column ordering once.
     pub(crate) fn new(kind: LinearKind, n: usize, constraints: &mut [ConstraintEntry]) -> SymbolicFactor {
         match kind {
-            LinearKind::Dense | LinearKind::Auto => {
+            LinearKind::Small | LinearKind::Dense | LinearKind::Auto => {
                 // column-major n x n
                 for_each_entry(constraints, |row, col| (col * n + row) as u32);
-                SymbolicFactor::Dense { n }
+                if kind == LinearKind::Dense {
+                    SymbolicFactor::Dense { n }
+                } else {
+                    SymbolicFactor::Small { n }
+                }
             }
             LinearKind::Sparse => {
                 let mut entries: Vec<(usize, usize)> = Vec::new();
@@ -79,6 +89,7 @@ impl SymbolicFactor {
 
     pub(crate) fn kind(&self) -> LinearKind {
         match self {
+            SymbolicFactor::Small { .. } => LinearKind::Small,
             SymbolicFactor::Dense { .. } => LinearKind::Dense,
             SymbolicFactor::Sparse { .. } => LinearKind::Sparse,
         }
@@ -87,7 +98,7 @@ impl SymbolicFactor {
     /// Length of the value array of Phi_q.
     pub(crate) fn n_values(&self) -> usize {
         match self {
-            SymbolicFactor::Dense { n } => n * n,
+            SymbolicFactor::Small { n } | SymbolicFactor::Dense { n } => n * n,
             SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
         }
     }
@@ -95,7 +106,7 @@ impl SymbolicFactor {
     /// Structural non-zeros of Phi_q.
     pub(crate) fn nnz(&self) -> usize {
         match self {
-            SymbolicFactor::Dense { n } => n * n,
+            SymbolicFactor::Small { n } | SymbolicFactor::Dense { n } => n * n,
             SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
         }
     }
@@ -120,6 +131,13 @@ fn for_each_entry(constraints: &mut [ConstraintEntry], mut slot: impl FnMut(usiz
 
 /// Numeric factors and scratch (in `Data`).
 pub(crate) enum Factor {
+    Small {
+        /// n x n column-major: L (unit lower) and U in place
+        lu: Vec<f64>,
+        pivots: Vec<usize>,
+        /// 1 / diagonal of U
+        inv_diag: Vec<f64>,
+    },
     Dense {
         /// n x n column-major: L (unit lower) and U in place
         lu: Vec<f64>,
@@ -138,6 +156,9 @@ pub(crate) enum Factor {
 impl Factor {
     pub(crate) fn new(sym: &SymbolicFactor) -> Factor {
         match sym {
+            SymbolicFactor::Small { n } => {
+                Factor::Small { lu: vec![0.0; n * n], pivots: vec![0; *n], inv_diag: vec![0.0; *n] }
+            }
             SymbolicFactor::Dense { n } => {
                 let n = *n;
                 let req = StackReq::any_of(&[
@@ -173,6 +194,12 @@ impl Factor {
     /// pivots. A zero or non-finite pivot is reported in `Pivots::ratio`, not as an error.
     pub(crate) fn factor(&mut self, sym: &SymbolicFactor, values: &[f64]) -> Pivots {
         match (self, sym) {
+            (Factor::Small { lu, pivots: piv, inv_diag }, SymbolicFactor::Small { n }) => {
+                let n = *n;
+                lu.copy_from_slice(values);
+                small_lu::factor(lu, n, piv, inv_diag);
+                pivots((0..n).map(|k| (k, lu[k * n + k])))
+            }
             (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { n }) => {
                 let n = *n;
                 lu.copy_from_slice(values);
@@ -222,6 +249,9 @@ impl Factor {
     /// Solves Phi_q x = rhs in place with the last factorization.
     pub(crate) fn solve(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         let n = rhs.len();
+        if let Factor::Small { lu, pivots, inv_diag } = self {
+            return small_lu::solve(lu, n, pivots, inv_diag, rhs);
+        }
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match (self, sym) {
             (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { .. }) => {
@@ -252,6 +282,9 @@ impl Factor {
     /// Solves Phi_q^T x = rhs in place with the last factorization (inverse dynamics).
     pub(crate) fn solve_transpose(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         let n = rhs.len();
+        if let Factor::Small { lu, pivots, inv_diag } = self {
+            return small_lu::solve_transpose(lu, n, pivots, inv_diag, rhs);
+        }
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match (self, sym) {
             (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { .. }) => {

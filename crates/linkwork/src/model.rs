@@ -31,7 +31,7 @@ pub struct Options {
     pub max_iter_assembly: usize,
     /// A pivot ratio (smallest / largest |pivot| of the scaled Phi_q) below this is singular.
     pub singular_tol: f64,
-    /// Dense or sparse LU; `Auto` picks dense up to `dense_max` coordinates.
+    /// Which LU; `Auto` picks the small dense LU up to `dense_max` coordinates, sparse above.
     pub linear: LinearKind,
     pub dense_max: usize,
 }
@@ -399,7 +399,7 @@ impl Model {
             row0 += n;
         }
         let linear = match options.linear {
-            LinearKind::Auto if n_coords <= options.dense_max => LinearKind::Dense,
+            LinearKind::Auto if n_coords <= options.dense_max => LinearKind::Small,
             LinearKind::Auto => LinearKind::Sparse,
             k => k,
         };

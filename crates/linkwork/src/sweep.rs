@@ -11,19 +11,40 @@ use crate::model::Model;
 use crate::position::solve_position;
 use crate::velocity::solve_velocity;
 
-/// Results of a sweep: row-major (n_steps x n_coords) arrays and per-step diagnostics.
-/// Only the first `n_done` rows are results; the rest were never reached.
+/// What a sweep computes and keeps: work that was not asked for is not done.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Request {
+    /// 0: positions only; 1: and velocities; 2: and accelerations
+    pub derivatives: u8,
+    /// the inverse dynamics stage (needs derivatives = 2)
+    pub forces: bool,
+    /// keep every `every`-th step (steps 0, every, 2 every, ...); each kept row's
+    /// diagnostics are the worst over the steps since the previous kept row
+    pub every: usize,
+}
+
+impl Default for Request {
+    fn default() -> Self {
+        Request { derivatives: 2, forces: false, every: 1 }
+    }
+}
+
+/// Results of a sweep: row-major (n_steps x n_coords) arrays and per-step diagnostics,
+/// n_steps being the steps kept. Only the first `n_done` rows are results; the rest were
+/// never reached.
 #[derive(Debug, Clone, Default)]
 pub struct SweepOutput {
+    /// rows kept: ceil(times / every)
     pub n_steps: usize,
     pub n_coords: usize,
     pub n_rows: usize,
     pub n_constraints: usize,
-    /// steps completed
+    /// rows completed
     pub n_done: usize,
+    pub request: Request,
     /// n_steps
     pub times: Vec<f64>,
-    /// n_steps x n_coords
+    /// n_steps x n_coords (qd, qdd empty when not solved)
     pub q: Vec<f64>,
     pub qd: Vec<f64>,
     pub qdd: Vec<f64>,
@@ -33,9 +54,7 @@ pub struct SweepOutput {
     pub residual: Vec<f64>,
     /// n_steps: smallest / largest pivot of the scaled Phi_q (0 at a singular configuration)
     pub pivot_ratio: Vec<f64>,
-    /// whether the inverse dynamics stage runs (the arrays below are empty otherwise)
-    pub forces: bool,
-    /// n_steps x n_rows: Lagrange multipliers
+    /// n_steps x n_rows: Lagrange multipliers (empty without forces)
     pub lambda: Vec<f64>,
     /// 3 x (n_steps x n_rows): lambda split into inertia, gravity and loads
     pub lambda_parts: [Vec<f64>; 3],
@@ -47,40 +66,48 @@ pub struct SweepOutput {
 }
 
 impl SweepOutput {
-    /// Preallocates the outputs of a sweep over `times`.
+    /// Preallocates the outputs of a sweep over `times` (positions, velocities, accelerations).
     pub fn new(model: &Model, times: &[f64]) -> SweepOutput {
-        let (n, m) = (times.len(), model.n_coords);
+        SweepOutput::with_request(model, times, Request::default())
+    }
+
+    /// Positions only (`derivatives` 0), with velocities (1), or with accelerations (2).
+    pub fn with_derivatives(model: &Model, times: &[f64], derivatives: u8) -> SweepOutput {
+        SweepOutput::with_request(model, times, Request { derivatives, ..Request::default() })
+    }
+
+    /// With inverse dynamics.
+    pub fn with_forces(model: &Model, times: &[f64]) -> SweepOutput {
+        SweepOutput::with_request(model, times, Request { forces: true, ..Request::default() })
+    }
+
+    /// Preallocates what `request` asks for.
+    pub fn with_request(model: &Model, times: &[f64], request: Request) -> SweepOutput {
+        let every = request.every.max(1);
+        let forces = request.forces;
+        let d = if forces { 2 } else { request.derivatives.min(2) };
+        let request = Request { derivatives: d, forces, every };
+        let n = times.len().div_ceil(every);
+        let (m, r, nc) = (model.n_coords, model.n_rows, model.constraints.len());
+        let sized = |on: bool, len: usize| if on { vec![0.0; len] } else { Vec::new() };
         SweepOutput {
             n_steps: n,
             n_coords: m,
-            n_rows: model.n_rows,
-            n_constraints: model.constraints.len(),
+            n_rows: r,
+            n_constraints: nc,
             n_done: 0,
-            times: times.to_vec(),
+            request,
+            times: times.iter().step_by(every).copied().collect(),
             q: vec![0.0; n * m],
-            qd: vec![0.0; n * m],
-            qdd: vec![0.0; n * m],
+            qd: sized(d >= 1, n * m),
+            qdd: sized(d >= 2, n * m),
             iterations: vec![0; n],
             residual: vec![0.0; n],
             pivot_ratio: vec![0.0; n],
-            forces: false,
-            lambda: Vec::new(),
-            lambda_parts: Default::default(),
-            reactions: Vec::new(),
-            load_power: Vec::new(),
-        }
-    }
-
-    /// Preallocates the outputs of a sweep with inverse dynamics.
-    pub fn with_forces(model: &Model, times: &[f64]) -> SweepOutput {
-        let n = times.len();
-        SweepOutput {
-            forces: true,
-            lambda: vec![0.0; n * model.n_rows],
-            lambda_parts: std::array::from_fn(|_| vec![0.0; n * model.n_rows]),
-            reactions: vec![0.0; n * model.constraints.len() * REACTION_COLUMNS],
-            load_power: vec![0.0; n],
-            ..SweepOutput::new(model, times)
+            lambda: sized(forces, n * r),
+            lambda_parts: std::array::from_fn(|_| sized(forces, n * r)),
+            reactions: sized(forces, n * nc * REACTION_COLUMNS),
+            load_power: sized(forces, n),
         }
     }
 
@@ -101,6 +128,29 @@ impl SweepOutput {
         }
         self.reactions.truncate(k * self.n_constraints * REACTION_COLUMNS);
         self.load_power.truncate(k);
+    }
+
+    /// Stores the state in `data` as row `row`.
+    fn store(&mut self, model: &Model, data: &Data, t: f64, row: usize) {
+        let m = self.n_coords;
+        let cells = row * m..(row + 1) * m;
+        self.q[cells.clone()].copy_from_slice(&data.q);
+        if self.request.derivatives >= 1 {
+            self.qd[cells.clone()].copy_from_slice(&data.qd);
+        }
+        if self.request.derivatives >= 2 {
+            self.qdd[cells].copy_from_slice(&data.qdd);
+        }
+        if self.request.forces {
+            let r = self.n_rows;
+            self.lambda[row * r..(row + 1) * r].copy_from_slice(&data.lambda);
+            for (o, l) in self.lambda_parts.iter_mut().zip(&data.lambda_parts) {
+                o[row * r..(row + 1) * r].copy_from_slice(l);
+            }
+            let w = REACTION_COLUMNS * self.n_constraints;
+            reactions(model, data, t, &mut self.reactions[row * w..(row + 1) * w]);
+            self.load_power[row] = load_power(data);
+        }
     }
 }
 
@@ -147,43 +197,93 @@ pub fn sweep(
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<(), SolveError> {
     check_times(model, times)?;
-    let m = model.n_coords;
+    let req = out.request;
     out.n_done = 0;
+    // worst diagnostics since the last kept row
+    let (mut iterations, mut residual, mut pivot_ratio) = (0u32, 0.0f64, f64::INFINITY);
     for (k, &t) in times.iter().enumerate() {
         if progress_every > 0 && k % progress_every == 0 && k > 0 && !progress(k) {
             return Err(SolveError::Cancelled { step: k });
         }
         if k > 0 {
-            // second-order prediction from the previous step
-            let h = t - times[k - 1];
-            for ((q, qd), qdd) in data.q.iter_mut().zip(&data.qd).zip(&data.qdd) {
-                *q += h * qd + 0.5 * h * h * qdd;
-            }
+            predict(data, times, k, req.derivatives);
         }
         let info = solve_position(model, data, t, k, k == 0)?;
-        solve_velocity(model, data, t, k)?;
-        solve_acceleration(model, data, t, k)?;
-        if out.forces {
-            solve_forces(model, data, t, k)?;
-            let (r, nc) = (model.n_rows, model.constraints.len());
-            out.lambda[k * r..(k + 1) * r].copy_from_slice(&data.lambda);
-            for (o, l) in out.lambda_parts.iter_mut().zip(&data.lambda_parts) {
-                o[k * r..(k + 1) * r].copy_from_slice(l);
-            }
-            let w = REACTION_COLUMNS * nc;
-            reactions(model, data, t, &mut out.reactions[k * w..(k + 1) * w]);
-            out.load_power[k] = load_power(data);
+        if req.derivatives >= 1 {
+            solve_velocity(model, data, t, k)?;
         }
-        let row = k * m..(k + 1) * m;
-        out.q[row.clone()].copy_from_slice(&data.q);
-        out.qd[row.clone()].copy_from_slice(&data.qd);
-        out.qdd[row].copy_from_slice(&data.qdd);
-        out.iterations[k] = info.iterations as u32;
-        out.residual[k] = info.residual;
-        out.pivot_ratio[k] = info.pivot_ratio;
-        out.n_done = k + 1;
+        if req.derivatives >= 2 {
+            solve_acceleration(model, data, t, k)?;
+        }
+        iterations = iterations.max(info.iterations as u32);
+        residual = residual.max(info.residual);
+        pivot_ratio = pivot_ratio.min(info.pivot_ratio);
+        if k % req.every == 0 {
+            if req.forces {
+                solve_forces(model, data, t, k)?;
+            }
+            let row = k / req.every;
+            out.store(model, data, t, row);
+            out.iterations[row] = iterations;
+            out.residual[row] = residual;
+            out.pivot_ratio[row] = pivot_ratio;
+            out.n_done = row + 1;
+            (iterations, residual, pivot_ratio) = (0, 0.0, f64::INFINITY);
+        }
     }
     Ok(())
+}
+
+/// Predicts q at times[k] from the previous steps, by what the sweep computes
+/// (`derivatives`: 2 = q, qd, qdd; 1 = q, qd; 0 = q only):
+/// - 2: q + h qd + h^2/2 qdd + h^3/6 jerk, the jerk from the last two accelerations;
+/// - 1: q + h qd + h^2/2 qdd, qdd from the last two velocities;
+/// - 0: the quadratic through the last three positions.
+///
+/// Each is exact to O(h^3) or better, so that most steps take one Newton iteration.
+/// Reads data.q, qd, qdd (step k-1) and the history; shifts the history.
+pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, derivatives: u8) {
+    let t = times[k];
+    let t1 = times[k - 1];
+    let h = t - t1;
+    match derivatives {
+        2 => {
+            let h1 = if k >= 2 { t1 - times[k - 2] } else { 0.0 };
+            for i in 0..data.q.len() {
+                let jerk = if k >= 2 { (data.qdd[i] - data.hist_qdd[i]) / h1 } else { 0.0 };
+                data.hist_qdd[i] = data.qdd[i];
+                data.q[i] += h * (data.qd[i] + h * (0.5 * data.qdd[i] + h * jerk / 6.0));
+            }
+        }
+        1 => {
+            let h1 = if k >= 2 { t1 - times[k - 2] } else { 0.0 };
+            for i in 0..data.q.len() {
+                let acc = if k >= 2 { (data.qd[i] - data.hist_qd[i]) / h1 } else { 0.0 };
+                data.hist_qd[i] = data.qd[i];
+                data.q[i] += h * (data.qd[i] + 0.5 * h * acc);
+            }
+        }
+        _ => {
+            // Lagrange extrapolation through the (up to) three previous positions
+            let [q2, q3] = &mut data.hist_q;
+            for i in 0..data.q.len() {
+                let q1 = data.q[i];
+                let p = match k {
+                    1 => q1,
+                    2 => q1 + (q1 - q2[i]) * h / (t1 - times[k - 2]),
+                    _ => {
+                        let (ta, tb, tc) = (t1, times[k - 2], times[k - 3]);
+                        q1 * (t - tb) * (t - tc) / ((ta - tb) * (ta - tc))
+                            + q2[i] * (t - ta) * (t - tc) / ((tb - ta) * (tb - tc))
+                            + q3[i] * (t - ta) * (t - tb) / ((tc - ta) * (tc - tb))
+                    }
+                };
+                q3[i] = q2[i];
+                q2[i] = q1;
+                data.q[i] = p;
+            }
+        }
+    }
 }
 
 /// Position, velocity and acceleration at one time, from data.q as the starting guess.

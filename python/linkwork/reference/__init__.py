@@ -4,7 +4,8 @@ the engine.
 It reads the model description only (``Mechanism.to_dict()`` or the dict itself) and
 never imports the engine. Dense matrices, ``np.linalg.solve``, one small class per joint
 and driver type (``formulation``), motion laws in ``laws``, assembly and solves in
-``model``.
+``model``, and the inverse dynamics (M, Q, Phi_q^T lambda = Q - M qdd, reactions) in
+``dynamics`` (``ReferenceModel.inverse_dynamics``, ``sweep_forces``, ``statics``).
 
 >>> import linkwork as lw
 >>> from linkwork.reference import ReferenceModel

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from . import dynamics
 from .formulation import GROUND, Constraint, Pose, build_constraints
 
 __all__ = ["ReferenceModel", "ConvergenceError"]
@@ -83,6 +84,14 @@ class ReferenceModel:
         self._col_scale = np.tile(
             [1.0 / self.length_scale, 1.0 / self.length_scale, 1.0], len(self.body_names)
         )
+
+        # inverse dynamics: mass properties, gravity, loads (``dynamics``)
+        self.mass_properties = dynamics.build_mass_properties(self.description, self._start)
+        gravity = self.description.get("gravity", [0.0, 0.0])
+        if not dynamics.is_finite(gravity, 2):
+            raise ValueError(f"gravity {gravity} is not a finite 2-vector")
+        self.gravity = np.asarray(gravity, dtype=float)
+        self.loads = dynamics.build_loads(self.description, self._start, self.length_scale)
 
     # -- setup helpers ----------------------------------------------------------------------
     def _local(self, body: str, p: Any) -> np.ndarray:
@@ -239,6 +248,42 @@ class ReferenceModel:
                 raise ConvergenceError(f"sweep step {k} (t = {t}): {err}", float(t), k, partial) from err
             out["q"][k], out["qd"][k], out["qdd"][k], out["iterations"][k] = q, qd, qdd, iterations
         return out
+
+    # -- inverse dynamics (see ``dynamics``) -----------------------------------------------------
+    def mass_matrix(self, q: np.ndarray) -> np.ndarray:
+        """M(q) (n_coords x n_coords)."""
+        return dynamics.mass_matrix(self, q)
+
+    def inverse_dynamics(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, t: float) -> dict[str, Any]:
+        """lambda from Phi_q^T lambda = Q - M qdd at one state, with the reactions
+        (n_constraints x 4: Fx, Fy on side b, torque about the anchor on b, power), Q, M,
+        the drivers' efforts and the loads' power (``dynamics.inverse_dynamics``)."""
+        return dynamics.inverse_dynamics(self, q, qd, qdd, t)
+
+    def sweep_forces(self, times: Any) -> dict[str, Any]:
+        """``sweep`` plus the inverse dynamics at every step ("lambda", "reactions",
+        "efforts", "load_power")."""
+        return dynamics.sweep_forces(self, times)
+
+    def statics(self, t: float, q_guess: np.ndarray | None = None) -> dict[str, Any]:
+        """The inverse dynamics holding the configuration at time t at rest (qd = qdd = 0)."""
+        q, _ = self.solve_position(t, q_guess)
+        zero = np.zeros(self.n_coords)
+        out = dynamics.inverse_dynamics(self, q, zero, zero, t)
+        out["q"] = q
+        return out
+
+    def anchor(self, name: str, q: np.ndarray) -> np.ndarray:
+        """World position (2) of the point on side b about which constraint ``name``'s
+        reaction torque is reported."""
+        for c in self.constraints:
+            if c.name == name:
+                return self._pose(c.b, q).r(dynamics.anchor_b(c))
+        raise KeyError(f"no joint or driver named {name!r}")
+
+    def energy(self, q: np.ndarray, qd: np.ndarray) -> tuple[float, float]:
+        """(kinetic, gravitational potential) energy at one state."""
+        return dynamics.energy(self, q, qd)
 
     # -- named points -----------------------------------------------------------------------------
     def point(

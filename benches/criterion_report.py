@@ -1,0 +1,143 @@
+"""The criterion results of `cargo bench -p linkwork --bench sweep` as Markdown tables.
+
+    cargo bench -p linkwork --bench sweep
+    python benches/criterion_report.py            # print the tables
+    python benches/criterion_report.py --write    # and write them into docs/performance.md
+
+Reads every `criterion/<group>/<function>/<parameter>/new/` of the Cargo target directory
+(`$CARGO_TARGET_DIR`, else `target/`): the median time per sweep and the steps per sweep
+(criterion's throughput), so time per step = median / steps.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+KINDS = ("small", "dense", "sparse")
+
+
+def load(criterion: Path) -> dict[tuple[str, str, str], dict[str, float]]:
+    """(group, function, parameter) -> median ns per sweep, elements per sweep, file time."""
+    found = {}
+    for bench in criterion.glob("*/*/*/new/benchmark.json"):
+        meta = json.loads(bench.read_text())
+        estimates = json.loads((bench.parent / "estimates.json").read_text())
+        elements = (meta.get("throughput") or {}).get("Elements", 1)
+        key = (meta["group_id"], meta["function_id"], meta["value_str"])
+        found[key] = {
+            "ns": estimates["median"]["point_estimate"],
+            "elements": float(elements),
+            "mtime": bench.stat().st_mtime,
+        }
+    return found
+
+
+def us_per_step(entry: dict[str, float] | None) -> float | None:
+    return None if entry is None else entry["ns"] / entry["elements"] / 1e3
+
+
+def cell(value: float | None, digits: int = 3) -> str:
+    return "-" if value is None else f"{value:.{digits}f}"
+
+
+def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
+    when = max(e["mtime"] for e in found.values())
+    cpu = platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    lines = [
+        f"Measured {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime(when))} with "
+        f"`cargo bench -p linkwork --bench sweep` on {cpu}, {os.cpu_count()} cores; median time per "
+        "sweep divided by its steps (h = one revolution / 100,000), in us per step.",
+        "",
+        "| mechanism | computes | small LU | dense LU (faer) | sparse LU (faer) "
+        "| dense / small | sparse / small |",
+        "|---|---|---:|---:|---:|---:|---:|",
+    ]
+    for group in ("four_bar", "slider_crank", "six_bar_stephenson"):
+        for what, label in (("pva", "p+v+a"), ("p", "p")):
+            us = {k: us_per_step(found.get((group, k, what))) for k in KINDS}
+            if all(v is None for v in us.values()):
+                continue
+            small = us["small"]
+            ratios = [cell(us[k] / small if us[k] and small else None, 2) for k in ("dense", "sparse")]
+            lines.append(
+                f"| {group} | {label} | "
+                + " | ".join(cell(us[k]) for k in KINDS)
+                + " | "
+                + " | ".join(ratios)
+                + " |"
+            )
+    chains = sorted({int(p) for g, _, p in found if g == "chain"})
+    if chains:
+        lines += [
+            "",
+            "Chain of K four-bar loops (3K bodies), positions + velocities + accelerations:",
+            "",
+            "| loops K | bodies | steps per sweep | small LU | dense LU (faer) | sparse LU (faer) "
+            "| sparse: us per body per step |",
+            "|---:|---:|---:|---:|---:|---:|---:|",
+        ]
+        for k in chains:
+            entries = {kind: found.get(("chain", kind, str(k))) for kind in KINDS}
+            steps = next(int(e["elements"]) for e in entries.values() if e)
+            sparse = us_per_step(entries["sparse"])
+            lines.append(
+                f"| {k:,} | {3 * k:,} | {steps:,} | "
+                + " | ".join(cell(us_per_step(entries[kind]), 2) for kind in KINDS)
+                + f" | {cell(sparse / (3 * k) if sparse else None)} |"
+            )
+    batch = {int(p): found[("batch", f, p)] for g, f, p in found if g == "batch"}
+    if batch:
+        lines += [
+            "",
+            "`sweep_batch`: 8 four-bar designs of 10,000 steps each:",
+            "",
+            "| threads | ms per batch | us per design-step | speed-up over 1 thread |",
+            "|---:|---:|---:|---:|",
+        ]
+        for threads, e in sorted(batch.items()):
+            lines.append(
+                f"| {threads} | {e['ns'] / 1e6:.2f} | {e['ns'] / e['elements'] / 1e3:.3f} | "
+                f"{batch[1]['ns'] / e['ns'] if 1 in batch else float('nan'):.2f}x |"
+            )
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--write", action="store_true", help="write the tables into docs/performance.md")
+    args = parser.parse_args()
+    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    found = load(target / "criterion")
+    if not found:
+        sys.exit(
+            f"no criterion results under {target / 'criterion'}: run cargo bench -p linkwork --bench sweep"
+        )
+    text = report(found)
+    print(text)
+    if args.write:
+        doc = ROOT / "docs" / "performance.md"
+        old = doc.read_text()
+        begin, end = "<!-- criterion begin -->", "<!-- criterion end -->"
+        block = f"{begin}\n{text}\n{end}"
+        if begin in old:
+            old = old[: old.index(begin)] + block + old[old.index(end) + len(end) :]
+        else:
+            old += "\n" + block + "\n"
+        doc.write_text(old)
+        print(f"wrote {doc}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

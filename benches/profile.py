@@ -1,0 +1,162 @@
+"""Where the time goes: callgrind's instruction counts (a proxy for time) over one of the
+criterion sweeps, summed per source file (inlined code counts where it was written) and
+per function.
+
+    python benches/profile.py                       # the four-bar (p+v+a, p) and the K = 1000 chain
+    python benches/profile.py chain/sparse/100      # any criterion benchmark id of benches/sweep.rs
+
+Needs valgrind. Builds the bench with line tables (in `<target>/callgrind`, so the normal
+build is left alone) and runs it for a few seconds of criterion's --profile-time under
+callgrind. The model is built inside the benchmark, outside the timed loop, but callgrind
+counts it: a few per cent on the largest chains.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from collections import defaultdict
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+DEFAULT = ["four_bar/small/pva", "four_bar/small/p", "chain/sparse/1000"]
+
+
+def build() -> str:
+    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "callgrind"
+    env = {**os.environ, "CARGO_TARGET_DIR": str(target), "CARGO_PROFILE_BENCH_DEBUG": "line-tables-only"}
+    out = subprocess.run(
+        ["cargo", "bench", "-p", "linkwork", "--bench", "sweep", "--no-run", "--message-format=json"],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    for line in out.splitlines():
+        m = json.loads(line)
+        if m.get("reason") == "compiler-artifact" and m["target"]["name"] == "sweep" and m.get("executable"):
+            return m["executable"]
+    raise SystemExit("no bench executable built")
+
+
+def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int]:
+    """Self cost (Ir) by source file and by function from a callgrind output file."""
+    names: dict[tuple[str, str], str] = {}
+    by_file: dict[str, int] = defaultdict(int)
+    by_fn: dict[str, int] = defaultdict(int)
+    fl = fi = fn = "?"
+    skip_next = False
+
+    def name(kind: str, rest: str) -> str:
+        m = re.match(r"\((\d+)\)(?: (.*))?", rest)
+        if not m:
+            return rest
+        if m.group(2) is not None:
+            names[(kind, m.group(1))] = m.group(2)
+        return names.get((kind, m.group(1)), "?")
+
+    for line in path.read_text(errors="replace").splitlines():
+        if not line:
+            continue
+        head = line.split("=", 1)
+        if len(head) == 2 and re.fullmatch(r"[a-z]+", head[0]):
+            key, rest = head
+            if key == "fl":
+                fl = fi = name("file", rest)
+            elif key in ("fi", "fe"):
+                fi = name("file", rest)
+            elif key == "fn":
+                fn = name("fn", rest)
+                fi = fl
+            elif key in ("cfi", "cfl"):
+                name("file", rest)
+            elif key == "cfn":
+                name("fn", rest)
+            elif key == "calls":
+                skip_next = True  # the next cost line is the call's inclusive cost
+            continue
+        if line[0] in "0123456789+-*":
+            if skip_next:
+                skip_next = False
+                continue
+            parts = line.split()
+            if len(parts) >= 2:
+                cost = int(parts[1])
+                by_file[fi] += cost
+                by_fn[fn] += cost
+    total = sum(by_file.values())
+    return by_file, by_fn, total
+
+
+def short(path: str) -> str:
+    for marker in ("crates/linkwork/src/", "/src/", "sysdeps/"):
+        if marker in path:
+            return path[path.index(marker) + len(marker) :] if marker != "/src/" else path.split("/src/")[-1]
+    return path
+
+
+def crate_of(path: str) -> str:
+    m = re.search(r"registry/src/[^/]+/([^/]+)/", path)
+    if m:
+        return m.group(1)
+    if "crates/linkwork/" in path:
+        return "linkwork"
+    if "rustc/" in path or "/library/" in path:
+        return "std"
+    if "sysdeps" in path or "glibc" in path or path.startswith("./"):
+        return "libc/libm"
+    return "other"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("filters", nargs="*", default=DEFAULT, help="criterion benchmark ids")
+    parser.add_argument("--seconds", type=float, default=3.0, help="criterion --profile-time")
+    parser.add_argument("--top", type=int, default=15)
+    args = parser.parse_args()
+    exe = build()
+    with tempfile.TemporaryDirectory() as tmp:
+        for bench in args.filters:
+            out = Path(tmp) / "callgrind.out"
+            subprocess.run(
+                [
+                    "valgrind",
+                    "--tool=callgrind",
+                    f"--callgrind-out-file={out}",
+                    exe,
+                    "--bench",
+                    "--profile-time",
+                    str(args.seconds),
+                    f"^{re.escape(bench)}$",
+                ],
+                capture_output=True,
+                check=True,
+            )
+            by_file, by_fn, total = parse(out)
+            print(f"== {bench}: {total:,} instructions")
+            crates: dict[str, int] = defaultdict(int)
+            for f, c in by_file.items():
+                crates[crate_of(f)] += c
+            print("   by crate: " + ", ".join(f"{k} {100 * v / total:.1f}%" for k, v in _top(crates, 8)))
+            print("   by source file (self, inlined code where written):")
+            for f, c in _top(by_file, args.top):
+                print(f"     {100 * c / total:5.1f}%  {short(f)}")
+            print("   by function (self, inlined code in its caller):")
+            for f, c in _top(by_fn, 8):
+                print(f"     {100 * c / total:5.1f}%  {f[:100]}")
+            print()
+            sys.stdout.flush()
+
+
+def _top(d: dict[str, int], n: int) -> list[tuple[str, int]]:
+    return sorted(d.items(), key=lambda kv: -kv[1])[:n]
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,74 @@
+//! Many sweeps at once (a design study: one model per parameter set) on worker threads.
+//! Each model is swept by one thread with its own `Data`; threads take the next model
+//! as they finish one. The calling thread watches: it reports progress and may cancel,
+//! which stops every running sweep at its next progress point.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Duration;
+
+use crate::data::Data;
+use crate::error::SolveError;
+use crate::model::Model;
+use crate::sweep::{sweep, Request, SweepOutput};
+
+/// One model's sweep: its outputs (the completed steps) and its error, if any.
+pub type BatchItem = (SweepOutput, Option<SolveError>);
+
+/// Sweeps every model over `times`, computing what `request` asks, on `threads` threads
+/// (0: as many as the machine has cores). `watch(done)` is called on the calling thread
+/// about every 50 ms with the number of finished models, and may return false to cancel.
+pub fn sweep_batch(
+    models: &[&Model],
+    times: &[f64],
+    request: Request,
+    threads: usize,
+    watch: &mut dyn FnMut(usize) -> bool,
+) -> Vec<BatchItem> {
+    let threads =
+        if threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { threads };
+    let threads = threads.min(models.len()).max(1);
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let cancel = AtomicBool::new(false);
+    let mut results: Vec<Option<BatchItem>> = (0..models.len()).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        if i >= models.len() {
+                            break;
+                        }
+                        let model = models[i];
+                        let mut data = Data::new(model);
+                        let mut out = SweepOutput::with_request(model, times, request);
+                        let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
+                        let err = if cancel.load(Ordering::Relaxed) {
+                            Some(SolveError::Cancelled { step: 0 })
+                        } else {
+                            sweep(model, &mut data, times, &mut out, 4096, &mut keep_going).err()
+                        };
+                        out.truncate();
+                        mine.push((i, (out, err)));
+                        done.fetch_add(1, Ordering::Relaxed);
+                    }
+                    mine
+                })
+            })
+            .collect();
+        while done.load(Ordering::Relaxed) < models.len() && !workers.iter().all(|w| w.is_finished()) {
+            if !watch(done.load(Ordering::Relaxed)) {
+                cancel.store(true, Ordering::Relaxed);
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        for w in workers {
+            for (i, item) in w.join().expect("a sweep worker panicked") {
+                results[i] = Some(item);
+            }
+        }
+    });
+    results.into_iter().map(|r| r.expect("every model was swept")).collect()
+}
