@@ -46,11 +46,18 @@ def build() -> str:
 
 
 def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int]:
-    """Self cost (Ir) by source file and by function from a callgrind output file."""
+    """Self cost (Ir) by source file and by function from a callgrind output file.
+
+    The standard library's code (slices, iterators, f64 methods) inlined into a linkwork
+    function counts for the last other file seen in that function (linkwork's own or a
+    dependency's, such as faer's, inlined there too): callgrind knows only the innermost
+    file of inlined code, and this heuristic puts a loop's iterator overhead where the loop
+    was written."""
     names: dict[tuple[str, str], str] = {}
     by_file: dict[str, int] = defaultdict(int)
     by_fn: dict[str, int] = defaultdict(int)
     fl = fi = fn = "?"
+    last_own = None
     skip_next = False
 
     def name(kind: str, rest: str) -> str:
@@ -74,6 +81,9 @@ def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int]:
             elif key == "fn":
                 fn = name("fn", rest)
                 fi = fl
+                last_own = None
+            if key in ("fl", "fi", "fe", "fn") and crate_of(fi) != "std":
+                last_own = fi
             elif key in ("cfi", "cfl"):
                 name("file", rest)
             elif key == "cfn":
@@ -88,17 +98,22 @@ def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int]:
             parts = line.split()
             if len(parts) >= 2:
                 cost = int(parts[1])
-                by_file[fi] += cost
+                own = fn.startswith(("linkwork::", "<linkwork::")) and last_own is not None
+                by_file[last_own if own and crate_of(fi) == "std" else fi] += cost
                 by_fn[fn] += cost
     total = sum(by_file.values())
     return by_file, by_fn, total
 
 
 def short(path: str) -> str:
-    for marker in ("crates/linkwork/src/", "/src/", "sysdeps/"):
-        if marker in path:
-            return path[path.index(marker) + len(marker) :] if marker != "/src/" else path.split("/src/")[-1]
-    return path
+    crate = crate_of(path)
+    if "crates/linkwork/src/" in path:
+        return "linkwork: " + path.split("crates/linkwork/src/")[-1]
+    if "sysdeps/" in path:
+        return "libc/libm: " + path.split("sysdeps/")[-1]
+    if "/src/" in path:
+        return f"{crate}: " + path.split("/src/")[-1]
+    return f"{crate}: {path}"
 
 
 def crate_of(path: str) -> str:
@@ -118,9 +133,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("filters", nargs="*", default=DEFAULT, help="criterion benchmark ids")
     parser.add_argument("--seconds", type=float, default=3.0, help="criterion --profile-time")
-    parser.add_argument("--top", type=int, default=15)
+    parser.add_argument("--top", type=int, default=12)
+    parser.add_argument("--write", action="store_true", help="write the profile into docs/performance.md")
     args = parser.parse_args()
     exe = build()
+    lines: list[str] = []
+
+    def emit(text: str) -> None:
+        print(text)
+        sys.stdout.flush()
+        lines.append(text)
+
     with tempfile.TemporaryDirectory() as tmp:
         for bench in args.filters:
             out = Path(tmp) / "callgrind.out"
@@ -139,19 +162,45 @@ def main() -> None:
                 check=True,
             )
             by_file, by_fn, total = parse(out)
-            print(f"== {bench}: {total:,} instructions")
+            emit(f"== {bench}: {total:,} instructions")
             crates: dict[str, int] = defaultdict(int)
             for f, c in by_file.items():
                 crates[crate_of(f)] += c
-            print("   by crate: " + ", ".join(f"{k} {100 * v / total:.1f}%" for k, v in _top(crates, 8)))
-            print("   by source file (self, inlined code where written):")
+            shares = [(k, 100 * v / total) for k, v in _top(crates, 5)]
+            emit("   by crate: " + ", ".join(f"{k} {p:.1f}%" for k, p in shares if p >= 0.1))
+            emit("   by source file (self; inlined code where written):")
             for f, c in _top(by_file, args.top):
-                print(f"     {100 * c / total:5.1f}%  {short(f)}")
-            print("   by function (self, inlined code in its caller):")
-            for f, c in _top(by_fn, 8):
-                print(f"     {100 * c / total:5.1f}%  {f[:100]}")
-            print()
-            sys.stdout.flush()
+                emit(f"     {100 * c / total:5.1f}%  {short(f)}")
+            emit("   by function (self; inlined code in its caller):")
+            for f, c in _top(by_fn, 6):
+                emit(f"     {100 * c / total:5.1f}%  {f[:100]}")
+            emit("")
+    if args.write:
+        import platform
+        import time
+
+        doc = ROOT / "docs" / "performance.md"
+        text = doc.read_text()
+        begin, end = "<!-- profile.py begin -->", "<!-- profile.py end -->"
+        block = (
+            f"{begin}\nMeasured {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} on {platform.machine()} "
+            f"at `{revision()}` with `python benches/profile.py --write` (callgrind instruction counts):"
+            "\n\n```\n" + "\n".join(lines).rstrip() + f"\n```\n{end}"
+        )
+        if begin in text:
+            text = text[: text.index(begin)] + block + text[text.index(end) + len(end) :]
+        else:
+            text += "\n" + block + "\n"
+        doc.write_text(text)
+        print(f"wrote {doc}", file=sys.stderr)
+
+
+def revision() -> str:
+    try:
+        out = subprocess.run(["git", "-C", str(ROOT), "describe", "--always", "--dirty"], capture_output=True)
+        return out.stdout.decode().strip() or "?"
+    except OSError:
+        return "?"
 
 
 def _top(d: dict[str, int], n: int) -> list[tuple[str, int]]:

@@ -17,9 +17,9 @@ from typing import Callable
 
 from . import closed_form
 from .mechanism import Mechanism
-from .motion import Linear
+from .motion import Constant, Linear
 
-__all__ = ["four_bar", "slider_crank", "inverted_slider_crank", "six_bar", "ALL"]
+__all__ = ["four_bar", "slider_crank", "inverted_slider_crank", "six_bar", "chain", "ALL"]
 
 Point = tuple[float, float]
 
@@ -212,6 +212,61 @@ def six_bar(kind: str = "watt", omega: float = 5.0, theta0: float = 0.0) -> Mech
     m.revolute(m.ground, output_b, O6, name="O6")
     m.drive_angle(crank_b, Linear(theta0, omega), name="crank_angle")
     m.point("C", ternary, C)
+    return m
+
+
+def chain(
+    loops: int = 3,
+    ground: float = 0.35,
+    crank: float = 0.20,
+    coupler: float = 0.35,
+    rocker: float = 0.25,
+    omega: float = 5.0,
+    theta0: float = 0.0,
+    offset: float = 0.0,
+    spacing: float = 0.0,
+) -> Mechanism:
+    """A closed chain of ``loops`` four-bar loops in series (3 bodies per loop): the
+    scaling benchmark's mechanism. Not in ``ALL``.
+
+    Loop k (k = 1 .. loops) is the Grashof crank-rocker of ``four_bar`` (default: the
+    textbook one, lengths in metres) with ground pivots O2 = ((k - 1) spacing, 0) and
+    O4 = O2 + (ground, 0): by default (spacing 0) the loops share their pivots, stacked
+    in parallel planes, so coordinates stay of the size of one loop. Bodies "crank{k}",
+    "coupler{k}", "rocker{k}" (frames and thetas as in ``four_bar``), revolutes "O2_{k}",
+    "A{k}", "B{k}", "O4_{k}", open branch. Only loop 1's crank is driven ("crank_angle" =
+    theta0 + omega t); loop k+1's crank is tied to loop k's rocker by the relative-angle
+    driver "tie{k+1}": theta_crank{k+1} - theta_rocker{k} = ``offset`` (a ``Constant``
+    law). A crank-rocker assembles at every crank angle, so the whole chain does, and its
+    closed form is the four-bar's applied loop after loop (input angle, rate and
+    acceleration of loop k+1 are loop k's rocker angle, rate and acceleration, plus
+    ``offset`` on the angle).
+    """
+    if loops < 1:
+        raise ValueError(f"a chain needs at least one loop, not {loops}")
+    m = Mechanism(f"chain of {loops} four-bar loops")
+    theta2 = float(theta0)
+    previous = None
+    for k in range(1, loops + 1):
+        cf = closed_form.four_bar(ground, crank, coupler, rocker, theta2, omega, 0.0, "open")
+        theta3, theta4 = (math.remainder(float(cf[key]), 2.0 * math.pi) for key in ("theta3", "theta4"))
+        O2 = ((k - 1) * spacing, 0.0)
+        O4 = (O2[0] + ground, 0.0)
+        A = _polar(O2, crank, theta2)
+        B = _polar(A, coupler, theta3)
+        crank_b = m.body(f"crank{k}", O2, theta2)
+        coupler_b = m.body(f"coupler{k}", A, theta3)
+        rocker_b = m.body(f"rocker{k}", O4, theta4)
+        m.revolute(m.ground, crank_b, O2, name=f"O2_{k}")
+        m.revolute(crank_b, coupler_b, A, name=f"A{k}")
+        m.revolute(coupler_b, rocker_b, B, name=f"B{k}")
+        m.revolute(m.ground, rocker_b, O4, name=f"O4_{k}")
+        if previous is None:
+            m.drive_angle(crank_b, Linear(theta0, omega), name="crank_angle")
+        else:
+            m.drive_relative_angle(previous, crank_b, Constant(offset), name=f"tie{k}")
+        previous = rocker_b
+        theta2 = theta4 + offset
     return m
 
 

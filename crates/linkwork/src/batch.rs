@@ -16,7 +16,7 @@ pub type BatchItem = (SweepOutput, Option<SolveError>);
 
 /// Sweeps every model over `times`, computing what `request` asks, on `threads` threads
 /// (0: as many as the machine has cores). `watch(done)` is called on the calling thread
-/// about every 50 ms with the number of finished models, and may return false to cancel.
+/// about every 5 ms with the number of finished models, and may return false to cancel.
 pub fn sweep_batch(
     models: &[&Model],
     times: &[f64],
@@ -62,7 +62,7 @@ pub fn sweep_batch(
             if !watch(done.load(Ordering::Relaxed)) {
                 cancel.store(true, Ordering::Relaxed);
             }
-            std::thread::sleep(Duration::from_millis(50));
+            std::thread::sleep(Duration::from_millis(5));
         }
         for w in workers {
             for (i, item) in w.join().expect("a sweep worker panicked") {

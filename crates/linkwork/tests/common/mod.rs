@@ -139,3 +139,101 @@ pub fn rel_err(a: &[f64], b: &[f64]) -> f64 {
     let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / scale
 }
+
+/// Stephenson III six-bar, the same as Python's `examples.six_bar("stephenson")`: the
+/// crank-rocker O2-A-B-O4 (crank 0.10, coupler 0.35, rocker 0.30, ground 0.35) whose
+/// coupler is the ternary link A-B-C (|AC| = 0.25, 0.3 rad clockwise of A->B), and the
+/// dyad C-D (link5, 0.25) and O6-D (output, 0.15), O6 = (0.20, -0.15), D on the right of
+/// the directed line C -> O6. Bodies crank, coupler, rocker, link5, output; revolutes
+/// O2, A, B, O4, C, D, O6; the crank driven at theta2 + omega t.
+pub fn six_bar_stephenson(th2: f64, omega: f64) -> Description {
+    let fb = FourBar { r1: 0.35, r2: 0.10, r3: 0.35, r4: 0.30 };
+    let ([th3, th4], _, _) = four_bar_closed(&fb, th2, omega, 0.0);
+    let polar = |p: [f64; 2], r: f64, a: f64| [p[0] + r * a.cos(), p[1] + r * a.sin()];
+    let (o6, link5, output) = ([0.20, -0.15], 0.25, 0.15);
+    let a = polar([0.0, 0.0], fb.r2, th2);
+    let b = polar(a, fb.r3, th3);
+    let c = polar(a, 0.25, th3 - 0.3);
+    // D: circles (C, link5) and (O6, output), the intersection right of C -> O6
+    let (dx, dy) = (o6[0] - c[0], o6[1] - c[1]);
+    let dist = dx.hypot(dy);
+    let along = (link5 * link5 - output * output + dist * dist) / (2.0 * dist);
+    let across = -(link5 * link5 - along * along).sqrt();
+    let (ex, ey) = (dx / dist, dy / dist);
+    let d = [c[0] + along * ex - across * ey, c[1] + along * ey + across * ex];
+    let angle = |p: [f64; 2], q: [f64; 2]| (q[1] - p[1]).atan2(q[0] - p[0]);
+    Description {
+        name: "six-bar (Stephenson III)".into(),
+        bodies: vec![
+            body("crank", 0.0, 0.0, th2),
+            body("coupler", a[0], a[1], th3),
+            body("rocker", fb.r1, 0.0, th4),
+            body("link5", c[0], c[1], angle(c, d)),
+            body("output", o6[0], o6[1], angle(o6, d)),
+        ],
+        joints: vec![
+            pin("O2", "ground", "crank", [0.0, 0.0]),
+            pin("A", "crank", "coupler", a),
+            pin("B", "coupler", "rocker", b),
+            pin("O4", "rocker", "ground", [fb.r1, 0.0]),
+            pin("C", "coupler", "link5", c),
+            pin("D", "link5", "output", d),
+            pin("O6", "output", "ground", o6),
+        ],
+        drivers: vec![crank_driver(th2, omega)],
+        points: vec![],
+        gravity: [0.0, 0.0],
+        loads: vec![],
+    }
+}
+
+/// A closed chain of `loops` four-bar loops in series, the same as Python's
+/// `examples.chain(loops, offset=offset, spacing=spacing)`: loop k (1-based) is the
+/// four-bar `m` with its ground pivots at ((k - 1) spacing, 0) and ((k - 1) spacing + r1,
+/// 0), bodies crank{k}, coupler{k}, rocker{k}, revolutes O2_{k}, A{k}, B{k}, O4_{k}; loop
+/// 1's crank is driven at th2 + omega t, loop k+1's crank tied to loop k's rocker by a
+/// relative-angle driver tie{k+1}: theta_crank{k+1} - theta_rocker{k} = offset (a
+/// constant law). `m` must be a Grashof crank-rocker (it then assembles at every input
+/// angle).
+pub fn chain(m: &FourBar, loops: usize, th2: f64, omega: f64, offset: f64, spacing: f64) -> Description {
+    let mut d = Description {
+        name: format!("chain of {loops} four-bar loops"),
+        bodies: vec![],
+        joints: vec![],
+        drivers: vec![],
+        points: vec![],
+        gravity: [0.0, 0.0],
+        loads: vec![],
+    };
+    let mut input = th2;
+    for k in 1..=loops {
+        let ([th3, th4], _, _) = four_bar_closed(m, input, omega, 0.0);
+        let x0 = (k - 1) as f64 * spacing;
+        let a = [x0 + m.r2 * input.cos(), m.r2 * input.sin()];
+        let b = [a[0] + m.r3 * th3.cos(), a[1] + m.r3 * th3.sin()];
+        let (crank, coupler, rocker) = (format!("crank{k}"), format!("coupler{k}"), format!("rocker{k}"));
+        d.bodies.push(body(&crank, x0, 0.0, input));
+        d.bodies.push(body(&coupler, a[0], a[1], th3));
+        d.bodies.push(body(&rocker, x0 + m.r1, 0.0, th4));
+        d.joints.push(pin(&format!("O2_{k}"), "ground", &crank, [x0, 0.0]));
+        d.joints.push(pin(&format!("A{k}"), &crank, &coupler, a));
+        d.joints.push(pin(&format!("B{k}"), &coupler, &rocker, b));
+        d.joints.push(pin(&format!("O4_{k}"), &rocker, "ground", [x0 + m.r1, 0.0]));
+        d.drivers.push(if k == 1 {
+            DriverDesc::Angle {
+                name: "crank_angle".into(),
+                body: crank,
+                law: MotionLaw::Linear { value: th2, rate: omega },
+            }
+        } else {
+            DriverDesc::RelativeAngle {
+                name: format!("tie{k}"),
+                body_a: format!("rocker{}", k - 1),
+                body_b: crank,
+                law: MotionLaw::Constant { value: offset },
+            }
+        });
+        input = th4 + offset;
+    }
+    d
+}
