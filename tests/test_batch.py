@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import linkwork as lw
-from helpers import revolution
+from helpers import revolution, spins_while
 from linkwork import examples
 
 
@@ -83,25 +83,10 @@ def test_failures_in_a_batch_are_raised_or_returned():
 
 
 def test_a_batch_releases_the_gil():
-    import threading
-    import time
-
     models = designs(4)
     t = np.linspace(0.0, 20.0, 200_000)
-    done = threading.Event()
-    ticks = 0
-
-    def run() -> None:
-        lw.sweep_batch(models, t, threads=2)
-        done.set()
-
-    thread = threading.Thread(target=run)
-    start = time.perf_counter()
-    thread.start()
-    while not done.is_set():
-        ticks += 1
-    thread.join()
-    assert ticks > 20_000 * (time.perf_counter() - start)
+    ticks, elapsed = spins_while(lambda: lw.sweep_batch(models, t, threads=2))
+    assert ticks > 20_000 * elapsed, (ticks, elapsed)
 
 
 def test_every_kth_step_is_kept_with_the_worst_diagnostics():

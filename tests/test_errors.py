@@ -5,13 +5,12 @@ from __future__ import annotations
 
 import json
 import math
-import threading
-import time
 
 import numpy as np
 import pytest
 
 import linkwork as lw
+from helpers import spins_while
 from linkwork import _core, examples
 
 
@@ -226,20 +225,7 @@ def test_progress_is_reported_and_can_stop_the_sweep():
 def test_the_gil_is_released_during_a_sweep():
     model = examples.four_bar().compile()
     times = np.linspace(0.0, 100.0, 1_000_000)
-    done = threading.Event()
-    ticks = 0
-
-    def run() -> None:
-        model.sweep(times)
-        done.set()
-
-    thread = threading.Thread(target=run)
-    start = time.perf_counter()
-    thread.start()
-    while not done.is_set():
-        ticks += 1
-    thread.join()
-    elapsed = time.perf_counter() - start
+    ticks, elapsed = spins_while(lambda: model.sweep(times))
     # with the GIL held for the whole sweep this loop could only run at the rare points
     # where the sweep checks for signals; released, it spins freely all along
     assert ticks > 20_000 * elapsed, (ticks, elapsed)
