@@ -7,6 +7,7 @@
 //! all from one factorization of Phi_q; `sweep` runs it over a time grid.
 
 pub mod acceleration;
+pub mod analysis;
 pub mod assembly;
 pub mod batch;
 pub mod data;

@@ -1,0 +1,4 @@
+//! Mechanism analysis on top of the solver stages: degrees of freedom and redundancy,
+//! singular configurations and events along a sweep, limits of motion, assembly modes,
+//! and the classical outputs of four-bars and slider-cranks (Grashof type, transmission
+//! angle). Each module reads a `Model` and configurations; none is woven into the solver.
