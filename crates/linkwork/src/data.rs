@@ -53,7 +53,7 @@ impl Data {
             factor: Factor::new(&model.symbolic),
             iterations: 0,
             residual: f64::NAN,
-            pivots: Pivots { ratio: f64::NAN, column: 0 },
+            pivots: Pivots::NONE,
             lambda: vec![0.0; model.n_rows],
             lambda_parts: std::array::from_fn(|_| vec![0.0; model.n_rows]),
             gen_force: std::array::from_fn(|_| vec![0.0; model.n_coords]),

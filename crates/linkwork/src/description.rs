@@ -171,4 +171,19 @@ impl DriverDesc {
             | DriverDesc::Translation { law, .. } => law,
         }
     }
+
+    pub fn law_mut(&mut self) -> &mut MotionLaw {
+        match self {
+            DriverDesc::Angle { law, .. }
+            | DriverDesc::RelativeAngle { law, .. }
+            | DriverDesc::Distance { law, .. }
+            | DriverDesc::Coordinate { law, .. }
+            | DriverDesc::Translation { law, .. } => law,
+        }
+    }
+
+    /// Whether the driver sets an angle (rad) rather than a length.
+    pub fn is_angle(&self) -> bool {
+        matches!(self, DriverDesc::Angle { .. } | DriverDesc::RelativeAngle { .. })
+    }
 }

@@ -59,6 +59,10 @@ pub enum SolveError {
     /// The caller asked the sweep to stop (an interrupt, a cancelled progress bar).
     #[error("sweep cancelled at step {step}")]
     Cancelled { step: usize },
+    /// The sweep met a singular configuration (a limit of motion, a bifurcation) or left
+    /// its branch, and cannot or was asked not to go on; the event is in the output.
+    #[error("step {step} (t = {time}): {message}")]
+    Event { step: usize, time: f64, message: String },
     /// A driver's motion law is not defined at a requested time.
     #[error("driver '{driver}': t = {time} is outside its spline table [{start}, {end}]")]
     OutOfRange { driver: String, time: f64, start: f64, end: f64 },
@@ -71,6 +75,7 @@ impl SolveError {
             SolveError::Assembly { .. } => Some(0),
             SolveError::NoConvergence { step, .. }
             | SolveError::Singular { step, .. }
+            | SolveError::Event { step, .. }
             | SolveError::NonFinite { step, .. }
             | SolveError::Times { step, .. }
             | SolveError::Cancelled { step } => Some(*step),

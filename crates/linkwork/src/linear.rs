@@ -35,6 +35,14 @@ pub struct Pivots {
     pub ratio: f64,
     /// the coordinate (column of Phi_q) of the smallest pivot
     pub column: usize,
+    /// sign of det Phi_q (+1 or -1; 0 if a pivot is zero): it flips where a sweep crosses
+    /// a singular configuration
+    pub det_sign: f64,
+}
+
+impl Pivots {
+    /// Before any factorization.
+    pub const NONE: Pivots = Pivots { ratio: f64::NAN, column: 0, det_sign: 0.0 };
 }
 
 /// The part of a factorization that depends only on the pattern (in the model).
@@ -198,7 +206,10 @@ impl Factor {
                 let n = *n;
                 lu.copy_from_slice(values);
                 small_lu::factor(lu, n, piv, inv_diag);
-                pivots((0..n).map(|k| (k, lu[k * n + k])))
+                // each pivots[k] != k is one row swap
+                let swaps = piv.iter().enumerate().filter(|(k, p)| *k != **p).count();
+                let sign = if swaps % 2 == 0 { 1.0 } else { -1.0 };
+                pivots((0..n).map(|k| (k, lu[k * n + k])), sign)
             }
             (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { n }) => {
                 let n = *n;
@@ -212,7 +223,8 @@ impl Factor {
                     MemStack::new(stack),
                     Default::default(),
                 );
-                pivots((0..n).map(|k| (k, lu[k * n + k])))
+                let sign = permutation_sign(perm);
+                pivots((0..n).map(|k| (k, lu[k * n + k])), sign)
             }
             (
                 Factor::Sparse { numeric, row_perm, row_perm_inv, stack },
@@ -230,17 +242,31 @@ impl Factor {
                     MemStack::new(stack),
                 );
                 if ok.is_err() {
-                    return Pivots { ratio: 0.0, column: 0 };
+                    return Pivots { ratio: 0.0, column: 0, det_sign: 0.0 };
                 }
                 // the diagonal of U, column k of U being column col_perm[k] of Phi_q
                 let u = numeric.u_factor_unsorted();
                 let fwd = col_perm.arrays().0;
-                pivots((0..*n).map(|k| {
-                    let rows = u.row_idx_of_col_raw(k);
-                    let vals = u.val_of_col(k);
-                    let d = rows.iter().zip(vals).find(|(&r, _)| r == k).map_or(0.0, |(_, &v)| v);
-                    (fwd[k], d)
-                }))
+                // det Phi_q = det P_r^-1 det L det U det P_c^-1; L's diagonal may be stored
+                let l = numeric.l_factor_unsorted();
+                let mut sign = permutation_sign(row_perm) * col_perm_sign(fwd);
+                for k in 0..*n {
+                    let rows = l.row_idx_of_col_raw(k);
+                    if let Some(p) = rows.iter().position(|&r| r == k) {
+                        if l.val_of_col(k)[p] < 0.0 {
+                            sign = -sign;
+                        }
+                    }
+                }
+                pivots(
+                    (0..*n).map(|k| {
+                        let rows = u.row_idx_of_col_raw(k);
+                        let vals = u.val_of_col(k);
+                        let d = rows.iter().zip(vals).find(|(&r, _)| r == k).map_or(0.0, |(_, &v)| v);
+                        (fwd[k], d)
+                    }),
+                    sign,
+                )
             }
             _ => unreachable!("factor and symbolic factor of different kinds"),
         }
@@ -311,13 +337,66 @@ impl Factor {
     }
 }
 
-/// Ratio of the smallest to the largest |pivot|, and where the smallest is.
-fn pivots(diag: impl Iterator<Item = (usize, f64)>) -> Pivots {
+/// The sign of a permutation, counting cycles in place: visited entries are marked by
+/// bitwise negation (indices are < n) and restored, so nothing is allocated.
+fn permutation_sign(perm: &mut [usize]) -> f64 {
+    let n = perm.len();
+    let mut sign = 1.0;
+    for i in 0..n {
+        let (mut j, mut len) = (i, 0usize);
+        while perm[j] < n {
+            let next = perm[j];
+            perm[j] = !next;
+            j = next;
+            len += 1;
+        }
+        // a cycle of length len is len - 1 transpositions
+        if len > 0 && len % 2 == 0 {
+            sign = -sign;
+        }
+    }
+    for p in perm.iter_mut() {
+        *p = !*p;
+    }
+    sign
+}
+
+/// The sign of the fill-reducing column permutation (fixed by the model; cheap to redo).
+fn col_perm_sign(fwd: &[usize]) -> f64 {
+    // count inversions by cycles without mutating the model's permutation: O(n) per cycle
+    // start test, so only the cycle leaders are walked
+    let n = fwd.len();
+    let mut sign = 1.0;
+    for i in 0..n {
+        let mut j = fwd[i];
+        let mut len = 1usize;
+        let mut leader = true;
+        while j != i {
+            if j < i {
+                leader = false;
+                break;
+            }
+            j = fwd[j];
+            len += 1;
+        }
+        if leader && len % 2 == 0 {
+            sign = -sign;
+        }
+    }
+    sign
+}
+
+/// Ratio of the smallest to the largest |pivot|, where the smallest is, and the sign of
+/// det Phi_q (`sign`: that of the permutations and of L).
+fn pivots(diag: impl Iterator<Item = (usize, f64)>, mut sign: f64) -> Pivots {
     let (mut lo, mut hi, mut column) = (f64::INFINITY, 0.0f64, 0);
     for (col, d) in diag {
+        if d < 0.0 {
+            sign = -sign;
+        }
         let d = d.abs();
         if !d.is_finite() {
-            return Pivots { ratio: f64::NAN, column: col };
+            return Pivots { ratio: f64::NAN, column: col, det_sign: 0.0 };
         }
         if d < lo {
             lo = d;
@@ -326,5 +405,6 @@ fn pivots(diag: impl Iterator<Item = (usize, f64)>) -> Pivots {
         hi = hi.max(d);
     }
     let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
-    Pivots { ratio, column }
+    let det_sign = if lo > 0.0 { sign } else { 0.0 };
+    Pivots { ratio, column, det_sign }
 }

@@ -22,6 +22,11 @@ pub struct PositionInfo {
     pub residual: f64,
     /// smallest / largest pivot of the scaled Phi_q
     pub pivot_ratio: f64,
+    /// sign of det Phi_q at the last factorization
+    pub det_sign: f64,
+    /// sum of the scaled Newton step norms: how far the solution is from the start guess
+    /// (the sweep compares it with the predicted motion to catch branch jumps)
+    pub correction: f64,
 }
 
 /// Solves Phi(q, t) = 0 starting from data.q; writes data.q, data.phi, the factors.
@@ -38,6 +43,8 @@ pub fn solve_position(
     let opts = &model.options;
     let max_iter = if assembly { opts.max_iter_assembly } else { opts.max_iter };
     let mut residual = f64::NAN;
+    let mut correction = 0.0;
+    let mut prev_step = f64::INFINITY;
     for it in 1..=max_iter {
         residual = assembly::position(model, data, t);
         if !residual.is_finite() {
@@ -75,10 +82,24 @@ pub fn solve_position(
         for ((q, d), s) in data.q.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
             *q += damping * d * s;
         }
-        if residual <= opts.tol_residual && step_norm <= opts.tol_step {
+        correction += damping * step_norm;
+        // the step cannot be resolved below round-off times the condition number, which
+        // 1 / pivot ratio estimates: on ill-conditioned chains tol_step alone is unreachable
+        let step_floor = opts.tol_step.max(8.0 * f64::EPSILON / pivots.ratio);
+        // near a singular configuration round-off in the residual makes the steps
+        // stagnate instead of shrinking: with the residual converged, that is the end
+        let stagnant = step_norm >= 0.9 * prev_step;
+        prev_step = step_norm;
+        if residual <= opts.tol_residual && (step_norm <= step_floor || stagnant) {
             data.iterations = it;
             data.residual = residual;
-            return Ok(PositionInfo { iterations: it, residual, pivot_ratio: pivots.ratio });
+            return Ok(PositionInfo {
+                iterations: it,
+                residual,
+                pivot_ratio: pivots.ratio,
+                det_sign: pivots.det_sign,
+                correction,
+            });
         }
     }
     data.iterations = max_iter;

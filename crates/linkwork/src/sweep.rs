@@ -3,6 +3,8 @@
 //! allocated once, before the loop; a failure at step k keeps steps 0..k.
 
 use crate::acceleration::solve_acceleration;
+use crate::analysis::singular::Event;
+use crate::analysis::tracking::{is_jump, OnSingular, Tracker};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
@@ -21,11 +23,16 @@ pub struct Request {
     /// keep every `every`-th step (steps 0, every, 2 every, ...); each kept row's
     /// diagnostics are the worst over the steps since the previous kept row
     pub every: usize,
+    /// at a limit, bifurcation or branch jump: report and go on, or stop
+    pub on_singular: OnSingular,
+    /// also locate the locks of the outputs (links pinned to the ground, sliders), where
+    /// an output stops and reverses; needs velocities
+    pub locks: bool,
 }
 
 impl Default for Request {
     fn default() -> Self {
-        Request { derivatives: 2, forces: false, every: 1 }
+        Request { derivatives: 2, forces: false, every: 1, on_singular: OnSingular::Continue, locks: false }
     }
 }
 
@@ -63,6 +70,10 @@ pub struct SweepOutput {
     pub reactions: Vec<f64>,
     /// n_steps: power of the applied loads, Q_loads . qd
     pub load_power: Vec<f64>,
+    /// n_steps: sign of det Phi_q at each kept step (flips where a singularity is crossed)
+    pub det_sign: Vec<f64>,
+    /// the located events, in time order: limits, bifurcations, locks, branch jumps
+    pub events: Vec<Event>,
 }
 
 impl SweepOutput {
@@ -86,7 +97,8 @@ impl SweepOutput {
         let every = request.every.max(1);
         let forces = request.forces;
         let d = if forces { 2 } else { request.derivatives.min(2) };
-        let request = Request { derivatives: d, forces, every };
+        let d = if request.locks { d.max(1) } else { d };
+        let request = Request { derivatives: d, forces, every, ..request };
         let n = times.len().div_ceil(every);
         let (m, r, nc) = (model.n_coords, model.n_rows, model.constraints.len());
         let sized = |on: bool, len: usize| if on { vec![0.0; len] } else { Vec::new() };
@@ -108,6 +120,8 @@ impl SweepOutput {
             lambda_parts: std::array::from_fn(|_| sized(forces, n * r)),
             reactions: sized(forces, n * nc * REACTION_COLUMNS),
             load_power: sized(forces, n),
+            det_sign: vec![0.0; n],
+            events: Vec::new(),
         }
     }
 
@@ -128,6 +142,7 @@ impl SweepOutput {
         }
         self.reactions.truncate(k * self.n_constraints * REACTION_COLUMNS);
         self.load_power.truncate(k);
+        self.det_sign.truncate(k);
     }
 
     /// Stores the state in `data` as row `row`.
@@ -199,21 +214,59 @@ pub fn sweep(
     check_times(model, times)?;
     let req = out.request;
     out.n_done = 0;
+    out.events.clear();
+    let mut tracker = Tracker::new(model, req.on_singular, req.locks);
+    let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress);
+    out.events = std::mem::take(&mut tracker.events);
+    result
+}
+
+fn sweep_steps(
+    model: &Model,
+    data: &mut Data,
+    times: &[f64],
+    out: &mut SweepOutput,
+    tracker: &mut Tracker,
+    progress_every: usize,
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<(), SolveError> {
+    let req = out.request;
     // worst diagnostics since the last kept row
     let (mut iterations, mut residual, mut pivot_ratio) = (0u32, 0.0f64, f64::INFINITY);
     for (k, &t) in times.iter().enumerate() {
         if progress_every > 0 && k % progress_every == 0 && k > 0 && !progress(k) {
             return Err(SolveError::Cancelled { step: k });
         }
-        if k > 0 {
+        let info = if k == 0 {
+            solve_position(model, data, t, k, true)?
+        } else {
+            tracker.q_prev.copy_from_slice(&data.q);
             predict(data, times, k, req.derivatives);
-        }
-        let info = solve_position(model, data, t, k, k == 0)?;
+            let motion = data
+                .q
+                .iter()
+                .zip(&tracker.q_prev)
+                .zip(&model.col_scale)
+                .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() / s));
+            let info = match solve_position(model, data, t, k, false) {
+                Ok(info) if !is_jump(&info, motion) => info,
+                Ok(_) => tracker.rescue(model, data, times[k - 1], t, k, None)?,
+                Err(e @ SolveError::NonFinite { .. }) => return Err(e),
+                Err(e) => tracker.rescue(model, data, times[k - 1], t, k, Some(e))?,
+            };
+            tracker.after_position(model, data, &info, times[k - 1], t, k)?;
+            info
+        };
         if req.derivatives >= 1 {
             solve_velocity(model, data, t, k)?;
         }
         if req.derivatives >= 2 {
             solve_acceleration(model, data, t, k)?;
+        }
+        if k == 0 {
+            tracker.start(&info, data);
+        } else if req.locks {
+            tracker.after_velocity(model, data, times[k - 1], t, k)?;
         }
         iterations = iterations.max(info.iterations as u32);
         residual = residual.max(info.residual);
@@ -227,6 +280,7 @@ pub fn sweep(
             out.iterations[row] = iterations;
             out.residual[row] = residual;
             out.pivot_ratio[row] = pivot_ratio;
+            out.det_sign[row] = info.det_sign;
             out.n_done = row + 1;
             (iterations, residual, pivot_ratio) = (0, 0.0, f64::INFINITY);
         }

@@ -2,3 +2,7 @@
 //! singular configurations and events along a sweep, limits of motion, assembly modes,
 //! and the classical outputs of four-bars and slider-cranks (Grashof type, transmission
 //! angle). Each module reads a `Model` and configurations; none is woven into the solver.
+
+pub mod limits;
+pub mod singular;
+pub mod tracking;

@@ -1,0 +1,239 @@
+//! Singular configurations along sweeps: change points, limits of motion, locks, det
+//! signs; the hard cases of the analysis issue, each checked against geometry.
+
+mod common;
+use common::*;
+use linkwork::analysis::singular::EventKind;
+use linkwork::analysis::tracking::OnSingular;
+use linkwork::{sweep, Data, LinearKind, Model, Options, Request, SolveError, SweepOutput};
+
+fn run(model: &Model, times: &[f64], request: Request) -> (SweepOutput, Result<(), SolveError>) {
+    let mut data = Data::new(model);
+    let mut out = SweepOutput::with_request(model, times, request);
+    let r = sweep(model, &mut data, times, &mut out, 0, &mut |_| true);
+    out.truncate();
+    (out, r)
+}
+
+fn grid(t0: f64, t1: f64, n: usize) -> Vec<f64> {
+    (0..n).map(|k| t0 + (t1 - t0) * k as f64 / (n - 1) as f64).collect()
+}
+
+fn wrap(a: f64) -> f64 {
+    (a + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI
+}
+
+/// A parallelogram (ground = coupler, crank = rocker) drawn as one, crank at 0.5 rad.
+fn parallelogram() -> linkwork::Description {
+    let (r1, r2) = (0.30, 0.10);
+    let th = 0.5f64;
+    let a = [r2 * th.cos(), r2 * th.sin()];
+    let b = [r1 + a[0], a[1]];
+    let mut d = four_bar(&FourBar { r1, r2, r3: r1, r4: r2 }, th, 1.0);
+    d.bodies =
+        vec![body("crank", 0.0, 0.0, th), body("coupler", a[0], a[1], 0.0), body("rocker", r1, 0.0, th)];
+    d.joints = vec![
+        pin("O2", "ground", "crank", [0.0, 0.0]),
+        pin("A", "crank", "coupler", a),
+        pin("B", "coupler", "rocker", b),
+        pin("O4", "ground", "rocker", [r1, 0.0]),
+    ];
+    d
+}
+
+#[test]
+fn a_parallelogram_stays_a_parallelogram_through_its_change_points() {
+    // two revolutions from 0.5 rad: change points at crank angles pi, 2 pi, 3 pi, 4 pi
+    for linear in [LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
+        let model = Model::with_options(parallelogram(), Options { linear, ..Options::default() }).unwrap();
+        let times = grid(0.0, 4.0 * std::f64::consts::PI, 501);
+        let (out, r) = run(&model, &times, Request::default());
+        r.unwrap();
+        assert_eq!(out.n_steps, times.len());
+        for (k, q) in out.q.chunks_exact(9).enumerate() {
+            let th2 = 0.5 + times[k];
+            assert!(wrap(q[2] - th2).abs() < 1e-9, "{linear:?} step {k}: crank {} vs {th2}", q[2]);
+            // the coupler translates (theta3 = 0) and the rocker follows the crank
+            assert!(wrap(q[5]).abs() < 1e-9, "{linear:?} step {k}: coupler turned to {}", q[5]);
+            assert!(wrap(q[8] - th2).abs() < 1e-9, "{linear:?} step {k}: rocker {}", q[8]);
+        }
+        let bif: Vec<f64> =
+            out.events.iter().filter(|e| e.kind == EventKind::Bifurcation).map(|e| e.time).collect();
+        let expected: Vec<f64> = (1..=4).map(|j| j as f64 * std::f64::consts::PI - 0.5).collect();
+        assert_eq!(bif.len(), expected.len(), "{linear:?}: events {:?}", out.events);
+        for (t, e) in bif.iter().zip(&expected) {
+            // located by root-finding on sigma_min, which is linear in t there but known
+            // only to about sqrt(eps) (see tracking::illinois)
+            assert!((t - e).abs() < 1e-7, "{linear:?}: change point at {t}, expected {e}");
+        }
+        for e in &out.events {
+            // every joint of the loop takes part in the dependency, the driver does not
+            assert!(e.constraints.iter().all(|(n, _)| n != "crank_angle"), "{:?}", e.constraints);
+            // sqrt(eps) in t is as close as a solved configuration gets (see
+            // tracking::illinois); away from it sigma_min is about 0.1
+            assert!(e.sigma_min < 1e-5, "sigma_min {} at the change point", e.sigma_min);
+        }
+    }
+}
+
+#[test]
+fn stop_at_a_bifurcation_keeps_the_steps_before_it() {
+    let model = Model::new(parallelogram()).unwrap();
+    let times = grid(0.0, 4.0, 101);
+    let req = Request { on_singular: OnSingular::Stop, ..Request::default() };
+    let (out, r) = run(&model, &times, req);
+    let err = r.unwrap_err();
+    let t_star = std::f64::consts::PI - 0.5;
+    assert!(matches!(err, SolveError::Event { .. }), "{err}");
+    assert!(err.to_string().contains("branches meet"), "{err}");
+    assert_eq!(out.n_steps, times.iter().filter(|&&t| t < t_star).count());
+    assert_eq!(out.events.len(), 1);
+    assert!((out.events[0].time - t_star).abs() < 1e-7);
+}
+
+/// A non-Grashof four-bar driven by its input at constant speed: the input can only rock,
+/// so a sweep past the limit stops there with the limit located.
+#[test]
+fn a_crank_driven_past_its_limit_stops_there_with_the_limit_located() {
+    let m = FourBar { r1: 0.40, r2: 0.30, r3: 0.25, r4: 0.20 };
+    // the diagonal O4-A reaches r3 + r4 at cos th2 = (r1^2 + r2^2 - (r3 + r4)^2) / (2 r1 r2)
+    let limit = ((m.r1 * m.r1 + m.r2 * m.r2 - (m.r3 + m.r4).powi(2)) / (2.0 * m.r1 * m.r2)).acos();
+    for linear in [LinearKind::Small, LinearKind::Sparse] {
+        let model =
+            Model::with_options(four_bar(&m, 0.0, 1.0), Options { linear, ..Options::default() }).unwrap();
+        let times = grid(0.0, 2.0, 201);
+        let (out, r) = run(&model, &times, Request::default());
+        let err = r.unwrap_err();
+        assert!(err.to_string().contains("limit of motion"), "{err}");
+        let steps_before = times.iter().filter(|&&t| t < limit).count();
+        assert_eq!(out.n_steps, steps_before, "{linear:?}: the good steps are kept");
+        assert!(out.q.iter().all(|v| v.is_finite()));
+        let ev = out.events.last().expect("a limit event");
+        assert_eq!(ev.kind, EventKind::Limit);
+        // t* is where Newton stops converging: within a few 1e-12 of the fold
+        assert!((ev.time - limit).abs() < 1e-9, "{linear:?}: limit at {}, expected {limit}", ev.time);
+        assert!((ev.drivers[0].1 - limit).abs() < 1e-9);
+        assert!(ev.constraints.iter().any(|(n, _)| n == "crank_angle"), "{:?}", ev.constraints);
+    }
+}
+
+/// Crank and coupler collinear is where the rocker of a crank-rocker stops and reverses.
+#[test]
+fn the_rocker_locks_where_crank_and_coupler_are_collinear() {
+    let m = FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 };
+    let model = Model::new(four_bar(&m, 0.0, 5.0)).unwrap();
+    let times = grid(0.0, 2.0 * std::f64::consts::PI / 5.0, 301);
+    let (out, r) = run(&model, &times, Request { locks: true, ..Request::default() });
+    r.unwrap();
+    let locks: Vec<_> = out.events.iter().filter(|e| e.kind == EventKind::Lock).collect();
+    assert_eq!(locks.len(), 2, "{:?}", out.events);
+    for e in locks {
+        assert_eq!(e.output.as_deref(), Some("rocker.theta"));
+        let (th2, th3) = (e.q[2], e.q[5]);
+        assert!(wrap(th3 - th2).sin().abs() < 1e-9, "crank {th2} and coupler {th3} not collinear");
+    }
+}
+
+/// The slider of an in-line slider-crank stops at its dead centres, crank at 0 and pi.
+#[test]
+fn the_slider_locks_at_its_dead_centres() {
+    let m = SliderCrank { r2: 0.1, r3: 0.3, e: 0.0 };
+    let model = Model::new(slider_crank(&m, 0.3, 2.0)).unwrap();
+    let times = grid(0.0, std::f64::consts::PI, 200);
+    let (out, r) = run(&model, &times, Request { locks: true, derivatives: 0, ..Request::default() });
+    r.unwrap();
+    let t: Vec<f64> = out.events.iter().filter(|e| e.kind == EventKind::Lock).map(|e| e.time).collect();
+    let expected = [(std::f64::consts::PI - 0.3) / 2.0, (2.0 * std::f64::consts::PI - 0.3) / 2.0];
+    assert_eq!(t.len(), 2, "{:?}", out.events);
+    for (a, b) in t.iter().zip(expected) {
+        assert!((a - b).abs() < 1e-10, "dead centre at {a}, expected {b}");
+    }
+}
+
+#[test]
+fn det_sign_agrees_between_the_linear_solvers() {
+    let desc = six_bar_stephenson(0.3, 2.0);
+    let times = grid(0.0, 3.0, 120);
+    let signs: Vec<Vec<f64>> = [LinearKind::Small, LinearKind::Dense, LinearKind::Sparse]
+        .iter()
+        .map(|&linear| {
+            let model = Model::with_options(desc.clone(), Options { linear, ..Options::default() }).unwrap();
+            let (out, r) = run(&model, &times, Request::default());
+            r.unwrap();
+            assert!(out.det_sign.iter().all(|s| s.abs() == 1.0));
+            out.det_sign
+        })
+        .collect();
+    assert_eq!(signs[0], signs[1]);
+    assert_eq!(signs[0], signs[2]);
+}
+
+/// Metres and millimetres: same events at the same times.
+#[test]
+fn events_do_not_depend_on_units() {
+    let scaled = |f: f64| {
+        let mut d = parallelogram();
+        for b in &mut d.bodies {
+            b.x *= f;
+            b.y *= f;
+        }
+        for j in &mut d.joints {
+            if let linkwork::JointDesc::Revolute { at, .. } = j {
+                *at = [at[0] * f, at[1] * f];
+            }
+        }
+        d
+    };
+    let times = grid(0.0, 4.0, 80);
+    let ev = |f: f64| {
+        let model = Model::new(scaled(f)).unwrap();
+        let (out, r) = run(&model, &times, Request::default());
+        r.unwrap();
+        out.events.iter().map(|e| (e.kind, e.time)).collect::<Vec<_>>()
+    };
+    let (m, mm) = (ev(1.0), ev(1000.0));
+    assert_eq!(m.len(), 1);
+    assert_eq!(m.len(), mm.len());
+    for (a, b) in m.iter().zip(&mm) {
+        assert_eq!(a.0, b.0);
+        assert!((a.1 - b.1).abs() < 1e-7);
+    }
+}
+
+/// Numerical limits of motion against the triangle inequalities.
+#[test]
+fn motion_limits_of_four_bars_match_their_closed_forms() {
+    use linkwork::analysis::limits::motion_limits;
+    // non-Grashof: the input rocks between +-acos((r1^2 + r2^2 - (r3 + r4)^2) / (2 r1 r2))
+    let m = FourBar { r1: 0.40, r2: 0.30, r3: 0.25, r4: 0.20 };
+    let limit = ((m.r1 * m.r1 + m.r2 * m.r2 - (m.r3 + m.r4).powi(2)) / (2.0 * m.r1 * m.r2)).acos();
+    let model = Model::new(four_bar(&m, 0.0, 1.0)).unwrap();
+    let lim = motion_limits(&model, "crank_angle", 0.0, &model.q_start, None, None).unwrap();
+    assert!(!lim.full_rotation);
+    assert!((lim.upper.unwrap() - limit).abs() < 1e-9, "{lim:?}");
+    assert!((lim.lower.unwrap() + limit).abs() < 1e-9, "{lim:?}");
+
+    // Grashof crank-rocker: the crank turns fully
+    let m = FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 };
+    let model = Model::new(four_bar(&m, 0.0, 1.0)).unwrap();
+    let lim = motion_limits(&model, "crank_angle", 0.0, &model.q_start, None, None).unwrap();
+    assert!(lim.full_rotation && lim.lower.is_none() && lim.upper.is_none(), "{lim:?}");
+
+    // the same linkage driven by its rocker: it swings between the angles where crank
+    // and coupler are collinear, |O2 B| = r3 + r2 or r3 - r2
+    let mut desc = four_bar(&m, 0.0, 1.0);
+    let th4 = desc.bodies[2].theta;
+    desc.drivers = vec![linkwork::DriverDesc::Angle {
+        name: "rocker_angle".into(),
+        body: "rocker".into(),
+        law: linkwork::MotionLaw::Constant { value: th4 },
+    }];
+    let model = Model::new(desc).unwrap();
+    let lim = motion_limits(&model, "rocker_angle", 0.0, &model.q_start, None, None).unwrap();
+    let swing = |d: f64| ((d * d - m.r1 * m.r1 - m.r4 * m.r4) / (2.0 * m.r1 * m.r4)).acos();
+    let (a, b) = (swing(m.r3 + m.r2), swing(m.r3 - m.r2));
+    let (lo, hi) = (lim.lower.unwrap(), lim.upper.unwrap());
+    let sign = th4.signum();
+    let (ea, eb) = if sign > 0.0 { (a, b) } else { (-b, -a) };
+    assert!((lo - ea).abs() < 1e-9 && (hi - eb).abs() < 1e-9, "swing [{lo}, {hi}], expected [{ea}, {eb}]");
+}
