@@ -15,6 +15,7 @@ __all__ = [
     "screw_loop_singularity",
     "screw_meet",
     "screw_normalize",
+    "motion_limits",
     "screw_transport",
     "sweep_batch",
 ]
@@ -28,7 +29,17 @@ def sweep_batch(
     forces: bool = False,
     progress: Callable[[int, int], Any] | None = None,
     every: int = 1,
-) -> list[tuple[dict[str, npt.NDArray[Any] | None], BaseException | None]]: ...
+    on_singular: str = "continue",
+    locks: bool = False,
+) -> list[tuple[dict[str, Any], BaseException | None]]: ...
+def motion_limits(
+    model: Model,
+    driver: str,
+    t: float = 0.0,
+    q_guess: npt.NDArray[np.float64] | None = None,
+    range: float | None = None,
+    steps: int | None = None,
+) -> dict[str, Any]: ...
 
 @final
 class Model:
@@ -84,7 +95,9 @@ class Model:
         forces: bool = False,
         derivatives: int = 2,
         every: int = 1,
-    ) -> tuple[dict[str, npt.NDArray[Any] | None], BaseException | None]: ...
+        on_singular: str = "continue",
+        locks: bool = False,
+    ) -> tuple[dict[str, Any], BaseException | None]: ...
     def statics(
         self, t: float, q_guess: npt.NDArray[np.float64] | None = None
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...

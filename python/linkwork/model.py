@@ -11,6 +11,7 @@ import numpy as np
 
 from . import _core
 from .errors import InputError, ModelError
+from .events import MotionLimits
 from .results import Results, State, Statics
 
 __all__ = ["Model", "sweep_batch"]
@@ -64,6 +65,32 @@ class Model:
         q, lam, reactions = self._core.statics(float(t), g)
         return Statics(self, float(t), q, lam, reactions)
 
+    def motion_limits(
+        self,
+        driver: str | None = None,
+        t: float = 0.0,
+        q_guess: Sequence[float] | np.ndarray | None = None,
+        range: float | None = None,
+        steps: int | None = None,
+    ) -> MotionLimits:
+        """The range of ``driver``'s input (default: the only driver) over which the
+        mechanism assembles, on the branch of ``q_guess`` at time ``t``: the input is swept
+        from its value at ``t`` both ways until a limit of motion (located to round-off),
+        a whole turn (angles) or ``range`` (default 4 L for lengths) is reached.
+
+        >>> from linkwork import examples
+        >>> examples.four_bar().compile().motion_limits().full_rotation
+        True
+        """
+        if driver is None:
+            drivers = [c[0] for c in self.constraints if c[1] == "driver"]
+            if len(drivers) != 1:
+                raise InputError(f"name the driver: this model has {len(drivers)} ({', '.join(drivers)})")
+            driver = drivers[0]
+        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
+        raw = _core.motion_limits(self._core, driver, float(t), g, range, steps)
+        return MotionLimits.from_raw(raw)
+
     def sweep(
         self,
         times: Sequence[float] | np.ndarray,
@@ -72,6 +99,8 @@ class Model:
         forces: bool = False,
         derivatives: int = 2,
         every: int = 1,
+        on_singular: str = "continue",
+        locks: bool = False,
     ) -> Results:
         """Solves position, velocity and acceleration at every time (strictly monotone),
         each step predicted from the previous one. The GIL is released meanwhile.
@@ -83,7 +112,15 @@ class Model:
         accelerations; what is not solved costs nothing and is None in the results.
         ``every``: keep every ``every``-th step only (all are solved; each kept row's
         diagnostics are the worst since the previous kept row).
-        If step k fails, the exception carries ``.partial``: the k good steps.
+        ``on_singular``: at a limit of motion, a bifurcation or a branch jump, "continue"
+        (default: report it in ``results.events`` and go on along the same branch where
+        one exists) or "stop" (raise `SingularError` there).
+        ``locks``: also locate where each output (a link pinned to the ground, a slider)
+        stops and reverses (needs velocities; solved even if ``derivatives=0``).
+        Each step is checked against its prediction: a step that fails or would jump to
+        another assembly branch is redone in sub-steps, so nothing changes branch silently.
+        If step k fails, the exception carries ``.partial``: the k good steps, with the
+        events found so far.
         """
         t = np.ascontiguousarray(times, dtype=np.float64)
         if t.ndim != 1:
@@ -91,7 +128,9 @@ class Model:
         g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
         callback = _ProgressBar() if progress is True else (progress or None)
         check = max(1024, len(t) // 100) if callback is not None else 16384
-        raw, error = self._core.sweep(t, g, callback, check, forces, int(derivatives), int(every))
+        raw, error = self._core.sweep(
+            t, g, callback, check, forces, int(derivatives), int(every), on_singular, bool(locks)
+        )
         results = Results(self, raw)
         if error is not None:
             error.partial = results
@@ -108,11 +147,14 @@ def sweep_batch(
     progress: Callable[[int, int], Any] | None = None,
     errors: str = "raise",
     every: int = 1,
+    on_singular: str = "continue",
+    locks: bool = False,
 ) -> list[Any]:
     """Sweeps many models (a design study) over the same times on worker threads, with
     the GIL released: one `Results` per model, in order.
 
-    ``derivatives``, ``forces`` and ``every`` are as for `Model.sweep`.
+    ``derivatives``, ``forces``, ``every``, ``on_singular`` and ``locks`` are as for
+    `Model.sweep`.
     ``threads``: worker threads (default: one per core). ``progress(done, total)`` counts
     finished models; Ctrl-C stops every running sweep. ``errors="raise"`` raises the first
     model's failure (with ``.index`` and ``.partial``); ``errors="return"`` puts the
@@ -124,7 +166,9 @@ def sweep_batch(
     if t.ndim != 1:
         raise InputError(f"times must be one-dimensional, got shape {t.shape}")
     cores = [m._core for m in models]
-    items = _core.sweep_batch(cores, t, threads or 0, int(derivatives), forces, progress, int(every))
+    items = _core.sweep_batch(
+        cores, t, threads or 0, int(derivatives), forces, progress, int(every), on_singular, bool(locks)
+    )
     out: list[Any] = []
     for i, (model, (raw, error)) in enumerate(zip(models, items)):
         results = Results(model, raw)

@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .events import Event
+
 if TYPE_CHECKING:
     from .model import Model
 
@@ -231,6 +233,10 @@ class Results(_Kinematics):
         self.iterations: np.ndarray = raw["iterations"]
         self.residual: np.ndarray = raw["residual"]
         self.pivot_ratio: np.ndarray = raw["pivot_ratio"]
+        # sign of det Phi_q at each step: it flips where a singular configuration is crossed
+        self.det_sign: np.ndarray = raw["det_sign"]
+        #: the located events: limits of motion, bifurcations, locks, branch jumps
+        self.events: list[Event] = [Event.from_raw(e) for e in raw["events"]]
         # inverse dynamics (sweep(..., forces=True)); None otherwise
         self.multipliers: np.ndarray | None = raw.get("lambda")  # (n_steps, n_rows)
         self.reactions: np.ndarray | None = raw.get("reactions")  # (n_steps, n_constraints, 4)
@@ -408,6 +414,8 @@ class Results(_Kinematics):
             f"  smallest pivot ratio    {self.pivot_ratio[worst]:.2e} at t = {self.times[worst]:g}"
             " (near 0: near a singular configuration)",
         ]
+        lines.append(f"  events                  {len(self.events) or 'none'}")
+        lines += [f"    {e}" for e in self.events]
         return "\n".join(lines)
 
     def units(self, column: str) -> str:

@@ -10,6 +10,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+mod events;
 mod screw;
 
 mod py_errors {
@@ -39,6 +40,7 @@ fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
         SolveError::Times { .. } => (InputError::new_err(msg), None),
         SolveError::OutOfRange { time, .. } => (InputError::new_err(msg), Some(*time)),
         SolveError::Cancelled { .. } => (CancelledError::new_err(msg), None),
+        SolveError::Event { time, .. } => (SingularError::new_err(msg), Some(*time)),
     };
     let value = err.value(py);
     // attributes of an exception we created ourselves: setting them cannot fail in practice
@@ -102,7 +104,13 @@ fn rows_to_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, m: usize) -> Bound
     Array2::from_shape_vec((n, m), v).expect("n x m buffer").into_pyarray(py).into_any()
 }
 
-fn parse_request(derivatives: u8, forces: bool, every: usize) -> PyResult<linkwork::Request> {
+fn parse_request(
+    derivatives: u8,
+    forces: bool,
+    every: usize,
+    on_singular: &str,
+    locks: bool,
+) -> PyResult<linkwork::Request> {
     if derivatives > 2 || (forces && derivatives < 2) {
         return Err(InputError::new_err(format!(
             "derivatives must be 0, 1 or 2 (2 with forces=True), not {derivatives}"
@@ -111,7 +119,8 @@ fn parse_request(derivatives: u8, forces: bool, every: usize) -> PyResult<linkwo
     if every == 0 {
         return Err(InputError::new_err("every must be at least 1"));
     }
-    Ok(linkwork::Request { derivatives, forces, every })
+    let on_singular = events::parse_on_singular(on_singular)?;
+    Ok(linkwork::Request { derivatives, forces, every, on_singular, locks })
 }
 
 /// A sweep's outputs as a dict of NumPy arrays (moved, not copied); qd and qdd are None
@@ -127,6 +136,9 @@ fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, Py
     d.set_item("residual", out.residual.into_pyarray(py))?;
     d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
     d.set_item("times", out.times.into_pyarray(py))?;
+    d.set_item("det_sign", out.det_sign.into_pyarray(py))?;
+    let events = out.events.iter().map(|e| events::event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
+    d.set_item("events", events)?;
     if out.request.forces {
         let (r, nc) = (out.n_rows, out.n_constraints);
         d.set_item("lambda", rows_to_array(py, out.lambda, n, r))?;
@@ -147,7 +159,8 @@ fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, Py
 /// Returns one (results dict, error or None) per model, in order. `progress(done, total)`
 /// is called with the number of finished models; Ctrl-C cancels every running sweep.
 #[pyfunction]
-#[pyo3(signature = (models, times, threads=0, derivatives=2, forces=false, progress=None, every=1))]
+#[pyo3(signature = (models, times, threads=0, derivatives=2, forces=false, progress=None, every=1,
+                    on_singular="continue", locks=false))]
 #[allow(clippy::too_many_arguments)]
 fn sweep_batch<'py>(
     py: Python<'py>,
@@ -158,8 +171,10 @@ fn sweep_batch<'py>(
     forces: bool,
     progress: Option<Py<PyAny>>,
     every: usize,
+    on_singular: &str,
+    locks: bool,
 ) -> PyResult<Vec<(Bound<'py, PyDict>, Option<PyErr>)>> {
-    let request = parse_request(derivatives, forces, every)?;
+    let request = parse_request(derivatives, forces, every, on_singular, locks)?;
     let arcs: Vec<Arc<Model>> = models.iter().map(|m| Arc::clone(&m.model)).collect();
     let refs: Vec<&Model> = arcs.iter().map(|m| m.as_ref()).collect();
     let times = times.as_slice()?;
@@ -312,7 +327,8 @@ impl PyModel {
     /// on failure at step k the dict holds the k good steps and the error says why.
     /// `progress(done, total)` is called every `progress_every` steps (0: never);
     /// Ctrl-C is noticed at the same points.
-    #[pyo3(signature = (times, q_guess=None, progress=None, progress_every=16384, forces=false, derivatives=2, every=1))]
+    #[pyo3(signature = (times, q_guess=None, progress=None, progress_every=16384, forces=false, derivatives=2,
+                        every=1, on_singular="continue", locks=false))]
     #[allow(clippy::too_many_arguments)]
     fn sweep<'py>(
         &self,
@@ -324,8 +340,10 @@ impl PyModel {
         forces: bool,
         derivatives: u8,
         every: usize,
+        on_singular: &str,
+        locks: bool,
     ) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
-        let request = parse_request(derivatives, forces, every)?;
+        let request = parse_request(derivatives, forces, every, on_singular, locks)?;
         let model = Arc::clone(&self.model);
         let times = times.as_slice()?;
         let mut data = Data::new(&model);
@@ -456,6 +474,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyModel>()?;
     screw::register(m)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -453,7 +453,7 @@ impl Tracker {
                 })?;
                 let name = output.name.clone();
                 let mut ev = self.event(model, data, EventKind::Lock, step, t_star);
-                ev.message = format!("output {name} stops and reverses: {}", ev.message);
+                ev.message = ev.message.replacen("the output", &format!("output {name}"), 1);
                 ev.output = Some(name);
                 self.events.push(ev);
             }
