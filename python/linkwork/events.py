@@ -17,8 +17,7 @@ KINDS = {
     "unless the driver reverses",
     "bifurcation": "assembly branches meet: the joints' rows become dependent; the sweep follows "
     "the branch it was on",
-    "lock": "an output stops and reverses while the input moves (a dead point if driven from "
-    "that output)",
+    "lock": "an output stops and reverses while the input moves (a dead point if driven from that output)",
     "branch_jump": "the solution left the branch it was on and halving the step did not bring it back",
 }
 
