@@ -13,6 +13,12 @@ use crate::model::Model;
 use crate::position::solve_position;
 use crate::velocity::solve_velocity;
 
+/// A pivot ratio below this marks a step next to a singular configuration: the next
+/// prediction does not use its rates: solved to round-off, q is off by about eps / ratio
+/// along the near-singular direction, and the rates solved at that q are off by that over
+/// the ratio again.
+const NEAR_SINGULAR: f64 = 1e-6;
+
 /// What a sweep computes and keeps: work that was not asked for is not done.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Request {
@@ -241,7 +247,9 @@ fn sweep_steps(
             solve_position(model, data, t, k, true)?
         } else {
             tracker.q_prev.copy_from_slice(&data.q);
-            predict(data, times, k, req.derivatives);
+            // rates next to a singular configuration are unreliable: predict from positions
+            let order = if data.pivots.ratio < NEAR_SINGULAR { 0 } else { req.derivatives };
+            predict(data, times, k, order);
             let motion = data
                 .q
                 .iter()
@@ -254,8 +262,7 @@ fn sweep_steps(
                 Err(e @ SolveError::NonFinite { .. }) => return Err(e),
                 Err(e) => tracker.rescue(model, data, times[k - 1], t, k, Some(e))?,
             };
-            tracker.after_position(model, data, &info, times[k - 1], t, k)?;
-            info
+            tracker.after_position(model, data, info, times[k - 1], t, k)?
         };
         if req.derivatives >= 1 {
             solve_velocity(model, data, t, k)?;
@@ -295,48 +302,43 @@ fn sweep_steps(
 /// - 0: the quadratic through the last three positions.
 ///
 /// Each is exact to O(h^3) or better, so that most steps take one Newton iteration.
+/// After a step close to a singular configuration, whose rates are ill-determined (and
+/// may point along the other branch), the sweep asks for 0: positions only.
 /// Reads data.q, qd, qdd (step k-1) and the history; shifts the history.
 pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, derivatives: u8) {
     let t = times[k];
     let t1 = times[k - 1];
     let h = t - t1;
-    match derivatives {
-        2 => {
-            let h1 = if k >= 2 { t1 - times[k - 2] } else { 0.0 };
-            for i in 0..data.q.len() {
+    let h1 = if k >= 2 { t1 - times[k - 2] } else { 0.0 };
+    let [q2, q3] = &mut data.hist_q;
+    for i in 0..data.q.len() {
+        let q1 = data.q[i];
+        let p = match derivatives {
+            2 => {
                 let jerk = if k >= 2 { (data.qdd[i] - data.hist_qdd[i]) / h1 } else { 0.0 };
-                data.hist_qdd[i] = data.qdd[i];
-                data.q[i] += h * (data.qd[i] + h * (0.5 * data.qdd[i] + h * jerk / 6.0));
+                q1 + h * (data.qd[i] + h * (0.5 * data.qdd[i] + h * jerk / 6.0))
             }
-        }
-        1 => {
-            let h1 = if k >= 2 { t1 - times[k - 2] } else { 0.0 };
-            for i in 0..data.q.len() {
+            1 => {
                 let acc = if k >= 2 { (data.qd[i] - data.hist_qd[i]) / h1 } else { 0.0 };
-                data.hist_qd[i] = data.qd[i];
-                data.q[i] += h * (data.qd[i] + 0.5 * h * acc);
+                q1 + h * (data.qd[i] + 0.5 * h * acc)
             }
-        }
-        _ => {
             // Lagrange extrapolation through the (up to) three previous positions
-            let [q2, q3] = &mut data.hist_q;
-            for i in 0..data.q.len() {
-                let q1 = data.q[i];
-                let p = match k {
-                    1 => q1,
-                    2 => q1 + (q1 - q2[i]) * h / (t1 - times[k - 2]),
-                    _ => {
-                        let (ta, tb, tc) = (t1, times[k - 2], times[k - 3]);
-                        q1 * (t - tb) * (t - tc) / ((ta - tb) * (ta - tc))
-                            + q2[i] * (t - ta) * (t - tc) / ((tb - ta) * (tb - tc))
-                            + q3[i] * (t - ta) * (t - tb) / ((tc - ta) * (tc - tb))
-                    }
-                };
-                q3[i] = q2[i];
-                q2[i] = q1;
-                data.q[i] = p;
-            }
-        }
+            _ => match k {
+                1 => q1,
+                2 => q1 + (q1 - q2[i]) * h / h1,
+                _ => {
+                    let (ta, tb, tc) = (t1, times[k - 2], times[k - 3]);
+                    q1 * (t - tb) * (t - tc) / ((ta - tb) * (ta - tc))
+                        + q2[i] * (t - ta) * (t - tc) / ((tb - ta) * (tb - tc))
+                        + q3[i] * (t - ta) * (t - tb) / ((tc - ta) * (tc - tb))
+                }
+            },
+        };
+        data.hist_qdd[i] = data.qdd[i];
+        data.hist_qd[i] = data.qd[i];
+        q3[i] = q2[i];
+        q2[i] = q1;
+        data.q[i] = p;
     }
 }
 

@@ -29,6 +29,11 @@ pub const JUMP_RATIO: f64 = 0.5;
 pub const JUMP_FLOOR: f64 = 0.02;
 /// Sub-steps are halved at most this many times (2^-24 of a step) before giving up.
 const MAX_HALVINGS: i32 = 24;
+/// Where det Phi_q changed sign, a located sigma_min above this means no singular
+/// configuration was crossed (a jump between branches that pass close). A crossing is
+/// located to sigma_min ~ sqrt(eps) (see `illinois`); branches that pass within 1e-4 are
+/// reported as meeting.
+pub const CROSSING_SIGMA: f64 = 1e-4;
 /// Shares of a singular vector below this are not reported.
 const SHARE_FLOOR: f64 = 0.05;
 
@@ -145,6 +150,19 @@ fn full_solve(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<Pos
 /// From `from`, reaches t in Taylor-predicted sub-steps, halving on failure or jump.
 /// Leaves data at t (q, qd, qdd and the factorization of Phi_q).
 fn march(model: &Model, data: &mut Data, from: &State, t: f64, step: usize) -> Result<PositionInfo, Stuck> {
+    march_keeping(model, data, from, t, step, None)
+}
+
+/// `march`, and with `det` given, a sub-step that changes the sign of det Phi_q counts as
+/// a jump (used once no singular configuration was found between the two steps).
+fn march_keeping(
+    model: &Model,
+    data: &mut Data,
+    from: &State,
+    t: f64,
+    step: usize,
+    det: Option<f64>,
+) -> Result<PositionInfo, Stuck> {
     let total = t - from.t;
     let h_min = total.abs() * 2f64.powi(-MAX_HALVINGS);
     let mut cur = from.clone();
@@ -160,7 +178,9 @@ fn march(model: &Model, data: &mut Data, from: &State, t: f64, step: usize) -> R
         }
         let result = full_solve(model, data, target, step);
         let failed = match result {
-            Ok(info) if !is_jump(&info, motion) || hh == 0.0 => {
+            Ok(info)
+                if (!is_jump(&info, motion) || hh == 0.0) && det.is_none_or(|d| info.det_sign * d > 0.0) =>
+            {
                 if target == t {
                     return Ok(info);
                 }
@@ -365,52 +385,69 @@ impl Tracker {
     }
 
     /// After step k's position solve (data at times[k], factorization of Phi_q there):
-    /// locates a singular configuration crossed since step k-1.
+    /// where det Phi_q changed sign since step k-1, either a singular configuration was
+    /// crossed (located, reported) or the step jumped to another branch without one (no
+    /// zero of sigma_min between): then the step is redone in sub-steps that keep the
+    /// sign. Returns the step's position info (new if redone).
     pub fn after_position(
         &mut self,
         model: &Model,
         data: &mut Data,
-        info: &PositionInfo,
+        info: PositionInfo,
         t_prev: f64,
         t: f64,
         step: usize,
-    ) -> Result<(), SolveError> {
+    ) -> Result<PositionInfo, SolveError> {
         let det = info.det_sign;
-        let crossed = det * self.det_prev < 0.0;
-        if det != 0.0 {
-            self.det_prev = det;
-        }
-        if !crossed {
-            return Ok(());
+        let det_prev = self.det_prev;
+        if det * det_prev >= 0.0 {
+            if det != 0.0 {
+                self.det_prev = det;
+            }
+            return Ok(info);
         }
         let q_k = data.q.clone();
         let from = self.previous(model, data, t_prev, step)?;
-        let signed_sigma = |data: &mut Data, info: &PositionInfo| {
-            let triple = smallest_singular(model, data, 3);
-            triple.sigma * info.det_sign
-        };
         let sigma_at = |data: &mut Data, tm: f64| -> Option<f64> {
-            march(model, data, &from, tm, step).ok().map(|info| signed_sigma(data, &info))
+            march(model, data, &from, tm, step).ok().map(|info| {
+                let triple = smallest_singular(model, data, 3);
+                triple.sigma * info.det_sign
+            })
         };
         let root = illinois(t_prev, t, |tm| sigma_at(data, tm));
         if let Some(t_star) = root {
-            // data is at the last probe; solve at the root itself for the report
             // the configuration there is whatever the march reached (its Newton tests may
             // fail right at the crossing)
             let _ = march(model, data, &from, t_star, step);
             factor_at(model, data, t_star);
             let ev = self.event(model, data, EventKind::Bifurcation, step, t_star);
-            let stop = self.on_singular == OnSingular::Stop;
-            let err = SolveError::Event { step, time: t_star, message: ev.message.clone() };
-            self.events.push(ev);
-            if stop {
-                return Err(err);
+            if ev.sigma_min <= CROSSING_SIGMA {
+                self.det_prev = det;
+                let stop = self.on_singular == OnSingular::Stop;
+                let err = SolveError::Event { step, time: t_star, message: ev.message.clone() };
+                self.events.push(ev);
+                if stop {
+                    return Err(err);
+                }
+                data.q.copy_from_slice(&q_k);
+                return solve_position(model, data, t, step, false);
             }
         }
-        // back to step k as solved
-        data.q.copy_from_slice(&q_k);
-        solve_position(model, data, t, step, false)?;
-        Ok(())
+        // no singular configuration in between: the step left its branch
+        match march_keeping(model, data, &from, t, step, Some(det_prev)) {
+            Ok(info) => Ok(info),
+            Err(_) => {
+                let ev = self.event(model, data, EventKind::BranchJump, step, t);
+                let err = SolveError::Event { step, time: t, message: ev.message.clone() };
+                self.events.push(ev);
+                if self.on_singular == OnSingular::Stop {
+                    return Err(err);
+                }
+                self.det_prev = det;
+                data.q.copy_from_slice(&q_k);
+                solve_position(model, data, t, step, false)
+            }
+        }
     }
 
     /// After step k's velocity solve: locates the locks of the outputs since step k-1.
@@ -466,7 +503,7 @@ impl Tracker {
 
 /// A root of f in [a, b] (f(a), f(b) of opposite signs) by the Illinois variant of
 /// regula falsi: superlinear on simple roots, never leaves the bracket. None if f cannot
-/// be evaluated at the ends.
+/// be evaluated at the ends. The caller has seen f change sign between a and b.
 ///
 /// How precise the root is depends on f: a signed sigma_min is known only to about
 /// sqrt(eps) near a bifurcation (the residual is quadratic in the distance to the
@@ -478,8 +515,13 @@ fn illinois(mut a: f64, mut b: f64, mut f: impl FnMut(f64) -> Option<f64>) -> Op
     if fa == 0.0 {
         return Some(a);
     }
-    if fb == 0.0 || fa * fb > 0.0 {
-        return (fb == 0.0).then_some(b);
+    if fb == 0.0 {
+        return Some(b);
+    }
+    if fa * fb > 0.0 {
+        // the caller saw a sign change between a and b; re-evaluated, one end is so close
+        // to the root that its sign is round-off: that end is the root
+        return Some(if fa.abs() < fb.abs() { a } else { b });
     }
     let tol = 4.0 * f64::EPSILON * a.abs().max(b.abs()).max((b - a).abs());
     for _ in 0..100 {
