@@ -91,3 +91,23 @@ def test_run_keeps_the_good_steps_of_a_failed_sweep(tmp_path, capsys):
 def test_steps_must_be_at_least_two(tmp_path):
     with pytest.raises(SystemExit):
         main(["demo", "--steps", "1", "--out", str(tmp_path)])
+
+
+def test_check_reports_dof_and_limits(tmp_path, capsys):
+    path = tmp_path / "rocking.json"
+    lw.examples.four_bar(ground=0.40, crank=0.30, coupler=0.25, rocker=0.20).save(str(path))
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "Gruebler 1, rank 1" in out and "Gruebler 0, rank 0" in out
+    limit = np.arccos((0.40**2 + 0.30**2 - 0.45**2) / (2 * 0.40 * 0.30))
+    assert f"{limit:.6f}" in out and "ok" in out
+
+
+def test_check_names_redundant_joints(tmp_path, capsys):
+    m = lw.examples.four_bar()
+    m.revolute("crank", "coupler", m.to_dict()["joints"][1]["at"], name="A_again")
+    path = tmp_path / "doubled.json"
+    m.save(str(path))
+    assert main(["check", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert "redundant" in err and "A_again" in err

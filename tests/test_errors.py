@@ -45,7 +45,7 @@ def compile_dict(d: dict) -> lw.Model:
         ),
         (
             lambda d: d["drivers"].append({**d["drivers"][0], "name": "extra"}),
-            r"10 constraint rows for 9 coordinates.*-1 degree",
+            r"10 constraint rows for 9 coordinates.*1 degree\(s\) of freedom for 2 driver row",
         ),
         (
             lambda d: d["drivers"][0].update(law={"type": "spline", "times": [0, 1], "values": [0]}),

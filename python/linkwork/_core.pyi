@@ -15,6 +15,7 @@ __all__ = [
     "screw_loop_singularity",
     "screw_meet",
     "screw_normalize",
+    "mobility",
     "motion_limits",
     "screw_transport",
     "sweep_batch",
@@ -32,6 +33,12 @@ def sweep_batch(
     on_singular: str = "continue",
     locks: bool = False,
 ) -> list[tuple[dict[str, Any], BaseException | None]]: ...
+def mobility(
+    model: Model,
+    t: float = 0.0,
+    q_guess: npt.NDArray[np.float64] | None = None,
+    assemble: bool = True,
+) -> dict[str, Any]: ...
 def motion_limits(
     model: Model,
     driver: str,

@@ -93,6 +93,35 @@ def run(args: argparse.Namespace) -> int:
     return status
 
 
+def check(args: argparse.Namespace) -> int:
+    """Counts bodies, rows and degrees of freedom, finds redundant rows and each driver's
+    limits of motion, without sweeping; exit status 1 if the model has a problem."""
+    from .mechanism import Mechanism
+
+    try:
+        model = Mechanism.load(args.model).compile()
+    except (OSError, ValueError) as e:
+        # a model error already names the joints at fault (redundant rows, a structure)
+        print(f"error: {args.model}: {e}", file=sys.stderr)
+        return 1
+    print(f"{model!r}")
+    try:
+        mob = model.mobility(t=args.t)
+    except LinkworkError as e:
+        print(f"error: cannot assemble at t = {args.t}: {e}", file=sys.stderr)
+        return 1
+    print(mob.report())
+    problem = mob.redundant or mob.dof_driven > 0
+    drivers = [c[0] for c in model.constraints if c[1] == "driver"]
+    for name in drivers:
+        try:
+            print(f"  limits of motion        {model.motion_limits(name, t=args.t, q_guess=mob.q)}")
+        except LinkworkError as e:
+            print(f"  limits of motion        {name}: not found ({e})")
+    print("problems found" if problem else "ok")
+    return 1 if problem else 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="linkwork", description="Planar mechanism kinematics.")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -109,7 +138,12 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("--forces", action="store_true", help="inverse dynamics: driver efforts, joint reactions")
     r.add_argument("--plot", action="store_true", help="also write PNG plots")
     r.add_argument("--out", default="linkwork-out", help="output folder (default linkwork-out)")
+    c = sub.add_parser("check", help="count bodies, rows, degrees of freedom; find redundancy and limits")
+    c.add_argument("model", help="model file (JSON, as written by Mechanism.save)")
+    c.add_argument("--t", type=float, default=0.0, help="time of the configuration checked (default 0)")
     args = parser.parse_args(argv)
+    if args.command == "check":
+        return check(args)
     if args.steps < 2:
         parser.error("--steps must be at least 2")
     if args.command == "demo":

@@ -12,6 +12,7 @@ import numpy as np
 from . import _core
 from .errors import InputError, ModelError
 from .events import MotionLimits
+from .mobility import Mobility
 from .results import Results, State, Statics
 
 __all__ = ["Model", "sweep_batch"]
@@ -64,6 +65,21 @@ class Model:
         g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
         q, lam, reactions = self._core.statics(float(t), g)
         return Statics(self, float(t), q, lam, reactions)
+
+    def mobility(
+        self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None, assemble: bool = True
+    ) -> Mobility:
+        """Degrees of freedom by Gruebler's count and by the rank of Phi_q, redundant
+        rows mapped to their joints, and the motions left free, at the configuration
+        assembled at time ``t`` from ``q_guess`` (default: as described).
+
+        >>> from linkwork import examples
+        >>> m = examples.four_bar().compile().mobility()
+        >>> (m.gruebler_dof, m.dof, m.dof_driven)
+        (1, 1, 0)
+        """
+        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
+        return Mobility.from_raw(_core.mobility(self._core, float(t), g, bool(assemble)))
 
     def motion_limits(
         self,

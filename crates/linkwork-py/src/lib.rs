@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 mod events;
+mod mobility;
 mod screw;
 
 mod py_errors {
@@ -475,6 +476,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     screw::register(m)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;
+    m.add_function(wrap_pyfunction!(mobility::mobility, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -27,6 +27,9 @@ pub enum ModelError {
          {dof} degree(s) of freedom left; {advice}"
     )]
     RowCount { n_rows: usize, n_coords: usize, n_bodies: usize, dof: i64, advice: &'static str },
+    /// More rows than coordinates, analysed: which are redundant, or that none is.
+    #[error("{n_rows} constraint rows for {n_coords} coordinates: {explanation}")]
+    Redundant { n_rows: usize, n_coords: usize, explanation: String },
 }
 
 /// A position, velocity or acceleration solve that cannot be completed.

@@ -5,6 +5,7 @@
 
 use std::collections::HashMap;
 
+use crate::analysis::mobility::analyse;
 use crate::description::{Description, DriverDesc, JointDesc, LoadDesc, GROUND};
 use crate::drivers::{
     angle::AngleDriver, coordinate::CoordinateDriver, distance::DistanceDriver,
@@ -337,16 +338,6 @@ impl Model {
         if n_bodies == 0 {
             return Err(ModelError::Description("the model has no moving body".into()));
         }
-        if n_rows != n_coords {
-            let dof = n_coords as i64 - n_rows as i64;
-            let advice = if dof > 0 {
-                "add drivers (or joints) until none is left"
-            } else {
-                "remove drivers or redundant joints (kinematic analysis needs exactly as many rows as coordinates)"
-            };
-            return Err(ModelError::RowCount { n_rows, n_coords, n_bodies, dof, advice });
-        }
-
         // a body that no row touches can never be solved for
         let mut touched = vec![false; n_bodies];
         for (_, _, _, a, b) in &entries {
@@ -398,6 +389,37 @@ impl Model {
             });
             row0 += n;
         }
+        let mut columns = Vec::with_capacity(n_coords);
+        let mut q_start = Vec::with_capacity(n_coords);
+        let mut col_scale = Vec::with_capacity(n_coords);
+        for (b, pose) in desc.bodies.iter().zip(&bodies.poses) {
+            for (k, axis) in ["x", "y", "theta"].iter().enumerate() {
+                columns.push(format!("{}.{}", b.name, axis));
+                q_start.push(pose[k]);
+                col_scale.push(if k < 2 { length_scale } else { 1.0 });
+            }
+        }
+
+        if n_rows != n_coords {
+            let dof = n_coords as i64 - n_rows as i64;
+            // with rows to spare, say which are dependent (or that none is: a structure);
+            // the dense SVD is cheap at these sizes
+            if n_rows > n_coords && n_coords <= 600 {
+                if let Ok(m) = analyse(&constraints, &columns, length_scale, &q_start, 0.0) {
+                    return Err(ModelError::Redundant {
+                        n_rows,
+                        n_coords,
+                        explanation: m.explanation.join("; "),
+                    });
+                }
+            }
+            let advice = if dof > 0 {
+                "add drivers (or joints) until none is left"
+            } else {
+                "remove drivers or redundant joints (kinematic analysis needs exactly as many rows as coordinates)"
+            };
+            return Err(ModelError::RowCount { n_rows, n_coords, n_bodies, dof, advice });
+        }
         let linear = match options.linear {
             LinearKind::Auto if n_coords <= options.dense_max => LinearKind::Small,
             LinearKind::Auto => LinearKind::Sparse,
@@ -416,17 +438,6 @@ impl Model {
             constraints.iter().filter_map(|c| c.kind.law()).chain(loads.iter().filter_map(|l| l.law()));
         for (t0, t1) in laws.filter_map(|l| l.domain()) {
             time_domain = (time_domain.0.max(t0), time_domain.1.min(t1));
-        }
-
-        let mut columns = Vec::with_capacity(n_coords);
-        let mut q_start = Vec::with_capacity(n_coords);
-        let mut col_scale = Vec::with_capacity(n_coords);
-        for (b, pose) in desc.bodies.iter().zip(&bodies.poses) {
-            for (k, axis) in ["x", "y", "theta"].iter().enumerate() {
-                columns.push(format!("{}.{}", b.name, axis));
-                q_start.push(pose[k]);
-                col_scale.push(if k < 2 { length_scale } else { 1.0 });
-            }
         }
 
         Ok(Model {

@@ -4,5 +4,6 @@
 //! angle). Each module reads a `Model` and configurations; none is woven into the solver.
 
 pub mod limits;
+pub mod mobility;
 pub mod singular;
 pub mod tracking;

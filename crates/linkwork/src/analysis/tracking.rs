@@ -290,7 +290,7 @@ impl Tracker {
                 drivers.join(", ")
             ),
             EventKind::Lock => {
-                format!("an output stops and reverses at t = {t:.12} ({})", drivers.join(", "))
+                format!("the output stops and reverses at t = {t:.12} ({})", drivers.join(", "))
             }
             EventKind::BranchJump => format!(
                 "the solution leaves the branch near t = {t:.12} ({}) and halving the step does not \

@@ -1,0 +1,52 @@
+//! Mobility (degrees of freedom two ways, redundant rows) as a Python dict.
+
+use linkwork::analysis::mobility::mobility as engine_mobility;
+use linkwork::Data;
+use numpy::{IntoPyArray, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::{solve_err, start_guess, InputError, PyModel};
+
+/// Degrees of freedom and dependencies at q_guess (default: the starting configuration)
+/// and time t; with `assemble`, at the configuration assembled from it first.
+#[pyfunction]
+#[pyo3(signature = (model, t=0.0, q_guess=None, assemble=true))]
+pub(crate) fn mobility<'py>(
+    py: Python<'py>,
+    model: PyRef<'py, PyModel>,
+    t: f64,
+    q_guess: Option<PyReadonlyArray1<'py, f64>>,
+    assemble: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let m = std::sync::Arc::clone(&model.model);
+    let mut data = Data::new(&m);
+    data.q = start_guess(&m, q_guess)?;
+    if assemble {
+        linkwork::check_times(&m, &[t]).map_err(|e| solve_err(py, &e))?;
+        linkwork::solve_position(&m, &mut data, t, 0, true).map_err(|e| solve_err(py, &e))?;
+    }
+    let mob =
+        py.detach(|| engine_mobility(&m, &data.q, t)).map_err(|e| InputError::new_err(e.to_string()))?;
+    let d = PyDict::new(py);
+    d.set_item("q", data.q.into_pyarray(py))?;
+    d.set_item("n_bodies", mob.n_bodies)?;
+    d.set_item("n_coords", mob.n_coords)?;
+    d.set_item("joint_rows", mob.joint_rows)?;
+    d.set_item("driver_rows", mob.driver_rows)?;
+    d.set_item("gruebler_dof", mob.gruebler_dof)?;
+    d.set_item("gruebler_dof_driven", mob.gruebler_dof_driven)?;
+    d.set_item("rank_joints", mob.rank_joints)?;
+    d.set_item("rank", mob.rank)?;
+    d.set_item("dof", mob.dof)?;
+    d.set_item("dof_driven", mob.dof_driven)?;
+    d.set_item("singular_values", mob.singular_values.into_pyarray(py))?;
+    let deps = |v: &[linkwork::analysis::mobility::Dependency]| -> Vec<(f64, Vec<(String, f64)>)> {
+        v.iter().map(|d| (d.sigma, d.constraints.clone())).collect()
+    };
+    d.set_item("redundancies", deps(&mob.redundancies))?;
+    d.set_item("nearest", mob.nearest.as_ref().map(|n| (n.sigma, n.constraints.clone())))?;
+    d.set_item("free_motions", mob.free_motions)?;
+    d.set_item("explanation", mob.explanation)?;
+    Ok(d)
+}
