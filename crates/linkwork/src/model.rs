@@ -17,7 +17,6 @@ use crate::joints::{
 };
 use crate::linear::{LinearKind, SymbolicFactor};
 use crate::loads::{Inertia, Load, LoadEntry};
-use crate::motion::MotionLaw;
 
 /// Solver settings, fixed at compile time.
 #[derive(Debug, Clone, PartialEq)]
@@ -269,10 +268,7 @@ impl Model {
             let fail =
                 |problem: String| ModelError::Constraint { kind: "driver", name: d.name().into(), problem };
             let mut law = d.law().clone();
-            law.check().map_err(fail)?;
-            if let MotionLaw::Spline(s) = &mut law {
-                s.prepare();
-            }
+            law.prepare().map_err(fail)?;
             let (kind, a, b) = match d {
                 DriverDesc::Angle { body, .. } => {
                     let b = bodies.find(body).map_err(fail)?;
@@ -533,7 +529,6 @@ fn compile_loads(
         let (load, a, b) = match l {
             LoadDesc::Force { body, at, direction, law, .. } => {
                 let b = bodies.find(body).map_err(fail)?;
-                law.check().map_err(fail)?;
                 let norm = direction[0].hypot(direction[1]);
                 if !finite2(*at) || !norm.is_finite() || norm == 0.0 {
                     return Err(fail(format!(
@@ -541,19 +536,14 @@ fn compile_loads(
                     )));
                 }
                 let mut law = law.clone();
-                if let MotionLaw::Spline(s) = &mut law {
-                    s.prepare();
-                }
+                law.prepare().map_err(fail)?;
                 let dir = [direction[0] / norm, direction[1] / norm];
                 (Load::Force { u: local(bodies.pose(b), *at), dir, law }, None, b)
             }
             LoadDesc::Torque { body, law, .. } => {
                 let b = bodies.find(body).map_err(fail)?;
-                law.check().map_err(fail)?;
                 let mut law = law.clone();
-                if let MotionLaw::Spline(s) = &mut law {
-                    s.prepare();
-                }
+                law.prepare().map_err(fail)?;
                 (Load::Torque { law }, None, b)
             }
             LoadDesc::Spring { body_a, at_a, body_b, at_b, stiffness, free_length, damping, .. } => {

@@ -22,6 +22,10 @@ pub enum MotionLaw {
     },
     /// Natural cubic spline through the table (C2: second derivative continuous).
     Spline(CubicSpline),
+    /// f = factor * law(t): a law given in other units (degrees), made internally by
+    /// compiling a model; never read from or written to a model file.
+    #[serde(skip)]
+    Scaled { factor: f64, law: Box<MotionLaw> },
 }
 
 impl MotionLaw {
@@ -47,13 +51,36 @@ impl MotionLaw {
                 [mean + amplitude * s, amplitude * omega * c, -amplitude * omega * omega * s]
             }
             MotionLaw::Spline(spline) => spline.eval(t),
+            MotionLaw::Scaled { factor, law } => law.eval(t).map(|v| factor * v),
         }
+    }
+
+    /// The law times `factor` (unit conversion).
+    pub fn scaled(self, factor: f64) -> MotionLaw {
+        if factor == 1.0 {
+            self
+        } else {
+            MotionLaw::Scaled { factor, law: Box::new(self) }
+        }
+    }
+
+    /// Checks the law and computes what its evaluation needs (spline coefficients);
+    /// a law read from a description must go through this once before `eval`.
+    pub fn prepare(&mut self) -> Result<(), String> {
+        self.check()?;
+        match self {
+            MotionLaw::Spline(s) => s.prepare(),
+            MotionLaw::Scaled { law, .. } => law.prepare()?,
+            _ => {}
+        }
+        Ok(())
     }
 
     /// The interval of time on which the law is defined (None: all of it).
     pub fn domain(&self) -> Option<(f64, f64)> {
         match self {
             MotionLaw::Spline(s) => Some((s.times[0], s.times[s.times.len() - 1])),
+            MotionLaw::Scaled { law, .. } => law.domain(),
             _ => None,
         }
     }
@@ -86,6 +113,10 @@ impl MotionLaw {
                 finite("phase", *phase)
             }
             MotionLaw::Spline(s) => s.check(),
+            MotionLaw::Scaled { factor, law } => {
+                finite("factor", *factor)?;
+                law.check()
+            }
         }
     }
 }
