@@ -34,7 +34,8 @@ pub(crate) fn position(model: &Model, data: &mut Data, t: f64) -> f64 {
     let mut norm = 0.0f64;
     for c in &model.constraints {
         let mut rows = Rows::default();
-        c.kind.position(frame(&data.frames, c.body_a), frame(&data.frames, c.body_b), t, &mut rows);
+        let extra = c.extra(&data.q, &[]);
+        c.kind.position(frame(&data.frames, c.body_a), frame(&data.frames, c.body_b), &extra, t, &mut rows);
         for i in 0..c.n_rows {
             let rs = c.row_scale[i];
             let p = rows.phi[i] * rs;
@@ -48,6 +49,10 @@ pub(crate) fn position(model: &Model, data: &mut Data, t: f64) -> f64 {
                 if c.body_b.is_some() {
                     data.jac[c.slots_b[i][j] as usize] = rows.jac_b[i][j] * rs * cs;
                 }
+            }
+            // own coordinates are dimensionless: column scale 1
+            if c.extra.is_some() {
+                data.jac[c.slots_s[i] as usize] = rows.jac_s[i] * rs;
             }
         }
     }
@@ -76,7 +81,8 @@ pub(crate) fn gamma(model: &Model, data: &mut Data, t: f64) {
     update_frames(data);
     for c in &model.constraints {
         let mut v = [0.0; MAX_ROWS];
-        c.kind.gamma(frame(&data.frames, c.body_a), frame(&data.frames, c.body_b), t, &mut v);
+        let extra = c.extra(&data.q, &data.qd);
+        c.kind.gamma(frame(&data.frames, c.body_a), frame(&data.frames, c.body_b), &extra, t, &mut v);
         write_rhs(c, &v, &mut data.rhs);
     }
 }

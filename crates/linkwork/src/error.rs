@@ -23,10 +23,11 @@ pub enum ModelError {
     DuplicateName { name: String, first: &'static str, second: &'static str },
     /// Kinematic analysis needs as many rows as coordinates.
     #[error(
-        "{n_rows} constraint rows for {n_coords} coordinates ({n_bodies} moving bodies x 3): \
-         {dof} degree(s) of freedom left; {advice}"
+        "{n_rows} constraint rows for {n_coords} coordinates ({n_bodies} moving bodies x 3{}): \
+         {dof} degree(s) of freedom left; {advice}",
+        if *n_own > 0 { format!(" + {n_own} curve parameter(s)") } else { String::new() }
     )]
-    RowCount { n_rows: usize, n_coords: usize, n_bodies: usize, dof: i64, advice: &'static str },
+    RowCount { n_rows: usize, n_coords: usize, n_bodies: usize, n_own: usize, dof: i64, advice: &'static str },
     /// More rows than coordinates, analysed: which are redundant, or that none is.
     #[error("{n_rows} constraint rows for {n_coords} coordinates: {explanation}")]
     Redundant { n_rows: usize, n_coords: usize, explanation: String },

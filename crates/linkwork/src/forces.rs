@@ -77,7 +77,8 @@ pub fn reactions(model: &Model, data: &Data, t: f64, out: &mut [f64]) {
     for (k, c) in model.constraints.iter().enumerate() {
         let (a, b) = (frame(&data.frames, c.body_a), frame(&data.frames, c.body_b));
         let mut rows = Rows::default();
-        c.kind.position(a, b, t, &mut rows);
+        let extra = c.extra(&data.q, &data.qd);
+        c.kind.position(a, b, &extra, t, &mut rows);
         let mut q_b = [0.0; 3];
         for (row, l) in rows.jac_b.iter().zip(&data.lambda[c.row0..c.row0 + c.n_rows]) {
             for (q, d) in q_b.iter_mut().zip(row) {
@@ -92,7 +93,8 @@ pub fn reactions(model: &Model, data: &Data, t: f64, out: &mut [f64]) {
         let (va, vb) = ([a.rd[0], a.rd[1], a.thetad], [b.rd[0], b.rd[1], b.thetad]);
         let mut power = 0.0;
         for i in 0..c.n_rows {
-            let rate: f64 = (0..3).map(|j| rows.jac_a[i][j] * va[j] + rows.jac_b[i][j] * vb[j]).sum();
+            let rate: f64 = (0..3).map(|j| rows.jac_a[i][j] * va[j] + rows.jac_b[i][j] * vb[j]).sum::<f64>()
+                + rows.jac_s[i] * extra.sd;
             power -= data.lambda[c.row0 + i] * rate;
         }
         out[REACTION_COLUMNS * k..REACTION_COLUMNS * (k + 1)]

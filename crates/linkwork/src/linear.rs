@@ -133,6 +133,9 @@ fn for_each_entry(constraints: &mut [ConstraintEntry], mut slot: impl FnMut(usiz
                     c.slots_b[i][j] = slot(c.row0 + i, 3 * b + j);
                 }
             }
+            if let Some(k) = c.extra {
+                c.slots_s[i] = slot(c.row0 + i, k);
+            }
         }
     }
 }

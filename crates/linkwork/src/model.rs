@@ -13,7 +13,8 @@ use crate::drivers::{
 };
 use crate::error::ModelError;
 use crate::joints::{
-    fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, RowKind, MAX_ROWS,
+    fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, Extra, Frame,
+    RowKind, MAX_ROWS,
 };
 use crate::linear::{LinearKind, SymbolicFactor};
 use crate::loads::{Inertia, Load, LoadEntry};
@@ -65,9 +66,26 @@ pub struct ConstraintEntry {
     pub n_rows: usize,
     /// scale of each row: 1/L for length rows, 1 for angle rows
     pub row_scale: [f64; MAX_ROWS],
-    /// where entry (i, j) of each side's Jacobian block goes in the value array
+    /// the column of the joint's extra coordinate, if it has one: its own (a curve
+    /// parameter) or borrowed (a gear pair's carrier angle)
+    pub extra: Option<usize>,
+    /// where entry (i, j) of each side's Jacobian block goes in the value array, and
+    /// entry i of the own coordinate's column
     pub(crate) slots_a: [[u32; 3]; MAX_ROWS],
     pub(crate) slots_b: [[u32; 3]; MAX_ROWS],
+    pub(crate) slots_s: [u32; MAX_ROWS],
+}
+
+impl ConstraintEntry {
+    /// The joint's extra coordinate and its rate read from q and qd (zeros without one;
+    /// qd may be empty for positions only).
+    #[inline(always)]
+    pub fn extra(&self, q: &[f64], qd: &[f64]) -> Extra {
+        match self.extra {
+            Some(k) => Extra { s: q[k], sd: qd.get(k).copied().unwrap_or(0.0) },
+            None => Extra::default(),
+        }
+    }
 }
 
 /// A named point fixed in a body.
@@ -86,7 +104,8 @@ pub struct Model {
     pub description: Description,
     /// n_bodies
     pub body_names: Vec<String>,
-    /// n_coords: "<body>.x", "<body>.y", "<body>.theta"
+    /// n_coords: "<body>.x", "<body>.y", "<body>.theta" for every body, then "<joint>.s"
+    /// for every joint with its own coordinate (a curve parameter)
     pub columns: Vec<String>,
     /// n_coords: the starting configuration as described
     pub q_start: Vec<f64>,
@@ -94,6 +113,7 @@ pub struct Model {
     pub constraints: Vec<ConstraintEntry>,
     pub points: Vec<NamedPoint>,
     pub n_bodies: usize,
+    /// 3 n_bodies + the joints' own coordinates
     pub n_coords: usize,
     pub n_rows: usize,
     /// L: the largest distance between the described points; lengths are measured in L
@@ -129,7 +149,15 @@ fn local(q0: Option<[f64; 3]>, p: [f64; 2]) -> [f64; 2] {
 }
 
 /// A constraint before its rows are laid out: name, role, kind, sides.
-type Entry = (String, &'static str, ConstraintKind, Option<usize>, Option<usize>);
+struct Entry {
+    name: String,
+    role: &'static str,
+    kind: ConstraintKind,
+    body_a: Option<usize>,
+    body_b: Option<usize>,
+    /// a coordinate of another body the rows involve (a gear pair's carrier angle)
+    borrowed: Option<usize>,
+}
 
 struct Bodies<'a> {
     index: HashMap<&'a str, usize>,
@@ -224,6 +252,8 @@ impl Model {
         for j in &desc.joints {
             let fail =
                 |problem: String| ModelError::Constraint { kind: "joint", name: j.name().into(), problem };
+            // set by a joint whose rows involve another body's coordinate
+            let borrowed: Option<usize> = None;
             let (kind, a, b) = match j {
                 JointDesc::Revolute { body_a, body_b, at, .. } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
@@ -262,7 +292,8 @@ impl Model {
                     (ConstraintKind::Fixed(joint), a, b)
                 }
             };
-            entries.push((j.name().to_string(), "joint", kind, a, b));
+            let name = j.name().to_string();
+            entries.push(Entry { name, role: "joint", kind, body_a: a, body_b: b, borrowed });
         }
         for d in &desc.drivers {
             let fail =
@@ -324,20 +355,22 @@ impl Model {
                     (ConstraintKind::TranslationDriver(drv), *a, *b)
                 }
             };
-            entries.push((d.name().to_string(), "driver", kind, a, b));
+            let name = d.name().to_string();
+            entries.push(Entry { name, role: "driver", kind, body_a: a, body_b: b, borrowed: None });
         }
 
-        // rows against coordinates
+        // rows against coordinates: 3 per body, then one per joint with its own coordinate
         let n_bodies = desc.bodies.len();
-        let n_coords = 3 * n_bodies;
-        let n_rows: usize = entries.iter().map(|e| e.2.n_rows()).sum();
+        let n_own: usize = entries.iter().map(|e| e.kind.n_own()).sum();
+        let n_coords = 3 * n_bodies + n_own;
+        let n_rows: usize = entries.iter().map(|e| e.kind.n_rows()).sum();
         if n_bodies == 0 {
             return Err(ModelError::Description("the model has no moving body".into()));
         }
         // a body that no row touches can never be solved for
         let mut touched = vec![false; n_bodies];
-        for (_, _, _, a, b) in &entries {
-            for i in [a, b].into_iter().flatten() {
+        for e in &entries {
+            for i in [e.body_a, e.body_b].iter().flatten() {
                 touched[*i] = true;
             }
         }
@@ -365,7 +398,17 @@ impl Model {
         // rows, scales and the pattern of Phi_q
         let mut constraints = Vec::with_capacity(entries.len());
         let mut row0 = 0;
-        for (name, role, kind, body_a, body_b) in entries {
+        let mut own_cols = Vec::new();
+        for Entry { name, role, kind, body_a, body_b, borrowed } in entries {
+            let extra = if kind.n_own() > 0 {
+                let pose =
+                    |b: Option<usize>| bodies.pose(b).map_or(Frame::GROUND, |p| Frame::new(p, [0.0; 3]));
+                own_cols.push((format!("{name}.s"), kind.own_start(&pose(body_a), &pose(body_b))));
+                Some(3 * n_bodies + own_cols.len() - 1)
+            } else {
+                borrowed
+            };
+            debug_assert_eq!(extra.is_some(), kind.has_extra(), "'{name}': extra coordinate");
             let n = kind.n_rows();
             let mut row_scale = [1.0; MAX_ROWS];
             for (k, rk) in kind.row_kinds().iter().enumerate() {
@@ -380,8 +423,10 @@ impl Model {
                 row0,
                 n_rows: n,
                 row_scale,
+                extra,
                 slots_a: [[u32::MAX; 3]; MAX_ROWS],
                 slots_b: [[u32::MAX; 3]; MAX_ROWS],
+                slots_s: [u32::MAX; MAX_ROWS],
             });
             row0 += n;
         }
@@ -394,6 +439,12 @@ impl Model {
                 q_start.push(pose[k]);
                 col_scale.push(if k < 2 { length_scale } else { 1.0 });
             }
+        }
+        // own coordinates are dimensionless (curve parameters)
+        for (column, start) in own_cols {
+            columns.push(column);
+            q_start.push(start);
+            col_scale.push(1.0);
         }
 
         if n_rows != n_coords {
@@ -414,7 +465,7 @@ impl Model {
             } else {
                 "remove drivers or redundant joints (kinematic analysis needs exactly as many rows as coordinates)"
             };
-            return Err(ModelError::RowCount { n_rows, n_coords, n_bodies, dof, advice });
+            return Err(ModelError::RowCount { n_rows, n_coords, n_bodies, n_own, dof, advice });
         }
         let linear = match options.linear {
             LinearKind::Auto if n_coords <= options.dense_max => LinearKind::Small,
@@ -479,13 +530,20 @@ impl Model {
         &self.constraints[k]
     }
 
-    /// "body.x" etc. for a coordinate, and the constraints touching its body.
+    /// "body.x" etc. for a coordinate, and the constraints touching its body (or owning it).
     pub(crate) fn describe_coordinate(&self, col: usize) -> (String, String) {
         let body = col / 3;
         let touching: Vec<&str> = self
             .constraints
             .iter()
-            .filter(|c| c.body_a == Some(body) || c.body_b == Some(body))
+            .filter(|c| {
+                // a joint's own coordinate: that joint
+                if col >= 3 * self.n_bodies {
+                    c.extra == Some(col)
+                } else {
+                    c.body_a == Some(body) || c.body_b == Some(body)
+                }
+            })
             .map(|c| c.name.as_str())
             .collect();
         (self.columns[col].clone(), touching.join(", "))

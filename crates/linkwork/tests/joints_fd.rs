@@ -1,9 +1,10 @@
 //! Every joint and driver against finite differences: the Jacobian blocks against
 //! central differences of phi, nu against -phi_t, and gamma against the second
-//! derivative of phi along a straight path q + s qd at time t + s (qdd = 0 there, so
-//! d2/ds2 phi = (phi_q qd)_q qd + 2 phi_qt qd + phi_tt = -gamma).
+//! derivative of phi along a straight path q + h qd at time t + h (qdd = 0 there, so
+//! d2/dh2 phi = (phi_q qd)_q qd + 2 phi_qt qd + phi_tt = -gamma). A joint's own
+//! coordinate (a curve parameter) is one more coordinate, perturbed the same way.
 
-use linkwork::joints::{samples, Constraint, ConstraintKind, Frame, Rows, MAX_ROWS};
+use linkwork::joints::{samples, Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 
 /// Deterministic pseudo-random numbers in [-1, 1) (xorshift), so failures reproduce.
 struct Rng(u64);
@@ -19,9 +20,9 @@ impl Rng {
     }
 }
 
-fn phi(c: &ConstraintKind, qa: [f64; 3], qb: [f64; 3], t: f64) -> [f64; MAX_ROWS] {
+fn phi(c: &ConstraintKind, qa: [f64; 3], qb: [f64; 3], s: f64, t: f64) -> [f64; MAX_ROWS] {
     let mut r = Rows::default();
-    c.position(&Frame::new(qa, [0.0; 3]), &Frame::new(qb, [0.0; 3]), t, &mut r);
+    c.position(&Frame::new(qa, [0.0; 3]), &Frame::new(qb, [0.0; 3]), &Extra { s, sd: 0.0 }, t, &mut r);
     r.phi
 }
 
@@ -37,17 +38,25 @@ fn jacobian_nu_and_gamma_match_finite_differences_for_every_constraint() {
             let (qa, qb) = (rng.vec3(0.5), rng.vec3(0.5));
             let (qda, qdb) = (rng.vec3(2.0), rng.vec3(2.0));
             let t = rng.next();
+            // the extra coordinate (if any) near the joint's own start (a curve parameter)
+            let (s, sd) = if c.has_extra() {
+                let start = c.own_start(&Frame::new(qa, [0.0; 3]), &Frame::new(qb, [0.0; 3]));
+                (start + 0.5 * rng.next(), 2.0 * rng.next())
+            } else {
+                (0.0, 0.0)
+            };
+            let extra = Extra { s, sd };
             let n = c.n_rows();
             let mut rows = Rows::default();
-            c.position(&Frame::new(qa, qda), &Frame::new(qb, qdb), t, &mut rows);
+            c.position(&Frame::new(qa, qda), &Frame::new(qb, qdb), &extra, t, &mut rows);
 
             // Jacobian: central differences, h = 1e-6 -> truncation ~1e-12, round-off ~1e-10
             let h = 1e-6;
             for j in 0..3 {
                 let mut e = [0.0; 3];
                 e[j] = h;
-                let (pa, ma) = (phi(&c, axpy(qa, 1.0, e), qb, t), phi(&c, axpy(qa, -1.0, e), qb, t));
-                let (pb, mb) = (phi(&c, qa, axpy(qb, 1.0, e), t), phi(&c, qa, axpy(qb, -1.0, e), t));
+                let (pa, ma) = (phi(&c, axpy(qa, 1.0, e), qb, s, t), phi(&c, axpy(qa, -1.0, e), qb, s, t));
+                let (pb, mb) = (phi(&c, qa, axpy(qb, 1.0, e), s, t), phi(&c, qa, axpy(qb, -1.0, e), s, t));
                 for i in 0..n {
                     let fd_a = (pa[i] - ma[i]) / (2.0 * h);
                     let fd_b = (pb[i] - mb[i]) / (2.0 * h);
@@ -66,10 +75,25 @@ fn jacobian_nu_and_gamma_match_finite_differences_for_every_constraint() {
                 }
             }
 
+            if c.has_extra() {
+                let (p, m) = (phi(&c, qa, qb, s + h, t), phi(&c, qa, qb, s - h, t));
+                for i in 0..n {
+                    let fd = (p[i] - m[i]) / (2.0 * h);
+                    assert!(
+                        (fd - rows.jac_s[i]).abs() < 1e-8,
+                        "{} d/ds row {i}: {fd} vs {}",
+                        c.label(),
+                        rows.jac_s[i]
+                    );
+                }
+            } else {
+                assert_eq!(rows.jac_s, [0.0; MAX_ROWS], "{} has no extra coordinate", c.label());
+            }
+
             // nu = -phi_t
             let mut nu = [0.0; MAX_ROWS];
             c.nu(t, &mut nu);
-            let (p, m) = (phi(&c, qa, qb, t + h), phi(&c, qa, qb, t - h));
+            let (p, m) = (phi(&c, qa, qb, s, t + h), phi(&c, qa, qb, s, t - h));
             for i in 0..n {
                 let fd = -(p[i] - m[i]) / (2.0 * h);
                 assert!((fd - nu[i]).abs() < 1e-8, "{} nu row {i}: {fd} vs {}", c.label(), nu[i]);
@@ -77,11 +101,11 @@ fn jacobian_nu_and_gamma_match_finite_differences_for_every_constraint() {
 
             // gamma: second difference along q + s qd, t + s; h = 1e-4 -> error ~1e-8
             let mut gamma = [0.0; MAX_ROWS];
-            c.gamma(&Frame::new(qa, qda), &Frame::new(qb, qdb), t, &mut gamma);
+            c.gamma(&Frame::new(qa, qda), &Frame::new(qb, qdb), &extra, t, &mut gamma);
             let h = 1e-4;
-            let p = phi(&c, axpy(qa, h, qda), axpy(qb, h, qdb), t + h);
-            let z = phi(&c, qa, qb, t);
-            let m = phi(&c, axpy(qa, -h, qda), axpy(qb, -h, qdb), t - h);
+            let p = phi(&c, axpy(qa, h, qda), axpy(qb, h, qdb), s + h * sd, t + h);
+            let z = phi(&c, qa, qb, s, t);
+            let m = phi(&c, axpy(qa, -h, qda), axpy(qb, -h, qdb), s - h * sd, t - h);
             for i in 0..n {
                 let fd = -(p[i] - 2.0 * z[i] + m[i]) / (h * h);
                 let scale = 1.0 + gamma[i].abs();

@@ -37,7 +37,7 @@ pub struct Mobility {
     pub n_coords: usize,
     pub joint_rows: usize,
     pub driver_rows: usize,
-    /// Gruebler: 3 n_bodies - joint rows (the mechanism's freedom), and minus the driver
+    /// Gruebler: 3 n_bodies (+ curve parameters) - joint rows (the mechanism's freedom), and minus the driver
     /// rows too (0 for a kinematically driven mechanism)
     pub gruebler_dof: i64,
     pub gruebler_dof_driven: i64,
@@ -81,7 +81,7 @@ fn dense_jacobian(constraints: &[&ConstraintEntry], n_coords: usize, l: f64, q: 
     let mut row = 0;
     for c in constraints {
         let mut rows = Rows::default();
-        c.kind.position(&frame(c.body_a), &frame(c.body_b), t, &mut rows);
+        c.kind.position(&frame(c.body_a), &frame(c.body_b), &c.extra(q, &[]), t, &mut rows);
         for i in 0..c.n_rows {
             for (j, cs) in col.iter().enumerate() {
                 if let Some(a) = c.body_a {
@@ -90,6 +90,9 @@ fn dense_jacobian(constraints: &[&ConstraintEntry], n_coords: usize, l: f64, q: 
                 if let Some(b) = c.body_b {
                     jac[(row + i, 3 * b + j)] += rows.jac_b[i][j] * c.row_scale[i] * cs;
                 }
+            }
+            if let Some(k) = c.extra {
+                jac[(row + i, k)] += rows.jac_s[i] * c.row_scale[i];
             }
         }
         row += c.n_rows;
@@ -180,8 +183,10 @@ pub(crate) fn analyse(
         (rank_joints == joint_rows.min(n_coords))
             .then(|| Dependency { sigma: j.s[k], constraints: shares(&joints, &j.u, k) })
     });
-    let n_bodies = n_coords / 3;
-    let gruebler_dof = 3 * n_bodies as i64 - joint_rows as i64;
+    let n_own: usize = constraints.iter().map(|c| c.kind.n_own()).sum();
+    let n_bodies = (n_coords - n_own) / 3;
+    // Gruebler counts coordinates, the joints' curve parameters included
+    let gruebler_dof = n_coords as i64 - joint_rows as i64;
     let gruebler_dof_driven = gruebler_dof - driver_rows as i64;
     let dof = n_coords - rank_joints;
     let dof_driven = n_coords - rank_all;

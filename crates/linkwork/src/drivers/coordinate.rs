@@ -1,6 +1,6 @@
 //! Coordinate driver: x (axis 0) or y (axis 1) of the point u of body b, minus f(t).
 
-use crate::joints::{Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::joints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::motion::MotionLaw;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -19,7 +19,7 @@ impl Constraint for CoordinateDriver {
         &[RowKind::Length]
     }
     #[inline]
-    fn position(&self, _a: &Frame, b: &Frame, t: f64, out: &mut Rows) {
+    fn position(&self, _a: &Frame, b: &Frame, _x: &Extra, t: f64, out: &mut Rows) {
         let k = self.axis;
         out.phi[0] = b.point(self.u)[k] - self.law.eval(t)[0];
         out.jac_a[0] = [0.0; 3];
@@ -31,7 +31,7 @@ impl Constraint for CoordinateDriver {
         nu[0] = self.law.eval(t)[1];
     }
     #[inline]
-    fn gamma(&self, _a: &Frame, b: &Frame, t: f64, g: &mut [f64; MAX_ROWS]) {
+    fn gamma(&self, _a: &Frame, b: &Frame, _x: &Extra, t: f64, g: &mut [f64; MAX_ROWS]) {
         g[0] = -b.point_centripetal(self.u)[self.axis] + self.law.eval(t)[2];
     }
     fn law(&self) -> Option<&MotionLaw> {

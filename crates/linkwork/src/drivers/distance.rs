@@ -1,7 +1,7 @@
 //! Distance driver (a linear actuator): |r_b(u_b) - r_a(u_a)| - f(t) = 0.
 //! The plain distance, not its square, so the row is a length like the joints' rows.
 
-use crate::joints::{dot, sub, Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::joints::{dot, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::motion::MotionLaw;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -19,7 +19,7 @@ impl Constraint for DistanceDriver {
         &[RowKind::Length]
     }
     #[inline]
-    fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows) {
+    fn position(&self, a: &Frame, b: &Frame, _x: &Extra, t: f64, out: &mut Rows) {
         let d = sub(b.point(self.u_b), a.point(self.u_a));
         let len = dot(d, d).sqrt();
         let e = [d[0] / len, d[1] / len];
@@ -32,7 +32,7 @@ impl Constraint for DistanceDriver {
         nu[0] = self.law.eval(t)[1];
     }
     #[inline]
-    fn gamma(&self, a: &Frame, b: &Frame, t: f64, g: &mut [f64; MAX_ROWS]) {
+    fn gamma(&self, a: &Frame, b: &Frame, _x: &Extra, t: f64, g: &mut [f64; MAX_ROWS]) {
         // L'' = (dd.dd + d.ddd)/L - (d.dd)^2/L^3; gamma keeps the part without qdd, negated
         let d = sub(b.point(self.u_b), a.point(self.u_a));
         let dd = sub(b.point_velocity(self.u_b), a.point_velocity(self.u_a));

@@ -1,6 +1,6 @@
 //! Relative angle driver: theta_b - theta_a - f(t) = 0.
 
-use crate::joints::{Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::joints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::motion::MotionLaw;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -16,7 +16,7 @@ impl Constraint for RelativeAngleDriver {
         &[RowKind::Angle]
     }
     #[inline]
-    fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows) {
+    fn position(&self, a: &Frame, b: &Frame, _x: &Extra, t: f64, out: &mut Rows) {
         out.phi[0] = b.theta - a.theta - self.law.eval(t)[0];
         out.jac_a[0] = [0.0, 0.0, -1.0];
         out.jac_b[0] = [0.0, 0.0, 1.0];
@@ -26,7 +26,7 @@ impl Constraint for RelativeAngleDriver {
         nu[0] = self.law.eval(t)[1];
     }
     #[inline]
-    fn gamma(&self, _a: &Frame, _b: &Frame, t: f64, g: &mut [f64; MAX_ROWS]) {
+    fn gamma(&self, _a: &Frame, _b: &Frame, _x: &Extra, t: f64, g: &mut [f64; MAX_ROWS]) {
         g[0] = self.law.eval(t)[2];
     }
     fn law(&self) -> Option<&MotionLaw> {

@@ -2,7 +2,7 @@
 //! joint's axis (fixed in a) and d = r_b(u_b) - r_a(u_a); the slide is 0 at the start.
 
 use crate::joints::prismatic::{line_gamma, line_row};
-use crate::joints::{Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::joints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::motion::MotionLaw;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -22,7 +22,7 @@ impl Constraint for TranslationDriver {
         &[RowKind::Length]
     }
     #[inline]
-    fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows) {
+    fn position(&self, a: &Frame, b: &Frame, _x: &Extra, t: f64, out: &mut Rows) {
         line_row(self.e_a, self.u_a, self.u_b, a, b, 0, out);
         out.phi[0] -= self.law.eval(t)[0];
     }
@@ -31,7 +31,7 @@ impl Constraint for TranslationDriver {
         nu[0] = self.law.eval(t)[1];
     }
     #[inline]
-    fn gamma(&self, a: &Frame, b: &Frame, t: f64, g: &mut [f64; MAX_ROWS]) {
+    fn gamma(&self, a: &Frame, b: &Frame, _x: &Extra, t: f64, g: &mut [f64; MAX_ROWS]) {
         g[0] = line_gamma(self.e_a, self.u_a, self.u_b, a, b) + self.law.eval(t)[2];
     }
     fn law(&self) -> Option<&MotionLaw> {

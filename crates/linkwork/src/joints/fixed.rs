@@ -2,7 +2,7 @@
 //! stays at the point u_a of a, and the relative angle stays theta0.
 
 use super::revolute::{coincidence, coincidence_gamma};
-use super::{Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fixed {
@@ -20,14 +20,14 @@ impl Constraint for Fixed {
         &[RowKind::Length, RowKind::Length, RowKind::Angle]
     }
     #[inline]
-    fn position(&self, a: &Frame, b: &Frame, _t: f64, out: &mut Rows) {
+    fn position(&self, a: &Frame, b: &Frame, _x: &Extra, _t: f64, out: &mut Rows) {
         coincidence(self.u_a, [0.0, 0.0], a, b, 0, out);
         out.phi[2] = b.theta - a.theta - self.theta0;
         out.jac_a[2] = [0.0, 0.0, -1.0];
         out.jac_b[2] = [0.0, 0.0, 1.0];
     }
     #[inline]
-    fn gamma(&self, a: &Frame, b: &Frame, _t: f64, g: &mut [f64; MAX_ROWS]) {
+    fn gamma(&self, a: &Frame, b: &Frame, _x: &Extra, _t: f64, g: &mut [f64; MAX_ROWS]) {
         coincidence_gamma(self.u_a, [0.0, 0.0], a, b, 0, g);
         g[2] = 0.0;
     }

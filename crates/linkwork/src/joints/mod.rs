@@ -82,13 +82,24 @@ impl Frame {
     }
 }
 
+/// The value s and rate sd of a joint's extra coordinate: its own (a curve parameter:
+/// where on its curve a follower is) or one it borrows (the angle of a gear pair's
+/// carrier). Joints without one (`has_extra() == false`) get zeros and ignore it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Extra {
+    pub s: f64,
+    pub sd: f64,
+}
+
 /// The rows one joint writes at a configuration: phi (n_rows) and the Jacobian blocks
-/// d phi / d q_a and d phi / d q_b (n_rows x 3 each; ignored for a ground side).
+/// d phi / d q_a and d phi / d q_b (n_rows x 3 each; ignored for a ground side), and
+/// d phi / d s for a joint with an extra coordinate.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Rows {
     pub phi: [f64; MAX_ROWS],
     pub jac_a: [[f64; 3]; MAX_ROWS],
     pub jac_b: [[f64; 3]; MAX_ROWS],
+    pub jac_s: [f64; MAX_ROWS],
 }
 
 /// What every joint and driver provides.
@@ -97,12 +108,27 @@ pub trait Constraint {
     fn n_rows(&self) -> usize;
     /// The unit of each row.
     fn row_kinds(&self) -> &'static [RowKind];
-    /// phi and its Jacobian blocks at the frames' poses, time t.
-    fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows);
+    /// Coordinates the joint adds to q (0 or 1): a parameter along a curve, which the
+    /// joint's rows tie to the bodies. They are dimensionless (angle-like).
+    fn n_own(&self) -> usize {
+        0
+    }
+    /// Whether the rows involve an extra coordinate: the joint's own, or one borrowed from
+    /// another body (a carrier's angle), whose column the model gives it.
+    fn has_extra(&self) -> bool {
+        self.n_own() > 0
+    }
+    /// The own coordinate that fits the bodies' poses best (its starting value: e.g. the
+    /// curve parameter nearest the follower in the described configuration).
+    fn own_start(&self, _a: &Frame, _b: &Frame) -> f64 {
+        0.0
+    }
+    /// phi and its Jacobian blocks at the frames' poses (and extra coordinate), time t.
+    fn position(&self, a: &Frame, b: &Frame, x: &Extra, t: f64, out: &mut Rows);
     /// nu = -phi_t (zero for time-independent joints).
     fn nu(&self, _t: f64, _nu: &mut [f64; MAX_ROWS]) {}
     /// gamma = -(phi_q qd)_q qd - 2 phi_qt qd - phi_tt at the frames' poses and velocities.
-    fn gamma(&self, a: &Frame, b: &Frame, t: f64, gamma: &mut [f64; MAX_ROWS]);
+    fn gamma(&self, a: &Frame, b: &Frame, x: &Extra, t: f64, gamma: &mut [f64; MAX_ROWS]);
     /// The motion law of a driver.
     fn law(&self) -> Option<&MotionLaw> {
         None
@@ -143,16 +169,27 @@ macro_rules! constraint_list {
                 match self { $(ConstraintKind::$variant(j) => j.row_kinds()),* }
             }
             #[inline]
-            fn position(&self, a: &Frame, b: &Frame, t: f64, out: &mut Rows) {
-                match self { $(ConstraintKind::$variant(j) => j.position(a, b, t, out)),* }
+            fn n_own(&self) -> usize {
+                match self { $(ConstraintKind::$variant(j) => j.n_own()),* }
+            }
+            #[inline]
+            fn has_extra(&self) -> bool {
+                match self { $(ConstraintKind::$variant(j) => j.has_extra()),* }
+            }
+            fn own_start(&self, a: &Frame, b: &Frame) -> f64 {
+                match self { $(ConstraintKind::$variant(j) => j.own_start(a, b)),* }
+            }
+            #[inline]
+            fn position(&self, a: &Frame, b: &Frame, x: &Extra, t: f64, out: &mut Rows) {
+                match self { $(ConstraintKind::$variant(j) => j.position(a, b, x, t, out)),* }
             }
             #[inline]
             fn nu(&self, t: f64, nu: &mut [f64; MAX_ROWS]) {
                 match self { $(ConstraintKind::$variant(j) => j.nu(t, nu)),* }
             }
             #[inline]
-            fn gamma(&self, a: &Frame, b: &Frame, t: f64, gamma: &mut [f64; MAX_ROWS]) {
-                match self { $(ConstraintKind::$variant(j) => j.gamma(a, b, t, gamma)),* }
+            fn gamma(&self, a: &Frame, b: &Frame, x: &Extra, t: f64, gamma: &mut [f64; MAX_ROWS]) {
+                match self { $(ConstraintKind::$variant(j) => j.gamma(a, b, x, t, gamma)),* }
             }
             fn law(&self) -> Option<&MotionLaw> {
                 match self { $(ConstraintKind::$variant(j) => j.law()),* }

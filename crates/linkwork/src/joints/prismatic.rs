@@ -2,7 +2,7 @@
 //! 2 rows: no relative rotation; the point u_b of b stays on the line through u_a of a
 //! along the axis e_a (n . d = 0, n the axis normal, d = r_b(u_b) - r_a(u_a)).
 
-use super::{dot, perp, sub, Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use super::{dot, perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Prismatic {
@@ -54,14 +54,14 @@ impl Constraint for Prismatic {
         &[RowKind::Angle, RowKind::Length]
     }
     #[inline]
-    fn position(&self, a: &Frame, b: &Frame, _t: f64, out: &mut Rows) {
+    fn position(&self, a: &Frame, b: &Frame, _x: &Extra, _t: f64, out: &mut Rows) {
         out.phi[0] = b.theta - a.theta - self.theta0;
         out.jac_a[0] = [0.0, 0.0, -1.0];
         out.jac_b[0] = [0.0, 0.0, 1.0];
         line_row(perp(self.e_a), self.u_a, self.u_b, a, b, 1, out);
     }
     #[inline]
-    fn gamma(&self, a: &Frame, b: &Frame, _t: f64, g: &mut [f64; MAX_ROWS]) {
+    fn gamma(&self, a: &Frame, b: &Frame, _x: &Extra, _t: f64, g: &mut [f64; MAX_ROWS]) {
         g[0] = 0.0;
         g[1] = line_gamma(perp(self.e_a), self.u_a, self.u_b, a, b);
     }

@@ -1,6 +1,6 @@
 //! Revolute (pin) joint: the point u_a of body a and u_b of body b coincide. 2 rows.
 
-use super::{Constraint, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Revolute {
@@ -50,11 +50,11 @@ impl Constraint for Revolute {
         &[RowKind::Length, RowKind::Length]
     }
     #[inline]
-    fn position(&self, a: &Frame, b: &Frame, _t: f64, out: &mut Rows) {
+    fn position(&self, a: &Frame, b: &Frame, _x: &Extra, _t: f64, out: &mut Rows) {
         coincidence(self.u_a, self.u_b, a, b, 0, out);
     }
     #[inline]
-    fn gamma(&self, a: &Frame, b: &Frame, _t: f64, g: &mut [f64; MAX_ROWS]) {
+    fn gamma(&self, a: &Frame, b: &Frame, _x: &Extra, _t: f64, g: &mut [f64; MAX_ROWS]) {
         coincidence_gamma(self.u_a, self.u_b, a, b, 0, g);
     }
     fn anchor_b(&self) -> [f64; 2] {
