@@ -85,3 +85,72 @@ def test_mobility_does_not_depend_on_units():
     assert (a.rank, a.dof) == (b.rank, b.dof)
     top = a.singular_values[0]
     assert np.allclose(a.singular_values[:-1], b.singular_values[:-1], rtol=1e-10, atol=1e-12 * top)
+
+
+def parallelogram(with_middle: bool, masses: bool = False) -> lw.Mechanism:
+    """The triple crank with or without its middle crank, for comparisons."""
+    m = triple_crank()
+    if not with_middle:
+        m.remove("O_middle")
+        m.remove("T_middle")
+        m._bodies = [b for b in m._bodies if b["name"] != "middle"]
+    if masses:
+        m.set_mass("crank", 0.5, inertia=0.002)
+        m.set_mass("coupler", 1.2, inertia=0.01)
+        m.set_mass("rocker", 0.5, inertia=0.002)
+        m.set_gravity((0.0, -9.81))
+    return m
+
+
+def test_redundant_model_solved_anyway_moves_like_the_parallelogram():
+    model = triple_crank().compile(redundant="solve")
+    assert model.linear == "least_squares" and model.n_rows == model.n_coords + 1
+    # the joints in the dependency are named: their reactions are not unique
+    assert {"O_middle", "T_middle"} <= set(model.indeterminate)
+    times = np.linspace(0.0, 2 * np.pi, 721)
+    res = model.sweep(times)
+    # a parallelogram: every crank turns with the driver, the coupler translates. It
+    # passes its change points (cranks along the ground line) at theta = 0 and pi, where
+    # the rates lose digits as 1 / pivot ratio (velocity) and its square (acceleration), as
+    # they do for the plain two-crank parallelogram (measured: error x ratio ~ 7e-14)
+    ratio = res.pivot_ratio
+    for crank in ("crank", "middle", "rocker"):
+        b = res.body(crank)
+        assert np.allclose(b.theta, 0.6 + times, rtol=0, atol=1e-12)
+        assert np.all(np.abs(b.thetad - 1.0) <= 2e-13 / ratio)
+        assert np.all(np.abs(b.thetadd) <= 2e-13 / ratio**2)
+    c = res.body("coupler")
+    assert np.abs(c.theta).max() < 1e-12 and np.all(np.abs(c.thetad) <= 2e-13 / ratio)
+    assert np.allclose(c.x, 0.1 * np.cos(0.6 + times), rtol=0, atol=1e-13)
+    assert res.residual.max() <= 1e-12
+
+
+def test_redundant_driver_effort_is_unique_and_reactions_are_flagged():
+    # a massless middle crank adds no load: the crank torque is the parallelogram's
+    times = np.linspace(0.0, 2 * np.pi, 181)
+    three = parallelogram(True, masses=True).compile(redundant="solve").sweep(times, forces=True)
+    two = parallelogram(False, masses=True).compile().sweep(times, forces=True)
+    top = np.abs(two.effort("crank_angle")).max()
+    assert np.allclose(three.effort("crank_angle"), two.effort("crank_angle"), rtol=0, atol=1e-10 * top)
+    # the net force of the three ground pins on the cranks is unique too
+    net3 = sum(three.reaction(n).force for n in ("O_crank", "O_middle", "O_rocker"))
+    net2 = sum(two.reaction(n).force for n in ("O_crank", "O_rocker"))
+    assert np.allclose(net3, net2, rtol=0, atol=1e-10 * np.abs(net2).max())
+    assert "not unique" in three.forces_summary()
+
+
+def test_near_redundant_geometry_is_still_refused_with_solve():
+    with pytest.raises(lw.ModelError, match="locked"):
+        triple_crank(out_of_parallel=1e-3).compile(redundant="solve")
+
+
+def test_a_redundant_driver_is_refused_even_with_solve():
+    m = examples.four_bar()
+    m.drive_angle("rocker", lw.Constant(1.0), name="second")
+    with pytest.raises(lw.ModelError):
+        m.compile(redundant="solve")
+
+
+def test_redundant_error_mentions_the_drop_option():
+    with pytest.raises(lw.ModelError, match='redundant="solve"'):
+        triple_crank().compile()

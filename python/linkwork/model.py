@@ -24,8 +24,14 @@ class Model:
     Options: ``tol_residual`` and ``tol_step`` (Newton tolerances on the scaled residual
     and step, default 1e-12), ``max_iter`` (25 per step), ``max_iter_assembly`` (100),
     ``singular_tol`` (pivot ratio under which Phi_q counts as singular, 1e-12),
-    ``linear`` ("auto", "dense" or "sparse" LU) and ``dense_max`` (largest model solved
-    densely by "auto", in coordinates).
+    ``linear`` ("auto", "dense" or "sparse" LU), ``dense_max`` (largest model solved
+    densely by "auto", in coordinates) and ``redundant``: "error" (default) refuses a
+    model whose joint rows are dependent (a third parallel crank, a doubled pin), naming
+    them; "solve" solves it anyway, all rows in the least-squares sense (dense QR; exact
+    while the rows stay consistent, and which rows are independent may change along the
+    motion). Positions, velocities and accelerations are then still unique; the
+    reactions of the joints in ``indeterminate`` are not (the minimum-norm set is given),
+    and ``det_sign`` is not defined (reported as +1).
     """
 
     def __init__(self, mechanism: Any, **options: Any) -> None:
@@ -36,13 +42,20 @@ class Model:
 
     name = property(lambda self: self._core.name, doc="The mechanism's name.")
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
-    n_coords = property(lambda self: self._core.n_coords, doc="Coordinates: 3 per moving body.")
+    n_coords = property(
+        lambda self: self._core.n_coords,
+        doc="Coordinates: 3 per moving body, then one per curve parameter of a joint.",
+    )
     n_rows = property(lambda self: self._core.n_rows, doc="Constraint rows (joints and drivers).")
     columns = property(lambda self: self._core.columns, doc="Names of the coordinates.")
     body_names = property(lambda self: self._core.body_names, doc="Names of the moving bodies.")
     linear = property(lambda self: self._core.linear, doc="'dense' or 'sparse' LU.")
     length_scale = property(lambda self: self._core.length_scale, doc="L: lengths are measured in L.")
     q_start = property(lambda self: self._core.q_start, doc="The starting configuration as described.")
+    indeterminate = property(
+        lambda self: self._core.indeterminate,
+        doc="Joints whose reactions kinematics does not determine (their rows are dependent).",
+    )
 
     @property
     def constraints(self) -> list[tuple[str, str, str, int, int]]:

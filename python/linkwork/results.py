@@ -275,7 +275,10 @@ class Results(_Kinematics):
         return self.reaction(driver).power
 
     def reaction(self, name: str) -> Reaction:
-        """What joint (or driver) ``name`` transmits to its side b, over the sweep."""
+        """What joint (or driver) ``name`` transmits to its side b, over the sweep.
+
+        For a joint in ``model.indeterminate`` (a model compiled with redundant rows set
+        aside) this is one of infinitely many distributions of the load."""
         return self._reaction(name, self._forces())
 
     def energy(self) -> Energy:
@@ -344,7 +347,9 @@ class Results(_Kinematics):
                 lines.append(f"  {name:<22}{e[i]:>13.6g}  {unit:<5}  ({parts}) at t = {self.times[i]:g}")
             else:
                 f = np.hypot(table[:, k, 0], table[:, k, 1])
-                lines.append(f"  {name:<22}{f.max():>13.6g}  N      (largest force magnitude)")
+                unique = name not in self.model.indeterminate
+                note = "largest force magnitude" if unique else "not unique: redundant rows"
+                lines.append(f"  {name:<22}{f.max():>13.6g}  N      ({note})")
         e = self.energy()
         scale = max(float(np.abs(e.driver_power).max()), float(np.abs(e.kinetic_rate).max()), 1e-300)
         lines.append(f"  energy balance          {np.abs(e.balance).max() / scale:.1e} of the largest power")

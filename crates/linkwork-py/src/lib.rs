@@ -3,6 +3,7 @@
 
 use std::sync::Arc;
 
+use linkwork::model::OnRedundant;
 use linkwork::{Data, LinearKind, Model, ModelError, Options, SolveError, SweepOutput};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
@@ -68,6 +69,7 @@ fn linear_name(k: LinearKind) -> &'static str {
         LinearKind::Small => "small",
         LinearKind::Dense => "dense",
         LinearKind::Sparse => "sparse",
+        LinearKind::LeastSquares => "least_squares",
     }
 }
 
@@ -208,7 +210,8 @@ fn sweep_batch<'py>(
 impl PyModel {
     #[new]
     #[pyo3(signature = (description_json, *, tol_residual=None, tol_step=None, max_iter=None,
-                        max_iter_assembly=None, singular_tol=None, linear="auto", dense_max=None))]
+                        max_iter_assembly=None, singular_tol=None, linear="auto", dense_max=None,
+                        redundant="error"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         description_json: &str,
@@ -219,7 +222,17 @@ impl PyModel {
         singular_tol: Option<f64>,
         linear: &str,
         dense_max: Option<usize>,
+        redundant: &str,
     ) -> PyResult<Self> {
+        let redundant = match redundant {
+            "error" => OnRedundant::Error,
+            "solve" => OnRedundant::Solve,
+            other => {
+                return Err(InputError::new_err(format!(
+                    "redundant must be \"error\" or \"solve\", not {other:?}"
+                )))
+            }
+        };
         let d = Options::default();
         let options = Options {
             tol_residual: tol_residual.unwrap_or(d.tol_residual),
@@ -229,6 +242,7 @@ impl PyModel {
             singular_tol: singular_tol.unwrap_or(d.singular_tol),
             linear: parse_linear(linear)?,
             dense_max: dense_max.unwrap_or(d.dense_max),
+            redundant,
         };
         let model = Model::from_json(description_json, options).map_err(model_err)?;
         Ok(PyModel { model: Arc::new(model) })
@@ -282,6 +296,11 @@ impl PyModel {
             .iter()
             .map(|c| (c.name.clone(), c.role, c.kind.label(), c.n_rows, c.row0))
             .collect()
+    }
+    /// Joints whose reactions kinematics does not determine (redundant rows).
+    #[getter]
+    fn indeterminate(&self) -> Vec<String> {
+        self.model.indeterminate.clone()
     }
     /// (name, body index or -1 for the ground, local x, local y) of every named point.
     #[getter]

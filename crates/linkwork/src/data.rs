@@ -14,7 +14,8 @@ pub struct Data {
     pub qdd: Vec<f64>,
     /// n_rows: the scaled residual (length rows / L) at the last Newton evaluation
     pub phi: Vec<f64>,
-    /// n_coords: right-hand side and solution of the linear solves (scaled)
+    /// n_rows (= n_coords unless a redundant model is solved anyway): right-hand side and
+    /// solution of the linear solves (scaled)
     pub(crate) rhs: Vec<f64>,
     /// values of the scaled Phi_q, laid out by the model's symbolic factor
     pub(crate) jac: Vec<f64>,
@@ -47,7 +48,7 @@ impl Data {
             qd: vec![0.0; model.n_coords],
             qdd: vec![0.0; model.n_coords],
             phi: vec![0.0; model.n_rows],
-            rhs: vec![0.0; model.n_coords],
+            rhs: vec![0.0; model.n_rows],
             jac: vec![0.0; model.symbolic.n_values()],
             frames: vec![Frame::GROUND; model.n_bodies],
             factor: Factor::new(&model.symbolic),

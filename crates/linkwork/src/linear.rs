@@ -3,9 +3,19 @@
 //! The symbolic part lives in the `Model`, the numeric factors and scratch in `Data`;
 //! nothing is allocated per step once the first factorization has sized faer's buffers.
 //! faer does not report a numerically zero pivot, so the pivots are checked here.
+//! A redundant model solved anyway (more rows m than coordinates n) uses a dense QR
+//! (faer) and least squares: `solve` takes an m-vector and leaves x in its first n
+//! entries; `solve_transpose` takes b in the first n entries and leaves the
+//! minimum-norm m-vector.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::householder::{
+    apply_block_householder_sequence_on_the_left_in_place_scratch as apply_q_scratch,
+    apply_block_householder_sequence_on_the_left_in_place_with_conj as apply_q,
+};
 use faer::linalg::lu::partial_pivoting::{factor as dense_factor, solve as dense_solve};
+use faer::linalg::qr::no_pivoting::{factor as qr_factor, solve as qr_solve};
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::perm::PermRef;
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, simplicial, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -26,6 +36,8 @@ pub enum LinearKind {
     Dense,
     /// faer's sparse LU
     Sparse,
+    /// faer's dense QR, least squares: chosen for a redundant model solved anyway
+    LeastSquares,
 }
 
 /// The pivots of a factorization: their spread says how close Phi_q is to singular.
@@ -51,13 +63,24 @@ pub(crate) enum SymbolicFactor {
     Small { n: usize },
     Dense { n: usize },
     Sparse { n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>, lu: SymbolicLu<usize> },
+    LeastSquares { m: usize, n: usize },
 }
 
 impl SymbolicFactor {
     /// Lays out the value array for every constraint block (filling the slots) and,
     /// for the sparse path, computes the column ordering once.
-    pub(crate) fn new(kind: LinearKind, n: usize, constraints: &mut [ConstraintEntry]) -> SymbolicFactor {
+    pub(crate) fn new(
+        kind: LinearKind,
+        m: usize,
+        n: usize,
+        constraints: &mut [ConstraintEntry],
+    ) -> SymbolicFactor {
         match kind {
+            LinearKind::LeastSquares => {
+                // column-major m x n
+                for_each_entry(constraints, |row, col| (col * m + row) as u32);
+                SymbolicFactor::LeastSquares { m, n }
+            }
             LinearKind::Small | LinearKind::Dense | LinearKind::Auto => {
                 // column-major n x n
                 for_each_entry(constraints, |row, col| (col * n + row) as u32);
@@ -100,6 +123,7 @@ impl SymbolicFactor {
             SymbolicFactor::Small { .. } => LinearKind::Small,
             SymbolicFactor::Dense { .. } => LinearKind::Dense,
             SymbolicFactor::Sparse { .. } => LinearKind::Sparse,
+            SymbolicFactor::LeastSquares { .. } => LinearKind::LeastSquares,
         }
     }
 
@@ -108,6 +132,7 @@ impl SymbolicFactor {
         match self {
             SymbolicFactor::Small { n } | SymbolicFactor::Dense { n } => n * n,
             SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
+            SymbolicFactor::LeastSquares { m, n } => m * n,
         }
     }
 
@@ -116,6 +141,7 @@ impl SymbolicFactor {
         match self {
             SymbolicFactor::Small { n } | SymbolicFactor::Dense { n } => n * n,
             SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
+            SymbolicFactor::LeastSquares { m, n } => m * n,
         }
     }
 }
@@ -162,6 +188,14 @@ pub(crate) enum Factor {
         row_perm_inv: Vec<usize>,
         stack: MemBuffer,
     },
+    LeastSquares {
+        /// m x n column-major: R above the diagonal, the Householder vectors below
+        qr: Vec<f64>,
+        /// block x n: the Householder factors
+        q_coeff: Vec<f64>,
+        block: usize,
+        stack: MemBuffer,
+    },
 }
 
 impl Factor {
@@ -181,6 +215,21 @@ impl Factor {
                     lu: vec![0.0; n * n],
                     perm: vec![0; n],
                     perm_inv: vec![0; n],
+                    stack: MemBuffer::new(req),
+                }
+            }
+            SymbolicFactor::LeastSquares { m, n } => {
+                let (m, n) = (*m, *n);
+                let block = qr_factor::recommended_block_size::<f64>(m, n);
+                let req = StackReq::any_of(&[
+                    qr_factor::qr_in_place_scratch::<f64>(m, n, block, Par::Seq, Default::default()),
+                    qr_solve::solve_lstsq_in_place_scratch::<f64>(m, n, block, 1, Par::Seq),
+                    apply_q_scratch::<f64>(m, block, 1),
+                ]);
+                Factor::LeastSquares {
+                    qr: vec![0.0; m * n],
+                    q_coeff: vec![0.0; block * n],
+                    block,
                     stack: MemBuffer::new(req),
                 }
             }
@@ -271,6 +320,20 @@ impl Factor {
                     sign,
                 )
             }
+            (Factor::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) => {
+                let (m, n) = (*m, *n);
+                qr.copy_from_slice(values);
+                qr_factor::qr_in_place(
+                    MatMut::from_column_major_slice_mut(qr, m, n),
+                    MatMut::from_column_major_slice_mut(q_coeff, *block, n),
+                    Par::Seq,
+                    MemStack::new(stack),
+                    Default::default(),
+                );
+                // R's diagonal: how close the columns are to dependent. det Phi_q is not
+                // defined for a non-square Phi_q: the sign is reported as +1
+                pivots((0..n).map(|k| (k, qr[k * m + k].abs())), 1.0)
+            }
             _ => unreachable!("factor and symbolic factor of different kinds"),
         }
     }
@@ -280,6 +343,16 @@ impl Factor {
         let n = rhs.len();
         if let Factor::Small { lu, pivots, inv_diag } = self {
             return small_lu::solve(lu, n, pivots, inv_diag, rhs);
+        }
+        if let (Factor::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) =
+            (&mut *self, sym)
+        {
+            // x = R^-1 (Q^T rhs)[..n]: the least-squares solution, exact for consistent rows
+            let (m, n) = (*m, *n);
+            let a = MatRef::from_column_major_slice(qr, m, n);
+            let coeff = MatRef::from_column_major_slice(q_coeff, *block, n);
+            let x = MatMut::from_column_major_slice_mut(&mut rhs[..m], m, 1);
+            return qr_solve::solve_lstsq_in_place(a, coeff, a, x, Par::Seq, MemStack::new(stack));
         }
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match (self, sym) {
@@ -313,6 +386,22 @@ impl Factor {
         let n = rhs.len();
         if let Factor::Small { lu, pivots, inv_diag } = self {
             return small_lu::solve_transpose(lu, n, pivots, inv_diag, rhs);
+        }
+        if let (Factor::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) =
+            (&mut *self, sym)
+        {
+            // Phi_q^T x = b has many solutions; the minimum-norm one is Q (R^-T b; 0)
+            let (m, n) = (*m, *n);
+            let a = MatRef::from_column_major_slice(qr, m, n);
+            let r_t = a.get(..n, ..).transpose();
+            let (head, tail) = rhs[..m].split_at_mut(n);
+            let y = MatMut::from_column_major_slice_mut(head, n, 1);
+            // R^T is lower triangular; only R's upper triangle is read through it
+            solve_lower_triangular_in_place(r_t, y, Par::Seq);
+            tail.fill(0.0);
+            let coeff = MatRef::from_column_major_slice(q_coeff, *block, n);
+            let x = MatMut::from_column_major_slice_mut(&mut rhs[..m], m, 1);
+            return apply_q(a, coeff, Conj::No, x, Par::Seq, MemStack::new(stack));
         }
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match (self, sym) {

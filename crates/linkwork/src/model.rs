@@ -35,6 +35,24 @@ pub struct Options {
     /// Which LU; `Auto` picks the small dense LU up to `dense_max` coordinates, sparse above.
     pub linear: LinearKind,
     pub dense_max: usize,
+    /// Redundant joint rows (dependent at the described configuration): refuse the model,
+    /// or solve with all rows in the least-squares sense.
+    pub redundant: OnRedundant,
+}
+
+/// What compiling does with redundant joint rows (a third parallel crank, a doubled pin).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum OnRedundant {
+    /// Refuse the model, naming the dependent joints.
+    #[default]
+    Error,
+    /// Solve anyway: Phi_q (more rows than coordinates, full column rank) is factored by
+    /// QR and every solve is a least-squares one, exact while the rows stay consistent.
+    /// Which rows are independent changes along the motion, so none is singled out.
+    /// Positions, velocities and accelerations are still unique; the reactions of the
+    /// joints in the dependency are not (the minimum-norm set is reported). If the
+    /// geometry stops being redundant, Newton stops converging and says which joint.
+    Solve,
 }
 
 impl Default for Options {
@@ -47,6 +65,7 @@ impl Default for Options {
             singular_tol: 1e-12,
             linear: LinearKind::Auto,
             dense_max: 48,
+            redundant: OnRedundant::Error,
         }
     }
 }
@@ -115,7 +134,10 @@ pub struct Model {
     pub n_bodies: usize,
     /// 3 n_bodies + the joints' own coordinates
     pub n_coords: usize,
+    /// rows of Phi: n_coords, or more for a redundant model solved anyway
     pub n_rows: usize,
+    /// joints whose reactions kinematics does not determine (their rows are dependent)
+    pub indeterminate: Vec<String>,
     /// L: the largest distance between the described points; lengths are measured in L
     pub length_scale: f64,
     /// n_coords: L for x and y, 1 for theta (the solver works on q / col_scale)
@@ -447,19 +469,37 @@ impl Model {
             col_scale.push(1.0);
         }
 
+        let mut indeterminate = Vec::new();
         if n_rows != n_coords {
-            let dof = n_coords as i64 - n_rows as i64;
             // with rows to spare, say which are dependent (or that none is: a structure);
             // the dense SVD is cheap at these sizes
             if n_rows > n_coords && n_coords <= 600 {
                 if let Ok(m) = analyse(&constraints, &columns, length_scale, &q_start, 0.0) {
-                    return Err(ModelError::Redundant {
-                        n_rows,
-                        n_coords,
-                        explanation: m.explanation.join("; "),
-                    });
+                    let only_redundant = m.rank == n_coords && m.redundancies.len() == n_rows - n_coords;
+                    if options.redundant == OnRedundant::Solve && only_redundant {
+                        for d in &m.redundancies {
+                            indeterminate.extend(d.constraints.iter().map(|(n, _)| n.clone()));
+                        }
+                        indeterminate.sort();
+                        indeterminate.dedup();
+                    } else {
+                        let hint = if only_redundant {
+                            "; or solve anyway in the least-squares sense (Options::redundant = Solve, \
+                             Python: compile(redundant=\"solve\"))"
+                        } else {
+                            ""
+                        };
+                        return Err(ModelError::Redundant {
+                            n_rows,
+                            n_coords,
+                            explanation: m.explanation.join("; ") + hint,
+                        });
+                    }
                 }
             }
+        }
+        if n_rows != n_coords && indeterminate.is_empty() {
+            let dof = n_coords as i64 - n_rows as i64;
             let advice = if dof > 0 {
                 "add drivers (or joints) until none is left"
             } else {
@@ -468,11 +508,13 @@ impl Model {
             return Err(ModelError::RowCount { n_rows, n_coords, n_bodies, n_own, dof, advice });
         }
         let linear = match options.linear {
+            // a redundant model solved anyway: dense QR, least squares (small by nature)
+            _ if n_rows > n_coords => LinearKind::LeastSquares,
             LinearKind::Auto if n_coords <= options.dense_max => LinearKind::Small,
             LinearKind::Auto => LinearKind::Sparse,
             k => k,
         };
-        let symbolic = SymbolicFactor::new(linear, n_coords, &mut constraints);
+        let symbolic = SymbolicFactor::new(linear, n_rows, n_coords, &mut constraints);
 
         let inertias = compile_inertias(desc, &bodies)?;
         if !finite2(desc.gravity) {
@@ -497,6 +539,7 @@ impl Model {
             n_bodies,
             n_coords,
             n_rows,
+            indeterminate,
             length_scale,
             col_scale,
             options,

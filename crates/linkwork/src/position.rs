@@ -73,7 +73,7 @@ pub fn solve_position(
             *r = -p;
         }
         data.factor.solve(&model.symbolic, &mut data.rhs);
-        let step_norm = data.rhs.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+        let step_norm = data.rhs[..model.n_coords].iter().fold(0.0f64, |m, d| m.max(d.abs()));
         if !step_norm.is_finite() {
             return Err(SolveError::NonFinite { step, time: t, what: "the Newton step".into() });
         }

@@ -95,23 +95,28 @@ fn normalize(x: &mut [f64]) -> f64 {
 /// Each step divides the error by (sigma_min / sigma_next)^2, so near a singularity two
 /// or three steps are plenty. Returns sigma = 0 if the factorization is singular.
 pub fn smallest_singular(model: &Model, data: &mut Data, iterations: usize) -> SingularTriple {
-    let n = model.n_coords;
-    let mut w: Vec<f64> = (0..n).map(|i| 1.0 + 0.1 * ((i * 7 + 3) % 11) as f64).collect();
+    // w over the rows, v over the coordinates (more rows for a redundant model solved
+    // anyway: then sigma_min is that of its QR's R, and the solves are least squares)
+    let (n, m) = (model.n_coords, model.n_rows);
+    let mut w: Vec<f64> = (0..m).map(|i| 1.0 + 0.1 * ((i * 7 + 3) % 11) as f64).collect();
     normalize(&mut w);
     let mut v = vec![0.0; n];
+    let mut buf = vec![0.0; m];
     let mut sigma = 0.0;
     if !(data.pivots.det_sign != 0.0 && data.pivots.ratio > 0.0) {
         return SingularTriple { sigma: 0.0, v, w };
     }
     for _ in 0..iterations.max(1) {
         // v ~ Phi_q^-1 w, then w ~ Phi_q^-T v; |Phi_q^-T v| -> 1 / sigma_min
-        v.copy_from_slice(&w);
-        data.factor.solve(&model.symbolic, &mut v);
+        buf.copy_from_slice(&w);
+        data.factor.solve(&model.symbolic, &mut buf);
+        v.copy_from_slice(&buf[..n]);
         if normalize(&mut v) <= 0.0 {
             return SingularTriple { sigma: 0.0, v, w };
         }
-        w.copy_from_slice(&v);
-        data.factor.solve_transpose(&model.symbolic, &mut w);
+        buf[..n].copy_from_slice(&v);
+        data.factor.solve_transpose(&model.symbolic, &mut buf);
+        w.copy_from_slice(&buf);
         let norm = normalize(&mut w);
         if !(norm > 0.0 && norm.is_finite()) {
             return SingularTriple { sigma: 0.0, v, w };
