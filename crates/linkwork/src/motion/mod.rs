@@ -84,6 +84,11 @@ impl ExpressionLaw {
 }
 
 impl MotionLaw {
+    /// Reads one law from JSON (as it appears in a description), unprepared.
+    pub fn from_json(text: &str) -> Result<MotionLaw, String> {
+        serde_json::from_str(text).map_err(|e| e.to_string())
+    }
+
     /// (f, f', f'') at t. Outside a spline's table the end cubic is extended; callers
     /// check `domain` first (a sweep refuses such times). A law that cannot be evaluated
     /// there (an expression outside its functions' domains, a failing external function)
