@@ -32,7 +32,9 @@ class Model:
         desc = mechanism.to_dict() if hasattr(mechanism, "to_dict") else dict(mechanism)
         _check_finite(desc)
         self.description: dict[str, Any] = desc
-        self._core = _core.Model(json.dumps(desc), **options)
+        # the functions of PythonLaw laws travel beside the JSON (a dict may pass them too)
+        python_laws = {**getattr(mechanism, "python_laws", {}), **(options.pop("python_laws", None) or {})}
+        self._core = _core.Model(json.dumps(desc), python_laws=python_laws or None, **options)
 
     name = property(lambda self: self._core.name, doc="The mechanism's name.")
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
