@@ -343,6 +343,8 @@ pub struct Expression {
     tape: Vec<Op>,
     /// n_tape: the column each instruction comes from (for error messages)
     columns: Vec<u32>,
+    /// stack slots the tape needs
+    need: usize,
 }
 
 impl Serialize for Expression {
@@ -386,7 +388,7 @@ impl Expression {
             // unreachable within MAX_LEN (see STACK); kept so that no text can overflow it
             return Err(ExprError::new(1, "expression too complex to evaluate"));
         }
-        Ok(Expression { text: text.to_string(), variable: variable.to_string(), tape, columns })
+        Ok(Expression { text: text.to_string(), variable: variable.to_string(), tape, columns, need })
     }
 
     /// The text as given.
@@ -408,7 +410,17 @@ impl Expression {
     /// the result is not finite; `diagnose` says where.
     #[inline]
     pub fn eval(&self, x: f64) -> [f64; 3] {
-        let mut stack = [[0.0; 3]; STACK];
+        // most expressions need a few slots: do not clear the whole stack for them
+        if self.need <= 4 {
+            self.run::<4>(x)
+        } else {
+            self.run::<STACK>(x)
+        }
+    }
+
+    #[inline(always)]
+    fn run<const N: usize>(&self, x: f64) -> [f64; 3] {
+        let mut stack = [[0.0; 3]; N];
         let mut sp = 0;
         for op in &self.tape {
             step(*op, &mut stack, &mut sp, x);
@@ -455,7 +467,7 @@ impl Expression {
 
 /// One tape instruction on the stack.
 #[inline(always)]
-fn step(op: Op, stack: &mut [Jet; STACK], sp: &mut usize, x: f64) {
+fn step(op: Op, stack: &mut [Jet], sp: &mut usize, x: f64) {
     match op {
         Op::Const(c) => {
             stack[*sp] = [c, 0.0, 0.0];
