@@ -681,3 +681,23 @@ fn every_new_law_round_trips_through_json() {
     );
     assert!(profile.unwrap_err().to_string().contains("unknown variant `trapezoid`"));
 }
+
+#[test]
+fn an_external_law_returning_nan_is_reported_as_such() {
+    // a failure left over from an evaluation outside any solve must not be reported later
+    let failing = MotionLaw::Python(ExternalLaw::new("f", Arc::new(|_| Err("stale".to_string()))));
+    assert!(failing.eval(0.3)[0].is_nan());
+    let func = Arc::new(|t: f64| Ok(if t > 0.5 { [f64::NAN; 3] } else { [t, 1.0, 0.0] }));
+    let mut desc = four_bar(&BAR, 0.0, 5.0);
+    *desc.drivers[0].law_mut() = MotionLaw::Python(ExternalLaw::new("f", func));
+    let model = Model::new(desc).unwrap();
+    let times = grid(0.0, 1.0, 11);
+    let mut data = Data::new(&model);
+    let mut out = SweepOutput::new(&model, &times);
+    let err = sweep(&model, &mut data, &times, &mut out, 0, &mut |_| true).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "non-finite value at step 6 (t = 0.6) in the residual of driver 'crank_angle': python law 'f' \
+         returned [NaN, NaN, NaN] at t = 0.6"
+    );
+}

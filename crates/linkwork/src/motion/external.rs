@@ -12,14 +12,23 @@ use serde::{Deserialize, Serialize};
 pub type ExternalFn = Arc<dyn Fn(f64) -> Result<[f64; 3], String> + Send + Sync>;
 
 thread_local! {
-    /// Why the last external law evaluated on this thread failed (it then returned NaN):
-    /// read back by the error report of the solve that met the NaN, on the same thread.
-    static FAILURE: RefCell<Option<String>> = const { RefCell::new(None) };
+    /// (law name, t, why) of the last external law that failed on this thread (it then
+    /// returned NaN): read back by the error report of the solve that met the NaN, which
+    /// runs on the same thread.
+    static FAILURE: RefCell<Option<(String, f64, String)>> = const { RefCell::new(None) };
 }
 
-/// The reason recorded by the last failed external law on this thread, if any.
-pub(crate) fn take_failure() -> Option<String> {
-    FAILURE.with(|f| f.borrow_mut().take())
+/// Why the law `name` failed at t on this thread, if it did (and was not reported yet).
+pub(crate) fn take_failure(name: &str, t: f64) -> Option<String> {
+    FAILURE.with(|f| {
+        let mut slot = f.borrow_mut();
+        let mine = matches!(&*slot, Some((n, tf, _)) if n == name && tf.to_bits() == t.to_bits());
+        if mine {
+            slot.take().map(|(_, _, why)| why)
+        } else {
+            None
+        }
+    })
 }
 
 /// A law given by a function, with the last evaluation kept: a time step evaluates its
@@ -80,7 +89,7 @@ impl ExternalLaw {
             }
             Err(why) => {
                 let why = format!("python law '{}' failed at t = {t}: {why}", self.name);
-                FAILURE.with(|f| *f.borrow_mut() = Some(why));
+                FAILURE.with(|f| *f.borrow_mut() = Some((self.name.clone(), t, why)));
                 [f64::NAN; 3]
             }
         }

@@ -228,12 +228,15 @@ impl MotionLaw {
     pub fn why_not_finite(&self, t: f64) -> Option<String> {
         match self {
             MotionLaw::Python(x) => {
-                if let Some(why) = external::take_failure() {
+                if let Some(why) = external::take_failure(&x.name, t) {
                     return Some(why);
                 }
+                // values are kept, so this calls the function again only if it failed
                 let v = x.eval(t);
-                (!v.iter().all(|c| c.is_finite()))
-                    .then(|| format!("python law '{}' returned {v:?} at t = {t}", x.name))
+                external::take_failure(&x.name, t).or_else(|| {
+                    (!v.iter().all(|c| c.is_finite()))
+                        .then(|| format!("python law '{}' returned {v:?} at t = {t}", x.name))
+                })
             }
             MotionLaw::Expression(ExpressionLaw { compiled: Some(e), .. }) => e.diagnose(t),
             MotionLaw::Sequence(s) => {
