@@ -25,7 +25,8 @@ class Model:
     and step, default 1e-12), ``max_iter`` (25 per step), ``max_iter_assembly`` (100),
     ``singular_tol`` (pivot ratio under which Phi_q counts as singular, 1e-12),
     ``linear`` ("auto", "dense" or "sparse" LU) and ``dense_max`` (largest model solved
-    densely by "auto", in coordinates).
+    densely by "auto", in coordinates). ``python_laws``: name -> function for the
+    description's ``{"type": "python"}`` laws (a `Mechanism` passes its own).
     """
 
     def __init__(self, mechanism: Any, **options: Any) -> None:
