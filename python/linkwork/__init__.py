@@ -9,6 +9,7 @@ from .errors import (
     AssemblyError,
     CancelledError,
     ConvergenceError,
+    ExpressionError,
     InputError,
     LinkworkError,
     ModelError,
@@ -19,19 +20,37 @@ from .errors import (
 )
 from .mechanism import GROUND, Body, Mechanism
 from .model import Model, sweep_batch
-from .motion import Constant, Harmonic, Law, Linear, Polynomial, Spline
+from .motion import (
+    PROFILES,
+    Cam,
+    Constant,
+    Expression,
+    Harmonic,
+    Law,
+    Linear,
+    Periodic,
+    Polynomial,
+    PythonLaw,
+    Rise,
+    Sequence,
+    Spline,
+)
 from .results import BodyMotion, PointMotion, Results, State
 
 __version__ = "0.1.0"
 
 __all__ = [
     "GROUND",
+    "PROFILES",
     "AssemblyError",
     "Body",
     "BodyMotion",
+    "Cam",
     "CancelledError",
     "Constant",
     "ConvergenceError",
+    "Expression",
+    "ExpressionError",
     "Harmonic",
     "InputError",
     "Law",
@@ -41,11 +60,15 @@ __all__ = [
     "Model",
     "ModelError",
     "NonFiniteError",
+    "Periodic",
     "PointMotion",
     "Polynomial",
+    "PythonLaw",
     "Results",
+    "Rise",
     "ScrewError",
     "SingularError",
+    "Sequence",
     "SolveError",
     "Spline",
     "State",

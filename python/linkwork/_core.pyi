@@ -9,6 +9,8 @@ __all__ = [
     "Model",
     "SerialArm",
     "__version__",
+    "evaluate_law",
+    "parse_expression",
     "screw_centres_by_kennedy",
     "screw_centres_from_velocities",
     "screw_join",
@@ -33,6 +35,12 @@ def sweep_batch(
     on_singular: str = "continue",
     locks: bool = False,
 ) -> list[tuple[dict[str, Any], BaseException | None]]: ...
+def parse_expression(text: str, variable: str = "t") -> None: ...
+def evaluate_law(
+    law_json: str,
+    times: npt.NDArray[np.float64],
+    python_laws: dict[str, Callable[[float], Any]] | None = None,
+) -> npt.NDArray[np.float64]: ...
 def mobility(
     model: Model,
     t: float = 0.0,
@@ -64,6 +72,7 @@ class Model:
         linear: str = "auto",
         dense_max: int | None = None,
         redundant: str = "error",
+        python_laws: dict[str, Callable[[float], Any]] | None = None,
     ) -> Model: ...
     @property
     def name(self) -> str: ...

@@ -4,6 +4,7 @@
 
     LinkworkError
     ├── ModelError          the description cannot be compiled (names the body/joint/driver)
+    │   └── ExpressionError     a text expression that does not parse (``column`` says where)
     ├── InputError          bad arguments to a solve (time grid, q_guess); also a ValueError
     ├── ScrewError          a screw-theory question without a (unique) answer: coincident
     │                       or collinear joints, parallel lines, a redundant arm; also a ValueError
@@ -25,6 +26,7 @@ from typing import Any
 __all__ = [
     "LinkworkError",
     "ModelError",
+    "ExpressionError",
     "InputError",
     "ScrewError",
     "SolveError",
@@ -42,6 +44,15 @@ class LinkworkError(Exception):
 
 class ModelError(LinkworkError, ValueError):
     """The mechanism description cannot be compiled."""
+
+
+class ExpressionError(ModelError):
+    """A text expression that is not one: ``column`` (1-based; 0 when the problem is not
+    in the text), ``text`` and ``hint`` (a suggestion, or None) say where and why."""
+
+    column: int = 0
+    text: str = ""
+    hint: str | None = None
 
 
 class InputError(LinkworkError, ValueError):

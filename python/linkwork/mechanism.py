@@ -17,8 +17,9 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable
 
+from .errors import ModelError
 from .motion import Law
 
 if TYPE_CHECKING:
@@ -71,6 +72,7 @@ class Mechanism:
         self._points: list[dict[str, Any]] = []
         self._loads: list[dict[str, Any]] = []
         self.gravity: tuple[float, float] = (0.0, 0.0)
+        self._python_laws: dict[str, Callable[[float], Any]] = {}
 
     # -- bodies ---------------------------------------------------------------------
     def body(
@@ -190,8 +192,25 @@ class Mechanism:
         if not isinstance(law, Law):
             raise TypeError(f"driver law must be a linkwork motion law, got {type(law).__name__}")
         name = self._auto("D", name)
+        self._register(law)
         self._drivers.append({"type": kind, "name": name, **fields, "law": law.to_dict()})
         return name
+
+    def _register(self, law: Law) -> None:
+        """Keeps the Python functions of ``law`` to hand them to the engine with the description."""
+        for fname, func in law.python_functions().items():
+            known = self._python_laws.get(fname)
+            if known is not None and known is not func:
+                raise ModelError(
+                    f"two different Python laws are named {fname!r}; give one another name "
+                    "(PythonLaw(func, name=...))"
+                )
+            self._python_laws[fname] = func
+
+    @property
+    def python_laws(self) -> dict[str, Callable[[float], Any]]:
+        """The functions of the `PythonLaw` laws used, by name (passed to the engine)."""
+        return dict(self._python_laws)
 
     def drive_angle(self, body: Body | str, law: Law, name: str | None = None) -> str:
         """theta_body = f(t) (absolute angle, rad)."""
@@ -256,12 +275,14 @@ class Mechanism:
     ) -> str:
         """A force of magnitude f(t) along the fixed world ``direction`` at world point ``at``
         (at the start) of ``body``."""
+        self._register(law)
         return self._load(
             "force", name, body=_name(body), at=_xy(at), direction=_xy(direction), law=law.to_dict()
         )
 
     def torque(self, body: Body | str, law: Law, name: str | None = None) -> str:
         """A torque f(t) on ``body`` (counter-clockwise positive)."""
+        self._register(law)
         return self._load("torque", name, body=_name(body), law=law.to_dict())
 
     def spring(
@@ -357,8 +378,17 @@ class Mechanism:
         return m
 
     def save(self, path: str) -> None:
-        """Writes the description as a JSON model file."""
+        """Writes the description as a JSON model file. A mechanism driven by a `PythonLaw`
+        cannot be saved: a file cannot hold a Python function."""
         import json
+
+        for kind, item in [("driver", d) for d in self._drivers] + [("load", ld) for ld in self._loads]:
+            if _uses_python(item.get("law")):
+                raise ModelError(
+                    f"{kind} {item['name']!r} follows a Python function (PythonLaw), which a model "
+                    'file cannot hold: write the law as an lw.Expression("...") of t, a lw.Cam, or a '
+                    "lw.Spline through a table to save it"
+                )
 
         with open(path, "w") as f:
             json.dump(self.to_dict(), f, indent=2)
@@ -377,3 +407,12 @@ class Mechanism:
         from .model import Model
 
         return Model(self, **options)
+
+
+def _uses_python(law: Any) -> bool:
+    """Whether a law's description (a dict) holds a python law, nested ones included."""
+    if isinstance(law, dict):
+        return law.get("type") == "python" or any(_uses_python(v) for v in law.values())
+    if isinstance(law, list):
+        return any(_uses_python(v) for v in law)
+    return False

@@ -32,13 +32,17 @@ class Model:
     motion). Positions, velocities and accelerations are then still unique; the
     reactions of the joints in ``indeterminate`` are not (the minimum-norm set is given),
     and ``det_sign`` is not defined (reported as +1).
+    ``python_laws``: name -> function for the description's ``{"type": "python"}`` laws
+    (a `Mechanism` passes its own).
     """
 
     def __init__(self, mechanism: Any, **options: Any) -> None:
         desc = mechanism.to_dict() if hasattr(mechanism, "to_dict") else dict(mechanism)
         _check_finite(desc)
         self.description: dict[str, Any] = desc
-        self._core = _core.Model(json.dumps(desc), **options)
+        # the functions of PythonLaw laws travel beside the JSON (a dict may pass them too)
+        python_laws = {**getattr(mechanism, "python_laws", {}), **(options.pop("python_laws", None) or {})}
+        self._core = _core.Model(json.dumps(desc), python_laws=python_laws or None, **options)
 
     name = property(lambda self: self._core.name, doc="The mechanism's name.")
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use linkwork::model::OnRedundant;
-use linkwork::{Data, LinearKind, Model, ModelError, Options, SolveError, SweepOutput};
+use linkwork::{Data, Description, LinearKind, Model, ModelError, Options, SolveError, SweepOutput};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -12,6 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 mod events;
+mod laws;
 mod mobility;
 mod screw;
 
@@ -77,6 +78,8 @@ fn linear_name(k: LinearKind) -> &'static str {
 #[pyclass(frozen, module = "linkwork._core", name = "Model")]
 struct PyModel {
     model: Arc<Model>,
+    /// the last exception of its Python laws, for the error report
+    failures: laws::Failures,
 }
 
 fn start_guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Vec<f64>> {
@@ -203,7 +206,21 @@ fn sweep_batch<'py>(
     if let Some(cb) = &progress {
         cb.call1(py, (total, total))?;
     }
-    items.into_iter().map(|(out, err)| Ok((output_dict(py, out)?, err.map(|e| solve_err(py, &e))))).collect()
+    items
+        .into_iter()
+        .zip(&models)
+        .map(|((out, err), m)| {
+            let err = err.map(|e| laws::chain_failure(py, solve_err(py, &e), &m.failures));
+            Ok((output_dict(py, out)?, err))
+        })
+        .collect()
+}
+
+impl PyModel {
+    /// `solve_err`, with the exception of a failed Python law as the cause.
+    fn solve_err(&self, py: Python<'_>, e: &SolveError) -> PyErr {
+        laws::chain_failure(py, solve_err(py, e), &self.failures)
+    }
 }
 
 #[pymethods]
@@ -211,7 +228,7 @@ impl PyModel {
     #[new]
     #[pyo3(signature = (description_json, *, tol_residual=None, tol_step=None, max_iter=None,
                         max_iter_assembly=None, singular_tol=None, linear="auto", dense_max=None,
-                        redundant="error"))]
+                        redundant="error", python_laws=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         description_json: &str,
@@ -223,6 +240,7 @@ impl PyModel {
         linear: &str,
         dense_max: Option<usize>,
         redundant: &str,
+        python_laws: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let redundant = match redundant {
             "error" => OnRedundant::Error,
@@ -244,8 +262,11 @@ impl PyModel {
             dense_max: dense_max.unwrap_or(d.dense_max),
             redundant,
         };
-        let model = Model::from_json(description_json, options).map_err(model_err)?;
-        Ok(PyModel { model: Arc::new(model) })
+        let mut desc = Description::from_json(description_json).map_err(model_err)?;
+        let failures = laws::Failures::default();
+        laws::bind(&mut desc, python_laws, &failures)?;
+        let model = Model::with_options(desc, options).map_err(model_err)?;
+        Ok(PyModel { model: Arc::new(model), failures })
     }
 
     #[getter]
@@ -332,7 +353,8 @@ impl PyModel {
         let model = &self.model;
         let mut data = Data::new(model);
         data.q = start_guess(model, q_guess)?;
-        let info = linkwork::solve(model, &mut data, t).map_err(|e| solve_err(py, &e))?;
+        laws::clear(&self.failures);
+        let info = linkwork::solve(model, &mut data, t).map_err(|e| self.solve_err(py, &e))?;
         Ok((
             data.q.into_pyarray(py),
             data.qd.into_pyarray(py),
@@ -370,6 +392,7 @@ impl PyModel {
         data.q = start_guess(&model, q_guess)?;
         let mut out = SweepOutput::with_request(&model, times, request);
         let total = times.len();
+        laws::clear(&self.failures);
         let (result, interrupt) = py.detach(|| {
             let mut interrupt: Option<PyErr> = None;
             let mut on_progress = |k: usize| -> bool {
@@ -398,7 +421,7 @@ impl PyModel {
         let error = match (result, interrupt) {
             (Ok(()), _) => None,
             (Err(_), Some(py_err)) => Some(py_err),
-            (Err(e), None) => Some(solve_err(py, &e)),
+            (Err(e), None) => Some(self.solve_err(py, &e)),
         };
         out.truncate();
         Ok((output_dict(py, out)?, error))
@@ -419,11 +442,12 @@ impl PyModel {
         let mut data = Data::new(model);
         data.q = start_guess(model, q_guess)?;
         linkwork::check_times(model, &[t]).map_err(|e| solve_err(py, &e))?;
-        linkwork::solve_position(model, &mut data, t, 0, true).map_err(|e| solve_err(py, &e))?;
+        laws::clear(&self.failures);
+        linkwork::solve_position(model, &mut data, t, 0, true).map_err(|e| self.solve_err(py, &e))?;
         data.qd.fill(0.0);
         data.qdd.fill(0.0);
         // solve_forces refreshes the frames from q and qd = 0, so reactions see rest
-        linkwork::solve_forces(model, &mut data, t, 0).map_err(|e| solve_err(py, &e))?;
+        linkwork::solve_forces(model, &mut data, t, 0).map_err(|e| self.solve_err(py, &e))?;
         let mut reactions = vec![0.0; linkwork::REACTION_COLUMNS * model.constraints.len()];
         linkwork::reactions(model, &data, t, &mut reactions);
         let reactions = rows_to_array(py, reactions, model.constraints.len(), linkwork::REACTION_COLUMNS);
@@ -496,6 +520,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;
     m.add_function(wrap_pyfunction!(mobility::mobility, m)?)?;
+    laws::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -9,6 +9,9 @@ use crate::model::Model;
 /// Reads data.q, data.qd (and the factors) and writes data.qdd.
 pub fn solve_acceleration(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
     assembly::gamma(model, data, t);
+    if let Some(e) = crate::velocity::non_finite_row(model, &data.rhs, t, step, "gamma") {
+        return Err(e);
+    }
     data.factor.solve(&model.symbolic, &mut data.rhs);
     for ((qdd, x), s) in data.qdd.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
         *qdd = x * s;

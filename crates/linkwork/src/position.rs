@@ -48,13 +48,8 @@ pub fn solve_position(
     for it in 1..=max_iter {
         residual = assembly::position(model, data, t);
         if !residual.is_finite() {
-            let row = data.phi.iter().position(|p| !p.is_finite()).unwrap_or(0);
-            let c = model.row_owner(row);
-            return Err(SolveError::NonFinite {
-                step,
-                time: t,
-                what: format!("the residual of {} '{}'", c.role, c.name),
-            });
+            let e = crate::velocity::non_finite_row(model, &data.phi, t, step, "the residual");
+            return Err(e.unwrap_or(SolveError::NonFinite { step, time: t, what: "the residual".into() }));
         }
         let pivots = data.factor.factor(&model.symbolic, &data.jac);
         data.pivots = pivots;

@@ -3,11 +3,15 @@
 use crate::assembly;
 use crate::data::Data;
 use crate::error::SolveError;
+use crate::joints::Constraint;
 use crate::model::Model;
 
 /// Reads data.q (through the factors) and writes data.qd.
 pub fn solve_velocity(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
     assembly::nu(model, data, t);
+    if let Some(e) = non_finite_row(model, &data.rhs, t, step, "nu") {
+        return Err(e);
+    }
     data.factor.solve(&model.symbolic, &mut data.rhs);
     for ((qd, x), s) in data.qd.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
         *qd = x * s;
@@ -17,4 +21,19 @@ pub fn solve_velocity(model: &Model, data: &mut Data, t: f64, step: usize) -> Re
     } else {
         Err(SolveError::NonFinite { step, time: t, what: "the velocities".into() })
     }
+}
+
+/// The error for the first non-finite entry of a per-row vector (phi, nu, gamma), naming
+/// the joint or driver that owns the row and, for a driver, why its law is not finite.
+pub(crate) fn non_finite_row(
+    model: &Model,
+    rows: &[f64],
+    t: f64,
+    step: usize,
+    what: &str,
+) -> Option<SolveError> {
+    let row = rows.iter().position(|v| !v.is_finite())?;
+    let c = model.row_owner(row);
+    let why = c.kind.law().and_then(|law| law.why_not_finite(t)).map_or(String::new(), |w| format!(": {w}"));
+    Some(SolveError::NonFinite { step, time: t, what: format!("{what} of {} '{}'{why}", c.role, c.name) })
 }
