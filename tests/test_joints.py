@@ -598,3 +598,15 @@ def test_bad_joints_are_refused_by_name(case):
 def test_unknown_coupling_coordinates_are_refused_by_the_builder():
     with pytest.raises(ValueError, match=r"coefficients_a may name 'x', 'y' and 'theta', not \['phi'\]"):
         _two_bodies().linear_coupling("a", "b", {"phi": 1.0})
+
+
+def test_docs_example_runs():
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parent.parent / "docs" / "joints.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert len(blocks) == 1
+    scope: dict = {}
+    exec(compile(blocks[0], "docs/joints.md", "exec"), scope)
+    assert scope["res"].q.shape == (101, 9)
