@@ -60,7 +60,7 @@ def compile_dict(d: dict) -> lw.Model:
         (lambda d: d["drivers"][0].update(body="ground"), r"driver 'crank_angle'.*ground"),
         (lambda d: d["points"].append({"name": "Q", "body": "nobody", "at": [0, 0]}), r"point 'Q'.*nobody"),
         (lambda d: d["joints"][1].update(extra=1), r"unknown field `extra`"),
-        (lambda d: d["joints"][1].update(type="gear"), r"unknown variant `gear`"),
+        (lambda d: d["joints"][1].update(type="teleport"), r"unknown variant `teleport`"),
         (lambda d: d.update(bodies=[], joints=[], drivers=[], points=[]), "no moving body"),
     ],
 )

@@ -187,6 +187,173 @@ class Mechanism:
         self._joints.append({"type": "fixed", "name": name, "body_a": _name(body_a), "body_b": _name(body_b)})
         return name
 
+    # -- joints without coordinates of their own (docs/joints.md) -------------------
+    def _joint(self, kind: str, prefix: str, name: str | None, **fields: Any) -> str:
+        name = self._auto(prefix, name)
+        given = {k: v for k, v in fields.items() if v is not None}
+        self._joints.append({"type": kind, "name": name, **given})
+        return name
+
+    def distance(
+        self,
+        body_a: Body | str,
+        at_a: Sequence[float],
+        body_b: Body | str,
+        at_b: Sequence[float],
+        length: float | None = None,
+        name: str | None = None,
+    ) -> str:
+        """A massless coupler between the point ``at_a`` of ``body_a`` and ``at_b`` of
+        ``body_b`` (world points at the start): 1 row, (d.d - L^2) / (2 L) = 0 with
+        d = r_b - r_a. ``length`` L defaults to the distance in the drawing."""
+        return self._joint(
+            "distance", "R", name, body_a=_name(body_a), at_a=_xy(at_a), body_b=_name(body_b),
+            at_b=_xy(at_b), length=None if length is None else float(length),
+        )  # fmt: skip
+
+    def point_on_line(
+        self,
+        body_a: Body | str,
+        body_b: Body | str,
+        at: Sequence[float],
+        axis: Sequence[float],
+        through: Sequence[float] | None = None,
+        offset: float | None = None,
+        name: str | None = None,
+    ) -> str:
+        """The pin ``at`` of ``body_a`` in a straight slot of ``body_b``: the line through
+        ``through`` (default ``at``) along ``axis`` (world, at the start), fixed in
+        ``body_b``. 1 row, n.(r_a(at) - r_b(through)) - offset = 0, n the axis turned by
+        +90 degrees; ``offset`` defaults to the drawing's. With ``through`` off the pin
+        it is a slider block pinned to ``body_a`` sliding along an offset line of ``body_b``."""
+        return self._joint(
+            "point_on_line", "S", name, body_a=_name(body_a), body_b=_name(body_b), at=_xy(at),
+            axis=_xy(axis), through=None if through is None else _xy(through),
+            offset=None if offset is None else float(offset),
+        )  # fmt: skip
+
+    def gear(
+        self,
+        body_a: Body | str,
+        body_b: Body | str,
+        radii: Sequence[float] | None = None,
+        ratio: float | None = None,
+        internal: bool = False,
+        carrier: Body | str | None = None,
+        centres: Sequence[Sequence[float]] | None = None,
+        name: str | None = None,
+    ) -> str:
+        """Spur gears rolling without slipping, by pitch ``radii`` (r_a, r_b) or by the
+        speed ratio r_a / r_b (radii then from the distance between the ``centres``,
+        world points at the start, default the bodies' origins). 1 row:
+        r_a (theta_a - theta_c) +- r_b (theta_b - theta_c) = const (from the drawing),
+        divided by max(r_a, r_b); theta_c is the ``carrier``'s angle (a planetary
+        train's arm) or 0 with both centres fixed in the ground. External gears (+) turn
+        opposite ways, ``internal`` ones (-) the same way."""
+        r_a, r_b = (None, None) if radii is None else (float(radii[0]), float(radii[1]))
+        c_a, c_b = (None, None) if centres is None else (_xy(centres[0]), _xy(centres[1]))
+        return self._joint(
+            "gear", "G", name, body_a=_name(body_a), body_b=_name(body_b), radius_a=r_a,
+            radius_b=r_b, ratio=None if ratio is None else float(ratio), centre_a=c_a,
+            centre_b=c_b, internal=bool(internal) or None,
+            carrier=None if carrier is None else _name(carrier),
+        )  # fmt: skip
+
+    def rack_pinion(
+        self,
+        pinion: Body | str,
+        rack: Body | str,
+        radius: float,
+        axis: Sequence[float],
+        centre: Sequence[float] | None = None,
+        name: str | None = None,
+    ) -> str:
+        """A pinion (pitch ``radius``, centre ``centre``, default its origin) meshing with a
+        rack (a body, or the ground) along ``axis`` (world, at the start, fixed in the
+        rack). 1 row: e.(r_pinion(centre) - r_rack(centre)) + r (theta_pinion -
+        theta_rack - const) = 0: a counter-clockwise turn dtheta moves the rack by
+        r dtheta along ``axis``."""
+        return self._joint(
+            "rack_pinion", "RP", name, body_a=_name(pinion), body_b=_name(rack), radius=float(radius),
+            axis=_xy(axis), centre=None if centre is None else _xy(centre),
+        )  # fmt: skip
+
+    def belt(
+        self,
+        body_a: Body | str,
+        body_b: Body | str,
+        radii: Sequence[float] | None = None,
+        ratio: float | None = None,
+        crossed: bool = False,
+        carrier: Body | str | None = None,
+        name: str | None = None,
+    ) -> str:
+        """A belt or chain between two pulleys, by pitch ``radii`` or by the ratio
+        r_a / r_b. 1 row: r_a (theta_a - theta_c) -+ r_b (theta_b - theta_c) = const,
+        divided by max(r_a, r_b): an open belt (-) turns both the same way, a ``crossed``
+        one (+) opposite ways; theta_c is the ``carrier``'s angle, or 0."""
+        r_a, r_b = (None, None) if radii is None else (float(radii[0]), float(radii[1]))
+        return self._joint(
+            "belt", "BT", name, body_a=_name(body_a), body_b=_name(body_b), radius_a=r_a, radius_b=r_b,
+            ratio=None if ratio is None else float(ratio), crossed=bool(crossed) or None,
+            carrier=None if carrier is None else _name(carrier),
+        )  # fmt: skip
+
+    def fixed_orientation(
+        self, body_a: Body | str, body_b: Body | str, angle: float | None = None, name: str | None = None
+    ) -> str:
+        """``body_b`` keeps its angle to ``body_a``; both translate freely. 1 row,
+        theta_b - theta_a - angle = 0 (``angle`` defaults to the drawing's)."""
+        return self._joint(
+            "fixed_orientation", "O", name, body_a=_name(body_a), body_b=_name(body_b),
+            angle=None if angle is None else float(angle),
+        )  # fmt: skip
+
+    def parallel(
+        self,
+        body_a: Body | str,
+        body_b: Body | str,
+        axis_a: Sequence[float],
+        axis_b: Sequence[float],
+        name: str | None = None,
+    ) -> str:
+        """The line of ``body_a`` along ``axis_a`` stays parallel to the line of ``body_b``
+        along ``axis_b`` (world directions at the start). 1 row, (A_a e_a) x (A_b e_b) = 0."""
+        return self._joint(
+            "parallel", "PL", name, body_a=_name(body_a), body_b=_name(body_b), axis_a=_xy(axis_a),
+            axis_b=_xy(axis_b),
+        )  # fmt: skip
+
+    def linear_coupling(
+        self,
+        body_a: Body | str,
+        body_b: Body | str,
+        coefficients_a: dict[str, float] | None = None,
+        coefficients_b: dict[str, float] | None = None,
+        value: float | None = None,
+        name: str | None = None,
+    ) -> str:
+        """A linear relation between the coordinates of at most two bodies (either may be
+        the ground): sum of c_k q_k over ``coefficients_a`` and ``coefficients_b`` (keys
+        "x", "y", "theta") = ``value`` (default: the drawing's). 1 row.
+
+        >>> m = Mechanism()
+        >>> a, b = m.body("a"), m.body("b", (0.3, 0.0))
+        >>> m.linear_coupling(a, b, {"theta": 2.0}, {"theta": 1.0})   # 2 theta_a + theta_b = const
+        'K1'
+        """
+        fields: dict[str, Any] = {}
+        for key, given in (("coefficients_a", coefficients_a), ("coefficients_b", coefficients_b)):
+            if given:
+                unknown = set(given) - {"x", "y", "theta"}
+                if unknown:
+                    raise ValueError(f"{key} may name 'x', 'y' and 'theta', not {sorted(unknown)}")
+                fields[key] = {k: float(v) for k, v in given.items()}
+        return self._joint(
+            "linear_coupling", "K", name, body_a=_name(body_a), body_b=_name(body_b), **fields,
+            value=None if value is None else float(value),
+        )  # fmt: skip
+
     # -- drivers --------------------------------------------------------------------
     def _driver(self, kind: str, name: str | None, law: Law, **fields: Any) -> str:
         if not isinstance(law, Law):

@@ -102,6 +102,120 @@ pub enum JointDesc {
     Prismatic { name: String, body_a: String, body_b: String, at: [f64; 2], axis: [f64; 2] },
     /// Weld: `body_b` keeps its starting pose relative to `body_a`.
     Fixed { name: String, body_a: String, body_b: String },
+    /// A massless coupler between `at_a` (a point of `body_a`) and `at_b` (of `body_b`):
+    /// their distance stays `length` (default: the distance in the drawing).
+    Distance {
+        name: String,
+        body_a: String,
+        at_a: [f64; 2],
+        body_b: String,
+        at_b: [f64; 2],
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        length: Option<f64>,
+    },
+    /// The point `at` of `body_a` stays at `offset` (default: the drawing's) from the line
+    /// of `body_b` through `through` (default: `at`) along `axis`, measured along the
+    /// axis turned by +90 degrees: a pin in a slot, or a slider block pinned to `body_a`.
+    PointOnLine {
+        name: String,
+        body_a: String,
+        body_b: String,
+        at: [f64; 2],
+        axis: [f64; 2],
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        through: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        offset: Option<f64>,
+    },
+    /// Spur gears rolling without slipping, by pitch radii or by the speed ratio
+    /// r_a / r_b (radii then from the centre distance); external gears turn opposite
+    /// ways, internal ones the same way; with a `carrier`, relative to it.
+    Gear {
+        name: String,
+        body_a: String,
+        body_b: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius_a: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius_b: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        ratio: Option<f64>,
+        /// gear centres, world points at the start (default: the bodies' origins)
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        centre_a: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        centre_b: Option<[f64; 2]>,
+        #[serde(default)]
+        internal: bool,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        carrier: Option<String>,
+    },
+    /// A pinion (`body_a`, pitch `radius`, centre `centre`, default its origin) drives a
+    /// rack (`body_b`, or the ground) along `axis`: a counter-clockwise turn dtheta moves
+    /// the rack by radius * dtheta along `axis`.
+    RackPinion {
+        name: String,
+        body_a: String,
+        body_b: String,
+        radius: f64,
+        axis: [f64; 2],
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        centre: Option<[f64; 2]>,
+    },
+    /// Belt or chain between pulleys, by pitch radii or by the ratio r_a / r_b: open
+    /// belts turn both the same way, `crossed` ones opposite ways; with a `carrier`,
+    /// relative to it.
+    Belt {
+        name: String,
+        body_a: String,
+        body_b: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius_a: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius_b: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        ratio: Option<f64>,
+        #[serde(default)]
+        crossed: bool,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        carrier: Option<String>,
+    },
+    /// theta_b - theta_a stays `angle` (default: the drawing's).
+    FixedOrientation {
+        name: String,
+        body_a: String,
+        body_b: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        angle: Option<f64>,
+    },
+    /// The line of `body_a` along `axis_a` stays parallel to the line of `body_b` along
+    /// `axis_b` (world directions at the start).
+    Parallel { name: String, body_a: String, body_b: String, axis_a: [f64; 2], axis_b: [f64; 2] },
+    /// c_a . (x_a, y_a, theta_a) + c_b . (x_b, y_b, theta_b) = `value` (default: the
+    /// drawing's); couples at most two bodies (either may be the ground).
+    LinearCoupling {
+        name: String,
+        body_a: String,
+        body_b: String,
+        #[serde(default)]
+        coefficients_a: Coefficients,
+        #[serde(default)]
+        coefficients_b: Coefficients,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        value: Option<f64>,
+    },
+}
+
+/// Coefficients of one body's coordinates in a linear coupling (absent ones are 0).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Coefficients {
+    #[serde(default)]
+    pub x: f64,
+    #[serde(default)]
+    pub y: f64,
+    #[serde(default)]
+    pub theta: f64,
 }
 
 /// A driver: one row g(q) - f(t) = 0 with a motion law f.
@@ -146,7 +260,15 @@ impl JointDesc {
         match self {
             JointDesc::Revolute { name, .. }
             | JointDesc::Prismatic { name, .. }
-            | JointDesc::Fixed { name, .. } => name,
+            | JointDesc::Fixed { name, .. }
+            | JointDesc::Distance { name, .. }
+            | JointDesc::PointOnLine { name, .. }
+            | JointDesc::Gear { name, .. }
+            | JointDesc::RackPinion { name, .. }
+            | JointDesc::Belt { name, .. }
+            | JointDesc::FixedOrientation { name, .. }
+            | JointDesc::Parallel { name, .. }
+            | JointDesc::LinearCoupling { name, .. } => name,
         }
     }
 }

@@ -13,6 +13,10 @@ use crate::drivers::{
 };
 use crate::error::ModelError;
 use crate::joints::{
+    belt::Belt, coupler::Coupler, coupling::LinearCoupling, gear::Gear, orientation::FixedOrientation,
+    parallel::Parallel, point_line::PointOnLine, rack_pinion::RackPinion,
+};
+use crate::joints::{
     fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, Extra, Frame,
     RowKind, MAX_ROWS,
 };
@@ -203,6 +207,10 @@ impl Bodies<'_> {
     fn theta(&self, b: Option<usize>) -> f64 {
         b.map_or(0.0, |i| self.poses[i][2])
     }
+    /// The body's origin at the start (the ground's: (0, 0)).
+    fn origin(&self, b: Option<usize>) -> [f64; 2] {
+        self.pose(b).map_or([0.0, 0.0], |p| [p[0], p[1]])
+    }
     fn pair(&self, a: &str, b: &str) -> Result<(Option<usize>, Option<usize>), String> {
         let (ia, ib) = (self.find(a)?, self.find(b)?);
         if ia == ib {
@@ -275,7 +283,7 @@ impl Model {
             let fail =
                 |problem: String| ModelError::Constraint { kind: "joint", name: j.name().into(), problem };
             // set by a joint whose rows involve another body's coordinate
-            let borrowed: Option<usize> = None;
+            let mut borrowed: Option<usize> = None;
             let (kind, a, b) = match j {
                 JointDesc::Revolute { body_a, body_b, at, .. } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
@@ -312,6 +320,164 @@ impl Model {
                         theta0: bodies.theta(b) - bodies.theta(a),
                     };
                     (ConstraintKind::Fixed(joint), a, b)
+                }
+                JointDesc::Distance { body_a, at_a, body_b, at_b, length, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if !finite2(*at_a) || !finite2(*at_b) {
+                        return Err(fail(format!("points {at_a:?}, {at_b:?} are not finite")));
+                    }
+                    let drawn = (at_b[0] - at_a[0]).hypot(at_b[1] - at_a[1]);
+                    if drawn <= 1e-12 * length_scale {
+                        return Err(fail(
+                            "its two points coincide at the start; a distance joint needs them apart".into(),
+                        ));
+                    }
+                    let length = positive_or("length", *length, drawn).map_err(fail)?;
+                    let joint = Coupler {
+                        u_a: local(bodies.pose(a), *at_a),
+                        u_b: local(bodies.pose(b), *at_b),
+                        length,
+                    };
+                    (ConstraintKind::Distance(joint), a, b)
+                }
+                JointDesc::PointOnLine { body_a, body_b, at, axis, through, offset, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    let q = through.unwrap_or(*at);
+                    if !finite2(*at) || !finite2(q) {
+                        return Err(fail(format!("point {at:?} or line point {q:?} is not finite")));
+                    }
+                    let e = unit("axis", *axis).map_err(fail)?;
+                    let drawn = -e[1] * (at[0] - q[0]) + e[0] * (at[1] - q[1]);
+                    let offset = match offset {
+                        None => drawn,
+                        Some(o) if o.is_finite() => *o,
+                        Some(o) => return Err(fail(format!("offset {o} is not finite"))),
+                    };
+                    let joint = PointOnLine {
+                        u_a: local(bodies.pose(a), *at),
+                        u_b: local(bodies.pose(b), q),
+                        e_b: local(Some([0.0, 0.0, bodies.theta(b)]), e),
+                        offset,
+                    };
+                    (ConstraintKind::PointOnLine(joint), a, b)
+                }
+                JointDesc::Gear {
+                    body_a,
+                    body_b,
+                    radius_a,
+                    radius_b,
+                    ratio,
+                    centre_a,
+                    centre_b,
+                    internal,
+                    carrier,
+                    ..
+                } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    let c_a = centre_a.unwrap_or(bodies.origin(a));
+                    let c_b = centre_b.unwrap_or(bodies.origin(b));
+                    if !finite2(c_a) || !finite2(c_b) {
+                        return Err(fail(format!("centres {c_a:?}, {c_b:?} are not finite")));
+                    }
+                    let distance = (c_b[0] - c_a[0]).hypot(c_b[1] - c_a[1]);
+                    let (r_a, r_b) = match (radius_a, radius_b, ratio) {
+                        (None, None, Some(k)) => {
+                            gear_radii(*k, distance, *internal, 1e-12 * length_scale).map_err(fail)?
+                        }
+                        _ => radii(*radius_a, *radius_b, *ratio).map_err(fail)?,
+                    };
+                    if *internal && r_a == r_b {
+                        return Err(fail("an internal gear and its pinion need different radii".into()));
+                    }
+                    let (k_a, k_b) = Gear::coefficients(r_a, r_b, *internal);
+                    let (column, theta_c) = carrier_of(&bodies, carrier, a, b).map_err(fail)?;
+                    borrowed = column;
+                    let value = k_a * (bodies.theta(a) - theta_c) + k_b * (bodies.theta(b) - theta_c);
+                    (ConstraintKind::Gear(Gear { k_a, k_b, value, carrier: column.is_some() }), a, b)
+                }
+                JointDesc::RackPinion { body_a, body_b, radius, axis, centre, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if a.is_none() {
+                        return Err(fail(
+                            "its pinion (body_a) is the ground, which cannot turn; the rack may be".into(),
+                        ));
+                    }
+                    let radius = positive_or("radius", Some(*radius), 0.0).map_err(fail)?;
+                    let c = centre.unwrap_or(bodies.origin(a));
+                    if !finite2(c) {
+                        return Err(fail(format!("centre {c:?} is not finite")));
+                    }
+                    let e = unit("axis", *axis).map_err(fail)?;
+                    let joint = RackPinion {
+                        u_a: local(bodies.pose(a), c),
+                        u_b: local(bodies.pose(b), c),
+                        e_b: local(Some([0.0, 0.0, bodies.theta(b)]), e),
+                        radius,
+                        delta0: bodies.theta(a) - bodies.theta(b),
+                    };
+                    (ConstraintKind::RackPinion(joint), a, b)
+                }
+                JointDesc::Belt { body_a, body_b, radius_a, radius_b, ratio, crossed, carrier, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    let (r_a, r_b) = radii(*radius_a, *radius_b, *ratio).map_err(fail)?;
+                    let (k_a, k_b) = Gear::coefficients(r_a, r_b, !*crossed);
+                    let (column, theta_c) = carrier_of(&bodies, carrier, a, b).map_err(fail)?;
+                    borrowed = column;
+                    let value = k_a * (bodies.theta(a) - theta_c) + k_b * (bodies.theta(b) - theta_c);
+                    (ConstraintKind::Belt(Belt(Gear { k_a, k_b, value, carrier: column.is_some() })), a, b)
+                }
+                JointDesc::FixedOrientation { body_a, body_b, angle, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    let angle = match angle {
+                        None => bodies.theta(b) - bodies.theta(a),
+                        Some(v) if v.is_finite() => *v,
+                        Some(v) => return Err(fail(format!("angle {v} is not finite"))),
+                    };
+                    (ConstraintKind::FixedOrientation(FixedOrientation { angle }), a, b)
+                }
+                JointDesc::Parallel { body_a, body_b, axis_a, axis_b, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    let (e_a, e_b) =
+                        (unit("axis_a", *axis_a).map_err(fail)?, unit("axis_b", *axis_b).map_err(fail)?);
+                    // the row's Jacobian is the cosine between the lines: zero when perpendicular
+                    if (e_a[0] * e_b[0] + e_a[1] * e_b[1]).abs() <= 1e-6 {
+                        return Err(fail(
+                            "its two lines are perpendicular at the start; draw them (nearly) parallel"
+                                .into(),
+                        ));
+                    }
+                    let joint = Parallel {
+                        e_a: local(Some([0.0, 0.0, bodies.theta(a)]), e_a),
+                        e_b: local(Some([0.0, 0.0, bodies.theta(b)]), e_b),
+                    };
+                    (ConstraintKind::Parallel(joint), a, b)
+                }
+                JointDesc::LinearCoupling {
+                    body_a, body_b, coefficients_a, coefficients_b, value, ..
+                } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    let c_a = [coefficients_a.x, coefficients_a.y, coefficients_a.theta];
+                    let c_b = [coefficients_b.x, coefficients_b.y, coefficients_b.theta];
+                    if !c_a.iter().chain(&c_b).all(|c| c.is_finite()) {
+                        return Err(fail(format!("coefficients {c_a:?}, {c_b:?} are not finite")));
+                    }
+                    for (side, body, c) in [("a", a, c_a), ("b", b, c_b)] {
+                        if body.is_none() && c.iter().any(|c| *c != 0.0) {
+                            return Err(fail(format!(
+                                "has coefficients_{side} on the ground, whose coordinates are fixed"
+                            )));
+                        }
+                    }
+                    if c_a.iter().chain(&c_b).all(|c| *c == 0.0) {
+                        return Err(fail("has no non-zero coefficient".into()));
+                    }
+                    let (q_a, q_b) = (bodies.pose(a).unwrap_or([0.0; 3]), bodies.pose(b).unwrap_or([0.0; 3]));
+                    let value = match value {
+                        None => (0..3).map(|k| c_a[k] * q_a[k] + c_b[k] * q_b[k]).sum(),
+                        Some(v) if v.is_finite() => *v,
+                        Some(v) => return Err(fail(format!("value {v} is not finite"))),
+                    };
+                    (ConstraintKind::LinearCoupling(LinearCoupling { c_a, c_b, value }), a, b)
                 }
             };
             let name = j.name().to_string();
@@ -691,6 +857,72 @@ fn compile_loads(
     Ok(out)
 }
 
+/// A given value (finite and > 0, else an error naming `what`), or the default.
+fn positive_or(what: &str, given: Option<f64>, default: f64) -> Result<f64, String> {
+    match given {
+        None => Ok(default),
+        Some(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Some(v) => Err(format!("{what} {v} must be finite and > 0")),
+    }
+}
+
+/// The unit vector along a finite, non-zero direction `what`.
+fn unit(what: &str, v: [f64; 2]) -> Result<[f64; 2], String> {
+    let norm = v[0].hypot(v[1]);
+    if !finite2(v) || norm == 0.0 {
+        return Err(format!("{what} {v:?} must be a finite, non-zero direction"));
+    }
+    Ok([v[0] / norm, v[1] / norm])
+}
+
+/// Pitch radii of a gear pair or pulleys given by radii, or by the speed ratio r_a / r_b
+/// alone (radii k and 1: only their ratio matters).
+fn radii(radius_a: Option<f64>, radius_b: Option<f64>, ratio: Option<f64>) -> Result<(f64, f64), String> {
+    match (radius_a, radius_b, ratio) {
+        (Some(r_a), Some(r_b), None) => {
+            Ok((positive_or("radius_a", Some(r_a), 0.0)?, positive_or("radius_b", Some(r_b), 0.0)?))
+        }
+        (None, None, Some(k)) => Ok((positive_or("ratio", Some(k), 0.0)?, 1.0)),
+        _ => Err("needs either radius_a and radius_b, or ratio (one of the two, not both)".into()),
+    }
+}
+
+/// Pitch radii of a gear pair from the speed ratio k = r_a / r_b and the distance between
+/// the centres: r_a + r_b = distance (external), |r_a - r_b| = distance (internal).
+fn gear_radii(k: f64, distance: f64, internal: bool, min_distance: f64) -> Result<(f64, f64), String> {
+    let k = positive_or("ratio", Some(k), 0.0)?;
+    if distance <= min_distance {
+        return Err("its centres coincide at the start, so a ratio does not give the radii; \
+                    give radius_a and radius_b or draw the centres apart"
+            .into());
+    }
+    if internal && (k - 1.0).abs() <= 1e-12 {
+        return Err("an internal gear pair cannot have ratio 1".into());
+    }
+    let r_b = if internal { distance / (k - 1.0).abs() } else { distance / (k + 1.0) };
+    Ok((k * r_b, r_b))
+}
+
+/// The carrier of a gear pair or belt: its theta column and starting angle; no carrier
+/// (or the ground) gives (None, 0). The carrier must be a third body.
+fn carrier_of(
+    bodies: &Bodies,
+    carrier: &Option<String>,
+    a: Option<usize>,
+    b: Option<usize>,
+) -> Result<(Option<usize>, f64), String> {
+    let Some(name) = carrier else {
+        return Ok((None, 0.0));
+    };
+    let c = bodies.find(name)?;
+    if c == a || c == b {
+        return Err(format!(
+            "its carrier '{name}' is one of its own two bodies; the carrier must be a third body"
+        ));
+    }
+    Ok((c.map(|i| 3 * i + 2), bodies.theta(c)))
+}
+
 fn check_options(o: &Options) -> Result<(), ModelError> {
     let positive = |v: f64| v.is_finite() && v > 0.0;
     if !(positive(o.tol_residual) && positive(o.tol_step) && positive(o.singular_tol))
@@ -712,6 +944,18 @@ fn length_scale(desc: &Description) -> f64 {
         match j {
             JointDesc::Revolute { at, .. } | JointDesc::Prismatic { at, .. } => pts.push(*at),
             JointDesc::Fixed { .. } => {}
+            JointDesc::Distance { at_a, at_b, .. } => pts.extend([*at_a, *at_b]),
+            JointDesc::PointOnLine { at, through, .. } => {
+                pts.extend([Some(*at), *through].into_iter().flatten())
+            }
+            JointDesc::Gear { centre_a, centre_b, .. } => {
+                pts.extend([*centre_a, *centre_b].into_iter().flatten())
+            }
+            JointDesc::RackPinion { centre, .. } => pts.extend(*centre),
+            JointDesc::Belt { .. }
+            | JointDesc::FixedOrientation { .. }
+            | JointDesc::Parallel { .. }
+            | JointDesc::LinearCoupling { .. } => {}
         }
     }
     for d in &desc.drivers {

@@ -16,6 +16,7 @@ Nothing here knows global row or column numbers; ``ReferenceModel`` places the b
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -212,6 +213,196 @@ class Fixed(Constraint):
         )
 
 
+def _cross(u: np.ndarray, v: np.ndarray) -> float:
+    """z component of u x v."""
+    return float(u[0] * v[1] - u[1] * v[0])
+
+
+def _unit(v: Any, what: str) -> np.ndarray:
+    v = np.asarray(v, dtype=float)
+    norm = float(np.hypot(v[0], v[1]))
+    if not (np.isfinite(norm) and norm > 0.0):
+        raise ValueError(f"{what} {list(v)} must be a finite, non-zero direction")
+    return v / norm
+
+
+class DistanceJoint(Constraint):
+    """A massless coupler of length l between P_a and P_b (1 row, a length):
+    (d^T d - l^2) / (2 l) = 0, d = r_b(u_b) - r_a(u_a).
+
+    g' = d^T dd / l, g'' = (dd^T dd + d^T ddd) / l with ddd = (terms in qdd) -
+    (A_b u_b thd_b^2 - A_a u_a thd_a^2), so gamma = (d^T c - dd^T dd) / l, c = that bracket."""
+
+    kind = "distance"
+    n_rows = 1
+
+    def __init__(self, name, a, b, ua, ub, length):
+        self.name, self.a, self.b, self.ua, self.ub, self.length = name, a, b, ua, ub, length
+        self.length_rows = [True]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        d, ja, jb, c = _pin(pa, pb, self.ua, self.ub)
+        d_dot = pb.v(self.ub) - pa.v(self.ua)
+        length = self.length
+        gamma = (d @ c - d_dot @ d_dot) / length
+        value = (d @ d - length**2) / (2.0 * length)
+        return value, (d @ ja)[None, :] / length, (d @ jb)[None, :] / length, gamma
+
+
+class PointOnLine(Constraint):
+    """The pin P of a on the line of b through Q along e' (fixed in b), at a constant
+    offset (1 row, a length): n^T (r_a(P) - r_b(Q)) - offset = 0 with n = A_b rot90(e')."""
+
+    kind = "point_on_line"
+    n_rows = 1
+
+    def __init__(self, name, a, b, ua, ub, e_local, offset):
+        self.name, self.a, self.b, self.ua, self.ub = name, a, b, ua, ub
+        self.n_local = perp(e_local)
+        self.offset = offset
+        self.length_rows = [True]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        # the projection with the roles swapped: the direction is fixed in b
+        value, jac_b, jac_a, gamma = _projection(pb, pa, self.ub, self.ua, self.n_local)
+        return value - self.offset, jac_a, jac_b, gamma
+
+
+class GearPair(Constraint):
+    """Gears (or pulleys) rolling without slip, 1 row, an angle:
+    k_a theta_a + k_b theta_b - value = 0 with centres fixed in the ground; k_a = r_a / r_max,
+    k_b = +r_b / r_max for external gears and crossed belts (opposite turns), -r_b / r_max
+    for internal gears and open belts (same turns).
+
+    With a carrier, the engine's row is relative to the carrier's angle; here it is written
+    without the carrier, from the line of centres C_a -> C_b instead (the carrier holds
+    both centres, so its direction psi turns with the carrier):
+    k_a (theta_a - psi) + k_b (theta_b - psi) = value', i.e. psi = chi mod 2 pi with
+    chi = (k_a theta_a + k_b theta_b - value') / K, K = k_a + k_b. As a row that stays
+    smooth through whole turns (a length): h = e(chi) x d = |d| sin(psi - chi) = 0,
+    d = C_b - C_a, e(chi) = (cos chi, sin chi). With e' = de/dchi = rot90(e):
+    dh = e x dd - (e^T d) dchi and gamma = e x c + 2 (e^T dd) chid + h chid^2,
+    c = A_b u_b thd_b^2 - A_a u_a thd_a^2."""
+
+    n_rows = 1
+
+    def __init__(self, name, kind, a, b, k_a, k_b, start, carrier=None, centres=None):
+        self.name, self.kind, self.a, self.b = name, kind, a, b
+        self.k_a, self.k_b = k_a, k_b
+        self.carrier = carrier
+        self.row_labels = [name]
+        theta_a0, theta_b0 = start
+        if carrier is None:
+            self.length_rows = [False]
+            self.value = k_a * theta_a0 + k_b * theta_b0
+        else:
+            self.length_rows = [True]
+            self.ua, self.ub, d0 = centres  # the centres in a's and b's frames, C_b - C_a
+            self.value = k_a * theta_a0 + k_b * theta_b0 - (k_a + k_b) * math.atan2(d0[1], d0[0])
+
+    def evaluate(self, pa, pb):
+        k_a, k_b = self.k_a, self.k_b
+        if self.carrier is None:
+            g = k_a * pa.theta + k_b * pb.theta - self.value
+            return g, np.array([[0.0, 0.0, k_a]]), np.array([[0.0, 0.0, k_b]]), 0.0
+        K = k_a + k_b
+        chi = (k_a * pa.theta + k_b * pb.theta - self.value) / K
+        chi_d = (k_a * pa.thd + k_b * pb.thd) / K
+        d, ja, jb, c = _pin(pa, pb, self.ua, self.ub)
+        d_dot = pb.v(self.ub) - pa.v(self.ua)
+        e = np.array([math.cos(chi), math.sin(chi)])
+        h = _cross(e, d)
+        jac_a = np.array([[_cross(e, ja[:, k]) for k in range(3)]])
+        jac_b = np.array([[_cross(e, jb[:, k]) for k in range(3)]])
+        jac_a[0, 2] -= (e @ d) * k_a / K
+        jac_b[0, 2] -= (e @ d) * k_b / K
+        gamma = _cross(e, c) + 2.0 * (e @ d_dot) * chi_d + h * chi_d**2
+        return h, jac_a, jac_b, gamma
+
+
+class RackPinion(Constraint):
+    """Pinion a (centre C, pitch radius r) and rack b (unit axis e' fixed in b), 1 row, a
+    length: e^T (r_a(C) - r_b(C)) + r (theta_a - theta_b - delta0) = 0, e = A_b e'.
+    A counter-clockwise pinion turn dtheta moves the rack by r dtheta along +e."""
+
+    kind = "rack_pinion"
+    n_rows = 1
+
+    def __init__(self, name, a, b, ua, ub, e_local, radius, delta0):
+        self.name, self.a, self.b, self.ua, self.ub = name, a, b, ua, ub
+        self.e_local, self.radius, self.delta0 = e_local, radius, delta0
+        self.length_rows = [True]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        value, jac_b, jac_a, gamma = _projection(pb, pa, self.ub, self.ua, self.e_local)
+        r = self.radius
+        jac_a, jac_b = jac_a.copy(), jac_b.copy()
+        jac_a[0, 2] += r
+        jac_b[0, 2] -= r
+        return value + r * (pa.theta - pb.theta - self.delta0), jac_a, jac_b, gamma
+
+
+class FixedOrientation(Constraint):
+    """theta_b - theta_a - angle = 0 (1 row, an angle)."""
+
+    kind = "fixed_orientation"
+    n_rows = 1
+
+    def __init__(self, name, a, b, angle):
+        self.name, self.a, self.b, self.angle = name, a, b, angle
+        self.length_rows = [False]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        ang, ja, jb, g = _relative_angle(pa, pb)
+        return ang - self.angle, ja, jb, g
+
+
+class Parallel(Constraint):
+    """u x v = 0 with u = A_a e_a', v = A_b e_b' (1 row, an angle: the sine between them).
+
+    d/dt (u x v) = ud x v + u x vd with ud = B_a e_a' thd_a; the second derivative without
+    qdd is -(u x v) thd_a^2 + 2 ud x vd - (u x v) thd_b^2, negated for gamma."""
+
+    kind = "parallel"
+    n_rows = 1
+
+    def __init__(self, name, a, b, ea_local, eb_local):
+        self.name, self.a, self.b, self.ea, self.eb = name, a, b, ea_local, eb_local
+        self.length_rows = [False]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        u, v = pa.A @ self.ea, pb.A @ self.eb
+        u_theta, v_theta = pa.B @ self.ea, pb.B @ self.eb
+        g = _cross(u, v)
+        jac_a = np.array([[0.0, 0.0, _cross(u_theta, v)]])
+        jac_b = np.array([[0.0, 0.0, _cross(u, v_theta)]])
+        gamma = g * pa.thd**2 - 2.0 * _cross(u_theta * pa.thd, v_theta * pb.thd) + g * pb.thd**2
+        return g, jac_a, jac_b, gamma
+
+
+class LinearCoupling(Constraint):
+    """c_a^T q_a + c_b^T q_b - value = 0 (1 row; a length if any x or y is involved)."""
+
+    kind = "linear_coupling"
+    n_rows = 1
+
+    def __init__(self, name, a, b, c_a, c_b, value):
+        self.name, self.a, self.b = name, a, b
+        self.c_a, self.c_b, self.value = np.asarray(c_a, float), np.asarray(c_b, float), value
+        self.length_rows = [bool(np.any(self.c_a[:2] != 0.0) or np.any(self.c_b[:2] != 0.0))]
+        self.row_labels = [name]
+
+    def evaluate(self, pa, pb):
+        qa = np.array([pa.R[0], pa.R[1], pa.theta])
+        qb = np.array([pb.R[0], pb.R[1], pb.theta])
+        return self.c_a @ qa + self.c_b @ qb - self.value, self.c_a[None, :], self.c_b[None, :], 0.0
+
+
 # --- drivers ------------------------------------------------------------------------------
 
 
@@ -360,6 +551,8 @@ def build_constraints(desc: dict[str, Any], start: dict[str, tuple[float, float,
         elif kind == "fixed":
             x0, y0, _ = start[b]
             out.append(Fixed(name, a, b, local(a, (x0, y0)), start[b][2] - start[a][2]))
+        elif kind in _LIBRARY:
+            out.append(_LIBRARY[kind](j, name, where, a, b, start, local))
         else:
             raise ValueError(f"joint {name!r} has unknown type {kind!r}")
 
@@ -398,3 +591,133 @@ def build_constraints(desc: dict[str, Any], start: dict[str, tuple[float, float,
         else:
             raise ValueError(f"driver {name!r} has unknown type {kind!r}")
     return out
+
+
+# --- the joint library: one builder per type, from its description ----------------------------
+
+
+def _positive(j: dict[str, Any], key: str, where: str, default: float | None = None) -> float:
+    value = j.get(key, default)
+    if value is None or not (math.isfinite(float(value)) and float(value) > 0.0):
+        raise ValueError(f"{where}: {key} {value} must be finite and > 0")
+    return float(value)
+
+
+def _pitch_radii(j: dict[str, Any], where: str, distance: float | None) -> tuple[float, float]:
+    """(r_a, r_b) from radius_a and radius_b, or from the ratio r_a / r_b: radii from the
+    centre distance for gears, (ratio, 1) for belts (only the ratio matters there)."""
+    given = tuple(j.get(k) is not None for k in ("radius_a", "radius_b", "ratio"))
+    if given == (True, True, False):
+        return _positive(j, "radius_a", where), _positive(j, "radius_b", where)
+    if given != (False, False, True):
+        raise ValueError(f"{where} needs either radius_a and radius_b, or ratio")
+    k = _positive(j, "ratio", where)
+    if distance is None:
+        return k, 1.0
+    if not distance > 0.0:
+        raise ValueError(f"{where}: its centres coincide, so a ratio does not give the radii")
+    if j.get("internal", False):
+        if k == 1.0:
+            raise ValueError(f"{where}: an internal gear pair cannot have ratio 1")
+        r_b = distance / abs(k - 1.0)
+    else:
+        r_b = distance / (k + 1.0)
+    return k * r_b, r_b
+
+
+def _gear_pair(j, name, where, a, b, start, local) -> GearPair:
+    kind = j["type"]
+    origin = {n: (start[n][0], start[n][1]) for n in (a, b)}
+    centre_a = np.asarray(j.get("centre_a") or origin[a], dtype=float)
+    centre_b = np.asarray(j.get("centre_b") or origin[b], dtype=float)
+    distance = float(np.hypot(*(centre_b - centre_a))) if kind == "gear" else None
+    r_a, r_b = _pitch_radii(j, where, distance)
+    same_sense = bool(j.get("internal", False)) if kind == "gear" else not j.get("crossed", False)
+    if kind == "gear" and same_sense and r_a == r_b:
+        raise ValueError(f"{where}: an internal gear and its pinion need different radii")
+    r_max = max(r_a, r_b)
+    k_a, k_b = r_a / r_max, (-1.0 if same_sense else 1.0) * r_b / r_max
+    carrier, centres = j.get("carrier"), None
+    if carrier is not None:
+        if carrier not in start:
+            raise ValueError(f"{where}: its carrier {carrier!r} is not a body")
+        if carrier in (a, b):
+            raise ValueError(f"{where}: its carrier {carrier!r} is one of its own two bodies")
+        if carrier == GROUND:
+            carrier = None
+        else:
+            centres = (local(a, centre_a), local(b, centre_b), centre_b - centre_a)
+    return GearPair(name, kind, a, b, k_a, k_b, (start[a][2], start[b][2]), carrier, centres)
+
+
+def _distance(j, name, where, a, b, start, local) -> DistanceJoint:
+    pa, pb = np.asarray(j["at_a"], dtype=float), np.asarray(j["at_b"], dtype=float)
+    drawn = float(np.hypot(*(pb - pa)))
+    if not drawn > 0.0:
+        raise ValueError(f"{where}: its two points coincide")
+    return DistanceJoint(name, a, b, local(a, pa), local(b, pb), _positive(j, "length", where, drawn))
+
+
+def _point_on_line(j, name, where, a, b, start, local) -> PointOnLine:
+    at = np.asarray(j["at"], dtype=float)
+    through = np.asarray(j["through"] if j.get("through") is not None else at, dtype=float)
+    e = _unit(j["axis"], f"{where}: axis")
+    offset = j.get("offset")
+    if offset is None:
+        offset = float(perp(e) @ (at - through))
+    return PointOnLine(name, a, b, local(a, at), local(b, through), rot(start[b][2]).T @ e, float(offset))
+
+
+def _rack_pinion(j, name, where, a, b, start, local) -> RackPinion:
+    if a == GROUND:
+        raise ValueError(f"{where}: its pinion is the ground, which cannot turn")
+    centre = j.get("centre") or (start[a][0], start[a][1])
+    e_local = rot(start[b][2]).T @ _unit(j["axis"], f"{where}: axis")
+    radius = _positive(j, "radius", where)
+    return RackPinion(
+        name, a, b, local(a, centre), local(b, centre), e_local, radius, start[a][2] - start[b][2]
+    )
+
+
+def _fixed_orientation(j, name, where, a, b, start, local) -> FixedOrientation:
+    angle = j.get("angle")
+    return FixedOrientation(name, a, b, start[b][2] - start[a][2] if angle is None else float(angle))
+
+
+def _parallel(j, name, where, a, b, start, local) -> Parallel:
+    ea, eb = _unit(j["axis_a"], f"{where}: axis_a"), _unit(j["axis_b"], f"{where}: axis_b")
+    if abs(ea @ eb) <= 1e-6:
+        raise ValueError(f"{where}: its two lines are perpendicular at the start")
+    return Parallel(name, a, b, rot(start[a][2]).T @ ea, rot(start[b][2]).T @ eb)
+
+
+def _linear_coupling(j, name, where, a, b, start, local) -> LinearCoupling:
+    def coefficients(key: str, body: str) -> np.ndarray:
+        given = dict(j.get(key) or {})
+        unknown = set(given) - {"x", "y", "theta"}
+        if unknown:
+            raise ValueError(f"{where}: {key} has unknown coordinates {sorted(unknown)}")
+        c = np.array([float(given.get(k, 0.0)) for k in ("x", "y", "theta")])
+        if body == GROUND and np.any(c != 0.0):
+            raise ValueError(f"{where}: {key} are on the ground, whose coordinates are fixed")
+        return c
+
+    c_a, c_b = coefficients("coefficients_a", a), coefficients("coefficients_b", b)
+    if not (np.any(c_a != 0.0) or np.any(c_b != 0.0)):
+        raise ValueError(f"{where} has no non-zero coefficient")
+    value = j.get("value")
+    if value is None:
+        value = float(c_a @ np.asarray(start[a]) + c_b @ np.asarray(start[b]))
+    return LinearCoupling(name, a, b, c_a, c_b, float(value))
+
+
+_LIBRARY = {
+    "distance": _distance,
+    "point_on_line": _point_on_line,
+    "gear": _gear_pair,
+    "rack_pinion": _rack_pinion,
+    "belt": _gear_pair,
+    "fixed_orientation": _fixed_orientation,
+    "parallel": _parallel,
+    "linear_coupling": _linear_coupling,
+}

@@ -106,8 +106,9 @@ class ReferenceModel:
         all coincide."""
         pts = [(x, y) for name, (x, y, _) in self._start.items() if name != GROUND]
         for j in self.description.get("joints", []):
-            if "at" in j:
-                pts.append(tuple(j["at"]))
+            for key in ("at", "at_a", "at_b", "through", "centre", "centre_a", "centre_b"):
+                if j.get(key) is not None:
+                    pts.append(tuple(j[key]))
         for d in self.description.get("drivers", []):
             for key in ("at_a", "at_b", "at"):
                 if key in d:

@@ -9,6 +9,16 @@ pub mod fixed;
 pub mod prismatic;
 pub mod revolute;
 
+// joints without coordinates of their own: couplers, slots, gears, couplings
+pub mod belt;
+pub mod coupler;
+pub mod coupling;
+pub mod gear;
+pub mod orientation;
+pub mod parallel;
+pub mod point_line;
+pub mod rack_pinion;
+
 use crate::drivers::{angle, coordinate, distance, relative_angle, translation};
 use crate::motion::MotionLaw;
 
@@ -215,6 +225,14 @@ constraint_list! {
     DistanceDriver(distance::DistanceDriver) = "distance driver",
     CoordinateDriver(coordinate::CoordinateDriver) = "coordinate driver",
     TranslationDriver(translation::TranslationDriver) = "translation driver",
+    Distance(coupler::Coupler) = "distance",
+    PointOnLine(point_line::PointOnLine) = "point on line",
+    Gear(gear::Gear) = "gear",
+    RackPinion(rack_pinion::RackPinion) = "rack and pinion",
+    Belt(belt::Belt) = "belt",
+    FixedOrientation(orientation::FixedOrientation) = "fixed orientation",
+    Parallel(parallel::Parallel) = "parallel",
+    LinearCoupling(coupling::LinearCoupling) = "linear coupling",
 }
 
 #[inline(always)]

@@ -43,6 +43,16 @@ fn rot(theta: f64, v: [f64; 2]) -> [f64; 2] {
     [c * v[0] - s * v[1], s * v[0] + c * v[1]]
 }
 
+/// The refusal for a joint that is not one relative motion of one screw.
+fn unsupported(j: &JointDesc) -> ScrewError {
+    let kind = serde_json::to_value(j).ok().and_then(|v| v["type"].as_str().map(str::to_string));
+    ScrewError::Mechanism(format!(
+        "joint '{}' is a {} joint; screw analysis covers revolute, prismatic and fixed joints",
+        j.name(),
+        kind.unwrap_or_default()
+    ))
+}
+
 impl MechanismJoints {
     /// Reads the joints of a description (names resolved, local vectors from the start).
     pub fn from_description(desc: &Description) -> Result<MechanismJoints, ScrewError> {
@@ -75,6 +85,14 @@ impl MechanismJoints {
                     let origin = [start[b][0], start[b][1]];
                     (None, body_a, body_b, origin, [1.0, 0.0])
                 }
+                JointDesc::Distance { .. }
+                | JointDesc::PointOnLine { .. }
+                | JointDesc::Gear { .. }
+                | JointDesc::RackPinion { .. }
+                | JointDesc::Belt { .. }
+                | JointDesc::FixedOrientation { .. }
+                | JointDesc::Parallel { .. }
+                | JointDesc::LinearCoupling { .. } => return Err(unsupported(j)),
             };
             let (ia, ib) = (index(j.name(), a)?, index(j.name(), b)?);
             let n = axis[0].hypot(axis[1]);
