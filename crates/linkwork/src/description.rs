@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::curves::CurveDesc;
 use crate::motion::MotionLaw;
 
 /// The name of the fixed frame; it has no coordinates.
@@ -102,6 +103,33 @@ pub enum JointDesc {
     Prismatic { name: String, body_a: String, body_b: String, at: [f64; 2], axis: [f64; 2] },
     /// Weld: `body_b` keeps its starting pose relative to `body_a`.
     Fixed { name: String, body_a: String, body_b: String },
+    /// The point `at` of `body_b` stays on `curve`, fixed in `body_a`: a pin in a curved
+    /// slot. Adds the curve parameter "<name>.s" to the coordinates.
+    PinInSlot { name: String, body_a: String, body_b: String, at: [f64; 2], curve: CurveDesc },
+    /// A cam `body_a` with its profile `curve` and a follower `body_b`: a knife edge (the
+    /// tip `at` on the profile), a roller (of `radius`, centred at `at`) or a flat face
+    /// (the line through `at` along `face`). Adds the contact's curve parameter "<name>.s".
+    CamFollower {
+        name: String,
+        body_a: String,
+        body_b: String,
+        follower: FollowerKind,
+        at: [f64; 2],
+        curve: CurveDesc,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        face: Option<[f64; 2]>,
+    },
+}
+
+/// The shape of a cam follower where it meets the profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FollowerKind {
+    Knife,
+    Roller,
+    Flat,
 }
 
 /// A driver: one row g(q) - f(t) = 0 with a motion law f.
@@ -146,7 +174,9 @@ impl JointDesc {
         match self {
             JointDesc::Revolute { name, .. }
             | JointDesc::Prismatic { name, .. }
-            | JointDesc::Fixed { name, .. } => name,
+            | JointDesc::Fixed { name, .. }
+            | JointDesc::PinInSlot { name, .. }
+            | JointDesc::CamFollower { name, .. } => name,
         }
     }
 }

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use crate::analysis::mobility::analyse;
-use crate::description::{Description, DriverDesc, JointDesc, LoadDesc, GROUND};
+use crate::description::{Description, DriverDesc, FollowerKind, JointDesc, LoadDesc, GROUND};
 use crate::drivers::{
     angle::AngleDriver, coordinate::CoordinateDriver, distance::DistanceDriver,
     relative_angle::RelativeAngleDriver, translation::TranslationDriver,
@@ -15,6 +15,9 @@ use crate::error::ModelError;
 use crate::joints::{
     fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, Extra, Frame,
     RowKind, MAX_ROWS,
+};
+use crate::joints::{
+    flat_follower::FlatFollower, point_on_curve::PointOnCurve, roller_follower::RollerFollower,
 };
 use crate::linear::{LinearKind, SymbolicFactor};
 use crate::loads::{Inertia, Load, LoadEntry};
@@ -290,6 +293,50 @@ impl Model {
                         theta0: bodies.theta(b) - bodies.theta(a),
                     };
                     (ConstraintKind::Fixed(joint), a, b)
+                }
+                JointDesc::PinInSlot { body_a, body_b, at, curve, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if !finite2(*at) {
+                        return Err(fail(format!("position {at:?} is not finite")));
+                    }
+                    let curve = curve.to_body(bodies.pose(a)).map_err(fail)?;
+                    let joint = PointOnCurve { curve, u_b: local(bodies.pose(b), *at) };
+                    (ConstraintKind::PointOnCurve(joint), a, b)
+                }
+                JointDesc::CamFollower { body_a, body_b, follower, at, curve, radius, face, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if !finite2(*at) {
+                        return Err(fail(format!("position {at:?} is not finite")));
+                    }
+                    if radius.is_some() && *follower != FollowerKind::Roller {
+                        return Err(fail("gives a radius, which only a roller follower has".into()));
+                    }
+                    if face.is_some() && *follower != FollowerKind::Flat {
+                        return Err(fail(
+                            "gives a face direction, which only a flat-faced follower has".into(),
+                        ));
+                    }
+                    let curve = curve.to_body(bodies.pose(a)).map_err(fail)?;
+                    let u_b = local(bodies.pose(b), *at);
+                    let frame =
+                        |b: Option<usize>| bodies.pose(b).map_or(Frame::GROUND, |p| Frame::new(p, [0.0; 3]));
+                    let kind = match follower {
+                        FollowerKind::Knife => ConstraintKind::PointOnCurve(PointOnCurve { curve, u_b }),
+                        FollowerKind::Roller => {
+                            let radius =
+                                radius.ok_or_else(|| fail("a roller follower needs a radius".into()))?;
+                            let joint = RollerFollower::new(curve, u_b, radius, &frame(a), &frame(b));
+                            ConstraintKind::RollerFollower(joint.map_err(fail)?)
+                        }
+                        FollowerKind::Flat => {
+                            let face = face.ok_or_else(|| {
+                                fail("a flat-faced follower needs its face direction".into())
+                            })?;
+                            let face_b = local(Some([0.0, 0.0, bodies.theta(b)]), face);
+                            ConstraintKind::FlatFollower(FlatFollower::new(curve, u_b, face_b).map_err(fail)?)
+                        }
+                    };
+                    (kind, a, b)
                 }
             };
             let name = j.name().to_string();
@@ -669,6 +716,10 @@ fn length_scale(desc: &Description) -> f64 {
         match j {
             JointDesc::Revolute { at, .. } | JointDesc::Prismatic { at, .. } => pts.push(*at),
             JointDesc::Fixed { .. } => {}
+            JointDesc::PinInSlot { at, curve, .. } | JointDesc::CamFollower { at, curve, .. } => {
+                pts.push(*at);
+                pts.extend(curve.world_points());
+            }
         }
     }
     for d in &desc.drivers {

@@ -8,6 +8,10 @@
 pub mod fixed;
 pub mod prismatic;
 pub mod revolute;
+// joints with their own coordinate, a curve parameter
+pub mod flat_follower;
+pub mod point_on_curve;
+pub mod roller_follower;
 
 use crate::drivers::{angle, coordinate, distance, relative_angle, translation};
 use crate::motion::MotionLaw;
@@ -215,6 +219,9 @@ constraint_list! {
     DistanceDriver(distance::DistanceDriver) = "distance driver",
     CoordinateDriver(coordinate::CoordinateDriver) = "coordinate driver",
     TranslationDriver(translation::TranslationDriver) = "translation driver",
+    PointOnCurve(point_on_curve::PointOnCurve) = "point on curve",
+    RollerFollower(roller_follower::RollerFollower) = "roller follower",
+    FlatFollower(flat_follower::FlatFollower) = "flat follower",
 }
 
 #[inline(always)]

@@ -75,6 +75,13 @@ impl MechanismJoints {
                     let origin = [start[b][0], start[b][1]];
                     (None, body_a, body_b, origin, [1.0, 0.0])
                 }
+                JointDesc::PinInSlot { .. } | JointDesc::CamFollower { .. } => {
+                    return Err(ScrewError::Mechanism(format!(
+                        "joint '{}': screw analysis covers revolute, prismatic and fixed joints; a pin in \
+                         a curved slot or a cam follower has no fixed screw axis",
+                        j.name()
+                    )));
+                }
             };
             let (ia, ib) = (index(j.name(), a)?, index(j.name(), b)?);
             let n = axis[0].hypot(axis[1]);
