@@ -113,7 +113,8 @@ pub enum JointDesc {
         name: String,
         body_a: String,
         body_b: String,
-        follower: FollowerKind,
+        /// "knife", "roller" or "flat"
+        follower: String,
         at: [f64; 2],
         curve: CurveDesc,
         #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -121,15 +122,6 @@ pub enum JointDesc {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         face: Option<[f64; 2]>,
     },
-}
-
-/// The shape of a cam follower where it meets the profile.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum FollowerKind {
-    Knife,
-    Roller,
-    Flat,
 }
 
 /// A driver: one row g(q) - f(t) = 0 with a motion law f.

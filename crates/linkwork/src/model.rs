@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use crate::analysis::mobility::analyse;
-use crate::description::{Description, DriverDesc, FollowerKind, JointDesc, LoadDesc, GROUND};
+use crate::description::{Description, DriverDesc, JointDesc, LoadDesc, GROUND};
 use crate::drivers::{
     angle::AngleDriver, coordinate::CoordinateDriver, distance::DistanceDriver,
     relative_angle::RelativeAngleDriver, translation::TranslationDriver,
@@ -308,10 +308,15 @@ impl Model {
                     if !finite2(*at) {
                         return Err(fail(format!("position {at:?} is not finite")));
                     }
-                    if radius.is_some() && *follower != FollowerKind::Roller {
+                    if !["knife", "roller", "flat"].contains(&follower.as_str()) {
+                        return Err(fail(format!(
+                            "follower must be \"knife\", \"roller\" or \"flat\", not {follower:?}"
+                        )));
+                    }
+                    if radius.is_some() && follower != "roller" {
                         return Err(fail("gives a radius, which only a roller follower has".into()));
                     }
-                    if face.is_some() && *follower != FollowerKind::Flat {
+                    if face.is_some() && follower != "flat" {
                         return Err(fail(
                             "gives a face direction, which only a flat-faced follower has".into(),
                         ));
@@ -320,21 +325,22 @@ impl Model {
                     let u_b = local(bodies.pose(b), *at);
                     let frame =
                         |b: Option<usize>| bodies.pose(b).map_or(Frame::GROUND, |p| Frame::new(p, [0.0; 3]));
-                    let kind = match follower {
-                        FollowerKind::Knife => ConstraintKind::PointOnCurve(PointOnCurve { curve, u_b }),
-                        FollowerKind::Roller => {
+                    let kind = match follower.as_str() {
+                        "roller" => {
                             let radius =
                                 radius.ok_or_else(|| fail("a roller follower needs a radius".into()))?;
                             let joint = RollerFollower::new(curve, u_b, radius, &frame(a), &frame(b));
                             ConstraintKind::RollerFollower(joint.map_err(fail)?)
                         }
-                        FollowerKind::Flat => {
+                        "flat" => {
                             let face = face.ok_or_else(|| {
                                 fail("a flat-faced follower needs its face direction".into())
                             })?;
                             let face_b = local(Some([0.0, 0.0, bodies.theta(b)]), face);
                             ConstraintKind::FlatFollower(FlatFollower::new(curve, u_b, face_b).map_err(fail)?)
                         }
+                        // a knife edge: its tip on the profile
+                        _ => ConstraintKind::PointOnCurve(PointOnCurve { curve, u_b }),
                     };
                     (kind, a, b)
                 }
