@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import json
 import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -441,6 +443,18 @@ def test_a_roller_too_big_for_a_hollow_of_the_profile_is_refused():
                 m.compile()
 
 
+def test_a_flat_face_on_a_profile_with_a_hollow_is_refused():
+    def dented(phi: float) -> float:
+        return 0.05 - 0.004 * math.exp(-((wrap(phi) / 0.15) ** 2))
+
+    desc = translating_flat().to_dict()
+    desc["joints"][-1]["curve"] = lw.curves.polar_function((0, 0), dented, 180)
+    with pytest.raises(
+        lw.ModelError, match=r"joint 'F': the profile is hollow at s = .* needs a convex profile"
+    ):
+        lw.Model(desc)
+
+
 def test_pin_in_slot_refusals_name_the_joint():
     m = lw.Mechanism()
     crank = m.link("crank", (0, 0), (0.05, 0))
@@ -475,3 +489,16 @@ def test_screw_analysis_refuses_curve_joints_by_name():
     state = eccentric_cam("knife").compile().solve(0.1)
     with pytest.raises(lw.ScrewError, match="joint 'F': screw analysis covers revolute, prismatic and fixed"):
         lw.screw.kennedy_centres(state)
+
+
+def test_the_docs_example_runs():
+    text = (Path(__file__).resolve().parent.parent / "docs" / "cams.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    scope: dict = {}
+    exec(compile(blocks[0], "docs/cams.md", "exec"), scope)
+    swing, s = scope["swing"], scope["s"]
+    # 10 mm of lift on a 60 mm arm: a swing of about 0.17 rad, back where it started
+    assert 0.12 < np.ptp(swing) < 0.22
+    assert abs(swing[-1] - swing[0]) < 1e-9
+    # one cam turn counter-clockwise: the contact runs once round the profile backwards
+    assert abs(s[-1] - s[0] + TAU) < 1e-9

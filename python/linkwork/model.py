@@ -36,7 +36,10 @@ class Model:
 
     name = property(lambda self: self._core.name, doc="The mechanism's name.")
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
-    n_coords = property(lambda self: self._core.n_coords, doc="Coordinates: 3 per moving body.")
+    n_coords = property(
+        lambda self: self._core.n_coords,
+        doc="Coordinates: 3 per moving body, then one per joint with its own (a curve parameter).",
+    )
     n_rows = property(lambda self: self._core.n_rows, doc="Constraint rows (joints and drivers).")
     columns = property(lambda self: self._core.columns, doc="Names of the coordinates.")
     body_names = property(lambda self: self._core.body_names, doc="Names of the moving bodies.")

@@ -22,11 +22,24 @@ pub struct FlatFollower {
 }
 
 impl FlatFollower {
-    /// A face through u_b along the direction `face_b` (b's frame, non-zero).
+    /// A face through u_b along the direction `face_b` (b's frame, non-zero), on a convex
+    /// profile (a sampled check: a flat face would bridge a hollow, not follow it).
     pub fn new(curve: Curve, u_b: [f64; 2], face_b: [f64; 2]) -> Result<Self, String> {
         let norm = face_b[0].hypot(face_b[1]);
         if !(norm.is_finite() && norm > 0.0) {
             return Err(format!("face direction {face_b:?} must be finite and non-zero"));
+        }
+        let orient = curve.orientation();
+        for s in curve.samples() {
+            let d1 = curve.eval(s).d1;
+            // curvature times |c'|: the turn of the tangent per radian of s, dimensionless
+            if orient * curve.curvature(s) * d1[0].hypot(d1[1]) < -1e-9 {
+                return Err(format!(
+                    "the profile is hollow at s = {s:.6} (radius of curvature {:.6e}): a flat face would \
+                     bridge the hollow; a flat-faced follower needs a convex profile",
+                    1.0 / curve.curvature(s).abs()
+                ));
+            }
         }
         Ok(FlatFollower { curve, u_b, n_b: perp([face_b[0] / norm, face_b[1] / norm]) })
     }
