@@ -328,6 +328,17 @@ def test_flat_follower_and_spline_slot_match_the_reference(build):
     compare_with_reference(build(), np.linspace(0.0, 1.0, 241))
 
 
+def test_length_scale_sees_the_curves():
+    """L is the diagonal of the box round every described point, the curves' extent
+    included: the roller follower's cam circle (centre (0.02, 0), R = 0.05) reaches
+    x = -0.03 .. 0.07 and y = -0.05; the follower's point is highest."""
+    mech = eccentric_cam("roller")
+    y0 = math.sqrt(0.065**2 - 0.02**2) + 0.003
+    want = math.hypot(0.07 + 0.03, y0 + 0.05)
+    assert mech.compile().length_scale == pytest.approx(want, rel=1e-15)
+    assert ReferenceModel(mech).length_scale == pytest.approx(want, rel=1e-15)
+
+
 def test_model_files_keep_curve_joints():
     mech = oscillating_roller(12)
     text = json.dumps(mech.to_dict())
