@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable
 
+from . import curves
 from .errors import ModelError
 from .motion import Law
 
@@ -42,6 +43,8 @@ class Body:
 
 
 BodyLike = "Body | str"
+# a curve's description, as made by ``linkwork.curves``
+Curve = dict[str, Any]
 
 
 def _name(body: Body | str) -> str:
@@ -353,6 +356,75 @@ class Mechanism:
             "linear_coupling", "K", name, body_a=_name(body_a), body_b=_name(body_b), **fields,
             value=None if value is None else float(value),
         )  # fmt: skip
+
+    def pin_in_slot(
+        self,
+        body_a: Body | str,
+        body_b: Body | str,
+        at: Sequence[float],
+        curve: Curve,
+        name: str | None = None,
+    ) -> str:
+        """A pin of ``body_b`` at world point ``at`` in a curved slot of ``body_a``: the pin
+        stays on ``curve`` (from ``linkwork.curves``, world coordinates at the start), which
+        ``body_a`` carries. 2 rows, r_b(P) - (R_a + A_a c(s)) = 0, and one own coordinate,
+        the curve parameter "<name>.s" (see docs/cams.md). The slot's ends are not enforced:
+        the curve is closed."""
+        name = self._auto("S", name)
+        self._joints.append(
+            {
+                "type": "pin_in_slot",
+                "name": name,
+                "body_a": _name(body_a),
+                "body_b": _name(body_b),
+                "at": _xy(at),
+                "curve": curves.description(curve),
+            }
+        )
+        return name
+
+    def cam_follower(
+        self,
+        cam: Body | str,
+        follower: Body | str,
+        at: Sequence[float],
+        profile: Curve,
+        kind: str = "knife",
+        radius: float | None = None,
+        face: Sequence[float] | None = None,
+        name: str | None = None,
+    ) -> str:
+        """A cam (``cam``, with its ``profile`` from ``linkwork.curves``, world coordinates
+        at the start) and its ``follower``, in contact. ``kind``:
+
+        - ``"knife"``: the follower's tip ``at`` stays on the profile (2 rows, as
+          ``pin_in_slot``);
+        - ``"roller"``: a roller of ``radius`` centred at ``at`` rolls on the profile: the
+          centre is ``radius`` from the contact point, along the profile's normal there;
+        - ``"flat"``: the follower's face, the line through ``at`` along ``face`` (a world
+          direction at the start), is tangent to the profile.
+
+        Each adds one own coordinate, the contact's curve parameter "<name>.s". How the
+        follower moves (translating, oscillating) is its own joint to the ground (or a
+        frame): ``prismatic`` or ``revolute``. See docs/cams.md."""
+        if kind not in ("knife", "roller", "flat"):
+            raise ValueError(f"cam follower kind must be 'knife', 'roller' or 'flat', not {kind!r}")
+        name = self._auto("C", name)
+        joint: dict[str, Any] = {
+            "type": "cam_follower",
+            "name": name,
+            "body_a": _name(cam),
+            "body_b": _name(follower),
+            "follower": kind,
+            "at": _xy(at),
+            "curve": curves.description(profile),
+        }
+        if radius is not None:
+            joint["radius"] = float(radius)
+        if face is not None:
+            joint["face"] = _xy(face)
+        self._joints.append(joint)
+        return name
 
     # -- drivers --------------------------------------------------------------------
     def _driver(self, kind: str, name: str | None, law: Law, **fields: Any) -> str:

@@ -48,7 +48,7 @@ class Model:
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
     n_coords = property(
         lambda self: self._core.n_coords,
-        doc="Coordinates: 3 per moving body, then one per curve parameter of a joint.",
+        doc="Coordinates: 3 per moving body, then one per joint with its own (a curve parameter).",
     )
     n_rows = property(lambda self: self._core.n_rows, doc="Constraint rows (joints and drivers).")
     columns = property(lambda self: self._core.columns, doc="Names of the coordinates.")

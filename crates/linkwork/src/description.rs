@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::curves::CurveDesc;
 use crate::motion::MotionLaw;
 
 /// The name of the fixed frame; it has no coordinates.
@@ -204,6 +205,25 @@ pub enum JointDesc {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         value: Option<f64>,
     },
+    /// The point `at` of `body_b` stays on `curve`, fixed in `body_a`: a pin in a curved
+    /// slot. Adds the curve parameter "<name>.s" to the coordinates.
+    PinInSlot { name: String, body_a: String, body_b: String, at: [f64; 2], curve: CurveDesc },
+    /// A cam `body_a` with its profile `curve` and a follower `body_b`: a knife edge (the
+    /// tip `at` on the profile), a roller (of `radius`, centred at `at`) or a flat face
+    /// (the line through `at` along `face`). Adds the contact's curve parameter "<name>.s".
+    CamFollower {
+        name: String,
+        body_a: String,
+        body_b: String,
+        /// "knife", "roller" or "flat"
+        follower: String,
+        at: [f64; 2],
+        curve: CurveDesc,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        face: Option<[f64; 2]>,
+    },
 }
 
 /// Coefficients of one body's coordinates in a linear coupling (absent ones are 0).
@@ -269,6 +289,7 @@ impl JointDesc {
             | JointDesc::FixedOrientation { name, .. }
             | JointDesc::Parallel { name, .. }
             | JointDesc::LinearCoupling { name, .. } => name,
+            JointDesc::PinInSlot { name, .. } | JointDesc::CamFollower { name, .. } => name,
         }
     }
 }

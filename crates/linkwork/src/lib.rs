@@ -10,6 +10,7 @@ pub mod acceleration;
 pub mod analysis;
 pub mod assembly;
 pub mod batch;
+pub mod curves;
 pub mod data;
 pub mod description;
 pub mod drivers;

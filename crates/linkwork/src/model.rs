@@ -20,6 +20,9 @@ use crate::joints::{
     fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, Extra, Frame,
     RowKind, MAX_ROWS,
 };
+use crate::joints::{
+    flat_follower::FlatFollower, point_on_curve::PointOnCurve, roller_follower::RollerFollower,
+};
 use crate::linear::{LinearKind, SymbolicFactor};
 use crate::loads::{Inertia, Load, LoadEntry};
 
@@ -478,6 +481,56 @@ impl Model {
                         Some(v) => return Err(fail(format!("value {v} is not finite"))),
                     };
                     (ConstraintKind::LinearCoupling(LinearCoupling { c_a, c_b, value }), a, b)
+                }
+                JointDesc::PinInSlot { body_a, body_b, at, curve, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if !finite2(*at) {
+                        return Err(fail(format!("position {at:?} is not finite")));
+                    }
+                    let curve = curve.to_body(bodies.pose(a)).map_err(fail)?;
+                    let joint = PointOnCurve { curve, u_b: local(bodies.pose(b), *at) };
+                    (ConstraintKind::PointOnCurve(joint), a, b)
+                }
+                JointDesc::CamFollower { body_a, body_b, follower, at, curve, radius, face, .. } => {
+                    let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
+                    if !finite2(*at) {
+                        return Err(fail(format!("position {at:?} is not finite")));
+                    }
+                    if !["knife", "roller", "flat"].contains(&follower.as_str()) {
+                        return Err(fail(format!(
+                            "follower must be \"knife\", \"roller\" or \"flat\", not {follower:?}"
+                        )));
+                    }
+                    if radius.is_some() && follower != "roller" {
+                        return Err(fail("gives a radius, which only a roller follower has".into()));
+                    }
+                    if face.is_some() && follower != "flat" {
+                        return Err(fail(
+                            "gives a face direction, which only a flat-faced follower has".into(),
+                        ));
+                    }
+                    let curve = curve.to_body(bodies.pose(a)).map_err(fail)?;
+                    let u_b = local(bodies.pose(b), *at);
+                    let frame =
+                        |b: Option<usize>| bodies.pose(b).map_or(Frame::GROUND, |p| Frame::new(p, [0.0; 3]));
+                    let kind = match follower.as_str() {
+                        "roller" => {
+                            let radius =
+                                radius.ok_or_else(|| fail("a roller follower needs a radius".into()))?;
+                            let joint = RollerFollower::new(curve, u_b, radius, &frame(a), &frame(b));
+                            ConstraintKind::RollerFollower(joint.map_err(fail)?)
+                        }
+                        "flat" => {
+                            let face = face.ok_or_else(|| {
+                                fail("a flat-faced follower needs its face direction".into())
+                            })?;
+                            let face_b = local(Some([0.0, 0.0, bodies.theta(b)]), face);
+                            ConstraintKind::FlatFollower(FlatFollower::new(curve, u_b, face_b).map_err(fail)?)
+                        }
+                        // a knife edge: its tip on the profile
+                        _ => ConstraintKind::PointOnCurve(PointOnCurve { curve, u_b }),
+                    };
+                    (kind, a, b)
                 }
             };
             let name = j.name().to_string();
@@ -956,6 +1009,10 @@ fn length_scale(desc: &Description) -> f64 {
             | JointDesc::FixedOrientation { .. }
             | JointDesc::Parallel { .. }
             | JointDesc::LinearCoupling { .. } => {}
+            JointDesc::PinInSlot { at, curve, .. } | JointDesc::CamFollower { at, curve, .. } => {
+                pts.push(*at);
+                pts.extend(curve.world_points());
+            }
         }
     }
     for d in &desc.drivers {

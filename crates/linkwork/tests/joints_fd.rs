@@ -123,7 +123,7 @@ fn jacobian_nu_and_gamma_match_finite_differences_for_every_constraint() {
 #[test]
 fn samples_cover_every_constraint_type() {
     let labels: Vec<&str> = samples().iter().map(|c| c.label()).collect();
-    assert_eq!(labels.len(), 16, "{labels:?}");
+    assert_eq!(labels.len(), 19, "{labels:?}");
     for c in samples() {
         assert_eq!(c.row_kinds().len(), c.n_rows());
         assert!(c.n_rows() <= MAX_ROWS);

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from . import curves
 from .laws import check_law, motion_law
 
 GROUND = "ground"
@@ -120,6 +121,7 @@ class Constraint:
     n_rows: int
     length_rows: list[bool]  # per row: True if it measures a length, False for an angle
     row_labels: list[str]
+    n_own = 0  # coordinates the constraint adds to q (a curve parameter: ``CurveJoint``)
 
     def law_value(self, t: float) -> tuple[float, float, float]:
         """(f, f', f'') of the row's motion law; zero for joints."""
@@ -535,7 +537,9 @@ def build_constraints(desc: dict[str, Any], start: dict[str, tuple[float, float,
         a, b = body(j["body_a"], where), body(j["body_b"], where)
         if a == b:
             raise ValueError(f"{where} joins body {a!r} to itself")
-        if kind == "revolute":
+        if kind in ("pin_in_slot", "cam_follower"):
+            out.append(curve_joint(j, name, a, b, start[a], start[b]))
+        elif kind == "revolute":
             out.append(Revolute(name, a, b, local(a, j["at"]), local(b, j["at"])))
         elif kind == "prismatic":
             axis = np.asarray(j["axis"], dtype=float)
@@ -721,3 +725,175 @@ _LIBRARY = {
     "parallel": _parallel,
     "linear_coupling": _linear_coupling,
 }
+# --- joints with their own coordinate: a parameter along a curve of body a ------------------
+
+
+@dataclass
+class Own:
+    """A joint's own coordinate: the curve parameter s and its rate sd."""
+
+    s: float
+    sd: float = 0.0
+
+
+def _along(pose: Pose, v: np.ndarray, v1: np.ndarray, v2: np.ndarray, sd: float):
+    """A vector A v(s) carried by a body, v depending on the curve parameter s: its value,
+    its rate B v thd + A v' sd, and the velocity-squared part of its second derivative,
+    -A v thd^2 + 2 B v' thd sd + A v'' sd^2."""
+    w = pose.thd
+    return (
+        pose.A @ v,
+        pose.B @ v * w + pose.A @ v1 * sd,
+        -(pose.A @ v) * w**2 + 2.0 * (pose.B @ v1) * w * sd + pose.A @ v2 * sd**2,
+    )
+
+
+class CurveJoint(Constraint):
+    """A joint whose rows also depend on its own coordinate s, the parameter of the curve
+    ``curve`` fixed in body a (``curves``). The model passes ``own`` (s and its rate) to
+    ``phi``, ``jacobian``, ``jacobian_own`` and ``gamma``; ``evaluate_own`` gives the
+    rows, their blocks, the column d phi / d s and gamma."""
+
+    n_own = 1
+    n_rows = 2
+    curve: Any
+    ub: np.ndarray
+
+    def own_start(self, pa: Pose, pb: Pose) -> float:
+        """s where the described configuration fits best (nearest curve point)."""
+        return curves.nearest(self.curve, pa.A.T @ (pb.r(self.ub) - pa.R))
+
+    def evaluate_own(self, pa: Pose, pb: Pose, own: Own):
+        """g (2), dg/dq_a, dg/dq_b (2 x 3), dg/ds (2), gamma (2)."""
+        raise NotImplementedError
+
+    def _rows(self, pa: Pose, pb: Pose, own: Own | None):
+        if own is None:
+            raise ValueError(
+                f"{self.kind} joint {self.name!r} needs the value of its own coordinate s "
+                "(the reference's inverse dynamics does not cover joints with their own coordinate)"
+            )
+        return self.evaluate_own(pa, pb, own)
+
+    def phi(self, pa: Pose, pb: Pose, t: float, own: Own | None = None) -> np.ndarray:
+        return self._rows(pa, pb, own)[0]
+
+    def jacobian(self, pa: Pose, pb: Pose, t: float, own: Own | None = None) -> tuple[np.ndarray, np.ndarray]:
+        rows = self._rows(pa, pb, own)
+        return rows[1], rows[2]
+
+    def jacobian_own(self, pa: Pose, pb: Pose, t: float, own: Own | None = None) -> np.ndarray:
+        return self._rows(pa, pb, own)[3]
+
+    def gamma(self, pa: Pose, pb: Pose, t: float, own: Own | None = None) -> np.ndarray:
+        return self._rows(pa, pb, own)[4]
+
+
+class PointOnCurve(CurveJoint):
+    """The point u_b of b on the curve c(s) of a (pin in slot, knife-edge follower):
+    r_b(u_b) - (R_a + A_a c(s)) = 0 (2 rows)."""
+
+    def __init__(self, name, kind, a, b, curve, ub):
+        self.name, self.kind, self.a, self.b, self.curve, self.ub = name, kind, a, b, curve, ub
+        self.length_rows = [True, True]
+        self.row_labels = [f"{name}.x", f"{name}.y"]
+
+    def evaluate_own(self, pa, pb, own):
+        c, c1, c2, _ = self.curve(own.s)
+        C, _, Cq = _along(pa, c, c1, c2, own.sd)
+        g = pb.r(self.ub) - (pa.R + C)
+        jac_a = np.column_stack([-np.eye(2), -(pa.B @ c)])
+        jac_b = np.column_stack([np.eye(2), pb.B @ self.ub])
+        # d2/dt2 of r_b has velocity-squared part -A_b u_b thd_b^2
+        gamma = pb.centripetal(self.ub) + Cq
+        return g, jac_a, jac_b, -(pa.A @ c1), gamma
+
+
+class RollerFollower(CurveJoint):
+    """A roller of radius rho centred at u_b of b on the profile c(s) of a: with
+    d = r_b(u_b) - (R_a + A_a c(s)) and T = A_a c'(s), (d.d - rho^2) / (2 rho) = 0 and
+    d.T / rho = 0 (the centre is rho from the contact point, along the normal)."""
+
+    def __init__(self, name, a, b, curve, ub, rho):
+        self.name, self.kind, self.a, self.b, self.curve, self.ub = name, "cam_follower", a, b, curve, ub
+        self.rho = rho
+        self.length_rows = [True, True]
+        self.row_labels = [f"{name}.distance", f"{name}.normal"]
+
+    def evaluate_own(self, pa, pb, own):
+        rho, sd = self.rho, own.sd
+        c, c1, c2, c3 = self.curve(own.s)
+        C, Cd, Cq = _along(pa, c, c1, c2, sd)
+        T, Td, Tq = _along(pa, c1, c2, c3, sd)
+        d = pb.r(self.ub) - (pa.R + C)
+        dd = pb.v(self.ub) - (pa.Rd + Cd)
+        dq = -pb.centripetal(self.ub) - Cq
+        Bc, Bc1, Bu = pa.B @ c, pa.B @ c1, pb.B @ self.ub
+        g = np.array([(d @ d - rho**2) / (2.0 * rho), d @ T / rho])
+        jac_a = np.array([[-d[0], -d[1], -(d @ Bc)], [-T[0], -T[1], d @ Bc1 - Bc @ T]]) / rho
+        jac_b = np.array([[d[0], d[1], d @ Bu], [T[0], T[1], Bu @ T]]) / rho
+        jac_s = np.array([-(d @ T), d @ (pa.A @ c2) - T @ T]) / rho
+        gamma = -np.array([dd @ dd + d @ dq, dq @ T + 2.0 * dd @ Td + d @ Tq]) / rho
+        return g, jac_a, jac_b, jac_s, gamma
+
+
+class FlatFollower(CurveJoint):
+    """The face of b (the line through u_b with unit normal n_b) tangent to the profile
+    c(s) of a: with n = A_b n_b, n.(R_a + A_a c(s) - r_b(u_b)) = 0 and n.A_a c'(s) = 0."""
+
+    def __init__(self, name, a, b, curve, ub, nb):
+        self.name, self.kind, self.a, self.b, self.curve, self.ub = name, "cam_follower", a, b, curve, ub
+        self.nb = nb
+        self.length_rows = [True, True]
+        self.row_labels = [f"{name}.face", f"{name}.tangent"]
+
+    def own_start(self, pa, pb):
+        n = pa.A.T @ (pb.A @ self.nb)
+        return curves.tangent_to_line(self.curve, n, pa.A.T @ (pb.r(self.ub) - pa.R))
+
+    def evaluate_own(self, pa, pb, own):
+        sd, wb = own.sd, pb.thd
+        c, c1, c2, c3 = self.curve(own.s)
+        C, Cd, Cq = _along(pa, c, c1, c2, sd)
+        T, Td, Tq = _along(pa, c1, c2, c3, sd)
+        n, n_theta = pb.A @ self.nb, pb.B @ self.nb
+        e = pa.R + C - pb.r(self.ub)
+        ed = pa.Rd + Cd - pb.v(self.ub)
+        eq = Cq + pb.centripetal(self.ub)
+        nd, nq = n_theta * wb, -n * wb**2
+        g = np.array([n @ e, n @ T])
+        jac_a = np.array([[n[0], n[1], n @ (pa.B @ c)], [0.0, 0.0, n @ (pa.B @ c1)]])
+        jac_b = np.array([[-n[0], -n[1], n_theta @ e - n @ (pb.B @ self.ub)], [0.0, 0.0, n_theta @ T]])
+        jac_s = np.array([n @ T, n @ (pa.A @ c2)])
+        gamma = -np.array([nq @ e + 2.0 * nd @ ed + n @ eq, nq @ T + 2.0 * nd @ Td + n @ Tq])
+        return g, jac_a, jac_b, jac_s, gamma
+
+
+def curve_joint(j: dict[str, Any], name: str, a: str, b: str, start_a, start_b) -> CurveJoint:
+    """A ``pin_in_slot`` or ``cam_follower`` joint of the description; ``ValueError``
+    naming the joint for bad fields."""
+    kind = j["type"]
+    where = f"{kind} joint {name!r}"
+    curve = curves.build_curve(j.get("curve"), start_a, where)
+    ub = rot(start_b[2]).T @ (np.asarray(j["at"], dtype=float) - np.array(start_b[:2]))
+    if kind == "pin_in_slot":
+        return PointOnCurve(name, kind, a, b, curve, ub)
+    follower = j.get("follower")
+    if "radius" in j and follower != "roller":
+        raise ValueError(f"{where}: gives a radius, which only a roller follower has")
+    if "face" in j and follower != "flat":
+        raise ValueError(f"{where}: gives a face direction, which only a flat-faced follower has")
+    if follower == "knife":
+        return PointOnCurve(name, kind, a, b, curve, ub)
+    if follower == "roller":
+        rho = float(j.get("radius", 0.0))
+        if not rho > 0.0:
+            raise ValueError(f"{where}: roller radius {rho} must be > 0")
+        return RollerFollower(name, a, b, curve, ub, rho)
+    if follower == "flat":
+        face = rot(start_b[2]).T @ np.asarray(j.get("face", (0.0, 0.0)), dtype=float)
+        norm = float(np.hypot(*face))
+        if not norm > 0.0:
+            raise ValueError(f"{where}: face direction must be non-zero")
+        return FlatFollower(name, a, b, curve, ub, perp(face / norm))
+    raise ValueError(f"{where}: follower must be 'knife', 'roller' or 'flat', not {follower!r}")

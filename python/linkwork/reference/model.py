@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from . import dynamics
-from .formulation import GROUND, Constraint, Pose, build_constraints
+from . import curves, dynamics
+from .formulation import GROUND, Constraint, CurveJoint, Own, Pose, build_constraints
 
 __all__ = ["ReferenceModel", "ConvergenceError"]
 
@@ -37,7 +37,8 @@ class ReferenceModel:
     """A mechanism description solved the textbook way (dense, NumPy only).
 
     ``columns`` names the coordinates ("<body>.x", "<body>.y", "<body>.theta", bodies in
-    description order); ``row_labels`` names the rows of Phi (joints, then drivers).
+    description order, then "<joint>.s" for every joint with its own coordinate, a curve
+    parameter); ``row_labels`` names the rows of Phi (joints, then drivers).
     """
 
     def __init__(self, description: Any, tol: float = 1e-12, max_iter: int = 50) -> None:
@@ -59,9 +60,15 @@ class ReferenceModel:
         # first column of each body (x, y, theta follow)
         self._col = {name: 3 * i for i, name in enumerate(self.body_names)}
         self.columns: list[str] = [f"{n}.{c}" for n in self.body_names for c in ("x", "y", "theta")]
-        self.n_coords = len(self.columns)
 
         self.constraints: list[Constraint] = build_constraints(self.description, self._start)
+        # own coordinates (curve parameters) follow the bodies', in joint order
+        self._own_col: dict[str, int] = {}
+        for c in self.constraints:
+            if c.n_own:
+                self._own_col[c.name] = len(self.columns)
+                self.columns.append(f"{c.name}.s")
+        self.n_coords = len(self.columns)
         self._row: list[int] = []  # first row of each constraint
         self.row_labels: list[str] = []
         length_rows: list[bool] = []
@@ -81,8 +88,11 @@ class ReferenceModel:
         # scales for the convergence test: lengths divided by L, angles as they are
         self.length_scale = self._characteristic_length()
         self._row_scale = np.array([1.0 / self.length_scale if is_len else 1.0 for is_len in length_rows])
-        self._col_scale = np.tile(
-            [1.0 / self.length_scale, 1.0 / self.length_scale, 1.0], len(self.body_names)
+        self._col_scale = np.concatenate(
+            [
+                np.tile([1.0 / self.length_scale, 1.0 / self.length_scale, 1.0], len(self.body_names)),
+                np.ones(len(self._own_col)),  # curve parameters are angle-like
+            ]
         )
 
         # inverse dynamics: mass properties, gravity, loads (``dynamics``)
@@ -115,6 +125,9 @@ class ReferenceModel:
                     pts.append(tuple(d[key]))
         for p in self.description.get("points", []):
             pts.append(tuple(p["at"]))
+        for j in self.description.get("joints", []):
+            if isinstance(j.get("curve"), dict):
+                pts += curves.world_points(j["curve"])
         xy = np.array(pts, dtype=float).reshape(-1, 2)
         diagonal = float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0)))) if len(xy) else 0.0
         return diagonal if diagonal > 0.0 else 1.0
@@ -126,27 +139,46 @@ class ReferenceModel:
         rates = (np.zeros(2), 0.0) if qd is None else (np.array(qd[i : i + 2], dtype=float), float(qd[i + 2]))
         return Pose(np.array(q[i : i + 2], dtype=float), float(q[i + 2]), rates[0], rates[1])
 
+    def _own(self, c: Constraint, q: np.ndarray, qd: np.ndarray | None = None) -> dict[str, Own]:
+        """The keyword a constraint with its own coordinate takes: own=Own(s, sd) read from
+        q and qd; nothing for the others."""
+        if not c.n_own:
+            return {}
+        k = self._own_col[c.name]
+        return {"own": Own(float(q[k]), 0.0 if qd is None else float(qd[k]))}
+
     # -- the formulation ----------------------------------------------------------------------
     def q_start(self) -> np.ndarray:
-        """The starting configuration of the description (n_coords)."""
-        return np.array([v for name in self.body_names for v in self._start[name]], dtype=float)
+        """The starting configuration of the description (n_coords): the bodies' starting
+        poses, then each own coordinate where the described configuration fits best."""
+        q = [v for name in self.body_names for v in self._start[name]]
+        for c in self.constraints:
+            if isinstance(c, CurveJoint):
+                (xa, ya, tha), (xb, yb, thb) = self._start[c.a], self._start[c.b]
+                pa = Pose(np.array([xa, ya]), tha, np.zeros(2), 0.0)
+                pb = Pose(np.array([xb, yb]), thb, np.zeros(2), 0.0)
+                q.append(c.own_start(pa, pb))
+        return np.array(q, dtype=float)
 
     def phi(self, q: np.ndarray, t: float) -> np.ndarray:
         """Phi(q, t) (n_rows)."""
         out = np.zeros(self.n_rows)
         for c, r in zip(self.constraints, self._row):
-            out[r : r + c.n_rows] = c.phi(self._pose(c.a, q), self._pose(c.b, q), t)
+            out[r : r + c.n_rows] = c.phi(self._pose(c.a, q), self._pose(c.b, q), t, **self._own(c, q))
         return out
 
     def phi_q(self, q: np.ndarray, t: float) -> np.ndarray:
-        """Phi_q (n_rows x n_coords)."""
+        """Phi_q (n_rows x n_coords); a joint's own coordinate has a column of its own."""
         J = np.zeros((self.n_rows, self.n_coords))
         for c, r in zip(self.constraints, self._row):
-            jac_a, jac_b = c.jacobian(self._pose(c.a, q), self._pose(c.b, q), t)
+            pa, pb, own = self._pose(c.a, q), self._pose(c.b, q), self._own(c, q)
+            jac_a, jac_b = c.jacobian(pa, pb, t, **own)
             for name, block in ((c.a, jac_a), (c.b, jac_b)):
                 if name != GROUND:
                     col = self._col[name]
                     J[r : r + c.n_rows, col : col + 3] += block
+            if isinstance(c, CurveJoint):
+                J[r : r + c.n_rows, self._own_col[c.name]] = c.jacobian_own(pa, pb, t, **own)
         return J
 
     def nu(self, q: np.ndarray, t: float) -> np.ndarray:
@@ -160,7 +192,8 @@ class ReferenceModel:
         """gamma = -(Phi_q qd)_q qd - 2 Phi_qt qd - Phi_tt (n_rows)."""
         out = np.zeros(self.n_rows)
         for c, r in zip(self.constraints, self._row):
-            out[r : r + c.n_rows] = c.gamma(self._pose(c.a, q, qd), self._pose(c.b, q, qd), t)
+            pa, pb = self._pose(c.a, q, qd), self._pose(c.b, q, qd)
+            out[r : r + c.n_rows] = c.gamma(pa, pb, t, **self._own(c, q, qd))
         return out
 
     def singular_ratio(self, q: np.ndarray, t: float) -> float:

@@ -8,6 +8,10 @@
 pub mod fixed;
 pub mod prismatic;
 pub mod revolute;
+// joints with their own coordinate, a curve parameter
+pub mod flat_follower;
+pub mod point_on_curve;
+pub mod roller_follower;
 
 // joints without coordinates of their own: couplers, slots, gears, couplings
 pub mod belt;
@@ -233,6 +237,9 @@ constraint_list! {
     FixedOrientation(orientation::FixedOrientation) = "fixed orientation",
     Parallel(parallel::Parallel) = "parallel",
     LinearCoupling(coupling::LinearCoupling) = "linear coupling",
+    PointOnCurve(point_on_curve::PointOnCurve) = "point on curve",
+    RollerFollower(roller_follower::RollerFollower) = "roller follower",
+    FlatFollower(flat_follower::FlatFollower) = "flat follower",
 }
 
 #[inline(always)]

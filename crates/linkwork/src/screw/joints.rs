@@ -93,6 +93,13 @@ impl MechanismJoints {
                 | JointDesc::FixedOrientation { .. }
                 | JointDesc::Parallel { .. }
                 | JointDesc::LinearCoupling { .. } => return Err(unsupported(j)),
+                JointDesc::PinInSlot { .. } | JointDesc::CamFollower { .. } => {
+                    return Err(ScrewError::Mechanism(format!(
+                        "joint '{}': screw analysis covers revolute, prismatic and fixed joints; a pin in \
+                         a curved slot or a cam follower has no fixed screw axis",
+                        j.name()
+                    )));
+                }
             };
             let (ia, ib) = (index(j.name(), a)?, index(j.name(), b)?);
             let n = axis[0].hypot(axis[1]);
