@@ -7,6 +7,8 @@ from __future__ import annotations
 import csv
 import json
 import math
+import shutil
+import subprocess
 import sys
 
 import numpy as np
@@ -308,6 +310,13 @@ def test_mp4_with_ffmpeg(tmp_path, capsys):
         == 0
     )
     assert mp4.read_bytes()[4:8] == b"ftyp"  # an MP4 container
+    if shutil.which("ffprobe"):
+        probe = subprocess.run(
+            ["ffprobe", "-v", "error", "-count_frames", "-show_entries", "stream=width,height,nb_read_frames",
+             "-of", "csv=p=0", str(mp4)],
+            capture_output=True, text=True, check=True,
+        )  # fmt: skip
+        assert probe.stdout.split() == ["640,480,5"]
     capsys.readouterr()
 
 

@@ -212,7 +212,7 @@ _OUTPUTS_HELP = (
 )
 _PATHS_HELP = (
     "points whose paths are drawn in the plane, comma-separated: named points or joints; "
-    "default: every named point (every moving joint if there are none)"
+    "default: every named point (every pin off the ground if there are none)"
 )
 
 
@@ -220,7 +220,9 @@ def _sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("model", help="model file (as written by Mechanism.save)")
     p.add_argument("--t0", type=float, default=0.0, help="first time [s] (default 0)")
     p.add_argument("--t1", type=float, default=1.0, help="last time [s] (default 1)")
-    p.add_argument("--steps", type=int, default=1001, help="time steps from t0 to t1 (default 1001)")
+    p.add_argument(
+        "--steps", type=int, default=1001, metavar="N", help="time steps from t0 to t1 (default 1001)"
+    )
 
 
 def _figure_arguments(p: argparse.ArgumentParser) -> None:
@@ -231,17 +233,22 @@ def _figure_arguments(p: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="write the mechanism moving to FILE.gif (Pillow) or FILE.mp4 (ffmpeg)",
     )
-    p.add_argument("--fps", type=_positive_int, default=30, help="animation frames per second (default 30)")
+    p.add_argument(
+        "--fps", type=_positive_int, default=30, metavar="F", help="animation frames per second (default 30)"
+    )
     p.add_argument(
         "--frames",
         type=_positive_int,
+        metavar="N",
         default=120,
         help="animation frames, spread evenly over the sweep (default 120)",
     )
-    p.add_argument("--out", default="linkwork-out", help="output folder (default linkwork-out)")
+    p.add_argument(
+        "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
+    )
 
 
-def _parser() -> argparse.ArgumentParser:
+def _parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
     fmt = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(
         prog="linkwork",
@@ -261,7 +268,9 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("example", nargs="?", default="four_bar", choices=sorted(examples.ALL))
     d.add_argument("--steps", type=int, default=100_000, help="time steps (default 100000)")
     d.add_argument("--revolutions", type=float, default=1.0, help="crank revolutions (default 1)")
-    d.add_argument("--out", default="linkwork-out", help="output folder (default linkwork-out)")
+    d.add_argument(
+        "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
+    )
 
     r = sub.add_parser(
         "run",
@@ -280,7 +289,13 @@ worst residual, Newton iterations, smallest pivot ratio, located events) and wri
 A sweep that fails at step k writes its k good steps and exits with status 1.""",
     )
     _sweep_arguments(r)
-    r.add_argument("--every", type=_positive_int, default=1, help="keep steps 0, K, 2K, ... (default 1: all)")
+    r.add_argument(
+        "--every",
+        type=_positive_int,
+        default=1,
+        metavar="K",
+        help="keep steps 0, K, 2K, ... (default 1: all)",
+    )
     r.add_argument(
         "--format",
         choices=FORMATS,
@@ -296,9 +311,12 @@ A sweep that fails at step k writes its k good steps and exits with status 1."""
         formatter_class=fmt,
         help="sweep a model file; write PNGs of outputs over time and of paths (and an animation)",
         description="""Sweeps a model file from t0 to t1 and writes:
-  DIR/MODEL.png        the chosen outputs over time: value, rate and acceleration, one column per unit
-  DIR/MODEL_paths.png  the paths of points in the plane (equal scales) over the mechanism at t0
-  FILE.gif|FILE.mp4    with --animate FILE: the mechanism moving, axis limits fixed over the motion""",
+  DIR/MODEL.png        the chosen outputs over time: value, rate and acceleration,
+                       one column of plots per unit
+  DIR/MODEL_paths.png  the paths of points in the plane (equal scales) over the
+                       mechanism drawn at t0
+  FILE.gif|FILE.mp4    with --animate FILE: the mechanism moving (640 x 480 pixels),
+                       axis limits fixed over the whole motion""",
     )
     _sweep_arguments(p)
     _figure_arguments(p)
@@ -312,7 +330,7 @@ A sweep that fails at step k writes its k good steps and exits with status 1."""
     )
     c.add_argument("model", help="model file (as written by Mechanism.save)")
     c.add_argument("--t", type=float, default=0.0, help="time of the configuration checked (default 0)")
-    return parser
+    return parser, {"demo": d, "run": r, "plot": p, "check": c}
 
 
 def _usage_problem(args: argparse.Namespace) -> str | None:
@@ -334,14 +352,14 @@ def _usage_problem(args: argparse.Namespace) -> str | None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = _parser()
+    parser, commands = _parser()
     args = parser.parse_args(argv)
     problem = _usage_problem(args)
     if problem:
-        parser.error(problem)
-    commands: dict[str, Any] = {"demo": demo, "run": run, "plot": plot, "check": check}
+        commands[args.command].error(problem)  # exits with status 2
+    do: dict[str, Any] = {"demo": demo, "run": run, "plot": plot, "check": check}
     try:
-        return int(commands[args.command](args))
+        return int(do[args.command](args))
     except _Failed as e:
         print(f"error: {e}", file=sys.stderr)
         return e.status
