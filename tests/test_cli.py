@@ -1,15 +1,29 @@
-"""The command line: demo, run (with and without forces), model files, failures."""
+"""The command line: demo, run (formats, --every, forces), plot, animations, check, model
+files, failures, exit statuses and help texts. Each command runs in-process on a built-in
+example saved to a file, with small step counts."""
 
 from __future__ import annotations
 
 import csv
 import json
+import math
+import shutil
+import subprocess
+import sys
 
 import numpy as np
 import pytest
+from PIL import Image
 
 import linkwork as lw
 from linkwork.cli import main
+
+REV = 2 * math.pi / 5.0  # one crank revolution of the examples (5 rad/s)
+
+
+def save(mech: lw.Mechanism, path) -> str:
+    mech.save(str(path))
+    return str(path)
 
 
 def massive_four_bar(path) -> str:
@@ -17,18 +31,95 @@ def massive_four_bar(path) -> str:
     for body, mass in zip(("crank", "coupler", "rocker"), (1.0, 2.0, 1.5)):
         m.set_mass(body, mass, inertia=0.01 * mass)
     m.set_gravity()
-    m.save(str(path))
-    return str(path)
+    return save(m, path)
+
+
+def pulled_slider(path) -> str:
+    """A slider-crank driven by its slider, pulled past the crank's reach: the sweep
+    fails at step 157 of 301 over t = 0 .. 3."""
+    m = lw.examples.slider_crank(crank=0.10, rod=0.35, offset=0.0, theta0=1.0)
+    x0 = m.to_dict()["joints"][2]["at"][0]
+    m.remove("crank_angle")
+    m.drive_coordinate("slider", (x0, 0.0), "x", lw.Linear(x0 - 0.1, 0.1), name="pull")
+    return save(m, path)
+
+
+def read_csv(path) -> tuple[list[str], np.ndarray]:
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array(rows[1:], dtype=float)
+
+
+# -- demo and run ------------------------------------------------------------------------
 
 
 def test_demo_writes_csv_and_png(tmp_path, capsys):
     assert main(["demo", "slider_crank", "--steps", "500", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "worst scaled residual" in out and "smallest pivot ratio" in out and "us per step" in out
-    with open(tmp_path / "slider_crank.csv") as f:
-        rows = list(csv.reader(f))
-    assert rows[0][:3] == ["t [s]", "crank.x [m]", "crank.y [m]"] and len(rows) == 501
+    header, table = read_csv(tmp_path / "slider_crank.csv")
+    assert header[:3] == ["t [s]", "crank.x [m]", "crank.y [m]"] and table.shape[0] == 500
     assert (tmp_path / "slider_crank.png").stat().st_size > 10_000
+
+
+def test_run_csv_holds_every_kth_step_of_the_sweep(tmp_path, capsys):
+    model = save(lw.examples.slider_crank(), tmp_path / "sc.json")
+    assert main(["run", model, "--t1", "1", "--steps", "101", "--every", "10", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    # the summary: range of every output, residual, iterations, pivot ratio, events
+    for text in ("slider.x", "worst scaled residual", "Newton iterations", "smallest pivot ratio", "events"):
+        assert text in out
+    header, table = read_csv(tmp_path / "sc.csv")
+    res = lw.Mechanism.load(model).compile().sweep(np.linspace(0, 1, 101), every=10)
+    assert header[:4] == ["t [s]", "crank.x [m]", "crank.y [m]", "crank.theta [rad]"]
+    assert "slider.x_d [m/s]" in header and "rod.theta_dd [rad/s^2]" in header and header[-1] == "pivot_ratio"
+    assert table.shape == (11, 1 + 3 * 9 + 3)
+    # CSV floats are written in shortest round-trip form: the values come back exactly
+    assert np.array_equal(table[:, 0], np.linspace(0, 1, 101)[::10])
+    assert np.array_equal(table[:, 1:10], res.q) and np.array_equal(table[:, 19:28], res.qdd)
+    assert np.array_equal(table[:, -1], res.pivot_ratio)
+
+
+def test_run_npz_has_one_array_per_column_with_units(tmp_path):
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    assert main(["run", model, "--t1", "1", "--steps", "51", "--format", "npz", "--out", str(tmp_path)]) == 0
+    assert not (tmp_path / "fb.csv").exists()
+    res = lw.Mechanism.load(model).compile().sweep(np.linspace(0, 1, 51))
+    with np.load(tmp_path / "fb.npz", allow_pickle=False) as f:
+        units = dict(zip(f["columns"].tolist(), f["units"].tolist()))
+        assert np.array_equal(f["time"], res.times)
+        for k, c in enumerate(res.columns):
+            assert np.array_equal(f[c], res.q[:, k])
+            assert np.array_equal(f[c + "_d"], res.qd[:, k])
+            assert np.array_equal(f[c + "_dd"], res.qdd[:, k])
+        assert np.array_equal(f["iterations"], res.iterations) and np.array_equal(f["residual"], res.residual)
+        assert set(f.keys()) == set(units) | {"columns", "units"}
+    assert units["time"] == "s" and units["rocker.theta"] == "rad" and units["coupler.x_dd"] == "m/s^2"
+    assert units["pivot_ratio"] == ""
+
+
+def test_run_parquet_has_the_columns_and_their_units(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet")
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    args = ["run", model, "--t1", "1", "--steps", "41", "--every", "4", "--format", "parquet"]
+    assert main(args + ["--out", str(tmp_path)]) == 0
+    table = pq.read_table(tmp_path / "fb.parquet")
+    res = lw.Mechanism.load(model).compile().sweep(np.linspace(0, 1, 41), every=4)
+    names, units, data = res.table()
+    assert table.column_names == names and table.num_rows == 11
+    for k, name in enumerate(names):
+        assert np.array_equal(table.column(name).to_numpy(), data[:, k])
+        assert table.schema.field(name).metadata == {b"unit": units[k].encode()}
+    assert table.schema.metadata[b"model"] == b"four-bar"
+
+
+def test_parquet_without_pyarrow_says_how_to_install_it(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # import pyarrow now raises ImportError
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    with pytest.raises(SystemExit) as e:
+        main(["run", model, "--format", "parquet", "--out", str(tmp_path)])
+    assert e.value.code == 2 and "pip install pyarrow" in capsys.readouterr().err
+    assert not list(tmp_path.glob("fb.*parquet"))
 
 
 def test_run_with_forces_writes_efforts_and_reactions(tmp_path, capsys):
@@ -39,17 +130,14 @@ def test_run_with_forces_writes_efforts_and_reactions(tmp_path, capsys):
     assert code == 0
     out = capsys.readouterr().out
     assert "crank_angle" in out and "energy balance" in out
-    with open(tmp_path / "fb_forces.csv") as f:
-        rows = list(csv.reader(f))
-    header = rows[0]
+    header, table = read_csv(tmp_path / "fb_forces.csv")
     assert "crank_angle.effort [N m]" in header and "O2.Fx [N]" in header and "B.torque [N m]" in header
-    table = np.array(rows[1:], dtype=float)
     # the CSV holds what the API computes
     res = lw.Mechanism.load(model).compile().sweep(np.linspace(0, 1.2566, 400), forces=True)
     assert np.allclose(
         table[:, header.index("crank_angle.effort [N m]")], res.effort("crank_angle"), rtol=1e-12
     )
-    for name in ("fb.png", "fb_forces.png"):
+    for name in ("fb.png", "fb_paths.png", "fb_forces.png"):
         assert (tmp_path / name).stat().st_size > 10_000
 
 
@@ -69,28 +157,170 @@ def test_run_reports_a_bad_model_file(tmp_path, capsys):
     d["joints"][1]["body_b"] = "nobody"
     bad.write_text(json.dumps(d))
     assert main(["run", str(bad), "--out", str(tmp_path)]) == 1
-    assert "joint 'A'" in capsys.readouterr().err
-    assert main(["run", str(tmp_path / "missing.json"), "--out", str(tmp_path)]) == 1
-
-
-def test_run_keeps_the_good_steps_of_a_failed_sweep(tmp_path, capsys):
-    m = lw.examples.slider_crank(crank=0.10, rod=0.35, offset=0.0, theta0=1.0)
-    x0 = m.to_dict()["joints"][2]["at"][0]
-    m.remove("crank_angle")
-    m.drive_coordinate("slider", (x0, 0.0), "x", lw.Linear(x0 - 0.1, 0.1), name="pull")
-    m.save(str(tmp_path / "pull.json"))
-    assert (
-        main(["run", str(tmp_path / "pull.json"), "--t1", "3", "--steps", "301", "--out", str(tmp_path)]) == 1
-    )
     err = capsys.readouterr().err
-    assert "step 157" in err and "157 steps before the failure" in err
-    with open(tmp_path / "pull.csv") as f:
-        assert len(list(csv.reader(f))) == 158
+    assert "joint 'A'" in err and str(bad) in err
+    missing = str(tmp_path / "missing.json")
+    assert main(["run", missing, "--out", str(tmp_path)]) == 1
+    assert missing in capsys.readouterr().err
 
 
-def test_steps_must_be_at_least_two(tmp_path):
-    with pytest.raises(SystemExit):
-        main(["demo", "--steps", "1", "--out", str(tmp_path)])
+@pytest.mark.parametrize("fmt", ["csv", "npz"])
+def test_run_keeps_the_good_steps_of_a_failed_sweep(tmp_path, capsys, fmt):
+    model = pulled_slider(tmp_path / "pull.json")
+    args = ["run", model, "--t1", "3", "--steps", "301", "--format", fmt, "--out", str(tmp_path)]
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert "step 157" in err and "157 steps before the failure" in err and model in err
+    if fmt == "csv":
+        assert read_csv(tmp_path / "pull.csv")[1].shape[0] == 157
+    else:
+        with pytest.raises(lw.SolveError) as e:
+            lw.Mechanism.load(model).compile().sweep(np.linspace(0, 3, 301))
+        with np.load(tmp_path / "pull.npz") as f:
+            assert np.array_equal(f["slider.x"], e.value.partial.body("slider").x) and len(f["time"]) == 157
+
+
+def test_failed_sweep_with_every_keeps_the_kept_good_steps(tmp_path, capsys):
+    model = pulled_slider(tmp_path / "pull.json")
+    args = ["run", model, "--t1", "3", "--steps", "301", "--every", "10", "--out", str(tmp_path)]
+    assert main(args) == 1
+    _, table = read_csv(tmp_path / "pull.csv")
+    assert np.array_equal(table[:, 0], np.linspace(0, 3, 301)[:157:10])  # steps 0, 10, ..., 150
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["demo", "--steps", "1"],
+        ["run", "M.json", "--steps", "1"],
+        ["run", "M.json", "--every", "0"],
+        ["run", "M.json", "--format", "xlsx"],
+        ["plot", "M.json", "--frames", "0"],
+        ["plot", "M.json", "--fps", "-3"],
+        ["plot", "M.json", "--animate", "movie.avi"],
+        ["frobnicate"],
+    ],
+)
+def test_bad_usage_exits_with_status_2(tmp_path, capsys, args):
+    with pytest.raises(SystemExit) as e:
+        main(args + ["--out", str(tmp_path)] if args[0] != "frobnicate" else args)
+    assert e.value.code == 2
+    assert "error" in capsys.readouterr().err
+
+
+# -- plot and animations -------------------------------------------------------------------
+
+
+def test_plot_writes_outputs_and_paths(tmp_path, capsys):
+    model = save(lw.examples.six_bar_watt(), tmp_path / "watt.json")
+    args = [
+        "plot",
+        model,
+        "--t1",
+        str(REV),
+        "--steps",
+        "201",
+        "--outputs",
+        "output,link5.x,C.y",
+        "--paths",
+        "C,D",
+    ]
+    assert main(args + ["--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "watt.png" in out and "watt_paths.png" in out and not (tmp_path / "watt.csv").exists()
+    for name in ("watt.png", "watt_paths.png"):
+        with Image.open(tmp_path / name) as im:
+            assert im.format == "PNG" and im.size[0] > 500 and im.size[1] > 400
+
+
+def test_run_plot_uses_the_default_outputs_and_paths(tmp_path, capsys):
+    model = save(lw.examples.slider_crank(), tmp_path / "sc.json")
+    assert main(["run", model, "--t1", "0.5", "--steps", "51", "--plot", "--out", str(tmp_path)]) == 0
+    for name in ("sc.csv", "sc.png", "sc_paths.png"):
+        assert (tmp_path / name).stat().st_size > 1000
+    capsys.readouterr()
+
+
+def test_plot_refuses_unknown_outputs_and_paths_before_sweeping(tmp_path, capsys):
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    assert main(["plot", model, "--outputs", "rocker.theta,wheel", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "'wheel'" in err and "rocker.theta" in err and "P.x" in err and model in err
+    assert main(["run", model, "--paths", "Q", "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "'Q'" in err and "P" in err and not (tmp_path / "out").exists()
+
+
+def test_animate_writes_a_gif_of_the_asked_frames(tmp_path, capsys):
+    model = save(lw.examples.slider_crank(), tmp_path / "sc.json")
+    gif = tmp_path / "movies" / "sc.gif"
+    args = ["plot", model, "--t1", str(REV), "--steps", "301", "--animate", str(gif), "--frames", "6"]
+    assert main(args + ["--fps", "20", "--out", str(tmp_path)]) == 0
+    assert f"{gif} (6 frames)" in capsys.readouterr().out
+    with Image.open(gif) as im:
+        assert im.format == "GIF" and im.n_frames == 6 and im.size == (640, 480)
+        assert im.info["duration"] == 50  # ms per frame at 20 fps
+        im.seek(3)  # frames differ: the mechanism moves
+        middle = np.asarray(im.convert("RGB"))
+        im.seek(0)
+        assert np.abs(middle.astype(int) - np.asarray(im.convert("RGB")).astype(int)).sum() > 0
+
+
+def test_run_animates_only_the_steps_there_are(tmp_path, capsys):
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    gif = str(tmp_path / "fb.gif")
+    assert main(["run", model, "--t1", "1", "--steps", "9", "--every", "2", "--animate", gif]) == 0
+    with Image.open(gif) as im:
+        assert im.n_frames == 5  # 9 steps, every 2nd kept: fewer than the 120 frames asked
+    capsys.readouterr()
+
+
+def test_plot_of_a_failed_sweep_draws_the_good_steps_and_exits_1(tmp_path, capsys):
+    model = pulled_slider(tmp_path / "pull.json")
+    gif = str(tmp_path / "pull.gif")
+    args = ["plot", model, "--t1", "3", "--steps", "301", "--animate", gif, "--frames", "4"]
+    assert main(args + ["--out", str(tmp_path)]) == 1
+    assert "157 steps before the failure" in capsys.readouterr().err
+    with Image.open(gif) as im:
+        assert im.n_frames == 4
+    assert (tmp_path / "pull_paths.png").exists()
+
+
+def test_mp4_without_ffmpeg_is_a_clear_usage_error(tmp_path, capsys, monkeypatch):
+    from matplotlib.animation import FFMpegWriter
+
+    monkeypatch.setattr(FFMpegWriter, "isAvailable", classmethod(lambda cls: False))
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    with pytest.raises(SystemExit) as e:
+        main(["plot", model, "--animate", str(tmp_path / "fb.mp4"), "--out", str(tmp_path)])
+    assert e.value.code == 2 and "ffmpeg" in capsys.readouterr().err
+    assert not (tmp_path / "fb.png").exists()
+
+
+def test_mp4_with_ffmpeg(tmp_path, capsys):
+    from matplotlib.animation import FFMpegWriter
+
+    if not FFMpegWriter.isAvailable():
+        pytest.skip("ffmpeg is not on the PATH")
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    mp4 = tmp_path / "fb.mp4"
+    assert (
+        main(["plot", model, "--steps", "51", "--animate", str(mp4), "--frames", "5", "--out", str(tmp_path)])
+        == 0
+    )
+    assert mp4.read_bytes()[4:8] == b"ftyp"  # an MP4 container
+    if shutil.which("ffprobe"):
+        probe = subprocess.run(
+            ["ffprobe", "-v", "error", "-count_frames", "-show_entries", "stream=width,height,nb_read_frames",
+             "-of", "csv=p=0", str(mp4)],
+            capture_output=True, text=True, check=True,
+        )  # fmt: skip
+        assert probe.stdout.split() == ["640,480,5"]
+    capsys.readouterr()
+
+
+# -- check ---------------------------------------------------------------------------------
 
 
 def test_check_reports_dof_and_limits(tmp_path, capsys):
@@ -111,3 +341,35 @@ def test_check_names_redundant_joints(tmp_path, capsys):
     assert main(["check", str(path)]) == 1
     err = capsys.readouterr().err
     assert "redundant" in err and "A_again" in err
+
+
+@pytest.mark.parametrize("content", ['{"bodies": [', "[1, 2]", None])
+def test_check_of_a_bad_model_file_names_the_file(tmp_path, capsys, content):
+    path = tmp_path / "broken.json"
+    if content is not None:
+        path.write_text(content)
+    assert main(["check", str(path)]) == 1
+    captured = capsys.readouterr()
+    assert captured.err.startswith(f"error: {path}: ") and captured.out == ""
+
+
+# -- help ----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "command, says",
+    [
+        ([], ["run", "plot", "check", "demo", "CSV", "GIF", "Exit status"]),
+        (["run"], ["MODEL.csv", ".npz", ".parquet", "MODEL_paths.png", "--every", "--animate", "status 1"]),
+        (["plot"], ["MODEL.png", "MODEL_paths.png", "FILE.gif", "--outputs", "--paths", "--frames"]),
+        (["check"], ["degrees of freedom", "writes nothing"]),
+        (["demo"], ["NAME.csv", "NAME.png"]),
+    ],
+)
+def test_help_says_what_each_command_writes(capsys, command, says):
+    with pytest.raises(SystemExit) as e:
+        main(command + ["--help"])
+    assert e.value.code == 0
+    out = " ".join(capsys.readouterr().out.split())
+    for text in says:
+        assert text in out, text

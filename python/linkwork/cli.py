@@ -1,13 +1,29 @@
 """The command line.
 
     linkwork demo [four_bar|slider_crank|...] [--steps N] [--revolutions R] [--out DIR]
-    linkwork run MODEL.json [--t0 T0] [--t1 T1] [--steps N] [--forces] [--plot] [--out DIR]
+    linkwork run MODEL [--t0 T0] [--t1 T1] [--steps N] [--every K] [--format csv|npz|parquet]
+                       [--forces] [--plot] [--outputs NAME,...] [--paths NAME,...]
+                       [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
+    linkwork plot MODEL [--t0 T0] [--t1 T1] [--steps N] [--outputs NAME,...] [--paths NAME,...]
+                        [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
+    linkwork check MODEL [--t T]
 
 ``demo`` sweeps a built-in mechanism: it prints a summary (range of every coordinate, worst
-residual, Newton iterations, closest approach to a singular configuration, speed) and
-writes DIR/<name>.csv and DIR/<name>.png. ``run`` does the same for a model file; with
-``--forces`` it adds the inverse dynamics (peak efforts and their parts, peak pin forces,
-the energy balance) and DIR/<model>_forces.csv (.png with ``--plot``).
+residual, Newton iterations, closest approach to a singular configuration, events, speed)
+and writes DIR/<name>.csv and DIR/<name>.png.
+
+``run`` sweeps a model file (anything `Mechanism.load` reads), prints the same summary and
+writes DIR/<model>.csv (or .npz, .parquet: every coordinate, its rate and acceleration, the
+diagnostics, with units); ``--every K`` keeps steps 0, K, 2K, ... With ``--forces`` it adds
+the inverse dynamics (peak efforts and their parts, peak pin forces, the energy balance)
+and DIR/<model>_forces.csv. ``--plot`` writes DIR/<model>.png (outputs over time) and
+DIR/<model>_paths.png (paths of points over the mechanism at t0), ``--animate FILE`` the
+mechanism moving. ``plot`` sweeps and writes the figures only.
+
+``check`` reports degrees of freedom, redundant joints and each driver's limits of motion.
+
+Exit status: 0 done; 1 the model file cannot be read or compiled, the sweep failed (the
+good steps are written first) or the model has a problem (check); 2 bad usage.
 """
 
 from __future__ import annotations
@@ -17,11 +33,18 @@ import math
 import os
 import sys
 import time
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import examples
 from .errors import LinkworkError
+
+if TYPE_CHECKING:
+    from .model import Model
+    from .results import Results
+
+FORMATS = ("csv", "npz", "parquet")
 
 
 def demo(args: argparse.Namespace) -> int:
@@ -50,66 +73,115 @@ def demo(args: argparse.Namespace) -> int:
     return 0
 
 
-def run(args: argparse.Namespace) -> int:
+def _load(path: str) -> Model:
+    """The compiled model of a model file; raises _Failed with a message naming the file."""
     from .mechanism import Mechanism
 
     try:
-        mech = Mechanism.load(args.model)
-        model = mech.compile()
-    except (OSError, ValueError) as e:
-        print(f"error: {args.model}: {e}", file=sys.stderr)
-        return 1
+        return Mechanism.load(path).compile()
+    except (OSError, ValueError, TypeError, KeyError, AttributeError, LinkworkError) as e:
+        # a model error already names the body, joint or driver at fault
+        raise _Failed(f"{path}: {e}") from None
+
+
+class _Failed(Exception):
+    """A failure reported as ``error: <message>`` with exit status ``status``."""
+
+    def __init__(self, message: str, status: int = 1) -> None:
+        super().__init__(message)
+        self.status = status
+
+
+def _check_figures(args: argparse.Namespace, model: Model) -> None:
+    """Refuses unknown --outputs and --paths names before sweeping (bad usage)."""
+    from . import figures
+
+    problem = figures.unknown_outputs(model, args.outputs or []) or figures.unknown_paths(
+        model, args.paths or []
+    )
+    if problem:
+        raise _Failed(f"{args.model}: {problem}", status=2)
+
+
+def _sweep(
+    args: argparse.Namespace, model: Model, forces: bool = False, every: int = 1
+) -> tuple[Results, int]:
+    """Sweeps from t0 to t1; a failed sweep gives its good steps and status 1."""
     times = np.linspace(args.t0, args.t1, args.steps)
-    print(f"{model!r}")
     try:
-        results = model.sweep(times, progress=sys.stderr.isatty(), forces=args.forces)
+        return model.sweep(times, progress=sys.stderr.isatty(), forces=forces, every=every), 0
     except LinkworkError as e:
-        print(f"error: {e}", file=sys.stderr)
         partial = getattr(e, "partial", None)
-        if partial is not None and len(partial):
-            print(f"(the {len(partial)} steps before the failure are in the output)", file=sys.stderr)
-            results, status = partial, 1
-        else:
-            return 1
-    else:
-        status = 0
+        if partial is None or len(partial) == 0:
+            raise _Failed(f"{args.model}: {e}") from None
+        print(f"error: {args.model}: {e}", file=sys.stderr)
+        print(f"(the {len(partial)} steps before the failure are in the output)", file=sys.stderr)
+        return partial, 1
+
+
+def _stem(args: argparse.Namespace) -> str:
+    return os.path.join(args.out, os.path.splitext(os.path.basename(args.model))[0])
+
+
+def _figures(args: argparse.Namespace, results: Results, plots: bool) -> list[str]:
+    """Writes the PNGs (if ``plots``) and the animation (if asked); returns their paths."""
+    from . import figures
+
+    written = []
+    if plots:
+        written.append(_stem(args) + ".png")
+        figures.plot_outputs(results, written[-1], args.outputs)
+        written.append(_stem(args) + "_paths.png")
+        figures.plot_paths(results, written[-1], args.paths)
+    if args.animate:
+        folder = os.path.dirname(args.animate)
+        if folder:
+            os.makedirs(folder, exist_ok=True)
+        n = figures.animate(results, args.animate, fps=args.fps, frames=args.frames)
+        written.append(f"{args.animate} ({n} frames)")
+    return written
+
+
+def run(args: argparse.Namespace) -> int:
+    model = _load(args.model)
+    _check_figures(args, model)
+    print(f"{model!r}")
+    results, status = _sweep(args, model, forces=args.forces, every=args.every)
     print(results.summary())
-    stem = os.path.splitext(os.path.basename(args.model))[0]
     os.makedirs(args.out, exist_ok=True)
-    written = [os.path.join(args.out, f"{stem}.csv")]
-    results.to_csv(written[0])
-    every = max(1, args.steps // 2000)
-    if args.plot:
-        written.append(os.path.join(args.out, f"{stem}.png"))
-        results.plot(written[-1], every=every)
-    if args.forces:
+    written = [f"{_stem(args)}.{args.format}"]
+    {"csv": results.to_csv, "npz": results.to_npz, "parquet": results.to_parquet}[args.format](written[0])
+    if args.forces and results.reactions is not None:
         print(results.forces_summary())
-        written.append(os.path.join(args.out, f"{stem}_forces.csv"))
+        written.append(_stem(args) + "_forces.csv")
         results.forces_to_csv(written[-1])
         if args.plot:
-            written.append(os.path.join(args.out, f"{stem}_forces.png"))
-            results.plot_forces(written[-1], every=every)
+            written.append(_stem(args) + "_forces.png")
+            results.plot_forces(written[-1], every=max(1, len(results) // 2000))
+    written += _figures(args, results, plots=args.plot)
     print("wrote " + ", ".join(written))
+    return status
+
+
+def plot(args: argparse.Namespace) -> int:
+    model = _load(args.model)
+    _check_figures(args, model)
+    print(f"{model!r}")
+    results, status = _sweep(args, model)
+    os.makedirs(args.out, exist_ok=True)
+    print("wrote " + ", ".join(_figures(args, results, plots=True)))
     return status
 
 
 def check(args: argparse.Namespace) -> int:
     """Counts bodies, rows and degrees of freedom, finds redundant rows and each driver's
     limits of motion, without sweeping; exit status 1 if the model has a problem."""
-    from .mechanism import Mechanism
-
-    try:
-        model = Mechanism.load(args.model).compile()
-    except (OSError, ValueError) as e:
-        # a model error already names the joints at fault (redundant rows, a structure)
-        print(f"error: {args.model}: {e}", file=sys.stderr)
-        return 1
+    model = _load(args.model)
     print(f"{model!r}")
     try:
         mob = model.mobility(t=args.t)
     except LinkworkError as e:
-        print(f"error: cannot assemble at t = {args.t}: {e}", file=sys.stderr)
-        return 1
+        raise _Failed(f"{args.model}: cannot assemble at t = {args.t}: {e}") from None
     print(mob.report())
     problem = mob.redundant or mob.dof_driven > 0
     drivers = [c[0] for c in model.constraints if c[1] == "driver"]
@@ -122,33 +194,178 @@ def check(args: argparse.Namespace) -> int:
     return 1 if problem else 0
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="linkwork", description="Planar mechanism kinematics.")
+def _names(text: str) -> list[str]:
+    return [n.strip() for n in text.split(",") if n.strip()]
+
+
+def _positive_int(text: str) -> int:
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {value}")
+    return value
+
+
+_OUTPUTS_HELP = (
+    "outputs plotted over time, comma-separated: a column (rocker.theta, slider.x), a body (its "
+    "angle) or a named point's coordinate (P.x, P.y); default: the angle of every body that "
+    "turns, x and y of every body that only slides"
+)
+_PATHS_HELP = (
+    "points whose paths are drawn in the plane, comma-separated: named points or joints; "
+    "default: every named point (every pin off the ground if there are none)"
+)
+
+
+def _sweep_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("model", help="model file (as written by Mechanism.save)")
+    p.add_argument("--t0", type=float, default=0.0, help="first time [s] (default 0)")
+    p.add_argument("--t1", type=float, default=1.0, help="last time [s] (default 1)")
+    p.add_argument(
+        "--steps", type=int, default=1001, metavar="N", help="time steps from t0 to t1 (default 1001)"
+    )
+
+
+def _figure_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--outputs", type=_names, metavar="NAME,...", help=_OUTPUTS_HELP)
+    p.add_argument("--paths", type=_names, metavar="NAME,...", help=_PATHS_HELP)
+    p.add_argument(
+        "--animate",
+        metavar="FILE",
+        help="write the mechanism moving to FILE.gif (Pillow) or FILE.mp4 (ffmpeg)",
+    )
+    p.add_argument(
+        "--fps", type=_positive_int, default=30, metavar="F", help="animation frames per second (default 30)"
+    )
+    p.add_argument(
+        "--frames",
+        type=_positive_int,
+        metavar="N",
+        default=120,
+        help="animation frames, spread evenly over the sweep (default 120)",
+    )
+    p.add_argument(
+        "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
+    )
+
+
+def _parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
+    fmt = argparse.RawDescriptionHelpFormatter
+    parser = argparse.ArgumentParser(
+        prog="linkwork",
+        description="Planar mechanism kinematics: sweep a model file over time, write its "
+        "results (CSV, NPZ, Parquet), plots (PNG) and animations (GIF, MP4).",
+        epilog="Exit status: 0 done, 1 a model or sweep failed (good steps are written), 2 bad usage. "
+        "See docs/cli.md.",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
-    d = sub.add_parser("demo", help="sweep a built-in mechanism, print a summary, write CSV and PNG")
+    d = sub.add_parser(
+        "demo",
+        help="sweep a built-in mechanism, print a summary, write CSV and PNG",
+        description="Sweeps a built-in mechanism over whole crank revolutions, prints a summary and "
+        "the speed, and writes DIR/NAME.csv (every coordinate, rate, acceleration, diagnostics) and "
+        "DIR/NAME.png (angles, rates, accelerations and paths).",
+    )
     d.add_argument("example", nargs="?", default="four_bar", choices=sorted(examples.ALL))
     d.add_argument("--steps", type=int, default=100_000, help="time steps (default 100000)")
     d.add_argument("--revolutions", type=float, default=1.0, help="crank revolutions (default 1)")
-    d.add_argument("--out", default="linkwork-out", help="output folder (default linkwork-out)")
-    r = sub.add_parser("run", help="sweep a JSON model file; write CSV (and PNG with --plot)")
-    r.add_argument("model", help="model file (JSON, as written by Mechanism.save)")
-    r.add_argument("--t0", type=float, default=0.0, help="first time [s] (default 0)")
-    r.add_argument("--t1", type=float, default=1.0, help="last time [s] (default 1)")
-    r.add_argument("--steps", type=int, default=1001, help="time steps (default 1001)")
+    d.add_argument(
+        "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
+    )
+
+    r = sub.add_parser(
+        "run",
+        formatter_class=fmt,
+        help="sweep a model file; write its results (CSV, NPZ or Parquet), with --plot PNGs",
+        description="""Sweeps a model file from t0 to t1, prints a summary (range of every coordinate,
+worst residual, Newton iterations, smallest pivot ratio, located events) and writes:
+  DIR/MODEL.csv|.npz|.parquet  time, every coordinate, its rate (_d) and acceleration (_dd),
+                               iterations, residual, pivot_ratio; units in the CSV headers,
+                               in an array 'units' (NPZ) or in each field's metadata (Parquet)
+  DIR/MODEL_forces.csv         with --forces: driver efforts (and parts), power, joint reactions
+  DIR/MODEL.png                with --plot: outputs over time (value, rate, acceleration)
+  DIR/MODEL_paths.png          with --plot: paths of points over the mechanism at t0
+  DIR/MODEL_forces.png         with --plot --forces
+  FILE.gif|FILE.mp4            with --animate FILE: the mechanism moving
+A sweep that fails at step k writes its k good steps and exits with status 1.""",
+    )
+    _sweep_arguments(r)
+    r.add_argument(
+        "--every",
+        type=_positive_int,
+        default=1,
+        metavar="K",
+        help="keep steps 0, K, 2K, ... (default 1: all)",
+    )
+    r.add_argument(
+        "--format",
+        choices=FORMATS,
+        default="csv",
+        help="results file: csv (default), npz (NumPy) or parquet (needs pyarrow)",
+    )
     r.add_argument("--forces", action="store_true", help="inverse dynamics: driver efforts, joint reactions")
-    r.add_argument("--plot", action="store_true", help="also write PNG plots")
-    r.add_argument("--out", default="linkwork-out", help="output folder (default linkwork-out)")
-    c = sub.add_parser("check", help="count bodies, rows, degrees of freedom; find redundancy and limits")
-    c.add_argument("model", help="model file (JSON, as written by Mechanism.save)")
+    r.add_argument("--plot", action="store_true", help="also write the PNGs of outputs and paths")
+    _figure_arguments(r)
+
+    p = sub.add_parser(
+        "plot",
+        formatter_class=fmt,
+        help="sweep a model file; write PNGs of outputs over time and of paths (and an animation)",
+        description="""Sweeps a model file from t0 to t1 and writes:
+  DIR/MODEL.png        the chosen outputs over time: value, rate and acceleration,
+                       one column of plots per unit
+  DIR/MODEL_paths.png  the paths of points in the plane (equal scales) over the
+                       mechanism drawn at t0
+  FILE.gif|FILE.mp4    with --animate FILE: the mechanism moving (640 x 480 pixels),
+                       axis limits fixed over the whole motion""",
+    )
+    _sweep_arguments(p)
+    _figure_arguments(p)
+
+    c = sub.add_parser(
+        "check",
+        help="count bodies, rows, degrees of freedom; find redundancy and limits",
+        description="Reports the degrees of freedom (Gruebler's count and the rank of Phi_q), redundant "
+        "joints and each driver's limits of motion, without sweeping; writes nothing. Exit status 1 "
+        "if the model has a problem.",
+    )
+    c.add_argument("model", help="model file (as written by Mechanism.save)")
     c.add_argument("--t", type=float, default=0.0, help="time of the configuration checked (default 0)")
-    args = parser.parse_args(argv)
+    return parser, {"demo": d, "run": r, "plot": p, "check": c}
+
+
+def _usage_problem(args: argparse.Namespace) -> str | None:
+    """What is wrong with the arguments before any model is read, or None."""
     if args.command == "check":
-        return check(args)
+        return None
     if args.steps < 2:
-        parser.error("--steps must be at least 2")
-    if args.command == "demo":
-        return demo(args)
-    return run(args)
+        return "--steps must be at least 2"
+    if getattr(args, "format", "csv") == "parquet":
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            return "--format parquet needs pyarrow: pip install pyarrow"
+    if getattr(args, "animate", None):
+        from .figures import movie_problem
+
+        return movie_problem(args.animate)
+    return None
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser, commands = _parser()
+    args = parser.parse_args(argv)
+    problem = _usage_problem(args)
+    if problem:
+        commands[args.command].error(problem)  # exits with status 2
+    do: dict[str, Any] = {"demo": demo, "run": run, "plot": plot, "check": check}
+    try:
+        return int(do[args.command](args))
+    except _Failed as e:
+        print(f"error: {e}", file=sys.stderr)
+        return e.status
+    except OSError as e:  # an output that cannot be written
+        print(f"error: {e}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

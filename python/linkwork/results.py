@@ -9,7 +9,7 @@ from __future__ import annotations
 import csv
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -427,24 +427,59 @@ class Results(_Kinematics):
         """The unit of a coordinate column, in the model's length unit (SI assumed: m)."""
         return "rad" if column.endswith(".theta") else "m"
 
+    def table(self) -> tuple[list[str], list[str], np.ndarray]:
+        """Every output as one table: column names, their units and the data (n_steps x
+        n_columns). Columns: ``time``, every coordinate, its rate (``<column>_d``) and
+        acceleration (``<column>_dd``) where solved, then the diagnostics ``iterations``,
+        ``residual`` and ``pivot_ratio`` (unit ""). The CSV, NPZ and Parquet writers share it.
+        """
+        u = [self.units(c) for c in self.columns]
+        names, units, parts = ["time"] + list(self.columns), ["s"] + u, [self.times, self.q]
+        if self.qd is not None:
+            names += [f"{c}_d" for c in self.columns]
+            units += [f"{x}/s" for x in u]
+            parts.append(self.qd)
+        if self.qdd is not None:
+            names += [f"{c}_dd" for c in self.columns]
+            units += [f"{x}/s^2" for x in u]
+            parts.append(self.qdd)
+        names += ["iterations", "residual", "pivot_ratio"]
+        units += ["", "", ""]
+        return names, units, np.column_stack(parts + [self.iterations, self.residual, self.pivot_ratio])
+
     def to_csv(self, path: str) -> None:
         """Writes t, every coordinate with its derivatives, and the diagnostics; each
         header names its unit."""
-        u = [self.units(c) for c in self.columns]
-        header = ["t [s]"] + [f"{c} [{x}]" for c, x in zip(self.columns, u)]
-        parts = [self.times, self.q]
-        if self.qd is not None:
-            header += [f"{c}_d [{x}/s]" for c, x in zip(self.columns, u)]
-            parts.append(self.qd)
-        if self.qdd is not None:
-            header += [f"{c}_dd [{x}/s^2]" for c, x in zip(self.columns, u)]
-            parts.append(self.qdd)
-        header += ["iterations", "residual", "pivot_ratio"]
-        table = np.column_stack(parts + [self.iterations, self.residual, self.pivot_ratio])
+        names, units, data = self.table()
+        names[0] = "t"  # the CSV's time column has always been "t [s]"
+        header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
         with open(path, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(header)
-            w.writerows(table.tolist())
+            w.writerows(data.tolist())
+
+    def to_npz(self, path: str) -> None:
+        """Writes a NumPy ``.npz``: one array per column of `table` (``time``, ``crank.x``,
+        ``crank.x_d``, ..., ``pivot_ratio``), and ``columns`` and ``units``, the column
+        names in order and their units (string arrays, loadable without pickle)."""
+        names, units, data = self.table()
+        arrays: dict[str, Any] = {name: np.ascontiguousarray(data[:, k]) for k, name in enumerate(names)}
+        np.savez(path, **arrays, columns=np.array(names), units=np.array(units))
+
+    def to_parquet(self, path: str) -> None:
+        """Writes a Parquet file (needs pyarrow): the columns of `table`, each field's unit
+        in its metadata (``unit``), the model's name in the schema's (``model``)."""
+        try:
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+        except ImportError:
+            raise ImportError("writing Parquet needs pyarrow: pip install pyarrow") from None
+        names, units, data = self.table()
+        schema = pa.schema(
+            [pa.field(n, pa.float64(), metadata={"unit": u}) for n, u in zip(names, units)],
+            metadata={"model": self.model.name},
+        )
+        pq.write_table(pa.Table.from_arrays([data[:, k] for k in range(len(names))], schema=schema), path)
 
     def plot(self, path: str, bodies: Sequence[str] | None = None, every: int = 1) -> None:
         """A PNG of every body's angle, angular velocity and acceleration over time, and

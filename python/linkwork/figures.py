@@ -1,0 +1,275 @@
+"""Figures of a sweep: chosen outputs over time, paths of points in the plane (coupler
+curves) over a faint drawing of the mechanism, and the mechanism moving as a GIF or MP4.
+``linkwork run --plot``, ``linkwork plot`` and ``--animate`` write them.
+
+An output is named by a coordinate column (``rocker.theta``, ``slider.x``), by a body
+(its angle) or by a named point and an axis (``P.x``, ``P.y``).
+
+>>> import numpy as np
+>>> from linkwork import examples
+>>> res = examples.four_bar().compile().sweep(np.linspace(0.0, 1.0, 11))
+>>> [output(res, name).name for name in ("rocker", "coupler.x", "P.y")]
+['rocker.theta', 'coupler.x', 'P.y']
+>>> default_outputs(res)
+['crank', 'coupler', 'rocker']
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .drawing import Geometry, MechanismArtists, Motion, setup_axes
+
+if TYPE_CHECKING:
+    from .model import Model
+    from .results import Results
+
+__all__ = [
+    "Output",
+    "output",
+    "default_outputs",
+    "unknown_outputs",
+    "default_paths",
+    "unknown_paths",
+    "movie_problem",
+    "plot_outputs",
+    "plot_paths",
+    "animate",
+]
+
+#: figures need no more points per line than this, whatever the sweep's length
+MAX_POINTS = 5000
+#: pixels of an animation (width, height); even, as H.264 needs
+MOVIE_SIZE = (640, 480)
+
+
+@dataclass(frozen=True)
+class Output:
+    """One output over a sweep: its value, rate and acceleration (None where the sweep
+    did not solve them), each (n_steps,), and its unit."""
+
+    name: str
+    unit: str
+    value: np.ndarray
+    rate: np.ndarray | None
+    acceleration: np.ndarray | None
+
+
+def _point_names(model: Model) -> list[str]:
+    return [p[0] for p in model._core.points]
+
+
+def _find(model: Model, name: str) -> tuple[str, int] | None:
+    """("column", column index) or ("point", axis) for an output name; None if unknown."""
+    if name in model.columns:
+        return "column", model.columns.index(name)
+    if name in model.body_names:
+        return "column", model.columns.index(f"{name}.theta")
+    point, _, axis = name.rpartition(".")
+    if axis in ("x", "y") and point in _point_names(model):
+        return "point", "xy".index(axis)
+    return None
+
+
+def unknown_outputs(model: Model, names: Sequence[str]) -> str | None:
+    """A message naming the outputs that do not exist and what does, or None."""
+    bad = [n for n in names if _find(model, n) is None]
+    if not bad:
+        return None
+    points = ", ".join(f"{p}.x, {p}.y" for p in _point_names(model)) or "none"
+    return (
+        f"no output named {', '.join(map(repr, bad))}; an output is a column "
+        f"({', '.join(model.columns)}), a body (its angle: {', '.join(model.body_names)}) "
+        f"or a point's coordinate ({points})"
+    )
+
+
+def _length_unit(results: Results) -> str:
+    return results.units(results.columns[0]) if results.columns else "m"
+
+
+def output(results: Results, name: str) -> Output:
+    """The output called ``name`` (a column, a body's angle or ``POINT.x`` / ``POINT.y``)."""
+    found = _find(results.model, name)
+    if found is None:
+        raise KeyError(unknown_outputs(results.model, [name]))
+    kind, k = found
+    if kind == "column":
+        column = results.columns[k]
+
+        def col(a: np.ndarray | None) -> np.ndarray | None:
+            return None if a is None else a[:, k]
+
+        assert results.q is not None
+        return Output(column, results.units(column), results.q[:, k], col(results.qd), col(results.qdd))
+    p = results.point(name.rpartition(".")[0])
+
+    def axis(a: np.ndarray | None) -> np.ndarray | None:
+        return None if a is None else a[:, k]
+
+    return Output(name, _length_unit(results), p.position[:, k], axis(p.velocity), axis(p.acceleration))
+
+
+def default_outputs(results: Results) -> list[str]:
+    """The outputs plotted when none are named: the angle of every body that turns, and
+    x and y of every body that only translates (a slider), where they change."""
+    names: list[str] = []
+    tol = 1e-9 * results.model.length_scale
+    for body in results.model.body_names:
+        b = results.body(body)
+        if np.ptp(b.theta) > 1e-9:
+            names.append(body)
+            continue
+        names += [f"{body}.{c}" for c, v in (("x", b.x), ("y", b.y)) if np.ptp(v) > tol]
+    return names or list(results.model.body_names)
+
+
+def _step(n: int) -> int:
+    return max(1, -(-n // MAX_POINTS))
+
+
+def plot_outputs(results: Results, path: str, names: Sequence[str] | None = None) -> list[str]:
+    """A PNG of the outputs over time: one column of axes per unit (rad, m, ...), rows for
+    the value, the rate and the acceleration. Returns the names plotted."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    chosen = [output(results, n) for n in (names or default_outputs(results))]
+    units = list(dict.fromkeys(o.unit for o in chosen))
+    rows = [
+        ("value", "", lambda o: o.value),
+        ("rate", "/s", lambda o: o.rate),
+        ("acceleration", "/s^2", lambda o: o.acceleration),
+    ]
+    rows = [r for r in rows if any(r[2](o) is not None for o in chosen)]
+    k = slice(None, None, _step(results.n_steps))
+    t = results.times[k]
+    fig, axes = plt.subplots(
+        len(rows),
+        len(units),
+        figsize=(5.5 * len(units) + 1.0, 2.6 * len(rows) + 0.8),
+        sharex=True,
+        squeeze=False,
+        constrained_layout=True,
+    )
+    for j, unit in enumerate(units):
+        for i, (what, suffix, get) in enumerate(rows):
+            ax = axes[i, j]
+            for o in chosen:
+                v = get(o)
+                if o.unit == unit and v is not None:
+                    ax.plot(t, v[k], label=o.name)
+            ax.set_ylabel(f"{what} [{unit}{suffix}]")
+            ax.grid(True, alpha=0.3)
+            if i == 0:
+                ax.legend(fontsize=8)
+        axes[-1, j].set_xlabel("t [s]")
+    fig.suptitle(f"{results.model.name}: {results.n_steps} steps, t = {t[0]:g} .. {results.times[-1]:g} s")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return [o.name for o in chosen]
+
+
+def default_paths(model: Model) -> list[str]:
+    """The paths drawn when none are named: every named point's, or if the model has
+    none, every pin's that is not on the ground."""
+    points = _point_names(model)
+    if points:
+        return points
+    g = Geometry.from_model(model)
+    ground = {g.anchors[k].name for k in g.ground_pins}
+    return [g.anchors[k].name for k in g.pins if g.anchors[k].name not in ground]
+
+
+def unknown_paths(model: Model, names: Sequence[str]) -> str | None:
+    """A message naming the paths that cannot be drawn and those that can, or None."""
+    traceable = Geometry.from_model(model).traceable
+    bad = [n for n in names if n not in traceable]
+    if not bad:
+        return None
+    return (
+        f"no point or joint named {', '.join(map(repr, bad))}; paths can be drawn of: {', '.join(traceable)}"
+    )
+
+
+def plot_paths(results: Results, path: str, names: Sequence[str] | None = None) -> list[str]:
+    """A PNG of the paths of points in the plane (equal scales) over the mechanism drawn
+    faintly at the first step. Returns the names drawn."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    motion = Motion(Geometry.from_model(results.model), results)
+    chosen = list(names) if names is not None else default_paths(results.model)
+    fig, ax = plt.subplots(figsize=(7.5, 6.0), constrained_layout=True)
+    MechanismArtists(ax, motion, alpha=0.3, traces=False).update(0)
+    k = slice(None, None, _step(results.n_steps))
+    for name in chosen:
+        xy = motion.xy[k, motion.geometry.traceable[name]]
+        ax.plot(xy[:, 0], xy[:, 1], lw=1.5, label=name)
+    setup_axes(ax, motion, _length_unit(results))
+    if chosen:
+        ax.legend(fontsize=8)
+    ax.set_title(
+        f"{results.model.name}: paths over t = {results.times[0]:g} .. {results.times[-1]:g} s "
+        f"(mechanism at t = {results.times[0]:g} s)"
+    )
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return chosen
+
+
+def movie_problem(path: str) -> str | None:
+    """Why an animation cannot be written to ``path`` (its type, or ffmpeg missing for
+    MP4), or None."""
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".gif":
+        return None
+    if ext == ".mp4":
+        from matplotlib.animation import FFMpegWriter
+
+        if FFMpegWriter.isAvailable():
+            return None
+        return f"{path}: writing MP4 needs ffmpeg on the PATH (install ffmpeg, or write a .gif)"
+    return f"{path}: an animation is written as .gif or .mp4, not {ext or 'a file without extension'}"
+
+
+def animate(results: Results, path: str, fps: int = 30, frames: int = 120) -> int:
+    """Writes the mechanism moving over the sweep as a GIF (Pillow) or an MP4 (ffmpeg),
+    ``MOVIE_SIZE`` pixels, with about ``frames`` frames spread evenly over the steps and
+    the axis limits fixed over the whole motion. Returns the number of frames written."""
+    problem = movie_problem(path)
+    if problem:
+        raise ValueError(problem)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FFMpegWriter, PillowWriter
+
+    motion = Motion(Geometry.from_model(results.model), results)
+    dpi = 100
+    fig, ax = plt.subplots(figsize=(MOVIE_SIZE[0] / dpi, MOVIE_SIZE[1] / dpi), dpi=dpi)
+    artists = MechanismArtists(ax, motion, clock=True)
+    setup_axes(ax, motion, _length_unit(results))
+    ax.set_title(results.model.name, fontsize=10)
+    # laid out once (no layout engine): each frame is then drawn once, on the same axes
+    fig.tight_layout()
+    rows = motion.frames(frames)
+    writer = PillowWriter(fps=fps) if path.lower().endswith(".gif") else FFMpegWriter(fps=fps)
+    try:
+        with writer.saving(fig, path, dpi):
+            for row in rows:
+                artists.update(int(row))
+                writer.grab_frame()
+    finally:
+        plt.close(fig)
+    return len(rows)
