@@ -47,6 +47,15 @@ WORLD_POINTS: dict[str, dict[str, tuple[str, ...]]] = {
     "distance": {"at_a": ("body_a",), "at_b": ("body_b",)},
     "coordinate": {"at": ("body",)},
     "translation": {},
+    "point_on_line": {"at": ("body_a",), "through": ("body_b",)},
+    "gear": {"centre_a": ("body_a",), "centre_b": ("body_b",)},
+    "rack_pinion": {"centre": ("body_a",)},
+    "belt": {},
+    "fixed_orientation": {},
+    "parallel": {},
+    "linear_coupling": {},
+    "pin_in_slot": {"at": ("body_b",)},
+    "cam_follower": {"at": ("body_b",)},
 }
 
 #: joint types drawn as a block (body_b) sliding on a guide (body_a): the field holding
