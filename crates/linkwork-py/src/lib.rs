@@ -26,7 +26,35 @@ pyo3::import_exception!(linkwork.errors, NonFiniteError);
 pyo3::import_exception!(linkwork.errors, CancelledError);
 
 fn model_err(e: ModelError) -> PyErr {
-    PyModelError::new_err(e.to_string())
+    let err = PyModelError::new_err(e.to_string());
+    // (kind, name) of the element at fault, so that a file's reader can add its line
+    Python::attach(|py| {
+        let element = e.element().map(|(kind, name)| (kind.to_string(), name.to_string()));
+        let _ = err.value(py).setattr("element", element);
+    });
+    err
+}
+
+fn parse_format(format: &str) -> PyResult<linkwork::Format> {
+    linkwork::Format::from_name(format)
+        .ok_or_else(|| PyValueError::new_err(format!("format must be 'toml' or 'json', not {format:?}")))
+}
+
+/// Reads a model file's text (`format` "toml" or "json"; `file` names it in errors).
+/// Returns the flat description as JSON, keys and numbers as written, and the
+/// (kind, name, line) of every named element.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn read_model(text: &str, format: &str, file: &str) -> PyResult<(String, Vec<(String, String, usize)>)> {
+    let read = linkwork::files::read(text, parse_format(format)?, file).map_err(model_err)?;
+    let lines = read.source.elements.into_iter().map(|(k, n, l)| (k.to_string(), n, l)).collect();
+    Ok((linkwork::files::flat_json(&read.flat), lines))
+}
+
+/// Writes a flat description (JSON) as a model file's text (`format` "toml" or "json").
+#[pyfunction]
+fn write_model(description_json: &str, format: &str) -> PyResult<String> {
+    linkwork::files::write(description_json, parse_format(format)?).map_err(model_err)
 }
 
 /// The one place where engine solve errors become Python exceptions; each carries
@@ -75,6 +103,8 @@ fn linear_name(k: LinearKind) -> &'static str {
 #[pyclass(frozen, module = "linkwork._core", name = "Model")]
 struct PyModel {
     model: Arc<Model>,
+    /// as the description declared them (the compiled model holds angles in radians)
+    units: linkwork::Units,
 }
 
 fn start_guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Vec<f64>> {
@@ -230,8 +260,10 @@ impl PyModel {
             linear: parse_linear(linear)?,
             dense_max: dense_max.unwrap_or(d.dense_max),
         };
-        let model = Model::from_json(description_json, options).map_err(model_err)?;
-        Ok(PyModel { model: Arc::new(model) })
+        let description = linkwork::Description::from_json(description_json).map_err(model_err)?;
+        let units = description.units;
+        let model = Model::with_options(description, options).map_err(model_err)?;
+        Ok(PyModel { model: Arc::new(model), units })
     }
 
     #[getter]
@@ -452,6 +484,13 @@ impl PyModel {
             .collect()
     }
 
+    /// (quantity, unit) of everything in and out of the model: lengths in the declared
+    /// unit, angles in rad (the declared input angle unit as "input_angle"), forces ...
+    #[getter]
+    fn units(&self) -> Vec<(&'static str, &'static str)> {
+        self.units.table()
+    }
+
     #[getter]
     fn gravity(&self) -> (f64, f64) {
         (self.model.gravity[0], self.model.gravity[1])
@@ -475,6 +514,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyModel>()?;
     screw::register(m)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(read_model, m)?)?;
+    m.add_function(wrap_pyfunction!(write_model, m)?)?;
     m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;
     m.add_function(wrap_pyfunction!(mobility::mobility, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
