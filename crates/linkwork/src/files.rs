@@ -802,7 +802,10 @@ fn file_form(flat: &Node) -> Node {
         header.push(e.clone());
     }
     let mut out = vec![entry("model", Value::Table(header))];
-    out.extend(entries.iter().filter(|e| !MODEL_KEYS.contains(&e.key.as_str())).cloned());
+    // empty lists are left out (absent means empty), in JSON as in TOML, which cannot
+    // write an empty array of tables after the header
+    let empty = |e: &Entry| matches!(&e.node.value, Value::Array(items) if items.is_empty());
+    out.extend(entries.iter().filter(|e| !MODEL_KEYS.contains(&e.key.as_str()) && !empty(e)).cloned());
     plain(String::new(), Value::Table(out))
 }
 
@@ -953,8 +956,6 @@ fn toml_text(file: &Node) -> String {
                     toml_body(&mut out, item.entries().unwrap_or_default(), &key);
                 }
             }
-            // empty lists are left out: absent means empty
-            Value::Array(items) if items.is_empty() => {}
             // a flat description checked against the schema holds nothing else
             _ => {}
         }
