@@ -72,7 +72,18 @@ fn every_kind_round_trips_through_toml_and_json() {
 #[test]
 fn floats_round_trip_bit_for_bit() {
     let mut d = every_kind();
-    let values = [0.1 + 0.2, 1e-300, 5e-324, f64::MAX, -0.0, 1e22, 1.0 / 3.0, 123_456_789.123_456_79, 2.5e-7, 0.1 * 3.0];
+    let values = [
+        0.1 + 0.2,
+        1e-300,
+        5e-324,
+        f64::MAX,
+        -0.0,
+        1e22,
+        1.0 / 3.0,
+        123_456_789.123_456_79,
+        2.5e-7,
+        0.1 * 3.0,
+    ];
     d.drivers[3] = DriverDesc::Coordinate {
         name: "d4".into(),
         body: "slider".into(),
