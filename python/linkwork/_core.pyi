@@ -19,6 +19,8 @@ __all__ = [
     "screw_normalize",
     "mobility",
     "motion_limits",
+    "read_model",
+    "write_model",
     "screw_transport",
     "sweep_batch",
 ]
@@ -55,6 +57,8 @@ def motion_limits(
     range: float | None = None,
     steps: int | None = None,
 ) -> dict[str, Any]: ...
+def read_model(text: str, format: str, file: str) -> tuple[str, list[tuple[str, str, int]]]: ...
+def write_model(description_json: str, format: str) -> str: ...
 
 @final
 class Model:
@@ -128,6 +132,8 @@ class Model:
     def anchors(self) -> list[tuple[str, str, int, int, float, float]]: ...
     @property
     def gravity(self) -> tuple[float, float]: ...
+    @property
+    def units(self) -> list[tuple[str, str]]: ...
 
 # -- screw theory (crates/linkwork-py/src/screw.rs; public API: linkwork.screw) ---------
 

@@ -14,12 +14,15 @@ named ``"ground"``; it has no coordinates.
 
 from __future__ import annotations
 
+import json
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable
 
 from . import curves
+from . import _core
 from .errors import ModelError
 from .motion import Law
 
@@ -76,6 +79,11 @@ class Mechanism:
         self._loads: list[dict[str, Any]] = []
         self.gravity: tuple[float, float] = (0.0, 0.0)
         self._python_laws: dict[str, Callable[[float], Any]] = {}
+        #: the units the numbers are written in, e.g. ``{"length": "mm", "angle": "deg"}``;
+        #: None for metres and radians (see docs/model-format.md)
+        self.units: dict[str, str] | None = None
+        # (file, {(kind, name): line}) of a mechanism read from a file, for compile errors
+        self._source: tuple[str, dict[tuple[str, str], int]] | None = None
 
     # -- bodies ---------------------------------------------------------------------
     def body(
@@ -593,8 +601,10 @@ class Mechanism:
     # -- description ------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
         """The model description shared by the engine and the reference (plain data)."""
-        return {
-            "name": self.name,
+        desc: dict[str, Any] = {"name": self.name}
+        if self.units:
+            desc["units"] = dict(self.units)
+        return desc | {
             "bodies": [dict(b) for b in self._bodies],
             "joints": [dict(j) for j in self._joints],
             "drivers": [dict(d) for d in self._drivers],
@@ -614,13 +624,16 @@ class Mechanism:
         m._loads = [dict(ld) for ld in desc.get("loads", [])]
         g = desc.get("gravity", (0.0, 0.0))
         m.gravity = (float(g[0]), float(g[1]))
+        units = desc.get("units")
+        m.units = dict(units) if units else None
         return m
 
-    def save(self, path: str) -> None:
-        """Writes the description as a JSON model file. A mechanism driven by a `PythonLaw`
-        cannot be saved: a file cannot hold a Python function."""
-        import json
-
+    # -- model files --------------------------------------------------------------------
+    def save(self, path: str | os.PathLike[str]) -> None:
+        """Writes the mechanism as a model file: TOML if ``path`` ends in ``.toml``, JSON if
+        in ``.json`` (docs/model-format.md). ``load`` reads back an equal description:
+        same keys, same numbers. A mechanism driven by a `PythonLaw` cannot be saved: a
+        file cannot hold a Python function."""
         for kind, item in [("driver", d) for d in self._drivers] + [("load", ld) for ld in self._loads]:
             if _uses_python(item.get("law")):
                 raise ModelError(
@@ -628,24 +641,72 @@ class Mechanism:
                     'file cannot hold: write the law as an lw.Expression("...") of t, a lw.Cam, or a '
                     "lw.Spline through a table to save it"
                 )
-
-        with open(path, "w") as f:
-            json.dump(self.to_dict(), f, indent=2)
-            f.write("\n")
+        text = _core.write_model(self._json(), _format_of(path))
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
 
     @classmethod
-    def load(cls, path: str) -> Mechanism:
-        """Reads a JSON model file written by ``save`` (or by hand)."""
-        import json
+    def load(cls, path: str | os.PathLike[str]) -> Mechanism:
+        """Reads a model file, TOML (``.toml``) or JSON (``.json``), written by ``save``
+        or by hand. A bad file raises `ModelError` naming the file, line, column and field;
+        errors found later by ``compile`` name the element and its line in the file.
+        JSON written before format versions existed reads as version 1, metres, radians."""
+        fmt = _format_of(path)
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        return cls._read(text, fmt, os.fspath(path))
 
-        with open(path) as f:
-            return cls.from_dict(json.load(f))
+    @classmethod
+    def from_toml(cls, text: str, file: str = "model.toml") -> Mechanism:
+        """A mechanism from the text of a TOML model file (``file`` names it in errors).
+
+        >>> import linkwork as lw
+        >>> m = lw.Mechanism.from_toml(lw.examples.four_bar().to_toml())
+        >>> m.to_dict() == lw.examples.four_bar().to_dict()
+        True
+        """
+        return cls._read(text, "toml", file)
+
+    def to_toml(self) -> str:
+        """The mechanism as the text of a TOML model file."""
+        return _core.write_model(self._json(), "toml")
+
+    def _json(self) -> str:
+        from .model import _check_finite
+
+        desc = self.to_dict()
+        _check_finite(desc)  # names the element: JSON cannot carry NaN to the writer
+        return json.dumps(desc)
+
+    @classmethod
+    def _read(cls, text: str, fmt: str, file: str) -> Mechanism:
+        flat, elements = _core.read_model(text, fmt, file)
+        m = cls.from_dict(json.loads(flat))
+        m._source = (file, {(kind, name): line for kind, name, line in elements})
+        return m
 
     def compile(self, **options: Any) -> Model:
-        """Validate and compile into an engine model (raises ``ModelError``)."""
+        """Validate and compile into an engine model (raises ``ModelError``; for a
+        mechanism read from a file, the message gives the line of the element at fault)."""
         from .model import Model
 
-        return Model(self, **options)
+        try:
+            return Model(self, **options)
+        except ModelError as e:
+            element = getattr(e, "element", None)
+            line = self._source[1].get(tuple(element)) if self._source and element else None
+            if line is None:
+                raise
+            located = ModelError(f"{self._source[0]}: line {line}: {e}")
+            located.element = element  # type: ignore[attr-defined]
+            raise located from None
+
+
+def _format_of(path: str | os.PathLike[str]) -> str:
+    ext = os.path.splitext(os.fspath(path))[1].lower()
+    if ext not in (".toml", ".json"):
+        raise ModelError(f"{os.fspath(path)}: a model file ends in .toml or .json, not {ext or 'nothing'!r}")
+    return ext[1:]
 
 
 def _uses_python(law: Any) -> bool:

@@ -62,6 +62,20 @@ class Model:
     )
 
     @property
+    def units(self) -> dict[str, str]:
+        """The unit of every quantity in and out of the model: ``length`` as declared ("m"
+        or "mm"), ``angle`` "rad" (results are always in radians; ``input_angle`` is the
+        declared unit of the description's angles), ``time`` s, ``mass`` kg, and the
+        derived ``force``, ``torque``, ``power``, ``energy``, ``stiffness``, ``inertia``.
+
+        >>> from linkwork import examples
+        >>> u = examples.four_bar().compile().units
+        >>> (u["length"], u["angle"], u["force"], u["torque"])
+        ('m', 'rad', 'N', 'N m')
+        """
+        return dict(self._core.units)
+
+    @property
     def constraints(self) -> list[tuple[str, str, str, int, int]]:
         """(name, role, type, n_rows, first row) of every joint and driver."""
         return self._core.constraints

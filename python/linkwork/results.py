@@ -305,15 +305,18 @@ class Results(_Kinematics):
         return Energy(kinetic, gravity, kinetic_rate, gravity_rate, driver_power, self.load_power, balance)
 
     def effort_unit(self, driver: str) -> str:
-        """N m for drivers of angles, N for drivers of lengths (SI assumed)."""
+        """The unit of a driver's effort: the model's torque unit for drivers of angles
+        (N m, or mN mm for millimetres), its force unit for drivers of lengths (N or mN)."""
         kind = self._constraint(driver)[1][2]
-        return "N m" if "angle" in kind else "N"
+        u = self.model.units
+        return u["torque"] if "angle" in kind else u["force"]
 
     def forces_to_csv(self, path: str) -> None:
         """Writes t, every driver's effort (total and parts) and power, and every
         joint's reaction on its side b (Fx, Fy world; torque about its anchor)."""
         table = self._forces()
         header, cols = ["t [s]"], [self.times]
+        u = self.model.units
         for k, (name, role, *_) in enumerate(self.model.constraints):
             if role == "driver":
                 unit = self.effort_unit(name)
@@ -322,10 +325,11 @@ class Results(_Kinematics):
                 for part, v in self.effort_parts(name).items():
                     header.append(f"{name}.effort_{part} [{unit}]")
                     cols.append(v)
-                header.append(f"{name}.power [W]")
+                header.append(f"{name}.power [{u['power']}]")
                 cols.append(table[:, k, 3])
             else:
-                header += [f"{name}.Fx [N]", f"{name}.Fy [N]", f"{name}.torque [N m]"]
+                header += [f"{name}.Fx [{u['force']}]", f"{name}.Fy [{u['force']}]"]
+                header.append(f"{name}.torque [{u['torque']}]")
                 cols += [table[:, k, 0], table[:, k, 1], table[:, k, 2]]
         with open(path, "w", newline="") as f:
             w = csv.writer(f)
@@ -349,7 +353,7 @@ class Results(_Kinematics):
                 f = np.hypot(table[:, k, 0], table[:, k, 1])
                 unique = name not in self.model.indeterminate
                 note = "largest force magnitude" if unique else "not unique: redundant rows"
-                lines.append(f"  {name:<22}{f.max():>13.6g}  N      ({note})")
+                lines.append(f"  {name:<22}{f.max():>13.6g}  {self.model.units['force']:<5}  ({note})")
         e = self.energy()
         scale = max(float(np.abs(e.driver_power).max()), float(np.abs(e.kinetic_rate).max()), 1e-300)
         lines.append(f"  energy balance          {np.abs(e.balance).max() / scale:.1e} of the largest power")
@@ -376,8 +380,9 @@ class Results(_Kinematics):
             else:
                 j = self._constraint(name)[0]
                 ax1.plot(t, np.hypot(table[k, j, 0], table[k, j, 1]), label=name)
-        ax0.set_ylabel("driver effort [N m or N]")
-        ax1.set_ylabel("joint force magnitude [N]")
+        u = self.model.units
+        ax0.set_ylabel(f"driver effort [{u['torque']} or {u['force']}]")
+        ax1.set_ylabel(f"joint force magnitude [{u['force']}]")
         for ax in (ax0, ax1):
             ax.set_xlabel("t [s]")
             ax.grid(True, alpha=0.3)
@@ -424,8 +429,9 @@ class Results(_Kinematics):
         return "\n".join(lines)
 
     def units(self, column: str) -> str:
-        """The unit of a coordinate column, in the model's length unit (SI assumed: m)."""
-        return "rad" if column.endswith(".theta") else "m"
+        """The unit of a coordinate column: the model's length unit ("m" or "mm") for x
+        and y, "rad" for theta (whatever angle unit the description was written in)."""
+        return "rad" if column.endswith(".theta") else self.model.units["length"]
 
     def table(self) -> tuple[list[str], list[str], np.ndarray]:
         """Every output as one table: column names, their units and the data (n_steps x

@@ -28,7 +28,35 @@ pyo3::import_exception!(linkwork.errors, NonFiniteError);
 pyo3::import_exception!(linkwork.errors, CancelledError);
 
 fn model_err(e: ModelError) -> PyErr {
-    PyModelError::new_err(e.to_string())
+    let err = PyModelError::new_err(e.to_string());
+    // (kind, name) of the element at fault, so that a file's reader can add its line
+    Python::attach(|py| {
+        let element = e.element().map(|(kind, name)| (kind.to_string(), name.to_string()));
+        let _ = err.value(py).setattr("element", element);
+    });
+    err
+}
+
+fn parse_format(format: &str) -> PyResult<linkwork::Format> {
+    linkwork::Format::from_name(format)
+        .ok_or_else(|| PyValueError::new_err(format!("format must be 'toml' or 'json', not {format:?}")))
+}
+
+/// Reads a model file's text (`format` "toml" or "json"; `file` names it in errors).
+/// Returns the flat description as JSON, keys and numbers as written, and the
+/// (kind, name, line) of every named element.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn read_model(text: &str, format: &str, file: &str) -> PyResult<(String, Vec<(String, String, usize)>)> {
+    let read = linkwork::files::read(text, parse_format(format)?, file).map_err(model_err)?;
+    let lines = read.source.elements.into_iter().map(|(k, n, l)| (k.to_string(), n, l)).collect();
+    Ok((linkwork::files::flat_json(&read.flat), lines))
+}
+
+/// Writes a flat description (JSON) as a model file's text (`format` "toml" or "json").
+#[pyfunction]
+fn write_model(description_json: &str, format: &str) -> PyResult<String> {
+    linkwork::files::write(description_json, parse_format(format)?).map_err(model_err)
 }
 
 /// The one place where engine solve errors become Python exceptions; each carries
@@ -80,6 +108,8 @@ struct PyModel {
     model: Arc<Model>,
     /// the last exception of its Python laws, for the error report
     failures: laws::Failures,
+    /// as the description declared them (the compiled model holds angles in radians)
+    units: linkwork::Units,
 }
 
 fn start_guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Vec<f64>> {
@@ -263,10 +293,11 @@ impl PyModel {
             redundant,
         };
         let mut desc = Description::from_json(description_json).map_err(model_err)?;
+        let units = desc.units;
         let failures = laws::Failures::default();
         laws::bind(&mut desc, python_laws, &failures)?;
         let model = Model::with_options(desc, options).map_err(model_err)?;
-        Ok(PyModel { model: Arc::new(model), failures })
+        Ok(PyModel { model: Arc::new(model), failures, units })
     }
 
     #[getter]
@@ -495,6 +526,13 @@ impl PyModel {
             .collect()
     }
 
+    /// (quantity, unit) of everything in and out of the model: lengths in the declared
+    /// unit, angles in rad (the declared input angle unit as "input_angle"), forces ...
+    #[getter]
+    fn units(&self) -> Vec<(&'static str, &'static str)> {
+        self.units.table()
+    }
+
     #[getter]
     fn gravity(&self) -> (f64, f64) {
         (self.model.gravity[0], self.model.gravity[1])
@@ -518,6 +556,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyModel>()?;
     screw::register(m)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(read_model, m)?)?;
+    m.add_function(wrap_pyfunction!(write_model, m)?)?;
     m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;
     m.add_function(wrap_pyfunction!(mobility::mobility, m)?)?;
     laws::register(m)?;

@@ -24,7 +24,10 @@ fn err(e: sc::ScrewError) -> PyErr {
 }
 
 fn description(json: &str) -> PyResult<Description> {
-    Description::from_json(json).map_err(|e| err(sc::ScrewError::Mechanism(e.to_string())))
+    // screws work in radians, whatever angle unit the description declares
+    Description::from_json(json)
+        .map(|d| linkwork::units::internal(&d))
+        .map_err(|e| err(sc::ScrewError::Mechanism(e.to_string())))
 }
 
 fn slice<'a>(a: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {

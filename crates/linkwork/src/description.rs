@@ -1,11 +1,14 @@
 //! The model description: bodies placed in an approximate starting configuration,
-//! joints and drivers at world points. Plain data, read from JSON; `model::compile`
-//! validates it and turns it into a `Model`.
+//! joints and drivers at world points. Plain data, read from TOML or JSON model files
+//! (`files`) with the numbers exactly as written, in the declared `units`;
+//! `model::compile` validates it and turns it into a `Model`.
 
 use serde::{Deserialize, Serialize};
 
 use crate::curves::CurveDesc;
+use crate::files::Format;
 use crate::motion::MotionLaw;
+pub use crate::units::{AngleUnit, LengthUnit, Units};
 
 /// The name of the fixed frame; it has no coordinates.
 pub const GROUND: &str = "ground";
@@ -16,10 +19,14 @@ pub const GROUND: &str = "ground";
 pub struct Description {
     #[serde(default)]
     pub name: String,
+    /// the units every number of the description is written in (default m, rad)
+    #[serde(default, skip_serializing_if = "Units::is_default")]
+    pub units: Units,
+    #[serde(default)]
     pub bodies: Vec<BodyDesc>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "wire::joints")]
     pub joints: Vec<JointDesc>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "wire::drivers")]
     pub drivers: Vec<DriverDesc>,
     #[serde(default)]
     pub points: Vec<PointDesc>,
@@ -27,7 +34,7 @@ pub struct Description {
     #[serde(default)]
     pub gravity: [f64; 2],
     /// applied forces, torques, springs and dampers, for inverse dynamics
-    #[serde(default)]
+    #[serde(default, deserialize_with = "wire::loads")]
     pub loads: Vec<LoadDesc>,
 }
 
@@ -264,14 +271,32 @@ pub struct PointDesc {
 }
 
 impl Description {
-    /// Reads a description from JSON; the error names the line and column.
+    /// Reads a description from JSON (a model file, or the flat form `to_json` writes);
+    /// errors name the line, column and field.
     pub fn from_json(text: &str) -> Result<Self, crate::ModelError> {
-        serde_json::from_str(text).map_err(|e| crate::ModelError::Description(e.to_string()))
+        Ok(crate::files::read(text, Format::Json, crate::files::NO_FILE)?.description)
     }
 
-    /// Writes the description as JSON.
+    /// Reads a description from a TOML model file's text.
+    pub fn from_toml(text: &str) -> Result<Self, crate::ModelError> {
+        Ok(crate::files::read(text, Format::Toml, crate::files::NO_FILE)?.description)
+    }
+
+    /// The flat description as JSON: name, units, bodies, joints, ... at the top (the form
+    /// the Python package holds); `from_json` reads it back.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("a description always serialises")
+    }
+
+    /// A TOML model file: a `[model]` header, then `[[bodies]]`, `[[joints]]`, ... tables.
+    /// Fails only on a number that is not finite (a file cannot hold it).
+    pub fn to_toml(&self) -> Result<String, crate::ModelError> {
+        crate::files::write_description(self, Format::Toml)
+    }
+
+    /// A JSON model file, laid out as the TOML one (`model` header object first).
+    pub fn to_json_file(&self) -> Result<String, crate::ModelError> {
+        crate::files::write_description(self, Format::Json)
     }
 }
 
@@ -328,5 +353,243 @@ impl DriverDesc {
     /// Whether the driver sets an angle (rad) rather than a length.
     pub fn is_angle(&self) -> bool {
         matches!(self, DriverDesc::Angle { .. } | DriverDesc::RelativeAngle { .. })
+    }
+}
+
+/// The model-file form of the tagged element lists. A file writes an element's kind as
+/// its `type` key, among its fields; reading it as an externally tagged enum (the file
+/// reader hands `type` over as the variant) keeps every field's own position for error
+/// messages, which serde's internally tagged enums lose by buffering the whole table.
+/// The `remote` mirrors are checked against the enums by the compiler both ways: a
+/// variant or field missing here fails to build.
+mod wire {
+    use serde::{Deserialize, Deserializer, Serialize};
+
+    use super::{Coefficients, DriverDesc, JointDesc, LoadDesc};
+    use crate::curves::CurveDesc;
+    use crate::motion::MotionLaw;
+
+    // serialize is generated only for its exhaustive match over the real enum
+    #[allow(dead_code)]
+    #[derive(Serialize, Deserialize)]
+    #[serde(remote = "JointDesc", rename_all = "snake_case", deny_unknown_fields)]
+    enum JointWire {
+        Revolute {
+            name: String,
+            body_a: String,
+            body_b: String,
+            at: [f64; 2],
+        },
+        Prismatic {
+            name: String,
+            body_a: String,
+            body_b: String,
+            at: [f64; 2],
+            axis: [f64; 2],
+        },
+        Fixed {
+            name: String,
+            body_a: String,
+            body_b: String,
+        },
+        Distance {
+            name: String,
+            body_a: String,
+            at_a: [f64; 2],
+            body_b: String,
+            at_b: [f64; 2],
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            length: Option<f64>,
+        },
+        PointOnLine {
+            name: String,
+            body_a: String,
+            body_b: String,
+            at: [f64; 2],
+            axis: [f64; 2],
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            through: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            offset: Option<f64>,
+        },
+        Gear {
+            name: String,
+            body_a: String,
+            body_b: String,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            radius_a: Option<f64>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            radius_b: Option<f64>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            ratio: Option<f64>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            centre_a: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            centre_b: Option<[f64; 2]>,
+            #[serde(default)]
+            internal: bool,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            carrier: Option<String>,
+        },
+        RackPinion {
+            name: String,
+            body_a: String,
+            body_b: String,
+            radius: f64,
+            axis: [f64; 2],
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            centre: Option<[f64; 2]>,
+        },
+        Belt {
+            name: String,
+            body_a: String,
+            body_b: String,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            radius_a: Option<f64>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            radius_b: Option<f64>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            ratio: Option<f64>,
+            #[serde(default)]
+            crossed: bool,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            carrier: Option<String>,
+        },
+        FixedOrientation {
+            name: String,
+            body_a: String,
+            body_b: String,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            angle: Option<f64>,
+        },
+        Parallel {
+            name: String,
+            body_a: String,
+            body_b: String,
+            axis_a: [f64; 2],
+            axis_b: [f64; 2],
+        },
+        LinearCoupling {
+            name: String,
+            body_a: String,
+            body_b: String,
+            #[serde(default)]
+            coefficients_a: Coefficients,
+            #[serde(default)]
+            coefficients_b: Coefficients,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            value: Option<f64>,
+        },
+        PinInSlot {
+            name: String,
+            body_a: String,
+            body_b: String,
+            at: [f64; 2],
+            curve: CurveDesc,
+        },
+        CamFollower {
+            name: String,
+            body_a: String,
+            body_b: String,
+            follower: String,
+            at: [f64; 2],
+            curve: CurveDesc,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            radius: Option<f64>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            face: Option<[f64; 2]>,
+        },
+    }
+
+    #[allow(dead_code)]
+    #[derive(Serialize, Deserialize)]
+    #[serde(remote = "DriverDesc", rename_all = "snake_case", deny_unknown_fields)]
+    enum DriverWire {
+        Angle {
+            name: String,
+            body: String,
+            law: MotionLaw,
+        },
+        RelativeAngle {
+            name: String,
+            body_a: String,
+            body_b: String,
+            law: MotionLaw,
+        },
+        Distance {
+            name: String,
+            body_a: String,
+            at_a: [f64; 2],
+            body_b: String,
+            at_b: [f64; 2],
+            law: MotionLaw,
+        },
+        Coordinate {
+            name: String,
+            body: String,
+            at: [f64; 2],
+            axis: String,
+            law: MotionLaw,
+        },
+        Translation {
+            name: String,
+            joint: String,
+            law: MotionLaw,
+        },
+    }
+
+    #[allow(dead_code)]
+    #[derive(Serialize, Deserialize)]
+    #[serde(remote = "LoadDesc", rename_all = "snake_case", deny_unknown_fields)]
+    enum LoadWire {
+        Force {
+            name: String,
+            body: String,
+            at: [f64; 2],
+            direction: [f64; 2],
+            law: MotionLaw,
+        },
+        Torque {
+            name: String,
+            body: String,
+            law: MotionLaw,
+        },
+        Spring {
+            name: String,
+            body_a: String,
+            at_a: [f64; 2],
+            body_b: String,
+            at_b: [f64; 2],
+            stiffness: f64,
+            free_length: f64,
+            #[serde(default)]
+            damping: f64,
+        },
+        TorsionSpring {
+            name: String,
+            body_a: String,
+            body_b: String,
+            stiffness: f64,
+            free_angle: f64,
+            #[serde(default)]
+            damping: f64,
+        },
+    }
+
+    #[derive(Deserialize)]
+    struct Joint(#[serde(with = "JointWire")] JointDesc);
+    #[derive(Deserialize)]
+    struct Driver(#[serde(with = "DriverWire")] DriverDesc);
+    #[derive(Deserialize)]
+    struct Load(#[serde(with = "LoadWire")] LoadDesc);
+
+    pub fn joints<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<JointDesc>, D::Error> {
+        Ok(Vec::<Joint>::deserialize(d)?.into_iter().map(|j| j.0).collect())
+    }
+    pub fn drivers<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<DriverDesc>, D::Error> {
+        Ok(Vec::<Driver>::deserialize(d)?.into_iter().map(|j| j.0).collect())
+    }
+    pub fn loads<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<LoadDesc>, D::Error> {
+        Ok(Vec::<Load>::deserialize(d)?.into_iter().map(|j| j.0).collect())
     }
 }

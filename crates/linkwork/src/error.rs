@@ -31,6 +31,40 @@ pub enum ModelError {
     /// More rows than coordinates, analysed: which are redundant, or that none is.
     #[error("{n_rows} constraint rows for {n_coords} coordinates: {explanation}")]
     Redundant { n_rows: usize, n_coords: usize, explanation: String },
+    /// A model file (or description text) that cannot be read: where, which field, what.
+    #[error("{file}: line {line}, column {column}: {}{message}", field_prefix(.field))]
+    File { file: String, line: usize, column: usize, field: String, message: String },
+    /// An error of one element of a model file, with the line where the element starts.
+    #[error("{file}: line {line}: {error}")]
+    Located { file: String, line: usize, error: Box<ModelError> },
+}
+
+fn field_prefix(field: &str) -> String {
+    if field.is_empty() {
+        String::new()
+    } else {
+        format!("{field}: ")
+    }
+}
+
+impl ModelError {
+    /// The element at fault, as (kind, name): kind is "body", "joint", "driver", "load" or
+    /// "point". For a duplicate name, the second element that uses it.
+    pub fn element(&self) -> Option<(&'static str, &str)> {
+        match self {
+            ModelError::Body { name, .. } => Some(("body", name)),
+            ModelError::Constraint { kind, name, .. } => Some((kind, name)),
+            ModelError::Point { name, .. } => Some(("point", name)),
+            ModelError::DuplicateName { name, second, .. } => {
+                Some((second.strip_prefix("a ").unwrap_or(second), name))
+            }
+            ModelError::Located { error, .. } => error.element(),
+            ModelError::Description(_)
+            | ModelError::RowCount { .. }
+            | ModelError::Redundant { .. }
+            | ModelError::File { .. } => None,
+        }
+    }
 }
 
 /// A position, velocity or acceleration solve that cannot be completed.

@@ -236,6 +236,8 @@ impl Model {
 
     /// Validates the description and compiles it.
     pub fn with_options(description: Description, options: Options) -> Result<Model, ModelError> {
+        // every angle in radians from here on (the one place units are converted)
+        let description = crate::units::internal(&description);
         check_options(&options)?;
         let desc = &description;
 

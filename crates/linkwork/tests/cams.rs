@@ -101,6 +101,7 @@ fn eccentric_cam_with_translating_followers_matches_closed_form() {
             _ => (None, None),
         };
         let desc = Description {
+            units: Default::default(),
             name: "eccentric cam".into(),
             bodies: vec![body("cam", 0.0, 0.0, 0.0), body("follower", 0.0, y_drawn, 0.0)],
             joints: vec![
@@ -188,6 +189,7 @@ fn circular_cam_with_oscillating_followers_is_a_four_bar() {
         let b = [m.r1 + m.r4 * th4.cos(), m.r4 * th4.sin()];
         let radius = (kind == "roller").then_some(rho);
         let desc = Description {
+            units: Default::default(),
             name: "oscillating follower".into(),
             bodies: vec![body("cam", 0.0, 0.0, th_drawn), body("arm", m.r1, 0.0, th4)],
             joints: vec![

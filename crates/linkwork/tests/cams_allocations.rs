@@ -54,6 +54,7 @@ fn three_followers() -> Description {
     let radii: Vec<f64> = angles.iter().map(|a| 0.040 + 0.005 * (1.0 - a.cos())).collect();
     let profile = CurveDesc::Polar { centre: [0.0, 0.0], angles, radii };
     Description {
+        units: Default::default(),
         name: "three followers".into(),
         bodies: vec![
             body("cam", 0.0, 0.0, 0.0),

@@ -30,6 +30,7 @@ fn driven_pendulum_torque_and_pin_force_match_the_hand_worked_case() {
     bob.com = Some([0.5 * l * th0.cos(), 0.5 * l * th0.sin()]);
     let desc = Description {
         name: "pendulum".into(),
+        units: Default::default(),
         bodies: vec![bob],
         joints: vec![pin("O", "ground", "bob", [0.0, 0.0])],
         drivers: vec![DriverDesc::Angle {

@@ -43,6 +43,7 @@ def check_law(law: dict[str, Any]) -> None:
         "sequence": ["breakpoints", "laws"],
         "periodic": ["period", "law"],
         "python": ["name"],
+        "scaled": ["factor", "law"],
     }
     if kind not in fields:
         raise ValueError(f"unknown motion law type {kind!r}")
@@ -67,6 +68,8 @@ def check_law(law: dict[str, Any]) -> None:
         if not float(law["period"]) > 0.0:
             raise ValueError("periodic period must be > 0")
         check_law(law["law"])
+    if kind == "scaled":
+        check_law(law["law"])
     if kind == "python":
         raise ValueError(
             f"python law {law['name']!r}: the reference reads plain descriptions, "
@@ -78,6 +81,9 @@ def motion_law(law: dict[str, Any], t: float) -> Triple:
     """(f, f', f'') of the motion law ``law`` (a description dict) at time ``t``."""
     kind = law.get("type")
     t = float(t)
+    if kind == "scaled":  # a law written in degrees, converted (see model._in_radians)
+        k = float(law["factor"])
+        return tuple(k * v for v in motion_law(law["law"], t))  # type: ignore[return-value]
     if kind == "constant":
         return float(law["value"]), 0.0, 0.0
     if kind == "linear":

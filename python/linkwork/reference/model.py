@@ -30,7 +30,40 @@ def _description(description: Any) -> dict[str, Any]:
         description = description.to_dict()
     if not isinstance(description, dict):
         raise TypeError(f"expected a description dict or a Mechanism, got {type(description).__name__}")
-    return copy.deepcopy(description)
+    return _in_radians(copy.deepcopy(description))
+
+
+def _in_radians(desc: dict[str, Any]) -> dict[str, Any]:
+    """The description with its angles in radians, if its units say degrees (lengths
+    are used as written). Written here again, independently of the engine's."""
+    angle = (desc.get("units") or {}).get("angle", "rad")
+    if angle == "rad":
+        return desc
+    if angle != "deg":
+        raise ValueError(f"units.angle must be 'rad' or 'deg', not {angle!r}")
+    k = math.pi / 180.0
+    for b in desc.get("bodies", []):
+        b["theta"] = k * float(b["theta"])
+    for d in desc.get("drivers", []):
+        if d["type"] in ("angle", "relative_angle"):
+            d["law"] = {"type": "scaled", "factor": k, "law": d["law"]}
+    for j in desc.get("joints", []):
+        if j["type"] == "fixed_orientation" and j.get("angle") is not None:
+            j["angle"] = k * float(j["angle"])
+        elif j["type"] == "linear_coupling":
+            for side in ("coefficients_a", "coefficients_b"):
+                c = j.get(side) or {}
+                if "theta" in c:
+                    c["theta"] = float(c["theta"]) / k  # per degree -> per radian
+        elif j["type"] in ("pin_in_slot", "cam_follower") and j["curve"].get("type") == "polar":
+            j["curve"]["angles"] = [k * float(a) for a in j["curve"]["angles"]]
+    for ld in desc.get("loads", []):
+        if ld["type"] == "torsion_spring":
+            ld["free_angle"] = k * float(ld["free_angle"])
+            ld["stiffness"] = float(ld["stiffness"]) / k
+            ld["damping"] = float(ld.get("damping", 0.0)) / k
+    desc["units"] = {**desc["units"], "angle": "rad"}
+    return desc
 
 
 class ReferenceModel:

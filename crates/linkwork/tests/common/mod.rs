@@ -69,6 +69,7 @@ pub fn four_bar(m: &FourBar, th2: f64, omega: f64) -> Description {
     let b = [a[0] + m.r3 * th3.cos(), a[1] + m.r3 * th3.sin()];
     Description {
         name: "four-bar".into(),
+        units: Default::default(),
         bodies: vec![
             body("crank", 0.0, 0.0, th2),
             body("coupler", a[0], a[1], th3),
@@ -114,6 +115,7 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
     let a = [m.r2 * th2.cos(), m.r2 * th2.sin()];
     Description {
         name: "slider-crank".into(),
+        units: Default::default(),
         bodies: vec![body("crank", 0.0, 0.0, th2), body("rod", a[0], a[1], th3), body("slider", x, m.e, 0.0)],
         joints: vec![
             pin("O2", "ground", "crank", [0.0, 0.0]),
@@ -164,6 +166,7 @@ pub fn six_bar_stephenson(th2: f64, omega: f64) -> Description {
     let angle = |p: [f64; 2], q: [f64; 2]| (q[1] - p[1]).atan2(q[0] - p[0]);
     Description {
         name: "six-bar (Stephenson III)".into(),
+        units: Default::default(),
         bodies: vec![
             body("crank", 0.0, 0.0, th2),
             body("coupler", a[0], a[1], th3),
@@ -198,6 +201,7 @@ pub fn six_bar_stephenson(th2: f64, omega: f64) -> Description {
 pub fn chain(m: &FourBar, loops: usize, th2: f64, omega: f64, offset: f64, spacing: f64) -> Description {
     let mut d = Description {
         name: format!("chain of {loops} four-bar loops"),
+        units: Default::default(),
         bodies: vec![],
         joints: vec![],
         drivers: vec![],
