@@ -7,10 +7,10 @@ import math
 
 import numpy as np
 import pytest
-import test_cams
-import test_joints
 
 import linkwork as lw
+import test_cams
+import test_joints
 from linkwork.reference import ReferenceModel
 
 K = math.pi / 180.0

@@ -21,8 +21,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable
 
-from . import curves
-from . import _core
+from . import _core, curves
 from .errors import ModelError
 from .motion import Law
 
