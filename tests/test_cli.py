@@ -373,3 +373,12 @@ def test_help_says_what_each_command_writes(capsys, command, says):
     out = " ".join(capsys.readouterr().out.split())
     for text in says:
         assert text in out, text
+
+
+def test_check_reports_grashof_type_limits_and_assembly_modes(tmp_path, capsys):
+    path = tmp_path / "rocking.toml"
+    lw.examples.four_bar(ground=0.40, crank=0.30, coupler=0.25, rocker=0.20, theta0=0.8).save(str(path))
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "non-Grashof triple-rocker" in out and "crank angle limits -78.5" in out
+    assert "assembly modes at t = 0: 2" in out and "open" in out and "crossed" in out

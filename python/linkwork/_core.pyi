@@ -18,6 +18,8 @@ __all__ = [
     "screw_meet",
     "screw_normalize",
     "mobility",
+    "linkages",
+    "assembly_modes",
     "motion_limits",
     "read_model",
     "write_model",
@@ -43,6 +45,18 @@ def evaluate_law(
     times: npt.NDArray[np.float64],
     python_laws: dict[str, Callable[[float], Any]] | None = None,
 ) -> npt.NDArray[np.float64]: ...
+def linkages(
+    model: Model,
+    t: float = 0.0,
+    q_guess: npt.NDArray[np.float64] | None = None,
+    assemble: bool = True,
+) -> tuple[npt.NDArray[np.float64], list[dict[str, Any]]]: ...
+def assembly_modes(
+    model: Model,
+    t: float = 0.0,
+    q_guess: npt.NDArray[np.float64] | None = None,
+    tries: int = 200,
+) -> tuple[int, int, list[tuple[npt.NDArray[np.float64], float, float, list[dict[str, Any]]]]]: ...
 def mobility(
     model: Model,
     t: float = 0.0,

@@ -174,8 +174,10 @@ def plot(args: argparse.Namespace) -> int:
 
 
 def check(args: argparse.Namespace) -> int:
-    """Counts bodies, rows and degrees of freedom, finds redundant rows and each driver's
-    limits of motion, without sweeping; exit status 1 if the model has a problem."""
+    """Counts bodies, rows and degrees of freedom, finds redundant rows, each driver's
+    limits of motion, the four-bar loops and slider-cranks (Grashof type, closed-form
+    limits, circuit) and the assembly modes, without sweeping; exit status 1 if the model
+    has a problem."""
     model = _load(args.model)
     print(f"{model!r}")
     try:
@@ -190,6 +192,14 @@ def check(args: argparse.Namespace) -> int:
             print(f"  limits of motion        {model.motion_limits(name, t=args.t, q_guess=mob.q)}")
         except LinkworkError as e:
             print(f"  limits of motion        {name}: not found ({e})")
+    # the four-bar loops and slider-cranks inside it: Grashof type, closed-form limits
+    for linkage in model.linkages(t=args.t, q_guess=mob.q):
+        print(f"  {linkage}")
+    modes = model.assembly_modes(t=args.t, q_guess=mob.q)
+    circuits = "; ".join(
+        ", ".join([f"{k} {v}" for k, v in m.circuits.items()] + [f"det {m.det_sign:+.0f}"]) for m in modes
+    )
+    print(f"  assembly modes at t = {args.t:g}: {len(modes)} ({circuits}; {modes.tries} starts searched)")
     print("problems found" if problem else "ok")
     return 1 if problem else 0
 

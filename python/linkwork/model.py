@@ -12,6 +12,7 @@ import numpy as np
 from . import _core
 from .errors import InputError, ModelError
 from .events import MotionLimits
+from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
 from .results import Results, State, Statics
 
@@ -83,9 +84,18 @@ class Model:
     def __repr__(self) -> str:
         return repr(self._core)
 
-    def solve(self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None) -> State:
+    def solve(
+        self,
+        t: float = 0.0,
+        q_guess: Sequence[float] | np.ndarray | None = None,
+        branch: str | dict[str, str] | None = None,
+    ) -> State:
         """Position, velocity and acceleration at time ``t``, assembled from ``q_guess``
-        (default: the starting configuration, so the branch is the one described)."""
+        (default: the starting configuration, so the branch is the one described), or on
+        the assembly mode ``branch`` names: "open" / "crossed", or {linkage: circuit}
+        (see `assembly_modes`)."""
+        if branch is not None:
+            q_guess = self._branch_guess(float(t), branch)
         g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
         q, qd, qdd, it, res, piv = self._core.solve(float(t), g)
         return State(self, float(t), q, qd, qdd, it, res, piv)
@@ -111,6 +121,47 @@ class Model:
         """
         g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
         return Mobility.from_raw(_core.mobility(self._core, float(t), g, bool(assemble)))
+
+    def linkages(self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None) -> list[Linkage]:
+        """The four-bar loops and slider-cranks of the mechanism (found from its pins and
+        sliders, six-bars included), with their Grashof type, the input's limits of motion
+        in closed form, circuit and transmission angle, at the configuration assembled at
+        ``t`` from ``q_guess`` (default: as described).
+
+        >>> from linkwork import examples
+        >>> (fb,) = examples.four_bar().compile().linkages()
+        >>> fb.kind_of, fb.input_limits, fb.circuit
+        ('crank-rocker', None, 'open')
+        """
+        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
+        _, raw = _core.linkages(self._core, float(t), g)
+        return [Linkage.from_raw(r, self.body_names) for r in raw]
+
+    def assembly_modes(
+        self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None, tries: int = 200
+    ) -> AssemblyModes:
+        """Every assembly mode at time ``t`` (the drivers at their values then): the
+        configurations that close the mechanism, e.g. a four-bar's open and crossed
+        circuits, a six-bar's four. A search from ``tries`` seeded guesses around
+        ``q_guess`` (default: as described; its own mode comes first). Sweep on a mode with
+        ``model.sweep(times, q_guess=mode.q)`` or ``branch=...``.
+
+        >>> from linkwork import examples
+        >>> modes = examples.four_bar().compile().assembly_modes()
+        >>> sorted(m.circuits["crank/coupler/rocker"] for m in modes)
+        ['crossed', 'open']
+        """
+        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
+        tried, converged, raw = _core.assembly_modes(self._core, float(t), g, int(tries))
+        modes = tuple(
+            AssemblyMode(q, float(det), float(ratio), {str(r["name"]): str(r["circuit"]) for r in loops})
+            for q, det, ratio, loops in raw
+        )
+        return AssemblyModes(modes, int(tried), int(converged))
+
+    def _branch_guess(self, t: float, branch: str | dict[str, str]) -> np.ndarray:
+        mode: AssemblyMode = self.assembly_modes(t).find(branch)
+        return mode.q
 
     def motion_limits(
         self,
@@ -148,6 +199,7 @@ class Model:
         every: int = 1,
         on_singular: str = "continue",
         locks: bool = False,
+        branch: str | dict[str, str] | None = None,
     ) -> Results:
         """Solves position, velocity and acceleration at every time (strictly monotone),
         each step predicted from the previous one. The GIL is released meanwhile.
@@ -167,11 +219,15 @@ class Model:
         Each step is checked against its prediction: a step that fails or would jump to
         another assembly branch is redone in sub-steps, so nothing changes branch silently.
         If step k fails, the exception carries ``.partial``: the k good steps, with the
-        events found so far.
+        events found so far. ``branch``: start on the assembly mode it names instead of
+        the one nearest ``q_guess``: "open" or "crossed" (every recognised four-bar loop or
+        slider-crank), or {linkage name: circuit}; see `assembly_modes` and `linkages`.
         """
         t = np.ascontiguousarray(times, dtype=np.float64)
         if t.ndim != 1:
             raise InputError(f"times must be one-dimensional, got shape {t.shape}")
+        if branch is not None and len(t):
+            q_guess = self._branch_guess(float(t[0]), branch)
         g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
         callback = _ProgressBar() if progress is True else (progress or None)
         check = max(1024, len(t) // 100) if callback is not None else 16384

@@ -132,6 +132,26 @@ class _Kinematics:
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.abs(w_in / w_out)
 
+    def transmission_angle(self, linkage: str | None = None) -> np.ndarray:
+        """The transmission angle (rad) of a four-bar loop or slider-crank of the model
+        (by name, as `Model.linkages` gives it; default: the only one): four-bar, the
+        angle between coupler and rocker in [0, pi]; slider-crank, between the rod and
+        the slide's normal in [0, pi/2]. Best at pi/2; near 0 (or pi) the output locks."""
+        # the linkages as found at the first state (their geometry does not change)
+        t0 = float(np.ravel(getattr(self, "times", getattr(self, "t", 0.0)))[0])
+        found = self.model.linkages(t=t0, q_guess=np.reshape(self.q, (-1, self.q.shape[-1]))[0])
+        if linkage is None:
+            if len(found) != 1:
+                names = [f.name for f in found]
+                raise ValueError(f"the model has {len(found)} linkages ({names}); name one")
+            chosen = found[0]
+        else:
+            matches = [f for f in found if f.name == linkage]
+            if not matches:
+                raise ValueError(f"no linkage {linkage!r}; the model has {[f.name for f in found]}")
+            chosen = matches[0]
+        return chosen.transmission_angle_of(self)
+
     def _constraint(self, name: str) -> tuple[int, tuple[str, str, str, int, int]]:
         for k, c in enumerate(self.model.constraints):
             if c[0] == name:

@@ -13,6 +13,7 @@ use pyo3::types::PyDict;
 
 mod events;
 mod laws;
+mod linkages;
 mod mobility;
 mod screw;
 
@@ -560,6 +561,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write_model, m)?)?;
     m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;
     m.add_function(wrap_pyfunction!(mobility::mobility, m)?)?;
+    m.add_function(wrap_pyfunction!(linkages::linkages, m)?)?;
+    m.add_function(wrap_pyfunction!(linkages::assembly_modes, m)?)?;
     laws::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -4,6 +4,8 @@
 //! angle). Each module reads a `Model` and configurations; none is woven into the solver.
 
 pub mod limits;
+pub mod linkages;
 pub mod mobility;
+pub mod modes;
 pub mod singular;
 pub mod tracking;
