@@ -91,11 +91,11 @@ def test_slider_crank_outputs():
 
 
 def test_slider_crank_whose_crank_rocks_has_closed_form_limits():
-    r, rod, e = 0.1, 0.08, 0.0
+    r, length, e = 0.1, 0.08, 0.0
     m = lw.Mechanism("short rod")
     th0 = 0.3
     A = (r * math.cos(th0), r * math.sin(th0))
-    B = (A[0] + math.sqrt(rod * rod - (A[1] - e) ** 2), e)
+    B = (A[0] + math.sqrt(length * length - (A[1] - e) ** 2), e)
     crank = m.link("crank", (0, 0), A)
     rod = m.link("rod", A, B)
     slider = m.body("slider", B)
@@ -108,8 +108,8 @@ def test_slider_crank_whose_crank_rocks_has_closed_form_limits():
     (sc,) = model.linkages()
     assert sc.kind_of == "crank rocks"
     lo, hi = sc.input_limits
-    assert lo == pytest.approx(-math.asin(rod / r), abs=1e-12)
-    assert hi == pytest.approx(math.asin(rod / r), abs=1e-12)
+    assert lo == pytest.approx(-math.asin(length / r), abs=1e-12)
+    assert hi == pytest.approx(math.asin(length / r), abs=1e-12)
     numeric = model.motion_limits()
     assert numeric.lower == pytest.approx(lo, abs=1e-8) and numeric.upper == pytest.approx(hi, abs=1e-8)
 
