@@ -4,7 +4,7 @@ Build a `Mechanism` (bodies, joints at world points, drivers with motion laws), 
 it into a `Model`, then ``model.solve(t)`` or ``model.sweep(times)``.
 """
 
-from . import closed_form, examples, reference, screw
+from . import closed_form, curves, examples, reference, screw
 from .errors import (
     AssemblyError,
     CancelledError,
@@ -73,6 +73,7 @@ __all__ = [
     "Spline",
     "State",
     "closed_form",
+    "curves",
     "sweep_batch",
     "examples",
     "reference",
