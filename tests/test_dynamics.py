@@ -146,6 +146,31 @@ def rig() -> lw.Mechanism:
     return m
 
 
+def with_masses(build) -> dict:
+    """A mechanism of the joint library with every body given mass and inertia, under
+    gravity (the same made-up values for every body: the comparison is what matters)."""
+    desc = build().to_dict()
+    for k, b in enumerate(desc["bodies"]):
+        add_mass(desc, b["name"], 0.5 + 0.25 * k, 0.002 + 0.001 * k, (0.01 * k, -0.005))
+    desc["gravity"] = list(G)
+    return desc
+
+
+def _library():
+    import test_cams
+    import test_joints
+
+    return {
+        "gear_train": lambda: with_masses(test_joints.gear_train),
+        "planetary": lambda: with_masses(lambda: test_joints.planetary(2.0, None)),
+        "rack_and_pinion": lambda: with_masses(test_joints.rack_and_pinion),
+        "chained_six_bar": lambda: with_masses(test_joints.chained_six_bar),
+        "pin_slider": lambda: with_masses(lambda: test_joints.offset_pin_slider(0.04)),
+        "cam_roller": lambda: with_masses(test_cams.oscillating_roller),
+        "cam_flat": lambda: with_masses(lambda: test_cams.eccentric_cam("flat")),
+    }
+
+
 # name -> (description, times of one cycle)
 CASES = {
     "four_bar": (four_bar_massive, cycle()),
@@ -156,6 +181,15 @@ CASES = {
     "luffing_boom": (lambda: luffing_boom().to_dict(), cycle(period=2.0 * math.pi)),  # law period 2 pi s
     "rig": (lambda: rig().to_dict(), cycle(n=241, period=4.0 * math.pi)),  # all its harmonics repeat
 }
+# rows the reference writes as other functions of q than the engine, so their
+# multipliers differ by a factor (a planetary mesh: the engine's row is an angle, the
+# reference's a length, |d| sin(psi - chi)); the efforts and reactions must still agree
+WRITTEN_OTHERWISE = {"planetary": ("sun_planet", "planet_ring")}
+# the reference fits a cam's spline profile by its own dense solve: the two profiles'
+# third derivatives agree to ~1e-13, which reaches the multipliers through gamma
+RTOL_OF = {"cam_roller": 1e-8}
+# the joint library (gears, racks, belts, slots, cams), over a second of motion
+CASES.update({name: (build, np.linspace(0.0, 1.0, 121)) for name, build in _library().items()})
 SINGLE_INPUT = ["four_bar", "slider_crank", "inverted_slider_crank", "six_bar_watt", "six_bar_stephenson"]
 SINGLE_INPUT += ["luffing_boom"]
 
@@ -188,10 +222,13 @@ def test_multipliers_and_efforts_match_the_reference(case):
     assert res.multipliers.shape == out["lambda"].shape
     assert max_abs(out["lambda"]) > 0.0  # the case has forces to compare
     # row by row: rows carry forces (N) or torques (N m) of different sizes
+    rtol = RTOL_OF.get(case, RTOL)
     for j, label in enumerate(ref.row_labels):
+        if label in WRITTEN_OTHERWISE.get(case, ()):
+            continue
         want = out["lambda"][:, j]
         scale = max(max_abs(want), 1e-6 * max_abs(out["lambda"]))
-        assert max_abs(res.multipliers[:, j] - want) <= RTOL * scale, label
+        assert max_abs(res.multipliers[:, j] - want) <= rtol * scale, label
     for name, want in out["efforts"].items():
         assert max_abs(res.effort(name) - want) <= RTOL * max_abs(want), name
     # 1 W floor: the cases without loads have a load power of exactly zero
@@ -209,7 +246,10 @@ def test_every_reaction_matches_the_reference(case):
         assert max_abs(r.force - want[:, :2]) <= RTOL * f_scale, c.name
         # a torque about a pin is ~0: measure it against force x model size
         assert max_abs(r.torque - want[:, 2]) <= RTOL * max(max_abs(want[:, 2]), f_scale * L), c.name
-        assert max_abs(r.power - want[:, 3]) <= RTOL * max(max_abs(want[:, 3]), f_scale * L), c.name
+        # a joint that transmits only a torque (a gear mesh) has a power of round-off:
+        # against the largest power in the run
+        p_scale = max(max_abs(want[:, 3]), f_scale * L, max_abs(out["reactions"][:, :, 3]))
+        assert max_abs(r.power - want[:, 3]) <= RTOL * p_scale, c.name
         # the anchor is where the reference says it is, and force_local is the force in b's axes
         anchor = np.array([ref.anchor(c.name, q) for q in out["q"]])
         th = np.zeros(len(res)) if c.b == "ground" else out["q"][:, ref.columns.index(f"{c.b}.theta")]

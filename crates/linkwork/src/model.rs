@@ -13,8 +13,14 @@ use crate::drivers::{
 };
 use crate::error::ModelError;
 use crate::joints::{
-    belt::Belt, coupler::Coupler, coupling::LinearCoupling, gear::Gear, orientation::FixedOrientation,
-    parallel::Parallel, point_line::PointOnLine, rack_pinion::RackPinion,
+    belt::Belt,
+    coupler::Coupler,
+    coupling::LinearCoupling,
+    gear::{Gear, Mesh},
+    orientation::FixedOrientation,
+    parallel::Parallel,
+    point_line::PointOnLine,
+    rack_pinion::RackPinion,
 };
 use crate::joints::{
     fixed::Fixed, prismatic::Prismatic, revolute::Revolute, Constraint, ConstraintKind, Extra, Frame,
@@ -397,8 +403,19 @@ impl Model {
                     let (k_a, k_b) = Gear::coefficients(r_a, r_b, *internal);
                     let (column, theta_c) = carrier_of(&bodies, carrier, a, b).map_err(fail)?;
                     borrowed = column;
-                    let value = k_a * (bodies.theta(a) - theta_c) + k_b * (bodies.theta(b) - theta_c);
-                    (ConstraintKind::Gear(Gear { k_a, k_b, value, carrier: column.is_some() }), a, b)
+                    // on a carrier, rolling against the line of centres (joints/gear.rs)
+                    let mesh = column.map(|_| Mesh {
+                        u_a: local(bodies.pose(a), c_a),
+                        u_b: local(bodies.pose(b), c_b),
+                        delta: (c_b[1] - c_a[1]).atan2(c_b[0] - c_a[0]) - theta_c,
+                    });
+                    let phi0 = mesh.as_ref().map_or(0.0, |m| theta_c + m.delta);
+                    if mesh.is_some() && distance <= 1e-12 * length_scale {
+                        return Err(fail("its centres coincide, so they have no line of centres".into()));
+                    }
+                    let value = k_a * (bodies.theta(a) - phi0) + k_b * (bodies.theta(b) - phi0);
+                    let gear = Gear { k_a, k_b, value, carrier: column.is_some(), mesh };
+                    (ConstraintKind::Gear(gear), a, b)
                 }
                 JointDesc::RackPinion { body_a, body_b, radius, axis, centre, .. } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
@@ -429,7 +446,17 @@ impl Model {
                     let (column, theta_c) = carrier_of(&bodies, carrier, a, b).map_err(fail)?;
                     borrowed = column;
                     let value = k_a * (bodies.theta(a) - theta_c) + k_b * (bodies.theta(b) - theta_c);
-                    (ConstraintKind::Belt(Belt(Gear { k_a, k_b, value, carrier: column.is_some() })), a, b)
+                    (
+                        ConstraintKind::Belt(Belt(Gear {
+                            k_a,
+                            k_b,
+                            value,
+                            carrier: column.is_some(),
+                            mesh: None,
+                        })),
+                        a,
+                        b,
+                    )
                 }
                 JointDesc::FixedOrientation { body_a, body_b, angle, .. } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;

@@ -393,8 +393,8 @@ fn shift(q: [f64; 3], h: f64, d: [f64; 3]) -> [f64; 3] {
 fn variants_match_finite_differences() {
     let (k_a, k_b) = Gear::coefficients(0.11, 0.03, true);
     let variants = [
-        ConstraintKind::Gear(Gear { k_a, k_b, value: 0.4, carrier: false }),
-        ConstraintKind::Belt(Belt(Gear { k_a: 1.0, k_b: 0.25, value: -0.1, carrier: false })),
+        ConstraintKind::Gear(Gear { k_a, k_b, value: 0.4, carrier: false, mesh: None }),
+        ConstraintKind::Belt(Belt(Gear { k_a: 1.0, k_b: 0.25, value: -0.1, carrier: false, mesh: None })),
         ConstraintKind::PointOnLine(PointOnLine {
             u_a: [0.1, 0.2],
             u_b: [0.0, 0.0],

@@ -42,10 +42,18 @@ from .formulation import (
     AngleDriver,
     Constraint,
     CoordinateDriver,
+    CurveJoint,
     DistanceDriver,
+    DistanceJoint,
     Fixed,
+    FixedOrientation,
+    GearPair,
+    LinearCoupling,
+    Parallel,
+    PointOnLine,
     Pose,
     Prismatic,
+    RackPinion,
     RelativeAngleDriver,
     Revolute,
     TranslationDriver,
@@ -266,13 +274,17 @@ def anchor_b(c: Constraint) -> np.ndarray:
     """The local vector, on side b, of the point a constraint's reaction torque is taken
     about: the pin or slide point, the driven point, or b's origin (welds and angle
     drivers)."""
-    if isinstance(c, (Revolute, Prismatic, DistanceDriver)):
+    if isinstance(
+        c, (Revolute, Prismatic, DistanceDriver, DistanceJoint, PointOnLine, RackPinion, CurveJoint)
+    ):
         return np.asarray(c.ub, dtype=float)
     if isinstance(c, TranslationDriver):
         return np.asarray(c.joint.ub, dtype=float)
     if isinstance(c, CoordinateDriver):
         return np.asarray(c.u, dtype=float)
-    if isinstance(c, (Fixed, AngleDriver, RelativeAngleDriver)):
+    if isinstance(
+        c, (Fixed, AngleDriver, RelativeAngleDriver, GearPair, FixedOrientation, Parallel, LinearCoupling)
+    ):
         return np.zeros(2)
     raise TypeError(f"no anchor for constraint type {type(c).__name__}")
 
@@ -339,7 +351,8 @@ def reactions(ref: ReferenceModel, q: np.ndarray, qd: np.ndarray, lam: np.ndarra
     out = np.zeros((len(ref.constraints), 4))
     for k, (c, r) in enumerate(zip(ref.constraints, ref._row)):
         pa, pb = ref._pose(c.a, q, qd), ref._pose(c.b, q, qd)
-        jac_a, jac_b = c.jacobian(pa, pb, t)
+        own = ref._own(c, q, qd)
+        jac_a, jac_b = c.jacobian(pa, pb, t, **own)
         lam_k = lam[r : r + c.n_rows]
         Q_a = -(jac_a.T @ lam_k)
         Q_b = -(jac_b.T @ lam_k)  # (Fx, Fy, moment about b's origin)

@@ -769,10 +769,7 @@ class CurveJoint(Constraint):
 
     def _rows(self, pa: Pose, pb: Pose, own: Own | None):
         if own is None:
-            raise ValueError(
-                f"{self.kind} joint {self.name!r} needs the value of its own coordinate s "
-                "(the reference's inverse dynamics does not cover joints with their own coordinate)"
-            )
+            raise ValueError(f"{self.kind} joint {self.name!r} needs the value of its own coordinate s")
         return self.evaluate_own(pa, pb, own)
 
     def phi(self, pa: Pose, pb: Pose, t: float, own: Own | None = None) -> np.ndarray:

@@ -33,6 +33,6 @@ impl Constraint for Belt {
 impl Sample for Belt {
     fn sample() -> Self {
         let (k_a, k_b) = Gear::coefficients(0.09, 0.04, true);
-        Belt(Gear { k_a, k_b, value: -0.2, carrier: true })
+        Belt(Gear { k_a, k_b, value: -0.2, carrier: true, mesh: None })
     }
 }

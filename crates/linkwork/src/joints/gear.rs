@@ -10,8 +10,18 @@
 //! (k_b = +r_b / r_max: r_a dtheta_a = -r_b dtheta_b); an internal gear and its pinion
 //! turn the same way (k_b = -r_b / r_max). Relative to the carrier, the speed of b is
 //! -+ (r_a / r_b) times that of a. Belts and chains (`belt`) use the same row.
+//!
+//! A gear pair on a carrier measures the rolling against the line of centres, phi, the
+//! angle of c_b - c_a, rather than against the carrier's angle (the carrier holds the
+//! centres, so the two turn together and the kinematics are the same): then the row's
+//! multiplier is the tangential contact force, acting on the two gears' centres, and the
+//! reactions in the pins are those of a real mesh rather than a torque on the carrier.
+//! The carrier's angle only picks the turn: phi = theta_c + delta + wrap(atan2(d) -
+//! theta_c - delta), locally independent of theta_c (d phi / d theta_c = 0).
 
-use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use std::f64::consts::PI;
+
+use super::{perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Gear {
@@ -23,6 +33,29 @@ pub struct Gear {
     pub value: f64,
     /// whether the row is relative to a carrier (the extra coordinate is its angle)
     pub carrier: bool,
+    /// a gear mesh on a carrier: the rolling is measured against the line of centres
+    pub mesh: Option<Mesh>,
+}
+
+/// The centres of a gear pair on a carrier, for its line of centres.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    /// the centre of gear a in a's frame, of gear b in b's frame
+    pub u_a: [f64; 2],
+    pub u_b: [f64; 2],
+    /// the line of centres' angle minus the carrier's, constant
+    pub delta: f64,
+}
+
+impl Mesh {
+    /// The line of centres' angle phi, on the turn the carrier angle theta_c picks, and
+    /// d = c_b - c_a.
+    fn phi(&self, a: &Frame, b: &Frame, theta_c: f64) -> (f64, [f64; 2]) {
+        let d = sub(b.point(self.u_b), a.point(self.u_a));
+        let base = theta_c + self.delta;
+        let raw = d[1].atan2(d[0]) - base;
+        (base + (raw + PI).rem_euclid(2.0 * PI) - PI, d)
+    }
 }
 
 impl Gear {
@@ -45,8 +78,29 @@ impl Constraint for Gear {
     fn has_extra(&self) -> bool {
         self.carrier
     }
+    fn own_start(&self, a: &Frame, b: &Frame) -> f64 {
+        // the carrier angle that fits the centres best (used by the derivative tests)
+        self.mesh.as_ref().map_or(0.0, |m| {
+            let d = sub(b.point(m.u_b), a.point(m.u_a));
+            d[1].atan2(d[0]) - m.delta
+        })
+    }
     #[inline]
     fn position(&self, a: &Frame, b: &Frame, x: &Extra, _t: f64, out: &mut Rows) {
+        if let Some(m) = &self.mesh {
+            let (phi, d) = m.phi(a, b, x.s);
+            let k = self.k_a + self.k_b;
+            out.phi[0] = self.k_a * (a.theta - phi) + self.k_b * (b.theta - phi) - self.value;
+            // d phi / d d = perp(d) / |d|^2; d moves with b's centre and against a's
+            let n = perp(d);
+            let r2 = d[0] * d[0] + d[1] * d[1];
+            let g = [k * n[0] / r2, k * n[1] / r2];
+            let (ba, bb) = (a.rot_d(m.u_a), b.rot_d(m.u_b));
+            out.jac_a[0] = [g[0], g[1], self.k_a + g[0] * ba[0] + g[1] * ba[1]];
+            out.jac_b[0] = [-g[0], -g[1], self.k_b - (g[0] * bb[0] + g[1] * bb[1])];
+            out.jac_s[0] = 0.0;
+            return;
+        }
         let theta_c = if self.carrier { x.s } else { 0.0 };
         out.phi[0] = self.k_a * (a.theta - theta_c) + self.k_b * (b.theta - theta_c) - self.value;
         out.jac_a[0] = [0.0, 0.0, self.k_a];
@@ -56,15 +110,29 @@ impl Constraint for Gear {
         }
     }
     #[inline]
-    fn gamma(&self, _a: &Frame, _b: &Frame, _x: &Extra, _t: f64, g: &mut [f64; MAX_ROWS]) {
-        // linear in the angles
-        g[0] = 0.0;
+    fn gamma(&self, a: &Frame, b: &Frame, _x: &Extra, _t: f64, g: &mut [f64; MAX_ROWS]) {
+        // linear in the angles, but for the line of centres: phi'' has the part
+        // cross(d, c) / r^2 - 2 (d . d') cross(d, d') / r^4 without qdd, c the
+        // centripetal part of d''
+        g[0] = match &self.mesh {
+            None => 0.0,
+            Some(m) => {
+                let d = sub(b.point(m.u_b), a.point(m.u_a));
+                let dd = sub(b.point_velocity(m.u_b), a.point_velocity(m.u_a));
+                let c = sub(b.point_centripetal(m.u_b), a.point_centripetal(m.u_a));
+                let cross = |u: [f64; 2], v: [f64; 2]| u[0] * v[1] - u[1] * v[0];
+                let r2 = d[0] * d[0] + d[1] * d[1];
+                let dot = d[0] * dd[0] + d[1] * dd[1];
+                (self.k_a + self.k_b) * (cross(d, c) / r2 - 2.0 * dot * cross(d, dd) / (r2 * r2))
+            }
+        };
     }
 }
 
 impl Sample for Gear {
     fn sample() -> Self {
         let (k_a, k_b) = Gear::coefficients(0.05, 0.12, false);
-        Gear { k_a, k_b, value: 0.3, carrier: true }
+        let mesh = Mesh { u_a: [0.02, -0.01], u_b: [-0.03, 0.015], delta: 0.4 };
+        Gear { k_a, k_b, value: 0.3, carrier: true, mesh: Some(mesh) }
     }
 }
