@@ -9,6 +9,8 @@
 //! 1e-10 relative (Newton stops at 1e-12 scaled; the closed forms lose a few digits of
 //! their own). The contact parameter differs (a polar angle about O, not about the
 //! circle's centre), and is checked against its own closed form.
+//!
+//! A sweep of a cam on an expression allocates nothing per step.
 
 mod common;
 use common::*;
@@ -16,7 +18,35 @@ use linkwork::curves::CurveDesc;
 use linkwork::files::{read, write_description, Format};
 use linkwork::units::AngleUnit;
 use linkwork::{sweep, Data, Description, DriverDesc, JointDesc, Model, MotionLaw, SweepOutput, Units};
+use std::cell::Cell;
 use std::f64::consts::TAU;
+
+// an allocation counter for this thread only (tests run in parallel)
+struct Counting;
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl std::alloc::GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        std::alloc::System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        std::alloc::System.dealloc(ptr, layout)
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        std::alloc::System.realloc(ptr, layout, new_size)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(|a| a.get())
+}
 
 const E: f64 = 0.02;
 const R: f64 = 0.05;
@@ -221,4 +251,21 @@ fn model_files_keep_polar_expressions() {
         let line = bad.lines().position(|l| l.contains("cam_follower")).unwrap();
         assert!(e.starts_with(&format!("cam.model: line {line}: joint 'F': curve r")), "{e}");
     }
+}
+
+#[test]
+fn sweeping_a_cam_on_an_expression_allocates_nothing_per_step() {
+    // the roller's gamma evaluates r to its third derivative at every step
+    let model = Model::new(eccentric_cam("roller", expression(ECCENTRIC), [0.3, 10.0, 0.0])).unwrap();
+    let count = |n: usize| {
+        let times: Vec<f64> = (0..n).map(|k| k as f64 * 1e-3).collect();
+        let mut data = Data::new(&model);
+        let mut out = SweepOutput::new(&model, &times);
+        let before = allocations();
+        sweep(&model, &mut data, &times, &mut out, 0, &mut |_| true).unwrap();
+        assert_eq!(out.n_done, n);
+        allocations() - before
+    };
+    let (few, many) = (count(20), count(2_000));
+    assert_eq!(few, many, "{few} allocations for 20 steps, {many} for 2000");
 }
