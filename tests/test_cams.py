@@ -122,6 +122,7 @@ def reference_joints() -> list:
         lw.curves.circle((0.05, 0.1), 0.3),
         lw.curves.spline([(0.5, 0.0), (0.2, 0.4), (-0.4, 0.3), (-0.5, -0.2), (0.1, -0.45)]),
         lw.curves.polar_function((0.1, 0.0), lambda p: 0.4 + 0.05 * math.cos(p) + 0.03 * math.sin(3 * p), 12),
+        lw.curves.polar_expression("0.4 + 0.05*cos(phi) + 0.03*sin(3*phi)*exp(0.2*cos(phi))", (0.1, 0.0)),
     ]
     joints = []
     for k, curve in enumerate(curves):
@@ -154,7 +155,7 @@ def test_reference_rows_match_finite_differences():
         return c.evaluate_own(pa, pb, Own(s, sd))
 
     joints = reference_joints()
-    assert len(joints) == 12
+    assert len(joints) == 16
     for c in joints:
         for _ in range(5):
             qa, qb = rng.uniform(-0.5, 0.5, 3), rng.uniform(-0.5, 0.5, 3)

@@ -9,11 +9,13 @@ angle-like s of period 2 pi, which becomes the joint's own coordinate "<joint>.s
 - ``circle``: s is the polar angle about the centre, from the world x axis at the start;
 - ``polar``: a cam profile r(phi) tabulated over one turn (a periodic cubic spline
   through the table), s = phi, measured the same way;
+- ``polar_expression``: a cam profile r(phi) written as a formula of phi (rad), exact to
+  its third derivative, s = phi as for ``polar``;
 - ``spline``: a closed cubic spline through points, s = 2 pi times the fraction of the
   polygon's length up to the point (chordal parameterisation).
 
 The engine checks them when the mechanism compiles (radii > 0, at least 3 points, a
-table that closes one turn) and names the joint at fault. See docs/cams.md.
+table or a formula that closes one turn) and names the joint at fault. See docs/cams.md.
 
 >>> import math
 >>> from linkwork import curves
@@ -22,6 +24,8 @@ table that closes one turn) and names the joint at fault. See docs/cams.md.
 >>> c = curves.polar((0, 0), [0, 90, 180, 270, 360], [1.0, 1.2, 1.1, 1.2, 1.0], degrees=True)
 >>> c["angles"][-1] == 2 * math.pi
 True
+>>> curves.polar_expression("0.05 + 0.01*(1 - cos(phi))")
+{'type': 'polar_expression', 'centre': [0.0, 0.0], 'r': '0.05 + 0.01*(1 - cos(phi))'}
 """
 
 from __future__ import annotations
@@ -30,9 +34,11 @@ import math
 from collections.abc import Iterable, Sequence
 from typing import Any, Callable
 
-__all__ = ["circle", "spline", "polar", "polar_function", "description"]
+from . import _core
 
-KINDS = ("circle", "spline", "polar")
+__all__ = ["circle", "spline", "polar", "polar_function", "polar_expression", "description"]
+
+KINDS = ("circle", "spline", "polar", "polar_expression")
 
 
 def _xy(p: Sequence[float]) -> list[float]:
@@ -80,6 +86,26 @@ def polar_function(centre: Sequence[float], r: Callable[[float], float], n: int 
     return polar(centre, angles, radii + radii[:1])
 
 
+def polar_expression(r: str, centre: Sequence[float] = (0.0, 0.0)) -> dict[str, Any]:
+    """A cam profile about ``centre`` whose radius is the expression ``r`` of ``phi``
+    (in rad, whatever the model's angle unit; from the world x axis at the start), written
+    as for `linkwork.Expression`: ``"0.05 + 0.01*(1 - cos(phi))"``. The engine
+    differentiates it exactly (c', c'' and c''' as accurate as c), reads it on one turn,
+    phi in [0, 2 pi), and repeats it.
+
+    The text is parsed at once; a text that is not an expression raises `ExpressionError`
+    with the column at fault. When the mechanism compiles, r must be finite and > 0 all
+    round and join itself at 2 pi with its first two derivatives (see docs/cams.md):
+
+    >>> polar_expression("0.05 + 0.01*(1 - cos(x))")
+    Traceback (most recent call last):
+    ...
+    linkwork.errors.ExpressionError: unknown name 'x' at column 22; the variable is 'phi'
+    """
+    _core.parse_expression(str(r), "phi")
+    return {"type": "polar_expression", "centre": _xy(centre), "r": str(r)}
+
+
 def description(curve: Any) -> dict[str, Any]:
     """A copy of a curve's description, refusing what is not one (a curve is a dict made
     by the functions above, or read from a model file).
@@ -87,11 +113,12 @@ def description(curve: Any) -> dict[str, Any]:
     >>> description((0.0, 1.0))
     Traceback (most recent call last):
     ...
-    TypeError: a curve is a dict made by linkwork.curves (circle, spline, polar), not tuple
+    TypeError: a curve is a dict made by linkwork.curves (circle, spline, polar, polar_expression), not tuple
     """
     if not isinstance(curve, dict):
         raise TypeError(
-            f"a curve is a dict made by linkwork.curves (circle, spline, polar), not {type(curve).__name__}"
+            "a curve is a dict made by linkwork.curves (circle, spline, polar, polar_expression), "
+            f"not {type(curve).__name__}"
         )
     if curve.get("type") not in KINDS:
         raise ValueError(f"unknown curve type {curve.get('type')!r}; curves are {', '.join(KINDS)}")

@@ -12,12 +12,16 @@
 //! - circle: s is the polar angle about the centre, from the world x axis at the start;
 //! - polar profile r(phi) (a periodic cubic spline through a table of (phi, r)): s = phi,
 //!   the polar angle about the centre, from the world x axis at the start;
+//! - polar expression r(phi) (a formula of phi in rad, exact to c''' through third-order
+//!   jets, read on [0, 2 pi) and repeated): s = phi, as for the polar profile;
 //! - closed spline through points: s = 2 pi times the fraction of the closed polygon's
 //!   length (chordal knots), so |c'(s)| stays near perimeter / 2 pi.
 
 use std::f64::consts::TAU;
 
 use serde::{Deserialize, Serialize};
+
+use crate::expr::Expression;
 
 /// A curve as a model description gives it: world points at the start.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -32,6 +36,11 @@ pub enum CurveDesc {
     /// (`angles`, `radii`), angles in rad increasing over exactly one turn, the last row
     /// closing the table (angles[n] = angles[0] + 2 pi, radii[n] = radii[0]); s = phi.
     Polar { centre: [f64; 2], angles: Vec<f64>, radii: Vec<f64> },
+    /// A polar profile about `centre` written as an expression `r` of `phi` (rad, from the
+    /// world x axis at the start, whatever the model's angle unit), e.g.
+    /// "0.05 + 0.01*(1 - cos(phi))": read on one turn, phi in [0, 2 pi), and repeated, so
+    /// r must join itself at 2 pi to its second derivative; s = phi.
+    PolarExpression { centre: [f64; 2], r: String },
 }
 
 /// c(s) and its derivatives d^k c / ds^k, k = 1, 2, 3 (body frame).
@@ -49,6 +58,7 @@ pub enum Curve {
     Circle(Circle),
     Spline(ClosedSpline),
     Polar(PolarProfile),
+    PolarExpression(ExpressionProfile),
 }
 
 /// c(s) = centre + radius e(s + angle), e(phi) = (cos phi, sin phi).
@@ -76,6 +86,29 @@ pub struct PolarProfile {
     pub angle: f64,
     r: PeriodicSpline,
 }
+
+/// c(s) = centre + r(phi) e(s + angle) with phi = s mod 2 pi, r an expression of phi.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExpressionProfile {
+    pub centre: [f64; 2],
+    pub angle: f64,
+    r: Expression,
+}
+
+/// Parameters at which a polar expression is checked when a model compiles (r finite and
+/// > 0 with finite derivatives): 4096 steps of a turn, every 0.088 degrees.
+pub const EXPRESSION_CHECKS: usize = 4096;
+/// Parameters over a turn at which a polar expression is searched for a starting contact
+/// and its curvature checked against the followers (every half degree): an expression
+/// has no knots to say where its features are.
+const EXPRESSION_SAMPLES: usize = 720;
+/// How closely r, r' and r'' of a polar expression must meet at phi = 0 and 2 pi,
+/// relative to the profile's size (max |r| over the turn, or max |r^(k)| if larger). A
+/// periodic formula meets to rounding (2 pi is 2.4e-16 off in floating point, and the
+/// terms round at 1e-16 relative: about 1e-15 in all), a formula that is not periodic
+/// misses by its own scale; 1e-9 lies between, and it is what the polar table's closing
+/// row is held to.
+pub const EXPRESSION_SEAM_TOL: f64 = 1e-9;
 
 /// A periodic cubic spline (C2) of period 2 pi.
 #[derive(Debug, Clone, PartialEq)]
@@ -111,12 +144,17 @@ impl CurveDesc {
                 finite("centre", centre)?;
                 Curve::polar(local(*centre), -th0, angles.clone(), radii.clone())
             }
+            CurveDesc::PolarExpression { centre, r } => {
+                finite("centre", centre)?;
+                Curve::polar_expression(local(*centre), -th0, r)
+            }
         }
     }
 
     /// World points that show the curve's extent at the start (for the model's length
     /// scale): the circle's bounding box corners, the spline's points, the polar table's
-    /// points.
+    /// points, a polar expression at 64 equal steps of phi (its centre alone if it does
+    /// not parse: compiling refuses it later, naming the joint).
     pub fn world_points(&self) -> Vec<[f64; 2]> {
         match self {
             CurveDesc::Circle { centre, radius } => {
@@ -129,6 +167,15 @@ impl CurveDesc {
                 .zip(radii)
                 .map(|(phi, r)| [centre[0] + r * phi.cos(), centre[1] + r * phi.sin()])
                 .collect(),
+            CurveDesc::PolarExpression { centre, r } => match Expression::parse(r, "phi") {
+                Ok(r) => (0..64)
+                    .map(|k| TAU * k as f64 / 64.0)
+                    .map(|phi| (phi, r.eval(phi)[0]))
+                    .filter(|(_, r)| r.is_finite())
+                    .map(|(phi, r)| [centre[0] + r * phi.cos(), centre[1] + r * phi.sin()])
+                    .collect(),
+                Err(_) => vec![*centre],
+            },
         }
     }
 }
@@ -242,6 +289,56 @@ impl Curve {
         Ok(Curve::Polar(PolarProfile { centre, angle, r }))
     }
 
+    /// A polar profile about the body-frame `centre`, phi measured from `angle`, its
+    /// radius the expression `text` of phi (rad). Checked on `EXPRESSION_CHECKS` equal
+    /// steps of [0, 2 pi]: r finite and > 0 with finite derivatives (to the third), and
+    /// r, r', r'' the same at 0 and 2 pi (to `EXPRESSION_SEAM_TOL`).
+    pub fn polar_expression(centre: [f64; 2], angle: f64, text: &str) -> Result<Curve, String> {
+        let r = Expression::parse(text, "phi").map_err(|e| format!("curve r '{text}': {e}"))?;
+        if !angle.is_finite() {
+            return Err(format!("curve angle {angle} is not finite"));
+        }
+        // the size of r and of each derivative over the turn (for the seam's tolerance), and
+        // where r is least
+        let (mut most, mut least) = ([0.0f64; 3], (f64::INFINITY, 0.0));
+        for k in 0..=EXPRESSION_CHECKS {
+            let phi = TAU * k as f64 / EXPRESSION_CHECKS as f64;
+            let v = r.eval3(phi);
+            if !v.iter().all(|x| x.is_finite()) {
+                let why = r.diagnose3(phi).unwrap_or_else(|| format!("(r, r', r'', r''') = {v:?}"));
+                return Err(format!("curve r is not finite at phi = {phi}: {why}"));
+            }
+            if v[0] < least.0 {
+                least = (v[0], phi);
+            }
+            for j in 0..3 {
+                most[j] = most[j].max(v[j].abs());
+            }
+        }
+        if least.0 <= 0.0 {
+            return Err(format!(
+                "curve r '{text}' is {} at phi = {} (its least value): a polar profile's radius must be \
+                 > 0 all round (phi in rad)",
+                least.0, least.1
+            ));
+        }
+        let (start, end) = (r.eval3(0.0), r.eval3(TAU));
+        let names = ["r", "r'", "r''"];
+        for j in 0..3 {
+            let tol = EXPRESSION_SEAM_TOL * most[0].max(most[j]);
+            if (end[j] - start[j]).abs() > tol {
+                return Err(format!(
+                    "curve r '{text}' is not periodic: {n}(0) = {} but {n}(2 pi) = {} (r, r' and r'' must \
+                     meet at phi = 0 and 2 pi, phi in rad)",
+                    start[j],
+                    end[j],
+                    n = names[j]
+                ));
+            }
+        }
+        Ok(Curve::PolarExpression(ExpressionProfile { centre, angle, r }))
+    }
+
     /// c(s), c'(s), c''(s), c'''(s).
     #[inline]
     pub fn eval(&self, s: f64) -> CurvePoint {
@@ -252,24 +349,27 @@ impl Curve {
                 CurvePoint { c: [x[0], y[0]], d1: [x[1], y[1]], d2: [x[2], y[2]], d3: [x[3], y[3]] }
             }
             Curve::Polar(k) => polar_point(k.centre, k.angle, s, k.r.eval(s)),
+            // r is read on one turn: dr/ds = dr/dphi, since phi = s - 2 pi n
+            Curve::PolarExpression(k) => polar_point(k.centre, k.angle, s, k.r.eval3(s.rem_euclid(TAU))),
         }
     }
 
     /// +1 if s runs counter-clockwise round the curve, -1 if clockwise.
     pub fn orientation(&self) -> f64 {
         match self {
-            Curve::Circle(_) | Curve::Polar(_) => 1.0,
+            Curve::Circle(_) | Curve::Polar(_) | Curve::PolarExpression(_) => 1.0,
             Curve::Spline(k) => k.orientation,
         }
     }
 
     /// Parameters that sample the curve densely enough to bracket its features: at least
-    /// 64 over the turn, 8 per spline interval; in [0, 2 pi).
+    /// 64 over the turn, 8 per spline interval, 720 for an expression; in [0, 2 pi).
     pub fn samples(&self) -> impl Iterator<Item = f64> {
         let n = match self {
             Curve::Circle(_) => 64,
             Curve::Spline(k) => (8 * k.x.n_intervals()).max(64),
             Curve::Polar(k) => (8 * k.r.n_intervals()).max(64),
+            Curve::PolarExpression(_) => EXPRESSION_SAMPLES,
         };
         (0..n).map(move |k| TAU * k as f64 / n as f64)
     }

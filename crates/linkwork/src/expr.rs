@@ -1,10 +1,13 @@
-//! Expressions written as text, such as `0.35 - 0.16*sin(150*t)`, with exact first and
-//! second derivatives.
+//! Expressions written as text, such as `0.35 - 0.16*sin(150*t)`, with exact first,
+//! second and third derivatives.
 //!
 //! A small hand-written parser (nothing is evaluated while parsing, no name outside the
 //! fixed list is looked up) turns the text into a tree, folds the constant parts, and
-//! emits a flat postfix tape. Evaluation runs the tape on second-order jets
-//! (value, d/dx, d2/dx2) with a fixed-size stack: no allocation, no recursion.
+//! emits a flat postfix tape. Evaluation runs the tape on jets with a fixed-size stack
+//! (no allocation, no recursion): of second order (value, d/dx, d2/dx2) in `eval`, for
+//! motion laws, and of third order (with d3/dx3) in `eval3`, for curves r(phi) whose
+//! followers need c'''. Every rule is written once, at third order; the second-order
+//! instance never computes the unused slot (the compiler drops it).
 //!
 //! Grammar (`^` and `**` are both the power, right-associative; unary minus binds less
 //! tightly than the power, so `-t^2 = -(t^2)`):
@@ -33,8 +36,30 @@ pub const MAX_DEPTH: usize = 64;
 /// n leaves needs at most log2(n) + 2 slots: 14 for the longest text.
 const STACK: usize = 32;
 
-/// (value, first derivative, second derivative) with respect to the variable.
-type Jet = [f64; 3];
+/// A value and its derivatives with respect to the variable, [f, f', .., f^(N-1)]:
+/// N = 3 in `eval`, 4 in `eval3`.
+type Jet<const N: usize> = [f64; N];
+
+/// The jet widened to third order, the derivatives it lacks zero.
+#[inline(always)]
+fn widen<const N: usize>(u: Jet<N>) -> [f64; 4] {
+    std::array::from_fn(|k| if k < N { u[k] } else { 0.0 })
+}
+
+/// The first N slots of a third-order jet (N <= 4).
+#[inline(always)]
+fn narrow<const N: usize>(v: [f64; 4]) -> Jet<N> {
+    std::array::from_fn(|k| v[k])
+}
+
+/// g(u) from g, g', g'', g''' at u[0] (Faa di Bruno): (g o u)' = g' u',
+/// (g o u)'' = g'' u'^2 + g' u'', (g o u)''' = g''' u'^3 + 3 g'' u' u'' + g' u'''.
+#[inline(always)]
+fn chain<const N: usize>(g: [f64; 4], u: Jet<N>) -> Jet<N> {
+    let [_, u1, u2, u3] = widen(u);
+    let [g0, g1, g2, g3] = g;
+    narrow([g0, g1 * u1, g2 * u1 * u1 + g1 * u2, g3 * u1 * u1 * u1 + 3.0 * g2 * u1 * u2 + g1 * u3])
+}
 
 /// Why a text is not an expression, and where (1-based character column; 0 when the
 /// problem is not in the text, e.g. a bad variable name).
@@ -147,79 +172,89 @@ impl Fn1 {
         }
     }
 
-    /// (g(u), g'(u), g''(u)).
+    /// (g(u), g'(u), g''(u), g'''(u)).
     #[inline(always)]
-    fn derivatives(self, u: f64) -> [f64; 3] {
+    fn derivatives(self, u: f64) -> [f64; 4] {
         match self {
-            Fn1::Neg => [-u, -1.0, 0.0],
+            Fn1::Neg => [-u, -1.0, 0.0, 0.0],
             Fn1::Sin => {
                 let (s, c) = u.sin_cos();
-                [s, c, -s]
+                [s, c, -s, -c]
             }
             Fn1::Cos => {
                 let (s, c) = u.sin_cos();
-                [c, -s, -c]
+                [c, -s, -c, s]
             }
             Fn1::Tan => {
+                // g' = 1 + g^2, g'' = 2 g g', g''' = 2 g'^2 + 2 g g'' = 2 g' (1 + 3 g^2)
                 let g = u.tan();
                 let g1 = 1.0 + g * g;
-                [g, g1, 2.0 * g * g1]
+                [g, g1, 2.0 * g * g1, 2.0 * g1 * (1.0 + 3.0 * g * g)]
             }
             Fn1::Asin => {
+                // w = 1 - u^2: g' = w^-1/2, g'' = u w^-3/2, g''' = (1 + 2 u^2) w^-5/2
                 let w = 1.0 - u * u;
                 let r = 1.0 / w.sqrt();
-                [u.asin(), r, u * r / w]
+                [u.asin(), r, u * r / w, (1.0 + 2.0 * u * u) * r / (w * w)]
             }
             Fn1::Acos => {
                 let w = 1.0 - u * u;
                 let r = 1.0 / w.sqrt();
-                [u.acos(), -r, -u * r / w]
+                [u.acos(), -r, -u * r / w, -(1.0 + 2.0 * u * u) * r / (w * w)]
             }
             Fn1::Atan => {
+                // r = 1 / (1 + u^2): g' = r, g'' = -2 u r^2, g''' = (6 u^2 - 2) r^3
                 let r = 1.0 / (1.0 + u * u);
-                [u.atan(), r, -2.0 * u * r * r]
+                [u.atan(), r, -2.0 * u * r * r, (6.0 * u * u - 2.0) * r * r * r]
             }
-            Fn1::Sinh => [u.sinh(), u.cosh(), u.sinh()],
-            Fn1::Cosh => [u.cosh(), u.sinh(), u.cosh()],
+            Fn1::Sinh => {
+                let (sh, ch) = (u.sinh(), u.cosh());
+                [sh, ch, sh, ch]
+            }
+            Fn1::Cosh => {
+                let (sh, ch) = (u.sinh(), u.cosh());
+                [ch, sh, ch, sh]
+            }
             Fn1::Tanh => {
+                // g' = 1 - g^2, g'' = -2 g g', g''' = -2 g'^2 - 2 g g'' = -2 g' (1 - 3 g^2)
                 let g = u.tanh();
                 let g1 = 1.0 - g * g;
-                [g, g1, -2.0 * g * g1]
+                [g, g1, -2.0 * g * g1, -2.0 * g1 * (1.0 - 3.0 * g * g)]
             }
             Fn1::Exp => {
                 let g = u.exp();
-                [g, g, g]
+                [g, g, g, g]
             }
             Fn1::Ln => {
                 let r = 1.0 / u;
-                [u.ln(), r, -r * r]
+                [u.ln(), r, -r * r, 2.0 * r * r * r]
             }
             Fn1::Log10 => {
                 let r = 1.0 / u;
                 let k = std::f64::consts::LOG10_E;
-                [u.log10(), k * r, -k * r * r]
+                [u.log10(), k * r, -k * r * r, 2.0 * k * r * r * r]
             }
             Fn1::Sqrt => {
+                // g' = u^-1/2 / 2, g'' = -u^-3/2 / 4, g''' = 3 u^-5/2 / 8
                 let g = u.sqrt();
                 let g1 = 0.5 / g;
-                [g, g1, -0.5 * g1 / u]
+                let g2 = -0.5 * g1 / u;
+                [g, g1, g2, -1.5 * g2 / u]
             }
             Fn1::Abs => {
                 // the right derivative at 0
                 let s = if u < 0.0 { -1.0 } else { 1.0 };
-                [u.abs(), s, 0.0]
+                [u.abs(), s, 0.0, 0.0]
             }
         }
     }
 
     #[inline(always)]
-    fn jet(self, u: Jet) -> Jet {
+    fn jet<const N: usize>(self, u: Jet<N>) -> Jet<N> {
         if let Fn1::Neg = self {
-            return [-u[0], -u[1], -u[2]];
+            return u.map(|v| -v);
         }
-        let [g, g1, g2] = self.derivatives(u[0]);
-        // chain rule: (g o u)' = g' u', (g o u)'' = g'' u'^2 + g' u''
-        [g, g1 * u[1], g2 * u[1] * u[1] + g1 * u[2]]
+        chain(self.derivatives(u[0]), u)
     }
 }
 
@@ -243,27 +278,43 @@ impl Fn2 {
     }
 
     #[inline(always)]
-    fn jet(self, a: Jet, b: Jet) -> Jet {
+    fn jet<const N: usize>(self, a: Jet<N>, b: Jet<N>) -> Jet<N> {
         match self {
-            Fn2::Add => [a[0] + b[0], a[1] + b[1], a[2] + b[2]],
-            Fn2::Sub => [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
+            Fn2::Add => std::array::from_fn(|k| a[k] + b[k]),
+            Fn2::Sub => std::array::from_fn(|k| a[k] - b[k]),
             Fn2::Mul => {
-                [a[0] * b[0], a[1] * b[0] + a[0] * b[1], a[2] * b[0] + 2.0 * a[1] * b[1] + a[0] * b[2]]
+                // Leibniz: (a b)^(n) = sum over k of C(n, k) a^(k) b^(n-k)
+                let ([a0, a1, a2, a3], [b0, b1, b2, b3]) = (widen(a), widen(b));
+                narrow([
+                    a0 * b0,
+                    a1 * b0 + a0 * b1,
+                    a2 * b0 + 2.0 * a1 * b1 + a0 * b2,
+                    a3 * b0 + 3.0 * (a2 * b1 + a1 * b2) + a0 * b3,
+                ])
             }
             Fn2::Div => {
-                // q = a / b: q' = (a' - q b') / b, q'' = (a'' - 2 q' b' - q b'') / b
-                let q = a[0] / b[0];
-                let q1 = (a[1] - q * b[1]) / b[0];
-                [q, q1, (a[2] - 2.0 * q1 * b[1] - q * b[2]) / b[0]]
+                // q = a / b from q b = a: q' = (a' - q b') / b, q'' = (a'' - 2 q' b' - q b'') / b,
+                // q''' = (a''' - 3 q'' b' - 3 q' b'' - q b''') / b
+                let ([a0, a1, a2, a3], [b0, b1, b2, b3]) = (widen(a), widen(b));
+                let q = a0 / b0;
+                let q1 = (a1 - q * b1) / b0;
+                let q2 = (a2 - 2.0 * q1 * b1 - q * b2) / b0;
+                narrow([q, q1, q2, (a3 - 3.0 * (q2 * b1 + q1 * b2) - q * b3) / b0])
             }
             Fn2::Pow => pow_jet(a, b),
             Fn2::Atan2 => {
-                // theta = atan2(y, x): theta' = (x y' - y x') / r^2
-                let (y, x) = (a, b);
-                let r2 = x[0] * x[0] + y[0] * y[0];
-                let w1 = (x[0] * y[1] - y[0] * x[1]) / r2;
-                let w2 = (x[0] * y[2] - y[0] * x[2]) / r2 - 2.0 * w1 * (x[0] * x[1] + y[0] * y[1]) / r2;
-                [y[0].atan2(x[0]), w1, w2]
+                // theta = atan2(y, x): theta' = n / d with n = x y' - y x', d = x^2 + y^2, so
+                // n' = x y'' - y x'', n'' = x' y'' - y' x'' + x y''' - y x''',
+                // d' = 2 (x x' + y y'), d'' = 2 (x'^2 + x x'' + y'^2 + y y''); then the
+                // quotient rule as for '/'
+                let ([y0, y1, y2, y3], [x0, x1, x2, x3]) = (widen(a), widen(b));
+                let d = x0 * x0 + y0 * y0;
+                let (n0, n1) = (x0 * y1 - y0 * x1, x0 * y2 - y0 * x2);
+                let n2 = x1 * y2 - y1 * x2 + x0 * y3 - y0 * x3;
+                let (d1, d2) = (2.0 * (x0 * x1 + y0 * y1), 2.0 * (x1 * x1 + x0 * x2 + y1 * y1 + y0 * y2));
+                let w1 = n0 / d;
+                let w2 = (n1 - w1 * d1) / d;
+                narrow([y0.atan2(x0), w1, w2, (n2 - 2.0 * w2 * d1 - w1 * d2) / d])
             }
             Fn2::Min => {
                 if b[0] < a[0] {
@@ -280,10 +331,15 @@ impl Fn2 {
                 }
             }
             Fn2::Hypot => {
-                let h = a[0].hypot(b[0]);
-                let h1 = (a[0] * a[1] + b[0] * b[1]) / h;
-                let h2 = (a[1] * a[1] + a[0] * a[2] + b[1] * b[1] + b[0] * b[2] - h1 * h1) / h;
-                [h, h1, h2]
+                // h^2 = a^2 + b^2 differentiated: h h' = a a' + b b',
+                // h h'' + h'^2 = a a'' + a'^2 + b b'' + b'^2,
+                // h h''' + 3 h' h'' = a a''' + 3 a' a'' + b b''' + 3 b' b''
+                let ([a0, a1, a2, a3], [b0, b1, b2, b3]) = (widen(a), widen(b));
+                let h = a0.hypot(b0);
+                let h1 = (a0 * a1 + b0 * b1) / h;
+                let h2 = (a1 * a1 + a0 * a2 + b1 * b1 + b0 * b2 - h1 * h1) / h;
+                let h3 = (3.0 * (a1 * a2 + b1 * b2) + a0 * a3 + b0 * b3 - 3.0 * h1 * h2) / h;
+                narrow([h, h1, h2, h3])
             }
         }
     }
@@ -291,33 +347,34 @@ impl Fn2 {
 
 /// a^b on jets: the power rule when b is constant (any sign of a), exp(b ln a) otherwise.
 #[inline(always)]
-fn pow_jet(a: Jet, b: Jet) -> Jet {
-    if b[1] == 0.0 && b[2] == 0.0 {
+fn pow_jet<const N: usize>(a: Jet<N>, b: Jet<N>) -> Jet<N> {
+    if b[1..].iter().all(|v| *v == 0.0) {
         return powc_jet(a, b[0]);
     }
+    // f = exp(l), l = b ln a: f' = f l', f'' = f (l'^2 + l''), f''' = f (l'^3 + 3 l' l'' + l''')
+    let [_, l1, l2, l3] = widen(Fn2::Mul.jet(b, Fn1::Ln.jet(a)));
     let f = a[0].powf(b[0]);
-    let ln_a = a[0].ln();
-    // d/dx ln(f) = b' ln a + b a' / a
-    let l1 = b[1] * ln_a + b[0] * a[1] / a[0];
-    let l2 = b[2] * ln_a + 2.0 * b[1] * a[1] / a[0] + b[0] * (a[2] / a[0] - a[1] * a[1] / (a[0] * a[0]));
-    [f, f * l1, f * (l1 * l1 + l2)]
+    narrow([f, f * l1, f * (l1 * l1 + l2), f * (l1 * l1 * l1 + 3.0 * l1 * l2 + l3)])
 }
 
-/// a^n for a constant n: (a^n)' = n a^(n-1) a', (a^n)'' = n (n-1) a^(n-2) a'^2 + n a^(n-1) a''.
+/// a^n for a constant n: g = a^n has g^(k) = n (n - 1) .. (n - k + 1) a^(n-k).
 #[inline(always)]
-fn powc_jet(a: Jet, n: f64) -> Jet {
+fn powc_jet<const N: usize>(a: Jet<N>, n: f64) -> Jet<N> {
     if n == 0.0 {
-        return [1.0, 0.0, 0.0];
+        return narrow([1.0, 0.0, 0.0, 0.0]);
     }
-    let (p0, p1, p2) = if n == n.trunc() && n.abs() < 1024.0 {
+    let (p0, p1, p2, p3) = if n == n.trunc() && n.abs() < 1024.0 {
         let k = n as i32;
-        (a[0].powi(k), a[0].powi(k - 1), if k == 1 { 0.0 } else { a[0].powi(k - 2) })
+        (a[0].powi(k), a[0].powi(k - 1), a[0].powi(k - 2), a[0].powi(k - 3))
     } else {
-        (a[0].powf(n), a[0].powf(n - 1.0), a[0].powf(n - 2.0))
+        (a[0].powf(n), a[0].powf(n - 1.0), a[0].powf(n - 2.0), a[0].powf(n - 3.0))
     };
-    // n (n - 1) vanishes for n = 1: its a^(n-2) term must not turn 0 * inf into NaN
-    let c2 = if n == 1.0 { 0.0 } else { n * (n - 1.0) * p2 * a[1] * a[1] };
-    [p0, n * p1 * a[1], c2 + n * p1 * a[2]]
+    // a factor n (n - 1) .. that vanishes (n = 1, 2) drops its term: at a = 0 its power of
+    // a is infinite, and 0 * inf must not become NaN
+    let (c2, c3) = (n * (n - 1.0), n * (n - 1.0) * (n - 2.0));
+    let g2 = if c2 == 0.0 { 0.0 } else { c2 * p2 };
+    let g3 = if c3 == 0.0 { 0.0 } else { c3 * p3 };
+    chain([p0, n * p1, g2, g3], a)
 }
 
 /// One instruction of the postfix tape.
@@ -412,15 +469,28 @@ impl Expression {
     pub fn eval(&self, x: f64) -> [f64; 3] {
         // most expressions need a few slots: do not clear the whole stack for them
         if self.need <= 4 {
-            self.run::<4>(x)
+            self.run::<3, 4>(x)
         } else {
-            self.run::<STACK>(x)
+            self.run::<3, STACK>(x)
         }
     }
 
+    /// (f, df/dx, d2f/dx2, d3f/dx3) at x, exactly as `eval` gives the first three (the
+    /// same rules, one order further). Not finite outside a function's domain, or where
+    /// only the third derivative is infinite (sqrt(x)^3 at 0); `diagnose3` says where.
+    #[inline]
+    pub fn eval3(&self, x: f64) -> [f64; 4] {
+        if self.need <= 4 {
+            self.run::<4, 4>(x)
+        } else {
+            self.run::<4, STACK>(x)
+        }
+    }
+
+    /// The tape on jets of N slots with a stack of S.
     #[inline(always)]
-    fn run<const N: usize>(&self, x: f64) -> [f64; 3] {
-        let mut stack = [[0.0; 3]; N];
+    fn run<const N: usize, const S: usize>(&self, x: f64) -> Jet<N> {
+        let mut stack = [[0.0; N]; S];
         let mut sp = 0;
         for op in &self.tape {
             step(*op, &mut stack, &mut sp, x);
@@ -431,11 +501,20 @@ impl Expression {
     /// Why the value at x is not finite: the first operation that turns finite
     /// arguments into a non-finite result, with its column. None if all is finite.
     pub fn diagnose(&self, x: f64) -> Option<String> {
-        let mut stack = [[0.0; 3]; STACK];
+        self.diagnose_jets::<3>(x)
+    }
+
+    /// `diagnose` for `eval3`: the third derivative included.
+    pub fn diagnose3(&self, x: f64) -> Option<String> {
+        self.diagnose_jets::<4>(x)
+    }
+
+    fn diagnose_jets<const N: usize>(&self, x: f64) -> Option<String> {
+        let mut stack = [[0.0; N]; STACK];
         let mut sp = 0;
-        let finite = |j: &Jet| j.iter().all(|v| v.is_finite());
+        let finite = |j: &Jet<N>| j.iter().all(|v| v.is_finite());
         for (op, &col) in self.tape.iter().zip(&self.columns) {
-            let args: Vec<Jet> = match op {
+            let args: Vec<Jet<N>> = match op {
                 Op::Call1(_) | Op::PowConst(_) => vec![stack[sp - 1]],
                 Op::Call2(_) => vec![stack[sp - 2], stack[sp - 1]],
                 _ => Vec::new(),
@@ -455,9 +534,12 @@ impl Expression {
                     _ => "a constant".to_string(),
                 };
                 let part = if out[0].is_finite() { "its derivatives are" } else { "the value is" };
+                let shown: Vec<String> = out.iter().map(|v| v.to_string()).collect();
                 return Some(format!(
-                    "{what} at column {col} of '{}': {part} not finite ({}, {}, {}) at {} = {x}",
-                    self.text, out[0], out[1], out[2], self.variable
+                    "{what} at column {col} of '{}': {part} not finite ({}) at {} = {x}",
+                    self.text,
+                    shown.join(", "),
+                    self.variable
                 ));
             }
         }
@@ -467,14 +549,14 @@ impl Expression {
 
 /// One tape instruction on the stack.
 #[inline(always)]
-fn step(op: Op, stack: &mut [Jet], sp: &mut usize, x: f64) {
+fn step<const N: usize>(op: Op, stack: &mut [Jet<N>], sp: &mut usize, x: f64) {
     match op {
         Op::Const(c) => {
-            stack[*sp] = [c, 0.0, 0.0];
+            stack[*sp] = narrow([c, 0.0, 0.0, 0.0]);
             *sp += 1;
         }
         Op::Var => {
-            stack[*sp] = [x, 1.0, 0.0];
+            stack[*sp] = narrow([x, 1.0, 0.0, 0.0]);
             *sp += 1;
         }
         Op::Call1(f) => stack[*sp - 1] = f.jet(stack[*sp - 1]),

@@ -353,6 +353,10 @@ fn curve_in_radians(curve: &CurveDesc, k: f64) -> CurveDesc {
             angles: angles.iter().map(|a| k * a).collect(),
             radii: radii.clone(),
         },
+        // phi is in radians whatever the declared unit, like a harmonic law's omega
+        CurveDesc::PolarExpression { centre, r } => {
+            CurveDesc::PolarExpression { centre: *centre, r: r.clone() }
+        }
     }
 }
 

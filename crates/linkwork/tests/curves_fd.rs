@@ -1,10 +1,25 @@
 //! Every curve type against finite differences of itself (c' and c'' from c, c''' from
 //! c''), and the properties its construction promises: it passes through the points or
 //! the table it was given, repeats every 2 pi, is C2 across its knots, and the searches
-//! for a starting parameter land on the exact answer where there is one.
+//! for a starting parameter land on the exact answer where there is one. The curve
+//! joints on a polar expression against finite differences (d/ds and gamma, where c'''
+//! enters), and every refusal of a bad expression.
 
 use linkwork::curves::{Curve, CurveDesc, CurvePoint, PeriodicSpline};
+use linkwork::joints::flat_follower::FlatFollower;
+use linkwork::joints::point_on_curve::PointOnCurve;
+use linkwork::joints::roller_follower::RollerFollower;
+use linkwork::joints::{Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 use std::f64::consts::{PI, TAU};
+
+/// A smooth periodic profile r(phi), convex, with every function kind the curves use.
+const PROFILE: &str = "0.3 + 0.04*cos(2*phi) + 0.02*sin(phi)*exp(0.3*cos(phi)) + 0.01*atan2(sin(3*phi), 2)";
+
+fn profile_r(phi: f64) -> f64 {
+    0.3 + 0.04 * (2.0 * phi).cos()
+        + 0.02 * phi.sin() * (0.3 * phi.cos()).exp()
+        + 0.01 * (3.0 * phi).sin().atan2(2.0)
+}
 
 fn curves() -> Vec<(&'static str, Curve)> {
     let angles: Vec<f64> = (0..=12).map(|k| TAU * k as f64 / 12.0 + 0.2).collect();
@@ -18,6 +33,7 @@ fn curves() -> Vec<(&'static str, Curve)> {
         ),
         ("clockwise spline", Curve::spline(vec![[0.0, 1.0], [1.0, 0.0], [0.0, -1.0], [-1.0, 0.0]]).unwrap()),
         ("polar", Curve::polar([0.05, 0.02], -0.4, angles, radii).unwrap()),
+        ("polar expression", Curve::polar_expression([0.05, 0.02], -0.4, PROFILE).unwrap()),
     ]
 }
 
@@ -129,6 +145,21 @@ fn splines_pass_through_their_points_and_tables() {
         let want = [0.2 + r * phi.cos(), 0.1 + r * phi.sin()];
         assert!(dist(c, want) < 1e-14, "polar row ({phi}, {r}): {c:?} vs {want:?}");
     }
+
+    // a polar expression: the same phi, r read on [0, 2 pi) and repeated beyond it
+    let desc = CurveDesc::PolarExpression { centre: [0.2, 0.1], r: PROFILE.into() };
+    let curve = desc.to_body(Some(pose)).unwrap();
+    for phi in [-7.0, -0.3, 0.0, 1.0, 2.5, 4.0, 6.2, 9.9, 40.0] {
+        let r = profile_r(phi);
+        let c = world(curve.eval(phi).c);
+        let want = [0.2 + r * f64::cos(phi), 0.1 + r * f64::sin(phi)];
+        assert!(dist(c, want) < 1e-15, "polar expression at {phi}: {c:?} vs {want:?}");
+    }
+    // its length-scale points: 64 equal steps of phi from the world x axis
+    let points = desc.world_points();
+    assert_eq!(points.len(), 64);
+    let (phi, r) = (TAU * 5.0 / 64.0, profile_r(TAU * 5.0 / 64.0));
+    assert!(dist(points[5], [0.2 + r * phi.cos(), 0.1 + r * phi.sin()]) < 1e-15);
 }
 
 #[test]
@@ -188,4 +219,91 @@ fn bad_curves_are_refused_with_the_reason() {
     refuse(polar(vec![0.0, 1.0, 2.0, TAU], vec![1.0, 0.0, 1.1, 1.0]), "radius 0");
     refuse(polar(vec![0.0, 2.0, 1.0, TAU], vec![1.0, 1.2, 1.1, 1.0]), "increase strictly");
     refuse(polar(vec![0.0, 1.0, 2.0, TAU], vec![1.0, 1.2, 1.1]), "3 radii");
+}
+
+#[test]
+fn bad_polar_expressions_are_refused_with_the_reason() {
+    let refuse = |text: &str, what: &str| {
+        let e = Curve::polar_expression([0.0, 0.0], 0.0, text).expect_err(text);
+        assert!(e.contains(what), "{text}: {e:?} should mention {what:?}");
+    };
+    // parse errors keep the column of the expression
+    refuse(
+        "0.05 + 0.01*sn(phi)",
+        "curve r '0.05 + 0.01*sn(phi)': unknown name 'sn' at column 13; did you mean 'sin'?",
+    );
+    refuse("0.05 + 0.01*t", "unknown name 't' at column 13; the variable is 'phi'");
+    refuse("0.05 + (phi", "expected ')' (for the '(' at column 8)");
+    // r <= 0 somewhere (here around phi = pi), not finite somewhere
+    refuse("0.01 + 0.02*cos(phi)", "is -0.01 at phi = 3.14159");
+    refuse("0.01 + 0.02*cos(phi)", "a polar profile's radius must be > 0 all round");
+    refuse("0.05*(1 - cos(phi))", "is 0 at phi = 0 (its least value)");
+    refuse("0.05 + sqrt(cos(phi))", "curve r is not finite at phi = ");
+    refuse("0.05 + sqrt(cos(phi))", "sqrt(-");
+    refuse("0.05 + 0.001/(phi - pi)^2", "division by zero at column 13");
+    // not periodic: the value drifts (by 6e-9, above 1e-9 of r), the slope or the
+    // curvature jumps at the seam
+    refuse("0.05 + 1e-9*phi", "not periodic: r(0) = 0.05 but r(2 pi) = 0.05000000628");
+    refuse("0.05 + 0.001*sin(phi/2)", "not periodic: r'(0) = 0.0005 but r'(2 pi) = -0.0005");
+    refuse("0.05 + 1e-5*phi^3*(2*pi - phi)^2", "not periodic: r''(0) = 0 but r''(2 pi) = 0.0049");
+    // periodic ones pass: high frequencies, and a profile written over one turn with min
+    assert!(Curve::polar_expression([0.0, 0.0], 0.0, "0.05 + 0.001*cos(40*phi)").is_ok());
+    assert!(Curve::polar_expression([0.0, 0.0], 0.0, "0.05 + 0.01*min(phi*(2*pi - phi), 1)^3").is_ok());
+    let e = Curve::polar_expression([0.0, 0.0], f64::NAN, "0.05").expect_err("angle");
+    assert!(e.contains("angle NaN is not finite"), "{e}");
+}
+
+// --- the curve joints on a polar expression ------------------------------------------------
+
+fn rows(c: &ConstraintKind, qa: [f64; 3], qb: [f64; 3], s: f64) -> [f64; MAX_ROWS] {
+    let mut r = Rows::default();
+    c.position(&Frame::new(qa, [0.0; 3]), &Frame::new(qb, [0.0; 3]), &Extra { s, sd: 0.0 }, 0.0, &mut r);
+    r.phi
+}
+
+fn along(q: [f64; 3], h: f64, qd: [f64; 3]) -> [f64; 3] {
+    [q[0] + h * qd[0], q[1] + h * qd[1], q[2] + h * qd[2]]
+}
+
+#[test]
+fn curve_joints_on_a_polar_expression_match_finite_differences() {
+    // the joints' own finite-difference test (joints_fd.rs) on this curve: d/ds of the rows,
+    // and gamma as minus the second difference along q + h qd, s + h sd (qdd = 0 there),
+    // h = 1e-4 -> error ~1e-8. gamma holds c''' for the roller and the flat face.
+    let curve = || Curve::polar_expression([0.05, -0.02], 0.3, PROFILE).unwrap();
+    let joints = [
+        ConstraintKind::PointOnCurve(PointOnCurve { curve: curve(), u_b: [0.1, 0.25] }),
+        ConstraintKind::RollerFollower(RollerFollower { curve: curve(), u_b: [-0.1, 0.2], radius: 0.08 }),
+        ConstraintKind::FlatFollower(FlatFollower::new(curve(), [0.05, 0.3], [1.0, -0.3]).unwrap()),
+    ];
+    type Case = ([f64; 3], [f64; 3], [f64; 3], [f64; 3], f64, f64);
+    let cases: [Case; 3] = [
+        ([0.1, -0.2, 0.4], [0.3, 0.1, -0.7], [1.5, -0.4, 2.0], [-0.6, 1.1, -1.3], 0.7, 1.9),
+        ([-0.3, 0.2, -2.0], [0.0, 0.4, 1.0], [-0.2, 0.9, -3.0], [1.2, 0.3, 0.5], 4.1, -2.2),
+        ([0.0, 0.0, 0.0], [0.2, -0.1, 3.0], [0.0, 0.0, 5.0], [0.4, -0.8, 0.0], -1.0, 0.6),
+    ];
+    for c in &joints {
+        for (qa, qb, qda, qdb, s, sd) in cases {
+            let mut r = Rows::default();
+            let extra = Extra { s, sd };
+            c.position(&Frame::new(qa, qda), &Frame::new(qb, qdb), &extra, 0.0, &mut r);
+            let h = 1e-6;
+            let (p, m) = (rows(c, qa, qb, s + h), rows(c, qa, qb, s - h));
+            for i in 0..c.n_rows() {
+                let fd = (p[i] - m[i]) / (2.0 * h);
+                assert!((fd - r.jac_s[i]).abs() < 1e-8, "{} d/ds row {i}: {fd} vs {}", c.label(), r.jac_s[i]);
+            }
+            let mut gamma = [0.0; MAX_ROWS];
+            c.gamma(&Frame::new(qa, qda), &Frame::new(qb, qdb), &extra, 0.0, &mut gamma);
+            let h = 1e-4;
+            let p = rows(c, along(qa, h, qda), along(qb, h, qdb), s + h * sd);
+            let z = rows(c, qa, qb, s);
+            let m = rows(c, along(qa, -h, qda), along(qb, -h, qdb), s - h * sd);
+            for i in 0..c.n_rows() {
+                let fd = -(p[i] - 2.0 * z[i] + m[i]) / (h * h);
+                let tol = 1e-5 * (1.0 + gamma[i].abs());
+                assert!((fd - gamma[i]).abs() < tol, "{} gamma row {i}: {fd} vs {}", c.label(), gamma[i]);
+            }
+        }
+    }
 }

@@ -411,6 +411,101 @@ fn expressions_evaluate_every_function_with_exact_derivatives() {
 }
 
 #[test]
+fn third_derivatives_of_every_function_match_closed_forms_and_differences() {
+    // (text, closed form f''') on t in (0.1, 0.9): every function and operator at third order
+    type Closed = fn(f64) -> f64;
+    let cases: [(&str, Closed); 26] = [
+        ("0.35 - 0.16*sin(150*t)", |t| 0.16 * 150f64.powi(3) * (150.0 * t).cos()),
+        ("cos(2*t)", |t| 8.0 * (2.0 * t).sin()),
+        ("tan(t)", |t| {
+            let g = t.tan();
+            2.0 * (1.0 + g * g) * (1.0 + 3.0 * g * g)
+        }),
+        ("asin(t)", |t| (1.0 + 2.0 * t * t) / (1.0 - t * t).powf(2.5)),
+        ("acos(t)", |t| -(1.0 + 2.0 * t * t) / (1.0 - t * t).powf(2.5)),
+        ("atan(t)", |t| (6.0 * t * t - 2.0) / (1.0 + t * t).powi(3)),
+        ("atan2(t, 1 - t)", |t| {
+            // f' = 1 / r2 with r2 = 2 t^2 - 2 t + 1, r2' = 4 t - 2, r2'' = 4
+            let r2 = t * t + (1.0 - t) * (1.0 - t);
+            -4.0 / (r2 * r2) + 2.0 * (4.0 * t - 2.0).powi(2) / r2.powi(3)
+        }),
+        ("sinh(t) + cosh(t)", |t| t.exp()),
+        ("cosh(2*t) - sinh(t)", |t| 8.0 * (2.0 * t).sinh() - t.cosh()),
+        ("tanh(t)", |t| {
+            let g = t.tanh();
+            -2.0 * (1.0 - g * g) * (1.0 - 3.0 * g * g)
+        }),
+        ("exp(-t^2)", |t| (12.0 * t - 8.0 * t.powi(3)) * (-t * t).exp()),
+        ("ln(t) + log(t)", |t| 4.0 / t.powi(3)),
+        ("log10(t)", |t| 2.0 / (t.powi(3) * 10f64.ln())),
+        ("sqrt(1 + t)", |t| 0.375 / (1.0 + t).powf(2.5)),
+        ("abs(t - 2) + abs(t)^3", |_| 6.0),
+        ("min(t^3, 2) + max(t^2, -1)", |_| 6.0),
+        ("pow(t, 4) - t**2 / 2 + t^-1 + t^2.5", |t| 24.0 * t - 6.0 / t.powi(4) + 2.5 * 1.5 * 0.5 / t.sqrt()),
+        ("hypot(t, 1)", |t| -3.0 * t / (1.0 + t * t).powf(2.5)),
+        ("2^t", |t| 2f64.ln().powi(3) * 2f64.powf(t)),
+        ("t^t", |t| {
+            // f' = f l, f'' = f (l^2 + 1/t), f''' = f (l^3 + 3 l / t - 1 / t^2), l = ln t + 1
+            let (f, l) = (t.powf(t), t.ln() + 1.0);
+            f * (l.powi(3) + 3.0 * l / t - 1.0 / (t * t))
+        }),
+        ("1/(1 + t) - e*pi", |t| -6.0 / (1.0 + t).powi(4)),
+        ("1/(2 + sin(t))", |t| {
+            // u = 2 + sin t: (1/u)''' = -6 u'^3 / u^4 + 6 u' u'' / u^3 - u''' / u^2
+            let (u, u1, u2, u3) = (2.0 + t.sin(), t.cos(), -t.sin(), -t.cos());
+            -6.0 * u1.powi(3) / u.powi(4) + 6.0 * u1 * u2 / u.powi(3) - u3 / (u * u)
+        }),
+        ("sin(t)*exp(t)", |t| 2.0 * (t.cos() - t.sin()) * t.exp()),
+        ("-exp(2*t)", |t| -8.0 * (2.0 * t).exp()),
+        // identities whose terms cancel: every slot of both arguments takes part
+        ("atan2(3*sin(t), 3*cos(t))", |_| 0.0),
+        ("hypot(2*sin(t), 2*cos(t))", |_| 0.0),
+    ];
+    for (text, closed) in cases {
+        let e = expr(text);
+        let times = grid(0.1, 0.9, 33);
+        // rounding in the differences of f'', eps |f''| / h, and their truncation,
+        // h^2 |f^(5)| / 6, are both below 1e-8 of the largest |f'''| here
+        let scale = times.iter().fold(0.1f64, |m, &t| m.max(closed(t).abs()));
+        for &t in &times {
+            let got = e.eval3(t);
+            let want = closed(t);
+            assert!(
+                (got[3] - want).abs() <= 1e-13 * want.abs().max(1.0),
+                "{text} at t = {t}: f''' = {}, closed form {want}",
+                got[3]
+            );
+            // the same rules one order further: the first three are eval's, bit for bit
+            assert_eq!(got[..3], e.eval(t), "{text} at t = {t}");
+            let h = 1e-6;
+            let fd = (e.eval3(t + h)[2] - e.eval3(t - h)[2]) / (2.0 * h);
+            assert!((fd - got[3]).abs() <= 1e-7 * scale, "{text}: f'''({t}) = {}, differences {fd}", got[3]);
+        }
+    }
+}
+
+#[test]
+fn third_order_powers_stay_finite_where_their_derivatives_are() {
+    // a factor n (n - 1) (n - 2) that vanishes must not meet a^(n - 3) = inf at a = 0
+    assert_eq!(expr("t^2").eval3(0.0), [0.0, 0.0, 2.0, 0.0]);
+    assert_eq!(expr("t^1 + 1").eval3(0.0), [1.0, 1.0, 0.0, 0.0]);
+    assert_eq!(expr("t^3").eval3(0.0), [0.0, 0.0, 0.0, 6.0]);
+    assert_eq!(expr("(t - 1)^2 * 3").eval3(1.0), [0.0, 0.0, 6.0, 0.0]);
+    // where only the third derivative is infinite, eval3 says so and eval does not
+    let e = expr("abs(t)^2.5");
+    assert!(e.eval(0.0).iter().all(|v| v.is_finite()));
+    assert_eq!(e.diagnose(0.0), None);
+    assert!(!e.eval3(0.0)[3].is_finite());
+    let why = e.diagnose3(0.0).unwrap();
+    assert!(
+        why.starts_with(
+            "the power 0^2.5 at column 7 of 'abs(t)^2.5': its derivatives are not finite (0, 0, 0, "
+        ),
+        "{why}"
+    );
+}
+
+#[test]
 fn precedence_and_associativity_are_the_usual_ones() {
     let at = |text: &str, t: f64| expr(text).eval(t)[0];
     assert_eq!(at("-t^2", 3.0), -9.0);

@@ -1,8 +1,9 @@
 """Curves in a body's frame, for the joints that follow them: circle, closed periodic
 cubic spline through points, polar profile r(phi) (a periodic cubic spline through a
-table). Each gives c(s), c'(s), c''(s) and c'''(s) (the followers' tangency rows need the
-third for their gamma). The parameterisations are the engine's (docs/cams.md): s is an
-angle of period 2 pi.
+table, or an expression of phi evaluated on the reference's own jets). Each gives c(s),
+c'(s), c''(s) and c'''(s) (the followers' tangency rows need the third for their
+gamma). The parameterisations are the engine's (docs/cams.md): s is an angle of period
+2 pi.
 
 Plain NumPy: a periodic spline's second derivatives come from one dense solve of its
 cyclic system; the starting parameter from a dense sampling refined by Newton.
@@ -15,7 +16,17 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["PeriodicSpline", "Circle", "ClosedSpline", "PolarProfile", "build_curve", "world_points"]
+from .laws import expression3
+
+__all__ = [
+    "PeriodicSpline",
+    "Circle",
+    "ClosedSpline",
+    "PolarProfile",
+    "ExpressionProfile",
+    "build_curve",
+    "world_points",
+]
 
 TAU = 2.0 * math.pi
 
@@ -117,6 +128,49 @@ class PolarProfile:
         return polar_point(self.centre, self.angle, s, self.r(s))
 
 
+class ExpressionProfile:
+    """c(s) = centre + r(phi) e(s + angle), r an expression of phi read on one turn:
+    phi = s mod 2 pi (so r's derivatives in s are those in phi)."""
+
+    orientation = 1.0
+    n_samples = 720  # every half degree: an expression has no knots to follow
+
+    def __init__(self, centre: np.ndarray, angle: float, text: str) -> None:
+        self.centre, self.angle = centre, angle
+        self.r = expression3(text, "phi")
+
+    def __call__(self, s: float) -> tuple[np.ndarray, ...]:
+        return polar_point(self.centre, self.angle, s, np.array(self.r(s % TAU)))
+
+
+def check_expression(text: str, where: str) -> None:
+    """``ValueError`` naming ``where`` unless r(phi) is finite with its three derivatives
+    and > 0 at 4096 equal steps of [0, 2 pi], and r, r', r'' meet at 0 and 2 pi to 1e-9
+    of the profile's size (the engine's checks, docs/cams.md)."""
+    try:
+        r = expression3(text, "phi")
+    except ValueError as e:
+        raise ValueError(f"{where}: curve r: {e}") from None
+    grid = np.linspace(0.0, TAU, 4097)
+    values = []
+    for phi in grid:
+        try:
+            v = r(float(phi))
+        except (ValueError, ZeroDivisionError, OverflowError) as e:
+            raise ValueError(f"{where}: curve r is not finite at phi = {phi}: {e}") from None
+        if not all(math.isfinite(x) for x in v):
+            raise ValueError(f"{where}: curve r is not finite at phi = {phi}: {v}")
+        values.append(v)
+    table = np.array(values)
+    k = int(np.argmin(table[:, 0]))
+    if table[k, 0] <= 0.0:
+        raise ValueError(f"{where}: curve r {text!r} is {table[k, 0]} at phi = {grid[k]}; it must be > 0")
+    size = np.max(np.abs(table[:, :3]), axis=0)
+    for j, name in enumerate(("r", "r'", "r''")):
+        if abs(table[-1, j] - table[0, j]) > 1e-9 * max(size[0], size[j]):
+            raise ValueError(f"{where}: curve r {text!r} is not periodic: {name} differs at 0 and 2 pi")
+
+
 class ClosedSpline:
     """c(s) = (x(s), y(s)), periodic splines through the points at chordal knots
     s_k = 2 pi (polygon length up to point k) / perimeter."""
@@ -177,12 +231,17 @@ def build_curve(desc: Any, start: tuple[float, float, float], where: str) -> Any
         if abs(angles[-1] - angles[0] - TAU) > 1e-9 * TAU or abs(radii[-1] - radii[0]) > 1e-9 * radii[0]:
             raise ValueError(f"{where}: polar table is not periodic (its last row must close the turn)")
         return PolarProfile(local(desc["centre"]), -th0, angles, radii)
+    if kind == "polar_expression":
+        text = str(desc["r"])
+        check_expression(text, where)
+        return ExpressionProfile(local(desc["centre"]), -th0, text)
     raise ValueError(f"{where}: unknown curve type {kind!r}")
 
 
 def world_points(desc: dict[str, Any]) -> list[tuple[float, float]]:
     """Points showing the curve's extent at the start (for the characteristic length):
-    the circle's bounding-box corners, the spline's points, the polar table's points."""
+    the circle's bounding-box corners, the spline's points, the polar table's points, a
+    polar expression's points at 64 equal steps of phi."""
     kind = desc.get("type")
     if kind == "circle":
         (cx, cy), r = desc["centre"], abs(float(desc["radius"]))
@@ -192,6 +251,18 @@ def world_points(desc: dict[str, Any]) -> list[tuple[float, float]]:
     if kind == "polar":
         cx, cy = desc["centre"]
         return [(cx + r * math.cos(a), cy + r * math.sin(a)) for a, r in zip(desc["angles"], desc["radii"])]
+    if kind == "polar_expression":
+        cx, cy = desc["centre"]
+        points = []
+        for a in (TAU * k / 64 for k in range(64)):
+            # a bad expression shows its centre only: building the joint refuses it by name
+            try:
+                r = expression3(str(desc["r"]), "phi")(a)[0]
+            except (ValueError, ZeroDivisionError, OverflowError):
+                return [(cx, cy)]
+            if math.isfinite(r):
+                points.append((cx + r * math.cos(a), cy + r * math.sin(a)))
+        return points
     return []
 
 

@@ -6,8 +6,8 @@ Written for clarity, independently of the engine:
   with a dense ``np.linalg.solve``;
 - expressions are parsed by Python's ``ast`` under a strict whitelist (numbers, the
   variable, ``pi``, ``e``, + - * / ** and unary signs, calls of the listed functions) and
-  evaluated on a small `Jet` class (value, first and second derivative); nothing is
-  ``eval``-ed;
+  evaluated on a small `Jet` class (value and three derivatives: motion laws read two,
+  curves written as expressions three); nothing is ``eval``-ed;
 - the cam profiles built of pieces (modified trapezoid, modified sine) integrate their
   piecewise sine and constant accelerations in closed form, piece by piece, and scale
   the result to a unit rise, rather than using the engine's constants and symmetry.
@@ -23,9 +23,10 @@ from typing import Any, Callable
 
 import numpy as np
 
-__all__ = ["motion_law", "check_law", "Jet", "expression", "profile"]
+__all__ = ["motion_law", "check_law", "Jet", "expression", "expression3", "profile"]
 
 Triple = tuple[float, float, float]
+Quad = tuple[float, float, float, float]
 
 
 def check_law(law: dict[str, Any]) -> None:
@@ -183,101 +184,130 @@ def _spline_eval(times: tuple[float, ...], values: tuple[float, ...], x: float) 
 
 
 class Jet:
-    """A value with its first and second derivative along one variable; arithmetic on
-    jets follows the product, quotient and chain rules."""
+    """A value with its first, second and third derivative along one variable; arithmetic
+    on jets follows the product, quotient and chain rules. Motion laws read the first
+    three (`triple`), curves written as expressions all four (`quad`: c''' needs r''')."""
 
-    __slots__ = ("f", "d", "dd")
+    __slots__ = ("f", "d", "dd", "ddd")
 
-    def __init__(self, f: float, d: float = 0.0, dd: float = 0.0) -> None:
-        self.f, self.d, self.dd = float(f), float(d), float(dd)
+    def __init__(self, f: float, d: float = 0.0, dd: float = 0.0, ddd: float = 0.0) -> None:
+        self.f, self.d, self.dd, self.ddd = float(f), float(d), float(dd), float(ddd)
 
     def triple(self) -> Triple:
         return self.f, self.d, self.dd
 
+    def quad(self) -> Quad:
+        return self.f, self.d, self.dd, self.ddd
+
+    def derivative(self) -> Jet:
+        """The jet of the first derivative (its own third derivative unknown: NaN)."""
+        return Jet(self.d, self.dd, self.ddd, math.nan)
+
     def __add__(self, o: Jet) -> Jet:
-        return Jet(self.f + o.f, self.d + o.d, self.dd + o.dd)
+        return Jet(self.f + o.f, self.d + o.d, self.dd + o.dd, self.ddd + o.ddd)
 
     def __sub__(self, o: Jet) -> Jet:
-        return Jet(self.f - o.f, self.d - o.d, self.dd - o.dd)
+        return Jet(self.f - o.f, self.d - o.d, self.dd - o.dd, self.ddd - o.ddd)
 
     def __neg__(self) -> Jet:
-        return Jet(-self.f, -self.d, -self.dd)
+        return Jet(-self.f, -self.d, -self.dd, -self.ddd)
 
     def __mul__(self, o: Jet) -> Jet:
+        # Leibniz: (uv)''' = u''' v + 3 u'' v' + 3 u' v'' + u v'''
         return Jet(
-            self.f * o.f, self.d * o.f + self.f * o.d, self.dd * o.f + 2 * self.d * o.d + self.f * o.dd
+            self.f * o.f,
+            self.d * o.f + self.f * o.d,
+            self.dd * o.f + 2 * self.d * o.d + self.f * o.dd,
+            self.ddd * o.f + 3 * self.dd * o.d + 3 * self.d * o.dd + self.f * o.ddd,
         )
 
     def __truediv__(self, o: Jet) -> Jet:
-        # a / b = a * b^-1, with (1/b)' = -b'/b^2 and (1/b)'' = 2 b'^2/b^3 - b''/b^2
+        # a / b = a * g(b) with g = 1/x: g' = -1/x^2, g'' = 2/x^3, g''' = -6/x^4
         if o.f == 0.0:
             raise ZeroDivisionError("division by zero")
-        inv = Jet(1.0 / o.f, -o.d / o.f**2, 2.0 * o.d**2 / o.f**3 - o.dd / o.f**2)
-        return self * inv
+        return self * o.chain(1.0 / o.f, -1.0 / o.f**2, 2.0 / o.f**3, -6.0 / o.f**4)
 
     def __pow__(self, o: Jet) -> Jet:
-        if o.d == 0.0 and o.dd == 0.0:
+        if o.d == 0.0 and o.dd == 0.0 and o.ddd == 0.0:
             n = o.f
             if n == 0.0:
                 return Jet(1.0)
-            # the n (n - 1) x^(n-2) term vanishes for n = 1 (and x^(n-2) may not exist)
-            second = 0.0 if n == 1.0 else n * (n - 1.0) * self.f ** (n - 2.0) * self.d**2
-            return Jet(
-                self.f**n, n * self.f ** (n - 1.0) * self.d, second + n * self.f ** (n - 1.0) * self.dd
-            )
+            # g = x^n, g^(k) = n (n-1) .. (n-k+1) x^(n-k); a vanishing factor drops its
+            # term, where x^(n-k) may not exist (0 to a negative power)
+            g = [self.f**n]
+            factor = 1.0
+            for k in (1, 2, 3):
+                factor *= n - (k - 1)
+                g.append(0.0 if factor == 0.0 else factor * _power(self.f, n - k))
+            return self.chain(*g)
         # a^b = exp(b ln a)
         return exp(o * ln(self))
 
-    def chain(self, g: float, g1: float, g2: float) -> Jet:
-        """g(self) from g, g', g'' at self.f."""
-        return Jet(g, g1 * self.d, g2 * self.d**2 + g1 * self.dd)
+    def chain(self, g: float, g1: float, g2: float, g3: float) -> Jet:
+        """g(self) from g, g', g'', g''' at self.f (Faa di Bruno)."""
+        return Jet(
+            g,
+            g1 * self.d,
+            g2 * self.d**2 + g1 * self.dd,
+            g3 * self.d**3 + 3 * g2 * self.d * self.dd + g1 * self.ddd,
+        )
+
+
+def _power(x: float, p: float) -> float:
+    """x ** p, infinite where Python raises for 0 to a negative power (a derivative that
+    does not exist there, as in IEEE arithmetic)."""
+    try:
+        return x**p
+    except ZeroDivisionError:
+        return math.inf
 
 
 def exp(u: Jet) -> Jet:
     e = math.exp(u.f)
-    return u.chain(e, e, e)
+    return u.chain(e, e, e, e)
 
 
 def ln(u: Jet) -> Jet:
-    return u.chain(math.log(u.f), 1.0 / u.f, -1.0 / u.f**2)
+    return u.chain(math.log(u.f), 1.0 / u.f, -1.0 / u.f**2, 2.0 / u.f**3)
 
 
 def _sqrt(u: Jet) -> Jet:
     r = math.sqrt(u.f)
-    return u.chain(r, 0.5 / r, -0.25 / r**3)
+    return u.chain(r, 0.5 / r, -0.25 / r**3, 0.375 / r**5)
 
 
 def _tan(u: Jet) -> Jet:
+    # tan' = sec^2, tan'' = 2 sec^2 tan, tan''' = 4 sec^2 tan^2 + 2 sec^4
     sec2 = 1.0 / math.cos(u.f) ** 2
-    return u.chain(math.tan(u.f), sec2, 2.0 * sec2 * math.tan(u.f))
+    t = math.tan(u.f)
+    return u.chain(t, sec2, 2.0 * sec2 * t, 4.0 * sec2 * t**2 + 2.0 * sec2**2)
 
 
 def _asin(u: Jet) -> Jet:
     w = 1.0 - u.f**2
-    return u.chain(math.asin(u.f), w**-0.5, u.f * w**-1.5)
+    return u.chain(math.asin(u.f), w**-0.5, u.f * w**-1.5, w**-1.5 + 3.0 * u.f**2 * w**-2.5)
 
 
 def _acos(u: Jet) -> Jet:
     w = 1.0 - u.f**2
-    return u.chain(math.acos(u.f), -(w**-0.5), -u.f * w**-1.5)
+    return u.chain(math.acos(u.f), -(w**-0.5), -u.f * w**-1.5, -(w**-1.5) - 3.0 * u.f**2 * w**-2.5)
 
 
 def _atan(u: Jet) -> Jet:
     w = 1.0 + u.f**2
-    return u.chain(math.atan(u.f), 1.0 / w, -2.0 * u.f / w**2)
+    return u.chain(math.atan(u.f), 1.0 / w, -2.0 * u.f / w**2, -2.0 / w**2 + 8.0 * u.f**2 / w**3)
 
 
 def _tanh(u: Jet) -> Jet:
     th = math.tanh(u.f)
-    return u.chain(th, 1.0 - th**2, -2.0 * th * (1.0 - th**2))
+    sech2 = 1.0 - th**2
+    return u.chain(th, sech2, -2.0 * th * sech2, -2.0 * sech2**2 + 4.0 * th**2 * sech2)
 
 
 def _atan2(y: Jet, x: Jet) -> Jet:
-    # atan2(y, x) moves like atan(y / x) wherever it is smooth
-    r2 = x.f**2 + y.f**2
-    d = (x.f * y.d - y.f * x.d) / r2
-    dd = (x.f * y.dd - y.f * x.dd) / r2 - d * 2.0 * (x.f * x.d + y.f * y.d) / r2
-    return Jet(math.atan2(y.f, x.f), d, dd)
+    # atan2(y, x)' = (x y' - y x') / (x^2 + y^2), differentiated twice more as a jet
+    rate = (x * y.derivative() - y * x.derivative()) / (x * x + y * y)
+    return Jet(math.atan2(y.f, x.f), rate.f, rate.d, rate.dd)
 
 
 def _hypot(a: Jet, b: Jet) -> Jet:
@@ -285,14 +315,14 @@ def _hypot(a: Jet, b: Jet) -> Jet:
 
 
 _FUNCTIONS: dict[str, tuple[int, Callable[..., Jet]]] = {
-    "sin": (1, lambda u: u.chain(math.sin(u.f), math.cos(u.f), -math.sin(u.f))),
-    "cos": (1, lambda u: u.chain(math.cos(u.f), -math.sin(u.f), -math.cos(u.f))),
+    "sin": (1, lambda u: u.chain(math.sin(u.f), math.cos(u.f), -math.sin(u.f), -math.cos(u.f))),
+    "cos": (1, lambda u: u.chain(math.cos(u.f), -math.sin(u.f), -math.cos(u.f), math.sin(u.f))),
     "tan": (1, _tan),
     "asin": (1, _asin),
     "acos": (1, _acos),
     "atan": (1, _atan),
-    "sinh": (1, lambda u: u.chain(math.sinh(u.f), math.cosh(u.f), math.sinh(u.f))),
-    "cosh": (1, lambda u: u.chain(math.cosh(u.f), math.sinh(u.f), math.cosh(u.f))),
+    "sinh": (1, lambda u: u.chain(math.sinh(u.f), math.cosh(u.f), math.sinh(u.f), math.cosh(u.f))),
+    "cosh": (1, lambda u: u.chain(math.cosh(u.f), math.sinh(u.f), math.cosh(u.f), math.sinh(u.f))),
     "tanh": (1, _tanh),
     "exp": (1, exp),
     "ln": (1, ln),
@@ -314,14 +344,26 @@ _BINARY = {ast.Add: Jet.__add__, ast.Sub: Jet.__sub__, ast.Mult: Jet.__mul__, as
 def expression(text: str, variable: str = "t") -> Callable[[float], Triple]:
     """The function x -> (f, f', f'') of an expression written as text (``^`` or ``**``
     for powers); ``ValueError`` if the text uses anything outside the whitelist."""
+    jet = expression3(text, variable)
+
+    def f(x: float) -> Triple:
+        value, d, dd, _ = jet(x)
+        return value, d, dd
+
+    return f
+
+
+@lru_cache(maxsize=256)
+def expression3(text: str, variable: str = "t") -> Callable[[float], Quad]:
+    """The function x -> (f, f', f'', f''') of an expression written as text."""
     try:
         tree = ast.parse(text.replace("^", "**").strip(), mode="eval")
     except SyntaxError as e:
         raise ValueError(f"not an expression: {text!r} ({e.msg})") from None
     _whitelist(tree.body, variable, text)
 
-    def f(x: float) -> Triple:
-        return _jet(tree.body, Jet(x, 1.0, 0.0), variable).triple()
+    def f(x: float) -> Quad:
+        return _jet(tree.body, Jet(x, 1.0), variable).quad()
 
     return f
 
