@@ -113,6 +113,17 @@ struct PyModel {
     units: linkwork::Units,
 }
 
+/// q assembled at t from the guess q (with `assemble`; else q as given).
+fn assembled(py: Python<'_>, m: &Model, t: f64, q: Vec<f64>, assemble: bool) -> PyResult<Vec<f64>> {
+    let mut data = Data::new(m);
+    data.q = q;
+    if assemble {
+        linkwork::check_times(m, &[t]).map_err(|e| solve_err(py, &e))?;
+        linkwork::solve_position(m, &mut data, t, 0, true).map_err(|e| solve_err(py, &e))?;
+    }
+    Ok(data.q)
+}
+
 fn start_guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Vec<f64>> {
     match q_guess {
         None => Ok(model.q_start.clone()),

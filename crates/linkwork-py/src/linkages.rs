@@ -3,12 +3,11 @@
 
 use linkwork::analysis::linkages::{linkages as find_linkages, FourBarLoop, Linkages, SliderCrankLoop};
 use linkwork::analysis::modes::assembly_modes as find_modes;
-use linkwork::{Data, Model};
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::{solve_err, start_guess, PyModel};
+use crate::{assembled, solve_err, start_guess, PyModel};
 
 fn four_bar<'py>(py: Python<'py>, l: &FourBarLoop) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -65,16 +64,6 @@ fn loops<'py>(py: Python<'py>, found: &Linkages) -> PyResult<Bound<'py, PyList>>
         list.append(slider_crank(py, l)?)?;
     }
     Ok(list)
-}
-
-fn assembled(py: Python<'_>, m: &Model, t: f64, q: Vec<f64>, assemble: bool) -> PyResult<Vec<f64>> {
-    let mut data = Data::new(m);
-    data.q = q;
-    if assemble {
-        linkwork::check_times(m, &[t]).map_err(|e| solve_err(py, &e))?;
-        linkwork::solve_position(m, &mut data, t, 0, true).map_err(|e| solve_err(py, &e))?;
-    }
-    Ok(data.q)
 }
 
 /// The four-bar loops and slider-cranks at the configuration assembled at t from

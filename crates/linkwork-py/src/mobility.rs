@@ -1,12 +1,11 @@
 //! Mobility (degrees of freedom two ways, redundant rows) as a Python dict.
 
 use linkwork::analysis::mobility::mobility as engine_mobility;
-use linkwork::Data;
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{solve_err, start_guess, InputError, PyModel};
+use crate::{assembled, start_guess, InputError, PyModel};
 
 /// Degrees of freedom and dependencies at q_guess (default: the starting configuration)
 /// and time t; with `assemble`, at the configuration assembled from it first.
@@ -20,16 +19,10 @@ pub(crate) fn mobility<'py>(
     assemble: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = std::sync::Arc::clone(&model.model);
-    let mut data = Data::new(&m);
-    data.q = start_guess(&m, q_guess)?;
-    if assemble {
-        linkwork::check_times(&m, &[t]).map_err(|e| solve_err(py, &e))?;
-        linkwork::solve_position(&m, &mut data, t, 0, true).map_err(|e| solve_err(py, &e))?;
-    }
-    let mob =
-        py.detach(|| engine_mobility(&m, &data.q, t)).map_err(|e| InputError::new_err(e.to_string()))?;
+    let q = assembled(py, &m, t, start_guess(&m, q_guess)?, assemble)?;
+    let mob = py.detach(|| engine_mobility(&m, &q, t)).map_err(|e| InputError::new_err(e.to_string()))?;
     let d = PyDict::new(py);
-    d.set_item("q", data.q.into_pyarray(py))?;
+    d.set_item("q", q.into_pyarray(py))?;
     d.set_item("n_bodies", mob.n_bodies)?;
     d.set_item("n_coords", mob.n_coords)?;
     d.set_item("joint_rows", mob.joint_rows)?;
