@@ -42,6 +42,20 @@ pub struct Data {
 }
 
 impl Data {
+    /// With `linear = Refactor`: how many times its pivot sequence was chosen since this
+    /// workspace was made (1 after the first factorization; each re-pivoting adds one).
+    /// 0 for the other kinds.
+    pub fn pivot_choices(&self) -> usize {
+        self.factor.pivot_choices()
+    }
+
+    /// The values of the scaled Phi_q at the last Newton evaluation, laid out as the
+    /// model's linear solver reads them (column-major n x n for the dense kinds; in the
+    /// order of `Model::sparsity` for the sparse ones).
+    pub fn jacobian(&self) -> &[f64] {
+        &self.jac
+    }
+
     pub fn new(model: &Model) -> Data {
         Data {
             q: model.q_start.clone(),

@@ -1,5 +1,7 @@
-//! The linear-solver seam: dense LU (faer, partial pivoting) for small systems, sparse LU
-//! (faer, COLAMD column order, simplicial left-looking factorization) for large ones.
+//! The linear-solver seam: linkwork's sparse LU with a fixed pivot sequence replayed
+//! every step (`sparse_lu`, the default), its small dense LU (`small_lu`), faer's dense
+//! LU (partial pivoting) and faer's sparse LU (COLAMD column order, simplicial
+//! left-looking factorization with partial pivoting at every step).
 //! The symbolic part lives in the `Model`, the numeric factors and scratch in `Data`;
 //! nothing is allocated per step once the first factorization has sized faer's buffers.
 //! faer does not report a numerically zero pivot, so the pivots are checked here.
@@ -17,6 +19,7 @@ use faer::linalg::lu::partial_pivoting::{factor as dense_factor, solve as dense_
 use faer::linalg::qr::no_pivoting::{factor as qr_factor, solve as qr_solve};
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::perm::PermRef;
+use faer::sparse::linalg::colamd;
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, simplicial, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, MatRef, Par};
@@ -24,11 +27,12 @@ use faer::{Conj, MatMut, MatRef, Par};
 use crate::joints::MAX_ROWS;
 use crate::model::ConstraintEntry;
 use crate::small_lu;
+use crate::sparse_lu::SparseLu;
 
 /// Which linear algebra solves Phi_q x = b.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LinearKind {
-    /// small dense LU up to `Options::dense_max` coordinates, sparse LU above
+    /// the sparse LU with a fixed pivot sequence (`Refactor`) at every size
     Auto,
     /// linkwork's own dense LU (`small_lu`), for small systems
     Small,
@@ -36,6 +40,10 @@ pub enum LinearKind {
     Dense,
     /// faer's sparse LU
     Sparse,
+    /// linkwork's sparse LU (`sparse_lu`): COLAMD column order, row order chosen by
+    /// partial pivoting at the first factorization, then replayed; chosen again when a
+    /// pivot fails its threshold
+    Refactor,
     /// faer's dense QR, least squares: chosen for a redundant model solved anyway
     LeastSquares,
 }
@@ -60,10 +68,29 @@ impl Pivots {
 /// The part of a factorization that depends only on the pattern (in the model).
 #[derive(Debug)]
 pub(crate) enum SymbolicFactor {
-    Small { n: usize },
-    Dense { n: usize },
-    Sparse { n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>, lu: SymbolicLu<usize> },
-    LeastSquares { m: usize, n: usize },
+    Small {
+        n: usize,
+    },
+    Dense {
+        n: usize,
+    },
+    Sparse {
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        lu: SymbolicLu<usize>,
+    },
+    /// the pattern (compressed columns) and the column order of each step (COLAMD)
+    Refactor {
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        col_order: Vec<usize>,
+    },
+    LeastSquares {
+        m: usize,
+        n: usize,
+    },
 }
 
 impl SymbolicFactor {
@@ -91,29 +118,16 @@ impl SymbolicFactor {
                 }
             }
             LinearKind::Sparse => {
-                let mut entries: Vec<(usize, usize)> = Vec::new();
-                for_each_entry(constraints, |row, col| {
-                    entries.push((col, row));
-                    0
-                });
-                entries.sort_unstable();
-                entries.dedup();
-                let mut col_ptr = vec![0usize; n + 1];
-                let row_idx: Vec<usize> = entries.iter().map(|&(_, r)| r).collect();
-                for &(c, _) in &entries {
-                    col_ptr[c + 1] += 1;
-                }
-                for c in 0..n {
-                    col_ptr[c + 1] += col_ptr[c];
-                }
-                for_each_entry(constraints, |row, col| {
-                    let range = &row_idx[col_ptr[col]..col_ptr[col + 1]];
-                    (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern")) as u32
-                });
+                let (col_ptr, row_idx) = compressed_columns(n, constraints);
                 let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
                 let lu =
                     factorize_symbolic_lu(sym, Default::default()).expect("symbolic LU of a square pattern");
                 SymbolicFactor::Sparse { n, col_ptr, row_idx, lu }
+            }
+            LinearKind::Refactor => {
+                let (col_ptr, row_idx) = compressed_columns(n, constraints);
+                let col_order = colamd_order(n, &col_ptr, &row_idx);
+                SymbolicFactor::Refactor { n, col_ptr, row_idx, col_order }
             }
         }
     }
@@ -123,6 +137,7 @@ impl SymbolicFactor {
             SymbolicFactor::Small { .. } => LinearKind::Small,
             SymbolicFactor::Dense { .. } => LinearKind::Dense,
             SymbolicFactor::Sparse { .. } => LinearKind::Sparse,
+            SymbolicFactor::Refactor { .. } => LinearKind::Refactor,
             SymbolicFactor::LeastSquares { .. } => LinearKind::LeastSquares,
         }
     }
@@ -131,8 +146,19 @@ impl SymbolicFactor {
     pub(crate) fn n_values(&self) -> usize {
         match self {
             SymbolicFactor::Small { n } | SymbolicFactor::Dense { n } => n * n,
-            SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
+            SymbolicFactor::Sparse { row_idx, .. } | SymbolicFactor::Refactor { row_idx, .. } => {
+                row_idx.len()
+            }
             SymbolicFactor::LeastSquares { m, n } => m * n,
+        }
+    }
+
+    /// The compressed-column pattern of the sparse kinds.
+    pub(crate) fn pattern(&self) -> Option<(&[usize], &[usize])> {
+        match self {
+            SymbolicFactor::Sparse { col_ptr, row_idx, .. }
+            | SymbolicFactor::Refactor { col_ptr, row_idx, .. } => Some((col_ptr, row_idx)),
+            _ => None,
         }
     }
 
@@ -140,9 +166,49 @@ impl SymbolicFactor {
     pub(crate) fn nnz(&self) -> usize {
         match self {
             SymbolicFactor::Small { n } | SymbolicFactor::Dense { n } => n * n,
-            SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
+            SymbolicFactor::Sparse { row_idx, .. } | SymbolicFactor::Refactor { row_idx, .. } => {
+                row_idx.len()
+            }
             SymbolicFactor::LeastSquares { m, n } => m * n,
         }
+    }
+}
+
+/// The pattern of Phi_q in compressed columns (rows sorted, unique), each constraint
+/// entry's slot set to its position in the value array.
+fn compressed_columns(n: usize, constraints: &mut [ConstraintEntry]) -> (Vec<usize>, Vec<usize>) {
+    let mut entries: Vec<(usize, usize)> = Vec::new();
+    for_each_entry(constraints, |row, col| {
+        entries.push((col, row));
+        0
+    });
+    entries.sort_unstable();
+    entries.dedup();
+    let mut col_ptr = vec![0usize; n + 1];
+    let row_idx: Vec<usize> = entries.iter().map(|&(_, r)| r).collect();
+    for &(c, _) in &entries {
+        col_ptr[c + 1] += 1;
+    }
+    for c in 0..n {
+        col_ptr[c + 1] += col_ptr[c];
+    }
+    for_each_entry(constraints, |row, col| {
+        let range = &row_idx[col_ptr[col]..col_ptr[col + 1]];
+        (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern")) as u32
+    });
+    (col_ptr, row_idx)
+}
+
+/// A fill-reducing column order for LU with partial pivoting (faer's COLAMD): the column
+/// of Phi_q eliminated at each step.
+fn colamd_order(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
+    let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
+    let sym = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
+    let mut stack = MemBuffer::new(colamd::order_scratch::<usize>(n, n, row_idx.len()));
+    match colamd::order(&mut perm, &mut perm_inv, sym, Default::default(), MemStack::new(&mut stack)) {
+        Ok(()) => perm,
+        // only on index overflow; the natural order is always valid
+        Err(_) => (0..n).collect(),
     }
 }
 
@@ -188,6 +254,7 @@ pub(crate) enum Factor {
         row_perm_inv: Vec<usize>,
         stack: MemBuffer,
     },
+    Refactor(SparseLu),
     LeastSquares {
         /// m x n column-major: R above the diagonal, the Householder vectors below
         qr: Vec<f64>,
@@ -232,6 +299,9 @@ impl Factor {
                     block,
                     stack: MemBuffer::new(req),
                 }
+            }
+            SymbolicFactor::Refactor { n, col_ptr, row_idx, col_order } => {
+                Factor::Refactor(SparseLu::new(*n, col_ptr, row_idx, col_order))
             }
             SymbolicFactor::Sparse { n, .. } => {
                 let n = *n;
@@ -320,6 +390,7 @@ impl Factor {
                     sign,
                 )
             }
+            (Factor::Refactor(lu), SymbolicFactor::Refactor { .. }) => lu.factor(values),
             (Factor::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) => {
                 let (m, n) = (*m, *n);
                 qr.copy_from_slice(values);
@@ -341,6 +412,9 @@ impl Factor {
     /// Solves Phi_q x = rhs in place with the last factorization.
     pub(crate) fn solve(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         let n = rhs.len();
+        if let Factor::Refactor(lu) = self {
+            return lu.solve(rhs);
+        }
         if let Factor::Small { lu, pivots, inv_diag } = self {
             return small_lu::solve(lu, n, pivots, inv_diag, rhs);
         }
@@ -381,9 +455,21 @@ impl Factor {
 }
 
 impl Factor {
+    /// How many times the pivot sequence of the fixed-sequence LU was chosen (0 for the
+    /// other kinds, which choose pivots at every factorization).
+    pub(crate) fn pivot_choices(&self) -> usize {
+        match self {
+            Factor::Refactor(lu) => lu.pivot_choices(),
+            _ => 0,
+        }
+    }
+
     /// Solves Phi_q^T x = rhs in place with the last factorization (inverse dynamics).
     pub(crate) fn solve_transpose(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         let n = rhs.len();
+        if let Factor::Refactor(lu) = self {
+            return lu.solve_transpose(rhs);
+        }
         if let Factor::Small { lu, pivots, inv_diag } = self {
             return small_lu::solve_transpose(lu, n, pivots, inv_diag, rhs);
         }

@@ -729,8 +729,7 @@ impl Model {
         let linear = match options.linear {
             // a redundant model solved anyway: dense QR, least squares (small by nature)
             _ if n_rows > n_coords => LinearKind::LeastSquares,
-            LinearKind::Auto if n_coords <= options.dense_max => LinearKind::Small,
-            LinearKind::Auto => LinearKind::Sparse,
+            LinearKind::Auto => LinearKind::Refactor,
             k => k,
         };
         let symbolic = SymbolicFactor::new(linear, n_rows, n_coords, &mut constraints);
@@ -779,6 +778,12 @@ impl Model {
     /// Number of structurally non-zero entries of Phi_q.
     pub fn nnz(&self) -> usize {
         self.symbolic.nnz()
+    }
+
+    /// The pattern of Phi_q in compressed columns (column starts, then the row of each
+    /// entry), for the sparse LUs; None for the dense ones.
+    pub fn sparsity(&self) -> Option<(&[usize], &[usize])> {
+        self.symbolic.pattern()
     }
 
     /// Index of a body by name.

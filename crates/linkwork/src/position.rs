@@ -72,20 +72,24 @@ pub fn solve_position(
         if !step_norm.is_finite() {
             return Err(SolveError::NonFinite { step, time: t, what: "the Newton step".into() });
         }
-        let damping =
-            if assembly && step_norm > ASSEMBLY_MAX_STEP { ASSEMBLY_MAX_STEP / step_norm } else { 1.0 };
-        for ((q, d), s) in data.q.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
-            *q += damping * d * s;
-        }
-        correction += damping * step_norm;
         // the step cannot be resolved below round-off times the condition number, which
         // 1 / pivot ratio estimates: on ill-conditioned chains tol_step alone is unreachable
         let step_floor = opts.tol_step.max(8.0 * f64::EPSILON / pivots.ratio);
         // near a singular configuration round-off in the residual makes the steps
-        // stagnate instead of shrinking: with the residual converged, that is the end
-        let stagnant = step_norm >= 0.9 * prev_step;
+        // stagnate instead of shrinking: with the residual converged, that is the end, and
+        // the step is round-off: q before it is the one whose residual was measured
+        let converged = residual <= opts.tol_residual && step_norm <= step_floor;
+        let stalled = !converged && residual <= opts.tol_residual && step_norm >= 0.9 * prev_step;
         prev_step = step_norm;
-        if residual <= opts.tol_residual && (step_norm <= step_floor || stagnant) {
+        if !stalled {
+            let damping =
+                if assembly && step_norm > ASSEMBLY_MAX_STEP { ASSEMBLY_MAX_STEP / step_norm } else { 1.0 };
+            for ((q, d), s) in data.q.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
+                *q += damping * d * s;
+            }
+            correction += damping * step_norm;
+        }
+        if converged || stalled {
             data.iterations = it;
             data.residual = residual;
             return Ok(PositionInfo {

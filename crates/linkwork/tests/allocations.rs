@@ -40,7 +40,7 @@ fn allocations_of_sweep(model: &Model, n: usize) -> usize {
 #[test]
 fn the_sweep_loop_allocates_nothing_per_step() {
     let desc = four_bar(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 0.0, 5.0);
-    for linear in [LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
+    for linear in [LinearKind::Refactor, LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
         let model = Model::with_options(desc.clone(), Options { linear, ..Options::default() }).unwrap();
         let few = allocations_of_sweep(&model, 20);
         let many = allocations_of_sweep(&model, 2_000);
