@@ -21,6 +21,8 @@ pub struct Data {
     pub(crate) jac: Vec<f64>,
     /// n_bodies
     pub(crate) frames: Vec<Frame>,
+    /// n_bodies: (theta, cos, sin) of each body's last full sin_cos (`update_frames`)
+    pub(crate) frame_base: Vec<[f64; 3]>,
     pub(crate) factor: Factor,
     /// Newton iterations of the last position solve
     pub iterations: usize,
@@ -34,9 +36,9 @@ pub struct Data {
     pub lambda_parts: [Vec<f64>; 3],
     /// 3 x n_coords: the parts of Q - M qdd
     pub(crate) gen_force: [Vec<f64>; 3],
-    /// n_coords each: q at the two steps before the previous one, qd and qdd at the one
+    /// n_coords each: q at the three steps before the previous one, qd and qdd at the one
     /// before the previous one (the sweep's predictor reads them)
-    pub(crate) hist_q: [Vec<f64>; 2],
+    pub(crate) hist_q: [Vec<f64>; 3],
     pub(crate) hist_qd: Vec<f64>,
     pub(crate) hist_qdd: Vec<f64>,
 }
@@ -65,6 +67,8 @@ impl Data {
             rhs: vec![0.0; model.n_rows],
             jac: vec![0.0; model.symbolic.n_values()],
             frames: vec![Frame::GROUND; model.n_bodies],
+            // NaN: the first update computes sin_cos in full
+            frame_base: vec![[f64::NAN, 1.0, 0.0]; model.n_bodies],
             factor: Factor::new(&model.symbolic),
             iterations: 0,
             residual: f64::NAN,

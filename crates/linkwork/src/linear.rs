@@ -19,7 +19,6 @@ use faer::linalg::lu::partial_pivoting::{factor as dense_factor, solve as dense_
 use faer::linalg::qr::no_pivoting::{factor as qr_factor, solve as qr_solve};
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::perm::PermRef;
-use faer::sparse::linalg::colamd;
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, simplicial, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, MatRef, Par};
@@ -126,7 +125,7 @@ impl SymbolicFactor {
             }
             LinearKind::Refactor => {
                 let (col_ptr, row_idx) = compressed_columns(n, constraints);
-                let col_order = colamd_order(n, &col_ptr, &row_idx);
+                let col_order = crate::sparse_lu::colamd_order(n, &col_ptr, &row_idx);
                 SymbolicFactor::Refactor { n, col_ptr, row_idx, col_order }
             }
         }
@@ -197,19 +196,6 @@ fn compressed_columns(n: usize, constraints: &mut [ConstraintEntry]) -> (Vec<usi
         (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern")) as u32
     });
     (col_ptr, row_idx)
-}
-
-/// A fill-reducing column order for LU with partial pivoting (faer's COLAMD): the column
-/// of Phi_q eliminated at each step.
-fn colamd_order(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
-    let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
-    let sym = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
-    let mut stack = MemBuffer::new(colamd::order_scratch::<usize>(n, n, row_idx.len()));
-    match colamd::order(&mut perm, &mut perm_inv, sym, Default::default(), MemStack::new(&mut stack)) {
-        Ok(()) => perm,
-        // only on index overflow; the natural order is always valid
-        Err(_) => (0..n).collect(),
-    }
 }
 
 /// Calls `slot(row, col)` for every Jacobian block entry of every constraint and stores

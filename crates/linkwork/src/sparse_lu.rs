@@ -12,18 +12,25 @@
 //! Every replayed pivot is checked against the largest candidate of its column (the
 //! entries of that column of L before scaling): if |pivot| < `PIVOT_THRESHOLD` times it,
 //! the sequence no longer suits the values, and the factorization is redone with a new
-//! pivot choice (and a new program; its buffers are reused, so it allocates only if the
-//! new program is larger than any before). The threshold bounds every entry of L by
-//! 1 / `PIVOT_THRESHOLD`, as threshold partial pivoting does.
+//! pivot choice and a new program (allocating: rare, never in a steady state). The
+//! threshold bounds every entry of L by 1 / `PIVOT_THRESHOLD`, as threshold partial
+//! pivoting does.
 //!
 //! Written here because faer 0.24 has no numeric refactorization that keeps the pivot
-//! order: its sparse LU (`factorize_simplicial_numeric_lu`, the supernodal one) searches
-//! for pivots and rebuilds the patterns of L and U at every call, which is most of the
-//! work for the small and banded systems of mechanisms.
+//! order: its sparse LUs (simplicial and supernodal) search for pivots and rebuild the
+//! patterns of L and U at every call, which is most of the work for the small and banded
+//! systems of mechanisms.
 //!
-//! Storage: one array for L and U, by step columns. Column j (the j-th column of P A Q)
-//! holds, sorted by step: U(0..j, j), the pivot U(j, j), then L(j+1.., j) (unit diagonal
-//! not stored). All indices are steps (positions in P A Q) except where said.
+//! Storage: one array for the factors of P A Q = L U: the entries of L (unit diagonal not
+//! stored) by ascending columns, the off-diagonal entries of U by descending columns, the
+//! n pivots. The program is one multiply-add per update (target -= L entry * U entry);
+//! the solves run through the entries in order, one multiply-add each, with U written as
+//! D V (V = D^-1 U unit upper). All indices are steps (positions in P A Q) except where
+//! said.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::colamd;
+use faer::sparse::SymbolicSparseColMatRef;
 
 use crate::linear::Pivots;
 
@@ -32,15 +39,6 @@ use crate::linear::Pivots;
 pub const PIVOT_THRESHOLD: f64 = 0.1;
 
 const NONE: u32 = u32::MAX;
-
-/// One update of the program: column j -= L(:, k) * U(k, j).
-#[derive(Debug, Clone, Copy)]
-struct Update {
-    /// position of U(k, j) in `lu`
-    u: u32,
-    /// the step k whose column of L is subtracted
-    k: u32,
-}
 
 /// A sparse LU of a square matrix in compressed-column form, its pivot sequence fixed at
 /// the first factorization and re-chosen only when a pivot fails its threshold.
@@ -57,18 +55,25 @@ pub struct SparseLu {
     step_of_row: Vec<u32>,
     /// sign of det P * det Q
     perm_sign: f64,
-    /// n + 1: start of each step column in `lu`; n: position of its pivot
-    lu_ptr: Vec<u32>,
-    diag: Vec<u32>,
-    /// nnz(L + U): the step (row) of each entry, and its value
-    lu_row: Vec<u32>,
+    /// nnz(L) + nnz(U) + n: the factors' values (see the module doc)
     lu: Vec<f64>,
-    /// nnz(A): where each value of A goes in `lu`
+    /// nnz(L): row and column (steps) of each entry of L, columns ascending
+    l_row: Vec<u32>,
+    l_col: Vec<u32>,
+    /// n + 1: each column's entries of L
+    l_ptr: Vec<u32>,
+    /// nnz(U): row and column of each off-diagonal entry of U, columns descending
+    u_row: Vec<u32>,
+    u_col: Vec<u32>,
+    /// nnz(U): V = D^-1 U, U's rows divided by their pivots (the solves' unit upper factor)
+    v: Vec<f64>,
+    /// nnz(A): where each value of A goes in `lu`; the fill positions, zeroed first
     a_to_lu: Vec<u32>,
-    /// the program: n + 1 starts into `updates`; per update, nnz(L(:, k)) targets
-    update_ptr: Vec<u32>,
-    updates: Vec<Update>,
-    targets: Vec<u32>,
+    fill: Vec<u32>,
+    /// the program: (target, L entry, U entry) positions in `lu` of each update
+    /// target -= L * U, in order; n + 1 starts of each column's updates
+    ops: Vec<[u32; 3]>,
+    op_ptr: Vec<u32>,
     /// n: 1 / U(j, j) (0 where the pivot is 0)
     inv_diag: Vec<f64>,
     /// n: dense work vector of the solves
@@ -82,7 +87,7 @@ pub struct SparseLu {
 /// Why a replay stopped.
 enum Replay {
     Done,
-    /// the pivot of this step failed its threshold
+    /// a pivot failed its threshold
     Repivot,
 }
 
@@ -101,14 +106,17 @@ impl SparseLu {
             row_of_step: vec![NONE; n],
             step_of_row: vec![NONE; n],
             perm_sign: 1.0,
-            lu_ptr: Vec::new(),
-            diag: Vec::new(),
-            lu_row: Vec::new(),
             lu: Vec::new(),
+            l_row: Vec::new(),
+            l_col: Vec::new(),
+            l_ptr: Vec::new(),
+            u_row: Vec::new(),
+            u_col: Vec::new(),
+            v: Vec::new(),
             a_to_lu: Vec::new(),
-            update_ptr: Vec::new(),
-            updates: Vec::new(),
-            targets: Vec::new(),
+            fill: Vec::new(),
+            ops: Vec::new(),
+            op_ptr: Vec::new(),
             inv_diag: vec![0.0; n],
             work: vec![0.0; n],
             ready: false,
@@ -132,14 +140,15 @@ impl SparseLu {
         self.lu.len()
     }
 
-    /// (column of A, U(j, j)) of each step of the last factorization.
-    pub fn diagonal(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        self.diag.iter().zip(&self.col_of_step).map(|(&p, &c)| (c as usize, self.lu[p as usize]))
-    }
-
     /// Multiply-adds of one replayed factorization.
     pub fn n_updates(&self) -> usize {
-        self.targets.len()
+        self.ops.len()
+    }
+
+    /// (column of A, U(j, j)) of each step of the last factorization.
+    pub fn diagonal(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let d0 = self.lu.len() - self.n;
+        self.col_of_step.iter().enumerate().map(move |(j, &c)| (c as usize, self.lu[d0 + j]))
     }
 
     /// Factors A (its values in the order of the pattern) and returns its pivots: the
@@ -156,62 +165,55 @@ impl SparseLu {
         self.pivots()
     }
 
-    /// Solves A x = b in place (b of length n) with the last factorization.
+    /// Solves A x = b in place (b of length n) with the last factorization: with
+    /// P A Q = L D V, L y = P b, then V z = D^-1 y, x = Q z.
     pub fn solve(&mut self, b: &mut [f64]) {
-        let n = self.n;
-        assert!(self.ready && b.len() == n);
-        let w = &mut self.work;
+        assert!(self.ready && b.len() == self.n);
+
+        let nl = self.l_row.len();
+        let w = &mut self.work[..self.n];
         for (x, &r) in w.iter_mut().zip(&self.row_of_step) {
             *x = b[r as usize];
         }
-        // L y = P b, unit lower, column by column
-        for j in 0..n {
-            let xj = w[j];
-            if xj != 0.0 {
-                let (d, end) = (self.diag[j] as usize + 1, self.lu_ptr[j + 1] as usize);
-                for (&i, &l) in self.lu_row[d..end].iter().zip(&self.lu[d..end]) {
-                    w[i as usize] -= l * xj;
-                }
-            }
+        // unit lower L, entry by entry in ascending columns: w[j] is final when used
+        for ((&i, &j), &l) in self.l_row.iter().zip(&self.l_col).zip(&self.lu[..nl]) {
+            // SAFETY: `compile` checked every row and column index against n = w.len()
+            unsafe { *w.get_unchecked_mut(i as usize) -= l * *w.get_unchecked(j as usize) };
         }
-        // U z = y, column by column from the last
-        for j in (0..n).rev() {
-            let xj = w[j] * self.inv_diag[j];
-            w[j] = xj;
-            if xj != 0.0 {
-                let (s, d) = (self.lu_ptr[j] as usize, self.diag[j] as usize);
-                for (&i, &u) in self.lu_row[s..d].iter().zip(&self.lu[s..d]) {
-                    w[i as usize] -= u * xj;
-                }
-            }
+        for (x, d) in w.iter_mut().zip(&self.inv_diag) {
+            *x *= d;
+        }
+        // unit upper V in descending columns
+        for ((&i, &j), &v) in self.u_row.iter().zip(&self.u_col).zip(&self.v) {
+            // SAFETY: as above
+            unsafe { *w.get_unchecked_mut(i as usize) -= v * *w.get_unchecked(j as usize) };
         }
         for (&x, &c) in w.iter().zip(&self.col_of_step) {
             b[c as usize] = x;
         }
     }
 
-    /// Solves A^T x = b in place with the last factorization: with P A Q = L U,
-    /// U^T L^T (P x) = Q^T b.
+    /// Solves A^T x = b in place with the last factorization: V^T D L^T (P x) = Q^T b.
     pub fn solve_transpose(&mut self, b: &mut [f64]) {
-        let n = self.n;
-        assert!(self.ready && b.len() == n);
-        let w = &mut self.work;
+        assert!(self.ready && b.len() == self.n);
+
+        let nl = self.l_row.len();
+        let w = &mut self.work[..self.n];
         for (x, &c) in w.iter_mut().zip(&self.col_of_step) {
             *x = b[c as usize];
         }
-        // U^T z = Q^T b: row j of U^T is column j of U
-        for j in 0..n {
-            let (s, d) = (self.lu_ptr[j] as usize, self.diag[j] as usize);
-            let dot: f64 =
-                self.lu_row[s..d].iter().zip(&self.lu[s..d]).map(|(&i, &u)| u * w[i as usize]).sum();
-            w[j] = (w[j] - dot) * self.inv_diag[j];
+        // V^T is unit lower: V's entries in ascending columns
+        for ((&i, &j), &v) in self.u_row.iter().zip(&self.u_col).zip(&self.v).rev() {
+            // SAFETY: `compile` checked every row and column index against n = w.len()
+            unsafe { *w.get_unchecked_mut(j as usize) -= v * *w.get_unchecked(i as usize) };
         }
-        // L^T y = z, unit upper, from the last row
-        for j in (0..n).rev() {
-            let (d, end) = (self.diag[j] as usize + 1, self.lu_ptr[j + 1] as usize);
-            let dot: f64 =
-                self.lu_row[d..end].iter().zip(&self.lu[d..end]).map(|(&i, &l)| l * w[i as usize]).sum();
-            w[j] -= dot;
+        for (x, d) in w.iter_mut().zip(&self.inv_diag) {
+            *x *= d;
+        }
+        // L^T is unit upper: L's entries in descending columns
+        for ((&i, &j), &l) in self.l_row.iter().zip(&self.l_col).zip(&self.lu[..nl]).rev() {
+            // SAFETY: as above
+            unsafe { *w.get_unchecked_mut(j as usize) -= l * *w.get_unchecked(i as usize) };
         }
         for (&y, &r) in w.iter().zip(&self.row_of_step) {
             b[r as usize] = y;
@@ -222,9 +224,7 @@ impl SparseLu {
     fn pivots(&self) -> Pivots {
         let (mut lo, mut hi, mut column) = (f64::INFINITY, 0.0f64, 0);
         let mut sign = self.perm_sign;
-        for (j, &p) in self.diag.iter().enumerate() {
-            let d = self.lu[p as usize];
-            let col = self.col_of_step[j] as usize;
+        for (col, d) in self.diagonal() {
             if !d.is_finite() {
                 return Pivots { ratio: f64::NAN, column: col, det_sign: 0.0 };
             }
@@ -238,10 +238,6 @@ impl SparseLu {
             }
             hi = hi.max(d);
         }
-        // a non-finite entry of L that no later pivot met
-        if self.lu.iter().any(|v| !v.is_finite()) {
-            return Pivots { ratio: f64::NAN, column, det_sign: 0.0 };
-        }
         let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
         Pivots { ratio, column, det_sign: if lo > 0.0 { sign } else { 0.0 } }
     }
@@ -249,46 +245,47 @@ impl SparseLu {
     /// Replays the program on new values. With `check`, stops at the first pivot that
     /// fails its threshold; a non-finite column goes through (the pivots report it).
     fn replay(&mut self, values: &[f64], check: bool) -> Replay {
-        let lu = &mut self.lu;
-        lu.fill(0.0);
-        for (&v, &p) in values.iter().zip(&self.a_to_lu) {
-            lu[p as usize] = v;
+        let lu = &mut self.lu[..];
+        // SAFETY (the three loops): `compile` checked every position against lu.len()
+        for &p in &self.fill {
+            unsafe { *lu.get_unchecked_mut(p as usize) = 0.0 };
         }
-        let mut t = 0usize;
+        for (&v, &p) in values.iter().zip(&self.a_to_lu) {
+            unsafe { *lu.get_unchecked_mut(p as usize) = v };
+        }
+        let d0 = lu.len() - self.n;
         for j in 0..self.n {
-            let ops = &self.updates[self.update_ptr[j] as usize..self.update_ptr[j + 1] as usize];
-            for op in ops {
-                let k = op.k as usize;
-                let (l0, l1) = (self.diag[k] as usize + 1, self.lu_ptr[k + 1] as usize);
-                let targets = &self.targets[t..t + (l1 - l0)];
-                t += l1 - l0;
-                let ukj = lu[op.u as usize];
-                if ukj != 0.0 {
-                    for (p, &target) in (l0..l1).zip(targets) {
-                        lu[target as usize] -= lu[p] * ukj;
-                    }
-                }
+            for &[t, l, u] in &self.ops[self.op_ptr[j] as usize..self.op_ptr[j + 1] as usize] {
+                unsafe {
+                    *lu.get_unchecked_mut(t as usize) -=
+                        *lu.get_unchecked(l as usize) * *lu.get_unchecked(u as usize)
+                };
             }
-            let (d, end) = (self.diag[j] as usize, self.lu_ptr[j + 1] as usize);
-            let pivot = lu[d];
-            // largest candidate below the pivot; NaN wins, so that it is seen
-            let largest =
-                lu[d + 1..end]
-                    .iter()
-                    .fold(0.0f64, |m, v| if v.abs() > m || v.is_nan() { v.abs() } else { m });
-            if check && pivot.abs() < PIVOT_THRESHOLD * largest {
-                return Replay::Repivot;
-            }
+            let pivot = lu[d0 + j];
+            let col = &mut lu[self.l_ptr[j] as usize..self.l_ptr[j + 1] as usize];
             if pivot == 0.0 {
+                if check && col.iter().any(|&l| l != 0.0) {
+                    return Replay::Repivot;
+                }
                 // all candidates zero: a singular column, left as it is
                 self.inv_diag[j] = 0.0;
                 continue;
             }
             let inv = 1.0 / pivot;
             self.inv_diag[j] = inv;
-            for l in &mut lu[d + 1..end] {
+            // |L| <= 1 / threshold is |pivot| >= threshold |candidate|
+            let mut largest = 0.0f64;
+            for l in col.iter_mut() {
                 *l *= inv;
+                largest = largest.max(l.abs());
             }
+            if check && largest * PIVOT_THRESHOLD > 1.0 {
+                return Replay::Repivot;
+            }
+        }
+        let u0 = self.l_row.len();
+        for ((v, &u), &i) in self.v.iter_mut().zip(&lu[u0..d0]).zip(&self.u_row) {
+            *v = u * self.inv_diag[i as usize];
         }
         Replay::Done
     }
@@ -371,59 +368,91 @@ impl SparseLu {
     }
 
     /// Lays out L and U for the chosen sequence and writes the program.
+    /// Lays out L and U for the chosen sequence and writes the program.
     fn compile(&mut self, l_cols: &[Vec<(u32, f64)>], u_cols: &[Vec<u32>]) {
         let n = self.n;
-        self.lu_ptr.clear();
-        self.diag.clear();
-        self.lu_row.clear();
-        self.lu_ptr.push(0);
-        for j in 0..n {
-            self.lu_row.extend(&u_cols[j]);
-            self.diag.push(self.lu_row.len() as u32);
-            self.lu_row.push(j as u32);
-            let start = self.lu_row.len();
-            self.lu_row.extend(l_cols[j].iter().map(|&(r, _)| self.step_of_row[r as usize]));
-            self.lu_row[start..].sort_unstable();
-            self.lu_ptr.push(self.lu_row.len() as u32);
+        // L by ascending columns, rows ascending
+        let (mut l_row, mut l_col, mut l_ptr) = (Vec::new(), Vec::new(), vec![0u32]);
+        for (j, col) in l_cols.iter().enumerate() {
+            let start = l_row.len();
+            l_row.extend(col.iter().map(|&(r, _)| self.step_of_row[r as usize]));
+            l_row[start..].sort_unstable();
+            l_col.resize(l_row.len(), j as u32);
+            l_ptr.push(l_row.len() as u32);
         }
-        assert!(self.lu_row.len() < NONE as usize, "factors too large for 32-bit positions");
-        self.lu.clear();
-        self.lu.resize(self.lu_row.len(), 0.0);
-        // position of step row i in step column j (present by construction)
-        let position = |lu_ptr: &[u32], lu_row: &[u32], i: u32, j: usize| -> u32 {
-            let (s, e) = (lu_ptr[j] as usize, lu_ptr[j + 1] as usize);
-            let at = lu_row[s..e].binary_search(&i).expect("entry in the fill pattern");
-            (s + at) as u32
+        // U by descending columns
+        let (mut u_row, mut u_col) = (Vec::new(), Vec::new());
+        for (j, col) in u_cols.iter().enumerate().rev() {
+            u_row.extend(col);
+            u_col.resize(u_row.len(), j as u32);
+        }
+        let (nl, nu) = (l_row.len(), u_row.len());
+        assert!(nl + nu + n < NONE as usize, "factors too large for 32-bit positions");
+        // every entry of step column j as (row, position in lu), sorted by row
+        let mut entries: Vec<Vec<(u32, u32)>> =
+            (0..n).map(|j| vec![(j as u32, (nl + nu + j) as u32)]).collect();
+        for (e, (&i, &j)) in l_row.iter().zip(&l_col).enumerate() {
+            entries[j as usize].push((i, e as u32));
+        }
+        for (e, (&i, &j)) in u_row.iter().zip(&u_col).enumerate() {
+            entries[j as usize].push((i, (nl + e) as u32));
+        }
+        for col in entries.iter_mut() {
+            col.sort_unstable();
+        }
+        let position = |i: u32, j: usize| -> u32 {
+            let col = &entries[j];
+            col[col.binary_search_by_key(&i, |&(r, _)| r).expect("entry in the fill pattern")].1
         };
         let mut step_of_col = vec![0u32; n];
         for (j, &c) in self.col_of_step.iter().enumerate() {
             step_of_col[c as usize] = j as u32;
         }
+        let mut covered = vec![false; nl + nu + n];
         self.a_to_lu.clear();
         for c in 0..n {
             let j = step_of_col[c] as usize;
             for p in self.a_col_ptr[c]..self.a_col_ptr[c + 1] {
-                let i = self.step_of_row[self.a_row[p]];
-                self.a_to_lu.push(position(&self.lu_ptr, &self.lu_row, i, j));
+                let at = position(self.step_of_row[self.a_row[p]], j);
+                covered[at as usize] = true;
+                self.a_to_lu.push(at);
             }
         }
-        self.update_ptr.clear();
-        self.updates.clear();
-        self.targets.clear();
-        self.update_ptr.push(0);
-        for j in 0..n {
-            let (s, d) = (self.lu_ptr[j] as usize, self.diag[j] as usize);
-            for u in s..d {
-                let k = self.lu_row[u] as usize;
-                self.updates.push(Update { u: u as u32, k: k as u32 });
-                for p in self.diag[k] as usize + 1..self.lu_ptr[k + 1] as usize {
-                    let i = self.lu_row[p];
-                    self.targets.push(position(&self.lu_ptr, &self.lu_row, i, j));
+        self.fill = (0..covered.len() as u32).filter(|&p| !covered[p as usize]).collect();
+        // column j -= L(:, k) U(k, j) for each k in U(:, j), ascending
+        let (mut ops, mut op_ptr) = (Vec::new(), vec![0u32]);
+        for (j, col) in u_cols.iter().enumerate() {
+            for &k in col {
+                let u = position(k, j);
+                for e in l_ptr[k as usize]..l_ptr[k as usize + 1] {
+                    ops.push([position(l_row[e as usize], j), e, u]);
                 }
             }
-            self.update_ptr.push(self.updates.len() as u32);
+            op_ptr.push(ops.len() as u32);
         }
+        // the bounds that the unchecked loops of `replay` and the solves rely on
+        let len = (nl + nu + n) as u32;
+        assert!(self.a_to_lu.iter().chain(&self.fill).all(|&p| p < len));
+        assert!(ops.iter().all(|op| op.iter().all(|&p| p < len)));
+        assert!(l_row.iter().chain(&l_col).chain(&u_row).chain(&u_col).all(|&i| (i as usize) < n));
+        self.lu = vec![0.0; nl + nu + n];
+        self.v = vec![0.0; nu];
+        (self.l_row, self.l_col, self.l_ptr, self.u_row, self.u_col) = (l_row, l_col, l_ptr, u_row, u_col);
+        (self.ops, self.op_ptr) = (ops, op_ptr);
         self.ready = true;
+    }
+}
+
+/// A fill-reducing column order for LU with partial pivoting (faer's COLAMD): the column
+/// of Phi_q eliminated at each step.
+pub fn colamd_order(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Vec<usize> {
+    let (mut perm, mut perm_inv) = (vec![0usize; n], vec![0usize; n]);
+    let sym = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
+    let mut stack = MemBuffer::new(colamd::order_scratch::<usize>(n, n, row_idx.len()));
+    match colamd::order(&mut perm, &mut perm_inv, sym, Default::default(), MemStack::new(&mut stack)) {
+        Ok(()) => perm,
+        // only on index overflow; the natural order is always valid
+        Err(_) => (0..n).collect(),
     }
 }
 

@@ -299,9 +299,11 @@ fn sweep_steps(
 /// (`derivatives`: 2 = q, qd, qdd; 1 = q, qd; 0 = q only):
 /// - 2: q + h qd + h^2/2 qdd + h^3/6 jerk, the jerk from the last two accelerations;
 /// - 1: q + h qd + h^2/2 qdd, qdd from the last two velocities;
-/// - 0: the quadratic through the last three positions.
+/// - 0: the cubic through the last four positions.
 ///
-/// Each is exact to O(h^3) or better, so that most steps take one Newton iteration.
+/// Each is exact to O(h^3) or better (the cubic to O(h^4): with positions only, the
+/// quadratic's O(h^3) error left 15 % of a fine sweep's steps needing a second Newton
+/// iteration), so that most steps take one Newton iteration.
 /// After a step close to a singular configuration, whose rates are ill-determined (and
 /// may point along the other branch), the sweep asks for 0: positions only.
 /// Reads data.q, qd, qdd (step k-1) and the history; shifts the history.
@@ -310,7 +312,27 @@ pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, derivatives: u8)
     let t1 = times[k - 1];
     let h = t - t1;
     let h1 = if k >= 2 { t1 - times[k - 2] } else { 0.0 };
-    let [q2, q3] = &mut data.hist_q;
+    // Lagrange weights of the (up to) four previous positions, newest first, the same for
+    // every coordinate
+    let lagrange = |nodes: &[f64]| -> [f64; 4] {
+        let mut w = [0.0; 4];
+        for (a, &ta) in nodes.iter().enumerate() {
+            w[a] = nodes
+                .iter()
+                .enumerate()
+                .filter(|&(b, _)| b != a)
+                .map(|(_, &tb)| (t - tb) / (ta - tb))
+                .product();
+        }
+        w
+    };
+    let w = match (derivatives, k) {
+        (1.., _) | (_, 1) => [1.0, 0.0, 0.0, 0.0],
+        (_, 2) => lagrange(&[t1, times[0]]),
+        (_, 3) => lagrange(&[t1, times[1], times[0]]),
+        _ => lagrange(&[t1, times[k - 2], times[k - 3], times[k - 4]]),
+    };
+    let [q2, q3, q4] = &mut data.hist_q;
     for i in 0..data.q.len() {
         let q1 = data.q[i];
         let p = match derivatives {
@@ -322,20 +344,11 @@ pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, derivatives: u8)
                 let acc = if k >= 2 { (data.qd[i] - data.hist_qd[i]) / h1 } else { 0.0 };
                 q1 + h * (data.qd[i] + 0.5 * h * acc)
             }
-            // Lagrange extrapolation through the (up to) three previous positions
-            _ => match k {
-                1 => q1,
-                2 => q1 + (q1 - q2[i]) * h / h1,
-                _ => {
-                    let (ta, tb, tc) = (t1, times[k - 2], times[k - 3]);
-                    q1 * (t - tb) * (t - tc) / ((ta - tb) * (ta - tc))
-                        + q2[i] * (t - ta) * (t - tc) / ((tb - ta) * (tb - tc))
-                        + q3[i] * (t - ta) * (t - tb) / ((tc - ta) * (tc - tb))
-                }
-            },
+            _ => w[0] * q1 + w[1] * q2[i] + w[2] * q3[i] + w[3] * q4[i],
         };
         data.hist_qdd[i] = data.qdd[i];
         data.hist_qd[i] = data.qd[i];
+        q4[i] = q3[i];
         q3[i] = q2[i];
         q2[i] = q1;
         data.q[i] = p;
