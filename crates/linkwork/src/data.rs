@@ -41,6 +41,8 @@ pub struct Data {
     pub(crate) hist_q: [Vec<f64>; 3],
     pub(crate) hist_qd: Vec<f64>,
     pub(crate) hist_qdd: Vec<f64>,
+    /// n_coords: 1 / the model's column scales (multiplying is cheaper than dividing)
+    pub(crate) inv_col_scale: Vec<f64>,
 }
 
 impl Data {
@@ -79,6 +81,7 @@ impl Data {
             hist_q: std::array::from_fn(|_| vec![0.0; model.n_coords]),
             hist_qd: vec![0.0; model.n_coords],
             hist_qdd: vec![0.0; model.n_coords],
+            inv_col_scale: model.col_scale.iter().map(|s| 1.0 / s).collect(),
         }
     }
 }

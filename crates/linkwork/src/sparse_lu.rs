@@ -38,6 +38,11 @@ use crate::linear::Pivots;
 /// the factorization choose its pivots again.
 pub const PIVOT_THRESHOLD: f64 = 0.1;
 
+/// When the pivots are chosen, a candidate at least this fraction of its column's largest
+/// may be preferred for its sparsity: a margin of 5 above `PIVOT_THRESHOLD` before the
+/// values drift far enough to need a new choice.
+pub const CHOICE_THRESHOLD: f64 = 0.5;
+
 const NONE: u32 = u32::MAX;
 
 /// A sparse LU of a square matrix in compressed-column form, its pivot sequence fixed at
@@ -222,24 +227,24 @@ impl SparseLu {
 
     /// The diagnostics of the factors in place.
     fn pivots(&self) -> Pivots {
-        let (mut lo, mut hi, mut column) = (f64::INFINITY, 0.0f64, 0);
-        let mut sign = self.perm_sign;
-        for (col, d) in self.diagonal() {
-            if !d.is_finite() {
-                return Pivots { ratio: f64::NAN, column: col, det_sign: 0.0 };
-            }
-            if d < 0.0 {
-                sign = -sign;
-            }
+        let diag = &self.lu[self.lu.len() - self.n..];
+        let (mut lo, mut hi, mut at, mut negative, mut finite) = (f64::INFINITY, 0.0f64, 0, 0usize, true);
+        for (j, &d) in diag.iter().enumerate() {
+            finite &= d.is_finite();
+            negative += (d < 0.0) as usize;
             let d = d.abs();
             if d < lo {
-                lo = d;
-                column = col;
+                (lo, at) = (d, j);
             }
             hi = hi.max(d);
         }
+        if !finite {
+            let j = diag.iter().position(|d| !d.is_finite()).unwrap_or(0);
+            return Pivots { ratio: f64::NAN, column: self.col_of_step[j] as usize, det_sign: 0.0 };
+        }
+        let sign = if negative % 2 == 0 { self.perm_sign } else { -self.perm_sign };
         let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
-        Pivots { ratio, column, det_sign: if lo > 0.0 { sign } else { 0.0 } }
+        Pivots { ratio, column: self.col_of_step[at] as usize, det_sign: if lo > 0.0 { sign } else { 0.0 } }
     }
 
     /// Replays the program on new values. With `check`, stops at the first pivot that
@@ -308,6 +313,10 @@ impl SparseLu {
         self.row_of_step.fill(NONE);
         // rows never reached by any column are given to structurally empty steps
         let mut spare_row = 0usize;
+        let mut row_degree = vec![0usize; n];
+        for &r in &self.a_row {
+            row_degree[r] += 1;
+        }
         for j in 0..n {
             let c = self.col_of_step[j] as usize;
             candidates.clear();
@@ -336,15 +345,23 @@ impl SparseLu {
                     x[r as usize] -= l * xk;
                 }
             }
-            // partial pivoting: the largest candidate (the first of equals; the first if
-            // none is finite, and the pivots report it)
+            // threshold partial pivoting with a preference for sparse rows: of the
+            // candidates at least `CHOICE_THRESHOLD` times the largest, the one whose row of
+            // A has the fewest entries (then the largest; then the first reached). A
+            // coordinate fixed by a row of its own (a pin on the ground) is then solved
+            // from that row alone, exactly. The first candidate if none is finite (the
+            // pivots report it).
+            let largest = candidates.iter().fold(0.0f64, |m, &r| m.max(x[r as usize].abs()));
             let mut pivot_row = candidates.first().copied().unwrap_or(NONE);
-            let mut best = 0.0f64;
+            let mut best = (usize::MAX, 0.0f64);
             for &r in candidates.iter() {
                 let v = x[r as usize].abs();
-                if v > best {
-                    best = v;
-                    pivot_row = r;
+                if v >= CHOICE_THRESHOLD * largest && v > 0.0 {
+                    let degree = row_degree[r as usize];
+                    if degree < best.0 || (degree == best.0 && v > best.1) {
+                        best = (degree, v);
+                        pivot_row = r;
+                    }
                 }
             }
             if pivot_row == NONE {

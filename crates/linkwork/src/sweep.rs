@@ -17,7 +17,7 @@ use crate::velocity::solve_velocity;
 /// prediction does not use its rates: solved to round-off, q is off by about eps / ratio
 /// along the near-singular direction, and the rates solved at that q are off by that over
 /// the ratio again.
-const NEAR_SINGULAR: f64 = 1e-6;
+pub(crate) const NEAR_SINGULAR: f64 = 1e-6;
 
 /// What a sweep computes and keeps: work that was not asked for is not done.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -248,14 +248,19 @@ fn sweep_steps(
         } else {
             tracker.q_prev.copy_from_slice(&data.q);
             // rates next to a singular configuration are unreliable: predict from positions
-            let order = if data.pivots.ratio < NEAR_SINGULAR { 0 } else { req.derivatives };
-            predict(data, times, k, order);
+            let predictor = match req.derivatives {
+                _ if data.pivots.ratio < NEAR_SINGULAR => Predictor::Quadratic,
+                2 => Predictor::Jerk,
+                1 => Predictor::Acceleration,
+                _ => Predictor::Cubic,
+            };
+            predict(data, times, k, predictor);
             let motion = data
                 .q
                 .iter()
                 .zip(&tracker.q_prev)
-                .zip(&model.col_scale)
-                .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() / s));
+                .zip(&data.inv_col_scale)
+                .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() * s));
             let info = match solve_position(model, data, t, k, false) {
                 Ok(info) if !is_jump(&info, motion) => info,
                 Ok(_) => tracker.rescue(model, data, times[k - 1], t, k, None)?,
@@ -295,19 +300,29 @@ fn sweep_steps(
     Ok(())
 }
 
-/// Predicts q at times[k] from the previous steps, by what the sweep computes
-/// (`derivatives`: 2 = q, qd, qdd; 1 = q, qd; 0 = q only):
-/// - 2: q + h qd + h^2/2 qdd + h^3/6 jerk, the jerk from the last two accelerations;
-/// - 1: q + h qd + h^2/2 qdd, qdd from the last two velocities;
-/// - 0: the cubic through the last four positions.
-///
-/// Each is exact to O(h^3) or better (the cubic to O(h^4): with positions only, the
-/// quadratic's O(h^3) error left 15 % of a fine sweep's steps needing a second Newton
-/// iteration), so that most steps take one Newton iteration.
-/// After a step close to a singular configuration, whose rates are ill-determined (and
-/// may point along the other branch), the sweep asks for 0: positions only.
+/// How `predict` extrapolates q to the next time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Predictor {
+    /// q + h qd + h^2/2 qdd + h^3/6 jerk, the jerk from the last two accelerations
+    Jerk,
+    /// q + h qd + h^2/2 qdd, qdd from the last two velocities
+    Acceleration,
+    /// the quadratic through the last three positions
+    Quadratic,
+    /// the cubic through the last four positions
+    Cubic,
+}
+
+/// Predicts q at times[k] from the previous steps, by what the sweep computes: with
+/// accelerations `Jerk`, with velocities `Acceleration`, positions only `Cubic`.
+/// Their local errors are O(h^3) (`Acceleration`) or O(h^4) (`Jerk`, `Cubic`: with
+/// positions only, a quadratic's O(h^3) left 15 % of a fine sweep's steps needing a
+/// second Newton iteration), so that most steps take one Newton iteration. After a step close to a singular
+/// configuration, whose rates are ill-determined (and may point along the other branch),
+/// the sweep asks for `Quadratic`: positions only, and of low order, as the last
+/// positions may be packed close there (a higher order amplifies their round-off).
 /// Reads data.q, qd, qdd (step k-1) and the history; shifts the history.
-pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, derivatives: u8) {
+pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, predictor: Predictor) {
     let t = times[k];
     let t1 = times[k - 1];
     let h = t - t1;
@@ -326,25 +341,25 @@ pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, derivatives: u8)
         }
         w
     };
-    let w = match (derivatives, k) {
-        (1.., _) | (_, 1) => [1.0, 0.0, 0.0, 0.0],
+    let w = match (predictor, k) {
+        (Predictor::Jerk | Predictor::Acceleration, _) | (_, 1) => [1.0, 0.0, 0.0, 0.0],
         (_, 2) => lagrange(&[t1, times[0]]),
-        (_, 3) => lagrange(&[t1, times[1], times[0]]),
+        (Predictor::Quadratic, _) | (_, 3) => lagrange(&[t1, times[k - 2], times[k - 3]]),
         _ => lagrange(&[t1, times[k - 2], times[k - 3], times[k - 4]]),
     };
     let [q2, q3, q4] = &mut data.hist_q;
     for i in 0..data.q.len() {
         let q1 = data.q[i];
-        let p = match derivatives {
-            2 => {
+        let p = match predictor {
+            Predictor::Jerk => {
                 let jerk = if k >= 2 { (data.qdd[i] - data.hist_qdd[i]) / h1 } else { 0.0 };
                 q1 + h * (data.qd[i] + h * (0.5 * data.qdd[i] + h * jerk / 6.0))
             }
-            1 => {
+            Predictor::Acceleration => {
                 let acc = if k >= 2 { (data.qd[i] - data.hist_qd[i]) / h1 } else { 0.0 };
                 q1 + h * (data.qd[i] + 0.5 * h * acc)
             }
-            _ => w[0] * q1 + w[1] * q2[i] + w[2] * q3[i] + w[3] * q4[i],
+            Predictor::Quadratic | Predictor::Cubic => w[0] * q1 + w[1] * q2[i] + w[2] * q3[i] + w[3] * q4[i],
         };
         data.hist_qdd[i] = data.qdd[i];
         data.hist_qd[i] = data.qd[i];
