@@ -240,7 +240,7 @@ pub(crate) enum Factor {
         row_perm_inv: Vec<usize>,
         stack: MemBuffer,
     },
-    Refactor(SparseLu),
+    Refactor(Box<SparseLu>),
     LeastSquares {
         /// m x n column-major: R above the diagonal, the Householder vectors below
         qr: Vec<f64>,
@@ -287,7 +287,7 @@ impl Factor {
                 }
             }
             SymbolicFactor::Refactor { n, col_ptr, row_idx, col_order } => {
-                Factor::Refactor(SparseLu::new(*n, col_ptr, row_idx, col_order))
+                Factor::Refactor(Box::new(SparseLu::new(*n, col_ptr, row_idx, col_order)))
             }
             SymbolicFactor::Sparse { n, .. } => {
                 let n = *n;

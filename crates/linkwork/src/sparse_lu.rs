@@ -331,10 +331,10 @@ impl SparseLu {
                         }
                     }
                 };
-            for p in self.a_col_ptr[c]..self.a_col_ptr[c + 1] {
-                let r = self.a_row[p] as u32;
-                reach(r, &mut x, &mut heap, &self.step_of_row);
-                x[r as usize] = values[p];
+            let entries = self.a_col_ptr[c]..self.a_col_ptr[c + 1];
+            for (&r, &v) in self.a_row[entries.clone()].iter().zip(&values[entries]) {
+                reach(r as u32, &mut x, &mut heap, &self.step_of_row);
+                x[r] = v;
             }
             // eliminate with the columns of L in ascending step: a topological order
             while let Some(std::cmp::Reverse(k)) = heap.pop() {
@@ -427,10 +427,9 @@ impl SparseLu {
         }
         let mut covered = vec![false; nl + nu + n];
         self.a_to_lu.clear();
-        for c in 0..n {
-            let j = step_of_col[c] as usize;
-            for p in self.a_col_ptr[c]..self.a_col_ptr[c + 1] {
-                let at = position(self.step_of_row[self.a_row[p]], j);
+        for (c, &j) in step_of_col.iter().enumerate() {
+            for &r in &self.a_row[self.a_col_ptr[c]..self.a_col_ptr[c + 1]] {
+                let at = position(self.step_of_row[r], j as usize);
                 covered[at as usize] = true;
                 self.a_to_lu.push(at);
             }
