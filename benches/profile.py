@@ -2,7 +2,7 @@
 criterion sweeps, summed per source file (inlined code counts where it was written) and
 per function.
 
-    python benches/profile.py                       # the four-bar (p+v+a, p) and the K = 1000 chain
+    python benches/profile.py                   # the four-bar (p+v+a, p); the K = 1000 chain, both LUs
     python benches/profile.py chain/sparse/100      # any criterion benchmark id of benches/sweep.rs
 
 Needs valgrind. Builds the bench with line tables (in `<target>/callgrind`, so the normal
@@ -24,7 +24,7 @@ from collections import defaultdict
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-DEFAULT = ["four_bar/small/pva", "four_bar/small/p", "chain/sparse/1000"]
+DEFAULT = ["four_bar/refactor/pva", "four_bar/refactor/p", "chain/refactor/1000", "chain/sparse/1000"]
 
 
 def build() -> str:
