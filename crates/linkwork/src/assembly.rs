@@ -84,10 +84,16 @@ fn write_rhs(c: &ConstraintEntry, v: &[f64; MAX_ROWS], rhs: &mut [f64]) {
 /// Writes the scaled nu (= -Phi_t) into data.rhs.
 #[inline]
 pub(crate) fn nu(model: &Model, data: &mut Data, t: f64) {
+    nu_into(model, t, &mut data.rhs);
+}
+
+/// Writes the scaled nu (= -Phi_t) into `rhs` (n_rows).
+#[inline]
+pub(crate) fn nu_into(model: &Model, t: f64, rhs: &mut [f64]) {
     for c in &model.constraints {
         let mut v = [0.0; MAX_ROWS];
         c.kind.nu(t, &mut v);
-        write_rhs(c, &v, &mut data.rhs);
+        write_rhs(c, &v, rhs);
     }
 }
 

@@ -41,6 +41,14 @@ pub struct Data {
     pub(crate) hist_q: [Vec<f64>; 3],
     pub(crate) hist_qd: Vec<f64>,
     pub(crate) hist_qdd: Vec<f64>,
+    /// whether each Newton iteration also solves Phi_q qd = nu with its factorization (the
+    /// two solves interleaved cost little more than one): set by a sweep that wants
+    /// velocities
+    pub(crate) with_velocity: bool,
+    /// n_rows: nu, then the scaled velocities solved beside the Newton step, valid for the
+    /// factorization and the time in `velocity_of` (`Factor::generation`, t)
+    pub(crate) nu_rhs: Vec<f64>,
+    pub(crate) velocity_of: Option<(u64, f64)>,
     /// n_coords: 1 / the model's column scales (multiplying is cheaper than dividing)
     pub(crate) inv_col_scale: Vec<f64>,
 }
@@ -82,6 +90,9 @@ impl Data {
             hist_qd: vec![0.0; model.n_coords],
             hist_qdd: vec![0.0; model.n_coords],
             inv_col_scale: model.col_scale.iter().map(|s| 1.0 / s).collect(),
+            with_velocity: false,
+            nu_rhs: vec![0.0; model.n_rows],
+            velocity_of: None,
         }
     }
 }

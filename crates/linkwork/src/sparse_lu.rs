@@ -81,7 +81,7 @@ pub struct SparseLu {
     op_ptr: Vec<u32>,
     /// n: 1 / U(j, j) (0 where the pivot is 0)
     inv_diag: Vec<f64>,
-    /// n: dense work vector of the solves
+    /// 2 n: dense work vectors of the solves
     work: Vec<f64>,
     /// whether a pivot sequence and its program exist
     ready: bool,
@@ -123,7 +123,7 @@ impl SparseLu {
             ops: Vec::new(),
             op_ptr: Vec::new(),
             inv_diag: vec![0.0; n],
-            work: vec![0.0; n],
+            work: vec![0.0; 2 * n],
             ready: false,
             pivot_choices: 0,
         }
@@ -195,6 +195,39 @@ impl SparseLu {
         }
         for (&x, &c) in w.iter().zip(&self.col_of_step) {
             b[c as usize] = x;
+        }
+    }
+
+    /// Solves A x = a and A y = b in place at once: the two solves interleaved, so that
+    /// their chains of dependent multiply-adds overlap.
+    pub fn solve_pair(&mut self, a: &mut [f64], b: &mut [f64]) {
+        let n = self.n;
+        assert!(self.ready && a.len() == n && b.len() == n);
+        let nl = self.l_row.len();
+        let (w, z) = self.work.split_at_mut(n);
+        for ((x, y), &r) in w.iter_mut().zip(z.iter_mut()).zip(&self.row_of_step) {
+            (*x, *y) = (a[r as usize], b[r as usize]);
+        }
+        for ((&i, &j), &l) in self.l_row.iter().zip(&self.l_col).zip(&self.lu[..nl]) {
+            // SAFETY: `compile` checked every row and column index against n = w.len() = z.len()
+            unsafe {
+                *w.get_unchecked_mut(i as usize) -= l * *w.get_unchecked(j as usize);
+                *z.get_unchecked_mut(i as usize) -= l * *z.get_unchecked(j as usize);
+            }
+        }
+        for ((x, y), d) in w.iter_mut().zip(z.iter_mut()).zip(&self.inv_diag) {
+            *x *= d;
+            *y *= d;
+        }
+        for ((&i, &j), &v) in self.u_row.iter().zip(&self.u_col).zip(&self.v) {
+            // SAFETY: as above
+            unsafe {
+                *w.get_unchecked_mut(i as usize) -= v * *w.get_unchecked(j as usize);
+                *z.get_unchecked_mut(i as usize) -= v * *z.get_unchecked(j as usize);
+            }
+        }
+        for ((&x, &y), &c) in w.iter().zip(z.iter()).zip(&self.col_of_step) {
+            (a[c as usize], b[c as usize]) = (x, y);
         }
     }
 

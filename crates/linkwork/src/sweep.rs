@@ -221,6 +221,7 @@ pub fn sweep(
     let req = out.request;
     out.n_done = 0;
     out.events.clear();
+    data.with_velocity = req.derivatives >= 1;
     let mut tracker = Tracker::new(model, req.on_singular, req.locks);
     let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress);
     out.events = std::mem::take(&mut tracker.events);
@@ -373,6 +374,7 @@ pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, predictor: Predi
 /// Position, velocity and acceleration at one time, from data.q as the starting guess.
 pub fn solve(model: &Model, data: &mut Data, t: f64) -> Result<crate::position::PositionInfo, SolveError> {
     check_times(model, &[t])?;
+    data.with_velocity = true;
     let info = solve_position(model, data, t, 0, true)?;
     solve_velocity(model, data, t, 0)?;
     solve_acceleration(model, data, t, 0)?;
