@@ -39,8 +39,11 @@ pub struct Options {
     pub max_iter_assembly: usize,
     /// A pivot ratio (smallest / largest |pivot| of the scaled Phi_q) below this is singular.
     pub singular_tol: f64,
-    /// Which LU; `Auto` picks the small dense LU up to `dense_max` coordinates, sparse above.
+    /// Which LU; `Auto` picks the fixed-sequence sparse LU (`Refactor`), the fastest at
+    /// every size measured (docs/performance.md).
     pub linear: LinearKind,
+    /// No longer read: `Auto` chose the small dense LU up to this many coordinates before
+    /// the fixed-sequence LU; kept so that existing option sets stay valid.
     pub dense_max: usize,
     /// Redundant joint rows (dependent at the described configuration): refuse the model,
     /// or solve with all rows in the least-squares sense.
