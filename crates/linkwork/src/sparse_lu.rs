@@ -103,6 +103,11 @@ impl SparseLu {
     pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize], col_order: &[usize]) -> SparseLu {
         assert!(col_ptr.len() == n + 1 && col_order.len() == n && row_idx.len() == col_ptr[n]);
         assert!(row_idx.len() < NONE as usize, "pattern too large for 32-bit positions");
+        assert!(row_idx.iter().all(|&r| r < n), "a row index is out of range");
+        let mut seen = vec![false; n];
+        for &c in col_order {
+            assert!(c < n && !std::mem::replace(&mut seen[c], true), "the column order is not a permutation");
+        }
         SparseLu {
             n,
             a_col_ptr: col_ptr.to_vec(),
