@@ -144,7 +144,7 @@ def engine_sweep(model: Any, t: np.ndarray, derivatives: int = 2) -> Any:
 def linear_kinds() -> list[str]:
     """The linear solver kinds this build accepts, besides "auto"."""
     kinds = []
-    for kind in ("small", "dense", "sparse"):
+    for kind in ("refactor", "small", "dense", "sparse"):
         try:
             examples.four_bar().compile(linear=kind)
         except (ValueError, linkwork.LinkworkError):

@@ -20,7 +20,13 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-KINDS = ("small", "dense", "sparse")
+KINDS = ("refactor", "small", "dense", "sparse")
+LABELS = {
+    "refactor": "fixed-sequence LU (default)",
+    "small": "small LU",
+    "dense": "dense LU (faer)",
+    "sparse": "sparse LU (faer)",
+}
 
 
 def load(criterion: Path) -> dict[tuple[str, str, str], dict[str, float]]:
@@ -60,17 +66,18 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
         f"`cargo bench -p linkwork --bench sweep` on {cpu}, {os.cpu_count()} cores; median time per "
         "sweep divided by its steps (h = one revolution / 100,000), in us per step.",
         "",
-        "| mechanism | computes | small LU | dense LU (faer) | sparse LU (faer) "
-        "| dense / small | sparse / small |",
-        "|---|---|---:|---:|---:|---:|---:|",
+        "| mechanism | computes | "
+        + " | ".join(LABELS[k] for k in KINDS)
+        + " | small / fixed | sparse / fixed |",
+        "|---|---|" + "---:|" * (len(KINDS) + 2),
     ]
     for group in ("four_bar", "slider_crank", "six_bar_stephenson"):
         for what, label in (("pva", "p+v+a"), ("p", "p")):
             us = {k: us_per_step(found.get((group, k, what))) for k in KINDS}
             if all(v is None for v in us.values()):
                 continue
-            small = us["small"]
-            ratios = [cell(us[k] / small if us[k] and small else None, 2) for k in ("dense", "sparse")]
+            base = us["refactor"]
+            ratios = [cell(us[k] / base if us[k] and base else None, 2) for k in ("small", "sparse")]
             lines.append(
                 f"| {group} | {label} | "
                 + " | ".join(cell(us[k]) for k in KINDS)
@@ -84,19 +91,37 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
             "",
             "Chain of K four-bar loops (3K bodies), positions + velocities + accelerations:",
             "",
-            "| loops K | bodies | steps per sweep | small LU | dense LU (faer) | sparse LU (faer) "
-            "| sparse: us per body per step |",
-            "|---:|---:|---:|---:|---:|---:|---:|",
+            "| loops K | bodies | steps per sweep | "
+            + " | ".join(LABELS[k] for k in KINDS)
+            + " | fixed: us per body per step | sparse (faer): us per body per step |",
+            "|---:|---:|---:|" + "---:|" * (len(KINDS) + 2),
         ]
         for k in chains:
             entries = {kind: found.get(("chain", kind, str(k))) for kind in KINDS}
             steps = next(int(e["elements"]) for e in entries.values() if e)
-            sparse = us_per_step(entries["sparse"])
+            per_body = [us_per_step(entries[kind]) for kind in ("refactor", "sparse")]
             lines.append(
                 f"| {k:,} | {3 * k:,} | {steps:,} | "
                 + " | ".join(cell(us_per_step(entries[kind]), 2) for kind in KINDS)
-                + f" | {cell(sparse / (3 * k) if sparse else None)} |"
+                + " | "
+                + " | ".join(cell(v / (3 * k) if v else None) for v in per_body)
+                + " |"
             )
+    lu = {(f, p): e for (g, f, p), e in found.items() if g == "lu"}
+    if lu:
+        lines += [
+            "",
+            "One factorization and three solves of Phi_q at a solved configuration (the work of a time "
+            "step's linear algebra), in us:",
+            "",
+            "| system | fixed-sequence LU (`sparse_lu`) | small LU (`small_lu`) | small / fixed |",
+            "|---|---:|---:|---:|",
+        ]
+        for system in sorted({p for _, p in lu}):
+            fixed, small = (lu.get((kind, system)) for kind in ("refactor", "small"))
+            us = [None if e is None else e["ns"] / e["elements"] / 1e3 for e in (fixed, small)]
+            ratio = cell(us[1] / us[0] if us[0] and us[1] else None, 2)
+            lines.append(f"| {system} | {cell(us[0])} | {cell(us[1])} | {ratio} |")
     batch = {int(p): found[("batch", f, p)] for g, f, p in found if g == "batch"}
     if batch:
         lines += [

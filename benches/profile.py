@@ -2,7 +2,7 @@
 criterion sweeps, summed per source file (inlined code counts where it was written) and
 per function.
 
-    python benches/profile.py                       # the four-bar (p+v+a, p) and the K = 1000 chain
+    python benches/profile.py                   # the four-bar (p+v+a, p); the K = 1000 chain, both LUs
     python benches/profile.py chain/sparse/100      # any criterion benchmark id of benches/sweep.rs
 
 Needs valgrind. Builds the bench with line tables (in `<target>/callgrind`, so the normal
@@ -24,7 +24,7 @@ from collections import defaultdict
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-DEFAULT = ["four_bar/small/pva", "four_bar/small/p", "chain/sparse/1000"]
+DEFAULT = ["four_bar/refactor/pva", "four_bar/refactor/p", "chain/refactor/1000", "chain/sparse/1000"]
 
 
 def build() -> str:
@@ -147,20 +147,26 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for bench in args.filters:
             out = Path(tmp) / "callgrind.out"
-            subprocess.run(
-                [
-                    "valgrind",
-                    "--tool=callgrind",
-                    f"--callgrind-out-file={out}",
-                    exe,
-                    "--bench",
-                    "--profile-time",
-                    str(args.seconds),
-                    f"^{re.escape(bench)}$",
-                ],
-                capture_output=True,
-                check=True,
-            )
+            # criterion's profile mode refuses a time shorter than its first batch (slow
+            # under valgrind for the large chains): longer times until it accepts
+            for attempt in range(4):
+                run = subprocess.run(
+                    [
+                        "valgrind",
+                        "--tool=callgrind",
+                        f"--callgrind-out-file={out}",
+                        exe,
+                        "--bench",
+                        "--profile-time",
+                        str(args.seconds * 2**attempt),
+                        f"^{re.escape(bench)}$",
+                    ],
+                    capture_output=True,
+                )
+                if run.returncode == 0:
+                    break
+            else:
+                raise SystemExit(f"{bench}: {run.stderr.decode(errors='replace')[-2000:]}")
             by_file, by_fn, total = parse(out)
             emit(f"== {bench}: {total:,} instructions")
             crates: dict[str, int] = defaultdict(int)

@@ -87,8 +87,9 @@ fn parse_linear(s: &str) -> PyResult<LinearKind> {
         "small" => Ok(LinearKind::Small),
         "dense" => Ok(LinearKind::Dense),
         "sparse" => Ok(LinearKind::Sparse),
+        "refactor" => Ok(LinearKind::Refactor),
         other => Err(PyValueError::new_err(format!(
-            "linear must be 'auto', 'small', 'dense' or 'sparse', not {other:?}"
+            "linear must be 'auto', 'refactor', 'small', 'dense' or 'sparse', not {other:?}"
         ))),
     }
 }
@@ -99,6 +100,7 @@ fn linear_name(k: LinearKind) -> &'static str {
         LinearKind::Small => "small",
         LinearKind::Dense => "dense",
         LinearKind::Sparse => "sparse",
+        LinearKind::Refactor => "refactor",
         LinearKind::LeastSquares => "least_squares",
     }
 }

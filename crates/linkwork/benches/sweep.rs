@@ -1,11 +1,15 @@
 //! Sweep benchmarks (criterion): time per step of the engine alone, no Python.
 //!
 //! - `four_bar`, `slider_crank`, `six_bar_stephenson`: positions + velocities +
-//!   accelerations with each linear solver (small: linkwork's own dense LU; dense: faer's
-//!   dense LU; sparse: faer's sparse LU), and the four-bar's positions only.
+//!   accelerations with each linear solver (refactor: linkwork's sparse LU with a fixed
+//!   pivot sequence, the default; small: linkwork's own dense LU; dense: faer's dense LU;
+//!   sparse: faer's sparse LU), and the four-bar's positions only.
 //! - `chain`: K four-bar loops in series (3K bodies, stacked on the same pivots, tie angle
-//!   `CHAIN_OFFSET`), K = 1, 10, 100, 1000; sparse LU at every K, the dense paths up to
-//!   K = 10 (90 coordinates).
+//!   `CHAIN_OFFSET`), K = 1, 10, 100, 1000; the sparse LUs at every K, the dense paths up
+//!   to K = 10 (90 coordinates).
+//! - `lu`: one factorization and three solves (Newton step, velocity, acceleration) of
+//!   the four-bar's and the 100-loop chain's Phi_q at a solved configuration, by
+//!   `sparse_lu` replaying its program and by `small_lu`.
 //! - `batch`: 8 four-bar designs on 1 and 2 threads (`sweep_batch`).
 //!
 //! Every sweep steps at h = one crank revolution / 100,000 (as `benches/compare.py`), so
@@ -25,7 +29,8 @@ use std::time::Duration;
 
 /// One crank revolution (5 rad/s) in 100,000 steps.
 const H: f64 = 2.0 * PI / 5.0 / 100_000.0;
-const KINDS: [LinearKind; 3] = [LinearKind::Small, LinearKind::Dense, LinearKind::Sparse];
+const KINDS: [LinearKind; 4] =
+    [LinearKind::Refactor, LinearKind::Small, LinearKind::Dense, LinearKind::Sparse];
 /// The chain's tie angle, as `benches/compare.py` computes it (`chain_offset`): the loops
 /// settle where a loop's gain d theta4 / d theta2 is -0.97, so every loop keeps moving
 /// and no rate underflows into subnormal numbers along the chain.
@@ -97,12 +102,68 @@ fn chains(c: &mut Criterion) {
         let desc = chain(&textbook(), loops, 0.0, 5.0, CHAIN_OFFSET, 0.0);
         let steps = (10_000 / loops).max(50);
         for linear in KINDS {
-            if linear != LinearKind::Sparse && loops > 10 {
+            if matches!(linear, LinearKind::Small | LinearKind::Dense) && loops > 10 {
                 continue; // dense LU of 900+ coordinates: cubic, and not what "auto" picks
             }
             bench_sweep(c, "chain", BenchmarkId::new(kind_name(linear), loops), &desc, linear, steps, 2);
         }
     }
+}
+
+fn lu(c: &mut Criterion) {
+    let mut g = c.benchmark_group("lu");
+    let cases = [
+        ("four_bar", four_bar(&textbook(), 0.3, 5.0)),
+        ("chain_100", chain(&textbook(), 100, 0.3, 5.0, CHAIN_OFFSET, 0.0)),
+    ];
+    for (name, desc) in &cases {
+        // Phi_q at a solved configuration, in compressed columns
+        let model =
+            Model::with_options(desc.clone(), Options { linear: LinearKind::Refactor, ..Options::default() })
+                .unwrap();
+        let mut data = Data::new(&model);
+        linkwork::solve(&model, &mut data, 0.0).unwrap();
+        let (ptr, rows) = model.sparsity().unwrap();
+        let (n, values) = (model.n_coords, data.jacobian().to_vec());
+        let order = linkwork::sparse_lu::colamd_order(n, ptr, rows);
+        let b: Vec<f64> = (0..n).map(|i| 1.0 + i as f64 / n as f64).collect();
+        g.bench_function(BenchmarkId::new("refactor", name), |bench| {
+            let mut lu = linkwork::sparse_lu::SparseLu::new(n, ptr, rows, &order);
+            lu.factor(&values);
+            let mut x = b.clone();
+            bench.iter(|| {
+                let piv = lu.factor(black_box(&values));
+                for _ in 0..3 {
+                    x.copy_from_slice(&b);
+                    lu.solve(&mut x);
+                }
+                black_box((piv.ratio, x[0]))
+            })
+        });
+        if n > 48 {
+            continue;
+        }
+        let mut dense = vec![0.0; n * n];
+        for col in 0..n {
+            for p in ptr[col]..ptr[col + 1] {
+                dense[col * n + rows[p]] = values[p];
+            }
+        }
+        g.bench_function(BenchmarkId::new("small", name), |bench| {
+            let (mut a, mut piv, mut inv) = (dense.clone(), vec![0; n], vec![0.0; n]);
+            let mut x = b.clone();
+            bench.iter(|| {
+                a.copy_from_slice(black_box(&dense));
+                linkwork::small_lu::factor(&mut a, n, &mut piv, &mut inv);
+                for _ in 0..3 {
+                    x.copy_from_slice(&b);
+                    linkwork::small_lu::solve(&a, n, &piv, &inv, &mut x);
+                }
+                black_box(x[0])
+            })
+        });
+    }
+    g.finish();
 }
 
 fn batch(c: &mut Criterion) {
@@ -135,6 +196,6 @@ criterion_group! {
         .sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
-    targets = mechanisms, chains, batch
+    targets = mechanisms, chains, lu, batch
 }
 criterion_main!(sweep_benches);

@@ -10,6 +10,7 @@ fn main() {
     let linear = match args.next().as_deref() {
         Some("sparse") => LinearKind::Sparse,
         Some("small") => LinearKind::Small,
+        Some("refactor") => LinearKind::Refactor,
         _ => LinearKind::Dense,
     };
     // open branch at crank angle 0: the rocker stands at 60 degrees

@@ -21,6 +21,8 @@ pub struct Data {
     pub(crate) jac: Vec<f64>,
     /// n_bodies
     pub(crate) frames: Vec<Frame>,
+    /// n_bodies: (theta, cos, sin) of each body's last full sin_cos (`update_frames`)
+    pub(crate) frame_base: Vec<[f64; 3]>,
     pub(crate) factor: Factor,
     /// Newton iterations of the last position solve
     pub iterations: usize,
@@ -34,14 +36,38 @@ pub struct Data {
     pub lambda_parts: [Vec<f64>; 3],
     /// 3 x n_coords: the parts of Q - M qdd
     pub(crate) gen_force: [Vec<f64>; 3],
-    /// n_coords each: q at the two steps before the previous one, qd and qdd at the one
+    /// n_coords each: q at the three steps before the previous one, qd and qdd at the one
     /// before the previous one (the sweep's predictor reads them)
-    pub(crate) hist_q: [Vec<f64>; 2],
+    pub(crate) hist_q: [Vec<f64>; 3],
     pub(crate) hist_qd: Vec<f64>,
     pub(crate) hist_qdd: Vec<f64>,
+    /// whether each Newton iteration also solves Phi_q qd = nu with its factorization (the
+    /// two solves interleaved cost little more than one): set by a sweep that wants
+    /// velocities
+    pub(crate) with_velocity: bool,
+    /// n_rows: nu, then the scaled velocities solved beside the Newton step, valid for the
+    /// factorization and the time in `velocity_of` (`Factor::generation`, t)
+    pub(crate) nu_rhs: Vec<f64>,
+    pub(crate) velocity_of: Option<(u64, f64)>,
+    /// n_coords: 1 / the model's column scales (multiplying is cheaper than dividing)
+    pub(crate) inv_col_scale: Vec<f64>,
 }
 
 impl Data {
+    /// With `linear = Refactor`: how many times its pivot sequence was chosen since this
+    /// workspace was made (1 after the first factorization; each re-pivoting adds one).
+    /// 0 for the other kinds.
+    pub fn pivot_choices(&self) -> usize {
+        self.factor.pivot_choices()
+    }
+
+    /// The values of the scaled Phi_q at the last Newton evaluation, laid out as the
+    /// model's linear solver reads them (column-major n x n for the dense kinds; in the
+    /// order of `Model::sparsity` for the sparse ones).
+    pub fn jacobian(&self) -> &[f64] {
+        &self.jac
+    }
+
     pub fn new(model: &Model) -> Data {
         Data {
             q: model.q_start.clone(),
@@ -51,6 +77,8 @@ impl Data {
             rhs: vec![0.0; model.n_rows],
             jac: vec![0.0; model.symbolic.n_values()],
             frames: vec![Frame::GROUND; model.n_bodies],
+            // NaN: the first update computes sin_cos in full
+            frame_base: vec![[f64::NAN, 1.0, 0.0]; model.n_bodies],
             factor: Factor::new(&model.symbolic),
             iterations: 0,
             residual: f64::NAN,
@@ -61,6 +89,10 @@ impl Data {
             hist_q: std::array::from_fn(|_| vec![0.0; model.n_coords]),
             hist_qd: vec![0.0; model.n_coords],
             hist_qdd: vec![0.0; model.n_coords],
+            inv_col_scale: model.col_scale.iter().map(|s| 1.0 / s).collect(),
+            with_velocity: false,
+            nu_rhs: vec![0.0; model.n_rows],
+            velocity_of: None,
         }
     }
 }

@@ -26,6 +26,7 @@ pub mod motion;
 pub mod position;
 pub mod screw;
 pub mod small_lu;
+pub mod sparse_lu;
 pub mod sweep;
 pub mod units;
 pub mod velocity;

@@ -1,5 +1,7 @@
-//! The linear-solver seam: dense LU (faer, partial pivoting) for small systems, sparse LU
-//! (faer, COLAMD column order, simplicial left-looking factorization) for large ones.
+//! The linear-solver seam: linkwork's sparse LU with a fixed pivot sequence replayed
+//! every step (`sparse_lu`, the default), its small dense LU (`small_lu`), faer's dense
+//! LU (partial pivoting) and faer's sparse LU (COLAMD column order, simplicial
+//! left-looking factorization with partial pivoting at every step).
 //! The symbolic part lives in the `Model`, the numeric factors and scratch in `Data`;
 //! nothing is allocated per step once the first factorization has sized faer's buffers.
 //! faer does not report a numerically zero pivot, so the pivots are checked here.
@@ -24,11 +26,12 @@ use faer::{Conj, MatMut, MatRef, Par};
 use crate::joints::MAX_ROWS;
 use crate::model::ConstraintEntry;
 use crate::small_lu;
+use crate::sparse_lu::SparseLu;
 
 /// Which linear algebra solves Phi_q x = b.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LinearKind {
-    /// small dense LU up to `Options::dense_max` coordinates, sparse LU above
+    /// the sparse LU with a fixed pivot sequence (`Refactor`) at every size
     Auto,
     /// linkwork's own dense LU (`small_lu`), for small systems
     Small,
@@ -36,6 +39,10 @@ pub enum LinearKind {
     Dense,
     /// faer's sparse LU
     Sparse,
+    /// linkwork's sparse LU (`sparse_lu`): COLAMD column order, row order chosen by
+    /// partial pivoting at the first factorization, then replayed; chosen again when a
+    /// pivot fails its threshold
+    Refactor,
     /// faer's dense QR, least squares: chosen for a redundant model solved anyway
     LeastSquares,
 }
@@ -60,10 +67,29 @@ impl Pivots {
 /// The part of a factorization that depends only on the pattern (in the model).
 #[derive(Debug)]
 pub(crate) enum SymbolicFactor {
-    Small { n: usize },
-    Dense { n: usize },
-    Sparse { n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>, lu: SymbolicLu<usize> },
-    LeastSquares { m: usize, n: usize },
+    Small {
+        n: usize,
+    },
+    Dense {
+        n: usize,
+    },
+    Sparse {
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        lu: SymbolicLu<usize>,
+    },
+    /// the pattern (compressed columns) and the column order of each step (COLAMD)
+    Refactor {
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        col_order: Vec<usize>,
+    },
+    LeastSquares {
+        m: usize,
+        n: usize,
+    },
 }
 
 impl SymbolicFactor {
@@ -91,29 +117,16 @@ impl SymbolicFactor {
                 }
             }
             LinearKind::Sparse => {
-                let mut entries: Vec<(usize, usize)> = Vec::new();
-                for_each_entry(constraints, |row, col| {
-                    entries.push((col, row));
-                    0
-                });
-                entries.sort_unstable();
-                entries.dedup();
-                let mut col_ptr = vec![0usize; n + 1];
-                let row_idx: Vec<usize> = entries.iter().map(|&(_, r)| r).collect();
-                for &(c, _) in &entries {
-                    col_ptr[c + 1] += 1;
-                }
-                for c in 0..n {
-                    col_ptr[c + 1] += col_ptr[c];
-                }
-                for_each_entry(constraints, |row, col| {
-                    let range = &row_idx[col_ptr[col]..col_ptr[col + 1]];
-                    (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern")) as u32
-                });
+                let (col_ptr, row_idx) = compressed_columns(n, constraints);
                 let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
                 let lu =
                     factorize_symbolic_lu(sym, Default::default()).expect("symbolic LU of a square pattern");
                 SymbolicFactor::Sparse { n, col_ptr, row_idx, lu }
+            }
+            LinearKind::Refactor => {
+                let (col_ptr, row_idx) = compressed_columns(n, constraints);
+                let col_order = crate::sparse_lu::colamd_order(n, &col_ptr, &row_idx);
+                SymbolicFactor::Refactor { n, col_ptr, row_idx, col_order }
             }
         }
     }
@@ -123,6 +136,7 @@ impl SymbolicFactor {
             SymbolicFactor::Small { .. } => LinearKind::Small,
             SymbolicFactor::Dense { .. } => LinearKind::Dense,
             SymbolicFactor::Sparse { .. } => LinearKind::Sparse,
+            SymbolicFactor::Refactor { .. } => LinearKind::Refactor,
             SymbolicFactor::LeastSquares { .. } => LinearKind::LeastSquares,
         }
     }
@@ -131,8 +145,19 @@ impl SymbolicFactor {
     pub(crate) fn n_values(&self) -> usize {
         match self {
             SymbolicFactor::Small { n } | SymbolicFactor::Dense { n } => n * n,
-            SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
+            SymbolicFactor::Sparse { row_idx, .. } | SymbolicFactor::Refactor { row_idx, .. } => {
+                row_idx.len()
+            }
             SymbolicFactor::LeastSquares { m, n } => m * n,
+        }
+    }
+
+    /// The compressed-column pattern of the sparse kinds.
+    pub(crate) fn pattern(&self) -> Option<(&[usize], &[usize])> {
+        match self {
+            SymbolicFactor::Sparse { col_ptr, row_idx, .. }
+            | SymbolicFactor::Refactor { col_ptr, row_idx, .. } => Some((col_ptr, row_idx)),
+            _ => None,
         }
     }
 
@@ -140,10 +165,37 @@ impl SymbolicFactor {
     pub(crate) fn nnz(&self) -> usize {
         match self {
             SymbolicFactor::Small { n } | SymbolicFactor::Dense { n } => n * n,
-            SymbolicFactor::Sparse { row_idx, .. } => row_idx.len(),
+            SymbolicFactor::Sparse { row_idx, .. } | SymbolicFactor::Refactor { row_idx, .. } => {
+                row_idx.len()
+            }
             SymbolicFactor::LeastSquares { m, n } => m * n,
         }
     }
+}
+
+/// The pattern of Phi_q in compressed columns (rows sorted, unique), each constraint
+/// entry's slot set to its position in the value array.
+fn compressed_columns(n: usize, constraints: &mut [ConstraintEntry]) -> (Vec<usize>, Vec<usize>) {
+    let mut entries: Vec<(usize, usize)> = Vec::new();
+    for_each_entry(constraints, |row, col| {
+        entries.push((col, row));
+        0
+    });
+    entries.sort_unstable();
+    entries.dedup();
+    let mut col_ptr = vec![0usize; n + 1];
+    let row_idx: Vec<usize> = entries.iter().map(|&(_, r)| r).collect();
+    for &(c, _) in &entries {
+        col_ptr[c + 1] += 1;
+    }
+    for c in 0..n {
+        col_ptr[c + 1] += col_ptr[c];
+    }
+    for_each_entry(constraints, |row, col| {
+        let range = &row_idx[col_ptr[col]..col_ptr[col + 1]];
+        (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern")) as u32
+    });
+    (col_ptr, row_idx)
 }
 
 /// Calls `slot(row, col)` for every Jacobian block entry of every constraint and stores
@@ -166,8 +218,8 @@ fn for_each_entry(constraints: &mut [ConstraintEntry], mut slot: impl FnMut(usiz
     }
 }
 
-/// Numeric factors and scratch (in `Data`).
-pub(crate) enum Factor {
+/// Numeric factors and scratch of one kind.
+pub(crate) enum Numeric {
     Small {
         /// n x n column-major: L (unit lower) and U in place
         lu: Vec<f64>,
@@ -188,6 +240,7 @@ pub(crate) enum Factor {
         row_perm_inv: Vec<usize>,
         stack: MemBuffer,
     },
+    Refactor(Box<SparseLu>),
     LeastSquares {
         /// m x n column-major: R above the diagonal, the Householder vectors below
         qr: Vec<f64>,
@@ -198,11 +251,11 @@ pub(crate) enum Factor {
     },
 }
 
-impl Factor {
-    pub(crate) fn new(sym: &SymbolicFactor) -> Factor {
+impl Numeric {
+    pub(crate) fn new(sym: &SymbolicFactor) -> Numeric {
         match sym {
             SymbolicFactor::Small { n } => {
-                Factor::Small { lu: vec![0.0; n * n], pivots: vec![0; *n], inv_diag: vec![0.0; *n] }
+                Numeric::Small { lu: vec![0.0; n * n], pivots: vec![0; *n], inv_diag: vec![0.0; *n] }
             }
             SymbolicFactor::Dense { n } => {
                 let n = *n;
@@ -211,7 +264,7 @@ impl Factor {
                     dense_solve::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
                     dense_solve::solve_transpose_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
                 ]);
-                Factor::Dense {
+                Numeric::Dense {
                     lu: vec![0.0; n * n],
                     perm: vec![0; n],
                     perm_inv: vec![0; n],
@@ -226,12 +279,15 @@ impl Factor {
                     qr_solve::solve_lstsq_in_place_scratch::<f64>(m, n, block, 1, Par::Seq),
                     apply_q_scratch::<f64>(m, block, 1),
                 ]);
-                Factor::LeastSquares {
+                Numeric::LeastSquares {
                     qr: vec![0.0; m * n],
                     q_coeff: vec![0.0; block * n],
                     block,
                     stack: MemBuffer::new(req),
                 }
+            }
+            SymbolicFactor::Refactor { n, col_ptr, row_idx, col_order } => {
+                Numeric::Refactor(Box::new(SparseLu::new(*n, col_ptr, row_idx, col_order)))
             }
             SymbolicFactor::Sparse { n, .. } => {
                 let n = *n;
@@ -240,7 +296,7 @@ impl Factor {
                     simplicial::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
                     simplicial::solve_transpose_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
                 ]);
-                Factor::Sparse {
+                Numeric::Sparse {
                     numeric: simplicial::SimplicialLu::new(),
                     row_perm: vec![0; n],
                     row_perm_inv: vec![0; n],
@@ -254,7 +310,7 @@ impl Factor {
     /// pivots. A zero or non-finite pivot is reported in `Pivots::ratio`, not as an error.
     pub(crate) fn factor(&mut self, sym: &SymbolicFactor, values: &[f64]) -> Pivots {
         match (self, sym) {
-            (Factor::Small { lu, pivots: piv, inv_diag }, SymbolicFactor::Small { n }) => {
+            (Numeric::Small { lu, pivots: piv, inv_diag }, SymbolicFactor::Small { n }) => {
                 let n = *n;
                 lu.copy_from_slice(values);
                 small_lu::factor(lu, n, piv, inv_diag);
@@ -263,7 +319,7 @@ impl Factor {
                 let sign = if swaps % 2 == 0 { 1.0 } else { -1.0 };
                 pivots((0..n).map(|k| (k, lu[k * n + k])), sign)
             }
-            (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { n }) => {
+            (Numeric::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { n }) => {
                 let n = *n;
                 lu.copy_from_slice(values);
                 let a = MatMut::from_column_major_slice_mut(lu, n, n);
@@ -279,7 +335,7 @@ impl Factor {
                 pivots((0..n).map(|k| (k, lu[k * n + k])), sign)
             }
             (
-                Factor::Sparse { numeric, row_perm, row_perm_inv, stack },
+                Numeric::Sparse { numeric, row_perm, row_perm_inv, stack },
                 SymbolicFactor::Sparse { n, col_ptr, row_idx, lu },
             ) => {
                 let sym = SymbolicSparseColMatRef::new_checked(*n, *n, col_ptr, None, row_idx);
@@ -320,7 +376,8 @@ impl Factor {
                     sign,
                 )
             }
-            (Factor::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) => {
+            (Numeric::Refactor(lu), SymbolicFactor::Refactor { .. }) => lu.factor(values),
+            (Numeric::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) => {
                 let (m, n) = (*m, *n);
                 qr.copy_from_slice(values);
                 qr_factor::qr_in_place(
@@ -341,10 +398,13 @@ impl Factor {
     /// Solves Phi_q x = rhs in place with the last factorization.
     pub(crate) fn solve(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         let n = rhs.len();
-        if let Factor::Small { lu, pivots, inv_diag } = self {
+        if let Numeric::Refactor(lu) = self {
+            return lu.solve(rhs);
+        }
+        if let Numeric::Small { lu, pivots, inv_diag } = self {
             return small_lu::solve(lu, n, pivots, inv_diag, rhs);
         }
-        if let (Factor::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) =
+        if let (Numeric::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) =
             (&mut *self, sym)
         {
             // x = R^-1 (Q^T rhs)[..n]: the least-squares solution, exact for consistent rows
@@ -356,13 +416,13 @@ impl Factor {
         }
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match (self, sym) {
-            (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { .. }) => {
+            (Numeric::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { .. }) => {
                 let lu = MatRef::from_column_major_slice(lu, n, n);
                 let p = PermRef::new_checked(perm, perm_inv, n);
                 dense_solve::solve_in_place(lu, lu, p, x, Par::Seq, MemStack::new(stack));
             }
             (
-                Factor::Sparse { numeric, row_perm, row_perm_inv, stack },
+                Numeric::Sparse { numeric, row_perm, row_perm_inv, stack },
                 SymbolicFactor::Sparse { lu, .. },
             ) => {
                 let p = PermRef::new_checked(row_perm, row_perm_inv, n);
@@ -380,14 +440,17 @@ impl Factor {
     }
 }
 
-impl Factor {
+impl Numeric {
     /// Solves Phi_q^T x = rhs in place with the last factorization (inverse dynamics).
     pub(crate) fn solve_transpose(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         let n = rhs.len();
-        if let Factor::Small { lu, pivots, inv_diag } = self {
+        if let Numeric::Refactor(lu) = self {
+            return lu.solve_transpose(rhs);
+        }
+        if let Numeric::Small { lu, pivots, inv_diag } = self {
             return small_lu::solve_transpose(lu, n, pivots, inv_diag, rhs);
         }
-        if let (Factor::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) =
+        if let (Numeric::LeastSquares { qr, q_coeff, block, stack }, SymbolicFactor::LeastSquares { m, n }) =
             (&mut *self, sym)
         {
             // Phi_q^T x = b has many solutions; the minimum-norm one is Q (R^-T b; 0)
@@ -405,13 +468,13 @@ impl Factor {
         }
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
         match (self, sym) {
-            (Factor::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { .. }) => {
+            (Numeric::Dense { lu, perm, perm_inv, stack }, SymbolicFactor::Dense { .. }) => {
                 let lu = MatRef::from_column_major_slice(lu, n, n);
                 let p = PermRef::new_checked(perm, perm_inv, n);
                 dense_solve::solve_transpose_in_place(lu, lu, p, x, Par::Seq, MemStack::new(stack));
             }
             (
-                Factor::Sparse { numeric, row_perm, row_perm_inv, stack },
+                Numeric::Sparse { numeric, row_perm, row_perm_inv, stack },
                 SymbolicFactor::Sparse { lu, .. },
             ) => {
                 let p = PermRef::new_checked(row_perm, row_perm_inv, n);
@@ -425,6 +488,59 @@ impl Factor {
                 );
             }
             _ => unreachable!("factor and symbolic factor of different kinds"),
+        }
+    }
+}
+
+/// Numeric factors and scratch (in `Data`), with a count of the factorizations made.
+pub(crate) struct Factor {
+    numeric: Numeric,
+    /// one more at every factorization: a solution kept beside the factors (the
+    /// velocities solved with Newton's last step) belongs to the factorization it names
+    pub(crate) generation: u64,
+}
+
+impl Factor {
+    pub(crate) fn new(sym: &SymbolicFactor) -> Factor {
+        Factor { numeric: Numeric::new(sym), generation: 0 }
+    }
+
+    /// Factors Phi_q (its values laid out as the symbolic factor says) and returns its
+    /// pivots. A zero or non-finite pivot is reported in `Pivots::ratio`, not as an error.
+    pub(crate) fn factor(&mut self, sym: &SymbolicFactor, values: &[f64]) -> Pivots {
+        self.generation += 1;
+        self.numeric.factor(sym, values)
+    }
+
+    /// Solves Phi_q x = rhs in place with the last factorization.
+    pub(crate) fn solve(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
+        self.numeric.solve(sym, rhs)
+    }
+
+    /// Solves Phi_q x = a and Phi_q y = b in place, at once where the kind can: the
+    /// fixed-sequence LU interleaves the two, whose triangular solves are chains of
+    /// dependent multiply-adds on small systems, so that the second costs little more.
+    pub(crate) fn solve_pair(&mut self, sym: &SymbolicFactor, a: &mut [f64], b: &mut [f64]) {
+        match &mut self.numeric {
+            Numeric::Refactor(lu) => lu.solve_pair(a, b),
+            numeric => {
+                numeric.solve(sym, a);
+                numeric.solve(sym, b);
+            }
+        }
+    }
+
+    /// Solves Phi_q^T x = rhs in place with the last factorization (inverse dynamics).
+    pub(crate) fn solve_transpose(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
+        self.numeric.solve_transpose(sym, rhs)
+    }
+
+    /// How many times the pivot sequence of the fixed-sequence LU was chosen (0 for the
+    /// other kinds, which choose pivots at every factorization).
+    pub(crate) fn pivot_choices(&self) -> usize {
+        match &self.numeric {
+            Numeric::Refactor(lu) => lu.pivot_choices(),
+            _ => 0,
         }
     }
 }

@@ -45,8 +45,11 @@ pub struct Options {
     pub max_iter_assembly: usize,
     /// A pivot ratio (smallest / largest |pivot| of the scaled Phi_q) below this is singular.
     pub singular_tol: f64,
-    /// Which LU; `Auto` picks the small dense LU up to `dense_max` coordinates, sparse above.
+    /// Which LU; `Auto` picks the fixed-sequence sparse LU (`Refactor`), the fastest at
+    /// every size measured (docs/performance.md).
     pub linear: LinearKind,
+    /// No longer read: `Auto` chose the small dense LU up to this many coordinates before
+    /// the fixed-sequence LU; kept so that existing option sets stay valid.
     pub dense_max: usize,
     /// Redundant joint rows (dependent at the described configuration): refuse the model,
     /// or solve with all rows in the least-squares sense.
@@ -758,8 +761,7 @@ impl Model {
         let linear = match options.linear {
             // a redundant model solved anyway: dense QR, least squares (small by nature)
             _ if n_rows > n_coords => LinearKind::LeastSquares,
-            LinearKind::Auto if n_coords <= options.dense_max => LinearKind::Small,
-            LinearKind::Auto => LinearKind::Sparse,
+            LinearKind::Auto => LinearKind::Refactor,
             k => k,
         };
         let symbolic = SymbolicFactor::new(linear, n_rows, n_coords, &mut constraints);
@@ -808,6 +810,12 @@ impl Model {
     /// Number of structurally non-zero entries of Phi_q.
     pub fn nnz(&self) -> usize {
         self.symbolic.nnz()
+    }
+
+    /// The pattern of Phi_q in compressed columns (column starts, then the row of each
+    /// entry), for the sparse LUs; None for the dense ones.
+    pub fn sparsity(&self) -> Option<(&[usize], &[usize])> {
+        self.symbolic.pattern()
     }
 
     /// Index of a body by name.

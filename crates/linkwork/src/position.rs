@@ -3,7 +3,9 @@
 //! Each iteration evaluates Phi and Phi_q, factors Phi_q and computes the Newton step.
 //! It stops when the scaled residual and the scaled step are both below tolerance, and
 //! applies that last (tiny) step: so the factorization left in `Data` is of Phi_q within
-//! `tol_step` of the converged q, and serves the velocity and acceleration solves.
+//! `tol_step` of the converged q, and serves the velocity and acceleration solves. With
+//! `Data::with_velocity`, each iteration also solves the velocities with its
+//! factorization, interleaved with the Newton step: the last one's are kept.
 
 use crate::assembly;
 use crate::data::Data;
@@ -67,25 +69,36 @@ pub fn solve_position(
         for (r, p) in data.rhs.iter_mut().zip(&data.phi) {
             *r = -p;
         }
-        data.factor.solve(&model.symbolic, &mut data.rhs);
+        if data.with_velocity {
+            // the velocities with this factorization, in case it is the last one
+            assembly::nu_into(model, t, &mut data.nu_rhs);
+            data.factor.solve_pair(&model.symbolic, &mut data.rhs, &mut data.nu_rhs);
+            data.velocity_of = Some((data.factor.generation, t));
+        } else {
+            data.factor.solve(&model.symbolic, &mut data.rhs);
+        }
         let step_norm = data.rhs[..model.n_coords].iter().fold(0.0f64, |m, d| m.max(d.abs()));
         if !step_norm.is_finite() {
             return Err(SolveError::NonFinite { step, time: t, what: "the Newton step".into() });
         }
-        let damping =
-            if assembly && step_norm > ASSEMBLY_MAX_STEP { ASSEMBLY_MAX_STEP / step_norm } else { 1.0 };
-        for ((q, d), s) in data.q.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
-            *q += damping * d * s;
-        }
-        correction += damping * step_norm;
         // the step cannot be resolved below round-off times the condition number, which
         // 1 / pivot ratio estimates: on ill-conditioned chains tol_step alone is unreachable
         let step_floor = opts.tol_step.max(8.0 * f64::EPSILON / pivots.ratio);
         // near a singular configuration round-off in the residual makes the steps
-        // stagnate instead of shrinking: with the residual converged, that is the end
-        let stagnant = step_norm >= 0.9 * prev_step;
+        // stagnate instead of shrinking: with the residual converged, that is the end, and
+        // the step is round-off: q before it is the one whose residual was measured
+        let converged = residual <= opts.tol_residual && step_norm <= step_floor;
+        let stalled = !converged && residual <= opts.tol_residual && step_norm >= 0.9 * prev_step;
         prev_step = step_norm;
-        if residual <= opts.tol_residual && (step_norm <= step_floor || stagnant) {
+        if !stalled {
+            let damping =
+                if assembly && step_norm > ASSEMBLY_MAX_STEP { ASSEMBLY_MAX_STEP / step_norm } else { 1.0 };
+            for ((q, d), s) in data.q.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
+                *q += damping * d * s;
+            }
+            correction += damping * step_norm;
+        }
+        if converged || stalled {
             data.iterations = it;
             data.residual = residual;
             return Ok(PositionInfo {

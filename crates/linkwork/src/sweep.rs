@@ -17,7 +17,7 @@ use crate::velocity::solve_velocity;
 /// prediction does not use its rates: solved to round-off, q is off by about eps / ratio
 /// along the near-singular direction, and the rates solved at that q are off by that over
 /// the ratio again.
-const NEAR_SINGULAR: f64 = 1e-6;
+pub(crate) const NEAR_SINGULAR: f64 = 1e-6;
 
 /// What a sweep computes and keeps: work that was not asked for is not done.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -221,6 +221,7 @@ pub fn sweep(
     let req = out.request;
     out.n_done = 0;
     out.events.clear();
+    data.with_velocity = req.derivatives >= 1;
     let mut tracker = Tracker::new(model, req.on_singular, req.locks);
     let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress);
     out.events = std::mem::take(&mut tracker.events);
@@ -248,14 +249,19 @@ fn sweep_steps(
         } else {
             tracker.q_prev.copy_from_slice(&data.q);
             // rates next to a singular configuration are unreliable: predict from positions
-            let order = if data.pivots.ratio < NEAR_SINGULAR { 0 } else { req.derivatives };
-            predict(data, times, k, order);
+            let predictor = match req.derivatives {
+                _ if data.pivots.ratio < NEAR_SINGULAR => Predictor::Quadratic,
+                2 => Predictor::Jerk,
+                1 => Predictor::Acceleration,
+                _ => Predictor::Cubic,
+            };
+            predict(data, times, k, predictor);
             let motion = data
                 .q
                 .iter()
                 .zip(&tracker.q_prev)
-                .zip(&model.col_scale)
-                .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() / s));
+                .zip(&data.inv_col_scale)
+                .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() * s));
             let info = match solve_position(model, data, t, k, false) {
                 Ok(info) if !is_jump(&info, motion) => info,
                 Ok(_) => tracker.rescue(model, data, times[k - 1], t, k, None)?,
@@ -295,47 +301,70 @@ fn sweep_steps(
     Ok(())
 }
 
-/// Predicts q at times[k] from the previous steps, by what the sweep computes
-/// (`derivatives`: 2 = q, qd, qdd; 1 = q, qd; 0 = q only):
-/// - 2: q + h qd + h^2/2 qdd + h^3/6 jerk, the jerk from the last two accelerations;
-/// - 1: q + h qd + h^2/2 qdd, qdd from the last two velocities;
-/// - 0: the quadratic through the last three positions.
-///
-/// Each is exact to O(h^3) or better, so that most steps take one Newton iteration.
-/// After a step close to a singular configuration, whose rates are ill-determined (and
-/// may point along the other branch), the sweep asks for 0: positions only.
+/// How `predict` extrapolates q to the next time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Predictor {
+    /// q + h qd + h^2/2 qdd + h^3/6 jerk, the jerk from the last two accelerations
+    Jerk,
+    /// q + h qd + h^2/2 qdd, qdd from the last two velocities
+    Acceleration,
+    /// the quadratic through the last three positions
+    Quadratic,
+    /// the cubic through the last four positions
+    Cubic,
+}
+
+/// Predicts q at times[k] from the previous steps, by what the sweep computes: with
+/// accelerations `Jerk`, with velocities `Acceleration`, positions only `Cubic`.
+/// Their local errors are O(h^3) (`Acceleration`) or O(h^4) (`Jerk`, `Cubic`: with
+/// positions only, a quadratic's O(h^3) left 15 % of a fine sweep's steps needing a
+/// second Newton iteration), so that most steps take one Newton iteration. After a step close to a singular
+/// configuration, whose rates are ill-determined (and may point along the other branch),
+/// the sweep asks for `Quadratic`: positions only, and of low order, as the last
+/// positions may be packed close there (a higher order amplifies their round-off).
 /// Reads data.q, qd, qdd (step k-1) and the history; shifts the history.
-pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, derivatives: u8) {
+pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, predictor: Predictor) {
     let t = times[k];
     let t1 = times[k - 1];
     let h = t - t1;
     let h1 = if k >= 2 { t1 - times[k - 2] } else { 0.0 };
-    let [q2, q3] = &mut data.hist_q;
+    // Lagrange weights of the (up to) four previous positions, newest first, the same for
+    // every coordinate
+    let lagrange = |nodes: &[f64]| -> [f64; 4] {
+        let mut w = [0.0; 4];
+        for (a, &ta) in nodes.iter().enumerate() {
+            w[a] = nodes
+                .iter()
+                .enumerate()
+                .filter(|&(b, _)| b != a)
+                .map(|(_, &tb)| (t - tb) / (ta - tb))
+                .product();
+        }
+        w
+    };
+    let w = match (predictor, k) {
+        (Predictor::Jerk | Predictor::Acceleration, _) | (_, 1) => [1.0, 0.0, 0.0, 0.0],
+        (_, 2) => lagrange(&[t1, times[0]]),
+        (Predictor::Quadratic, _) | (_, 3) => lagrange(&[t1, times[k - 2], times[k - 3]]),
+        _ => lagrange(&[t1, times[k - 2], times[k - 3], times[k - 4]]),
+    };
+    let [q2, q3, q4] = &mut data.hist_q;
     for i in 0..data.q.len() {
         let q1 = data.q[i];
-        let p = match derivatives {
-            2 => {
+        let p = match predictor {
+            Predictor::Jerk => {
                 let jerk = if k >= 2 { (data.qdd[i] - data.hist_qdd[i]) / h1 } else { 0.0 };
                 q1 + h * (data.qd[i] + h * (0.5 * data.qdd[i] + h * jerk / 6.0))
             }
-            1 => {
+            Predictor::Acceleration => {
                 let acc = if k >= 2 { (data.qd[i] - data.hist_qd[i]) / h1 } else { 0.0 };
                 q1 + h * (data.qd[i] + 0.5 * h * acc)
             }
-            // Lagrange extrapolation through the (up to) three previous positions
-            _ => match k {
-                1 => q1,
-                2 => q1 + (q1 - q2[i]) * h / h1,
-                _ => {
-                    let (ta, tb, tc) = (t1, times[k - 2], times[k - 3]);
-                    q1 * (t - tb) * (t - tc) / ((ta - tb) * (ta - tc))
-                        + q2[i] * (t - ta) * (t - tc) / ((tb - ta) * (tb - tc))
-                        + q3[i] * (t - ta) * (t - tb) / ((tc - ta) * (tc - tb))
-                }
-            },
+            Predictor::Quadratic | Predictor::Cubic => w[0] * q1 + w[1] * q2[i] + w[2] * q3[i] + w[3] * q4[i],
         };
         data.hist_qdd[i] = data.qdd[i];
         data.hist_qd[i] = data.qd[i];
+        q4[i] = q3[i];
         q3[i] = q2[i];
         q2[i] = q1;
         data.q[i] = p;
@@ -345,6 +374,7 @@ pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, derivatives: u8)
 /// Position, velocity and acceleration at one time, from data.q as the starting guess.
 pub fn solve(model: &Model, data: &mut Data, t: f64) -> Result<crate::position::PositionInfo, SolveError> {
     check_times(model, &[t])?;
+    data.with_velocity = true;
     let info = solve_position(model, data, t, 0, true)?;
     solve_velocity(model, data, t, 0)?;
     solve_acceleration(model, data, t, 0)?;

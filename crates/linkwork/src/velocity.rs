@@ -6,8 +6,17 @@ use crate::error::SolveError;
 use crate::joints::Constraint;
 use crate::model::Model;
 
-/// Reads data.q (through the factors) and writes data.qd.
+/// Reads data.q (through the factors) and writes data.qd. Where the position solve
+/// already solved them with the same factorization at the same time, those are taken.
 pub fn solve_velocity(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
+    let solved = data.velocity_of == Some((data.factor.generation, t));
+    if solved && data.nu_rhs.iter().all(|v| v.is_finite()) {
+        for ((qd, x), s) in data.qd.iter_mut().zip(&data.nu_rhs).zip(&model.col_scale) {
+            *qd = x * s;
+        }
+        return Ok(());
+    }
+    // not solved yet, or not finite: solved (again) here, naming a row that is not
     assembly::nu(model, data, t);
     if let Some(e) = non_finite_row(model, &data.rhs, t, step, "nu") {
         return Err(e);

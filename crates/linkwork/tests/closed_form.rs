@@ -26,7 +26,7 @@ fn four_bar_matches_closed_form_over_a_revolution() {
     let (th0, w) = (0.3, 5.0);
     let n = 721;
     let times: Vec<f64> = (0..n).map(|k| k as f64 * 2.0 * PI / w / (n - 1) as f64).collect();
-    for linear in [LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
+    for linear in [LinearKind::Refactor, LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
         let (model, out) = run(four_bar_drawn(&m, th0 - 0.25, th0, w), linear, &times);
         assert_eq!(model.linear_kind(), linear);
         let mut expect = vec![vec![]; 18];
@@ -108,7 +108,7 @@ fn offset_slider_crank_matches_closed_form_over_a_revolution() {
     let (th0, w) = (-0.4, 5.0);
     let n = 721;
     let times: Vec<f64> = (0..n).map(|k| k as f64 * 2.0 * PI / w / (n - 1) as f64).collect();
-    for linear in [LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
+    for linear in [LinearKind::Refactor, LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
         let (_, out) = run(slider_crank(&m, th0, w), linear, &times);
         let (mut th3, mut x, mut w3, mut v, mut a3, mut acc) =
             (vec![], vec![], vec![], vec![], vec![], vec![]);

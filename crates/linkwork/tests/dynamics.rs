@@ -43,7 +43,7 @@ fn driven_pendulum_torque_and_pin_force_match_the_hand_worked_case() {
         loads: vec![],
     };
     let times: Vec<f64> = (0..201).map(|k| k as f64 * 0.01).collect();
-    for linear in [LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
+    for linear in [LinearKind::Refactor, LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
         let (model, out) = run(desc.clone(), linear, &times);
         let driver_row = model.constraints[1].row0;
         let j_o = m * l * l / 12.0 + m * (0.5 * l) * (0.5 * l);

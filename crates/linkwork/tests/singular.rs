@@ -44,7 +44,7 @@ fn parallelogram() -> linkwork::Description {
 #[test]
 fn a_parallelogram_stays_a_parallelogram_through_its_change_points() {
     // two revolutions from 0.5 rad: change points at crank angles pi, 2 pi, 3 pi, 4 pi
-    for linear in [LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
+    for linear in [LinearKind::Refactor, LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {
         let model = Model::with_options(parallelogram(), Options { linear, ..Options::default() }).unwrap();
         let times = grid(0.0, 4.0 * std::f64::consts::PI, 501);
         let (out, r) = run(&model, &times, Request::default());
@@ -98,7 +98,7 @@ fn a_crank_driven_past_its_limit_stops_there_with_the_limit_located() {
     let m = FourBar { r1: 0.40, r2: 0.30, r3: 0.25, r4: 0.20 };
     // the diagonal O4-A reaches r3 + r4 at cos th2 = (r1^2 + r2^2 - (r3 + r4)^2) / (2 r1 r2)
     let limit = ((m.r1 * m.r1 + m.r2 * m.r2 - (m.r3 + m.r4).powi(2)) / (2.0 * m.r1 * m.r2)).acos();
-    for linear in [LinearKind::Small, LinearKind::Sparse] {
+    for linear in [LinearKind::Refactor, LinearKind::Small, LinearKind::Sparse] {
         let model =
             Model::with_options(four_bar(&m, 0.0, 1.0), Options { linear, ..Options::default() }).unwrap();
         let times = grid(0.0, 2.0, 201);

@@ -123,11 +123,13 @@ struct State {
     q: Vec<f64>,
     qd: Vec<f64>,
     qdd: Vec<f64>,
+    /// the pivot ratio there: next to a singular configuration the rates are not used
+    ratio: f64,
 }
 
 impl State {
     fn capture(data: &Data, t: f64) -> State {
-        State { t, q: data.q.clone(), qd: data.qd.clone(), qdd: data.qdd.clone() }
+        State { t, q: data.q.clone(), qd: data.qd.clone(), qdd: data.qdd.clone(), ratio: data.pivots.ratio }
     }
 }
 
@@ -171,8 +173,10 @@ fn march_keeping(
         let target = if (cur.t + h - t) * total.signum() >= 0.0 { t } else { cur.t + h };
         let hh = target - cur.t;
         let mut motion = 0.0f64;
+        // rates solved next to a singular configuration are ill-determined: not followed
+        let rates = if cur.ratio < crate::sweep::NEAR_SINGULAR { 0.0 } else { 1.0 };
         for i in 0..data.q.len() {
-            let dq = hh * (cur.qd[i] + 0.5 * hh * cur.qdd[i]);
+            let dq = rates * hh * (cur.qd[i] + 0.5 * hh * cur.qdd[i]);
             data.q[i] = cur.q[i] + dq;
             motion = motion.max(dq.abs() / model.col_scale[i]);
         }
@@ -188,6 +192,7 @@ fn march_keeping(
                 cur.q.copy_from_slice(&data.q);
                 cur.qd.copy_from_slice(&data.qd);
                 cur.qdd.copy_from_slice(&data.qdd);
+                cur.ratio = data.pivots.ratio;
                 h = 2.0 * hh;
                 continue;
             }
