@@ -237,3 +237,29 @@ fn motion_limits_of_four_bars_match_their_closed_forms() {
     let (ea, eb) = if sign > 0.0 { (a, b) } else { (-b, -a) };
     assert!((lo - ea).abs() < 1e-9 && (hi - eb).abs() < 1e-9, "swing [{lo}, {hi}], expected [{ea}, {eb}]");
 }
+
+/// Regression: `motion_limits` evaluated the laws of the model's description as read,
+/// before any preparation, so a spline law panicked (its second derivatives were never
+/// computed) and an expression gave NaN. Every kind of law now gives its value at t.
+#[test]
+fn motion_limits_evaluate_laws_that_need_preparing() {
+    use linkwork::analysis::limits::motion_limits;
+    use linkwork::MotionLaw;
+    let m = FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 };
+    let laws = [
+        MotionLaw::from_json(r#"{"type": "spline", "times": [0, 1, 2], "values": [0.1, 0.4, 0.2]}"#),
+        MotionLaw::from_json(r#"{"type": "expression", "text": "0.1 + 0.3*t"}"#),
+        MotionLaw::from_json(
+            r#"{"type": "cam", "start": 0.1,
+                "segments": [{"type": "rise", "duration": 2, "lift": 0.6, "profile": "cycloidal"}]}"#,
+        ),
+    ];
+    for law in laws {
+        let mut desc = four_bar(&m, 0.1, 1.0);
+        *desc.drivers[0].law_mut() = law.unwrap();
+        let model = Model::new(desc).unwrap();
+        let lim = motion_limits(&model, "crank_angle", 1.0, &model.q_start, None, None).unwrap();
+        assert!(lim.full_rotation, "{lim:?}");
+        assert!((lim.start - 0.4).abs() < 1e-12, "start {}", lim.start);
+    }
+}

@@ -7,6 +7,7 @@
 use crate::analysis::singular::{Event, EventKind};
 use crate::analysis::tracking::OnSingular;
 use crate::data::Data;
+use crate::description::DriverDesc;
 use crate::error::{ModelError, SolveError};
 use crate::model::Model;
 use crate::motion::MotionLaw;
@@ -61,9 +62,22 @@ pub fn motion_limits(
         .position(|d| d.name() == driver)
         .ok_or_else(|| LimitsError::NotADriver(driver.into()))?;
     let angle = desc.drivers[index].is_angle();
-    let start = desc.drivers[index].law().eval(t)[0];
+    // the description's laws are as read (spline coefficients, compiled expressions not
+    // computed yet): evaluate a prepared copy
+    let value_at = |d: &DriverDesc| -> Result<f64, ModelError> {
+        let fail =
+            |problem: String| ModelError::Constraint { kind: "driver", name: d.name().into(), problem };
+        let mut law = d.law().clone();
+        law.prepare().map_err(fail)?;
+        let value = law.eval(t)[0];
+        if !value.is_finite() {
+            return Err(fail(format!("its law is not finite at t = {t}")));
+        }
+        Ok(value)
+    };
+    let start = value_at(&desc.drivers[index])?;
     for (i, d) in desc.drivers.iter_mut().enumerate() {
-        let value = d.law().eval(t)[0];
+        let value = value_at(d)?;
         // the swept input: value = time; the others held where they are at t
         *d.law_mut() = if i == index {
             MotionLaw::Linear { value: 0.0, rate: 1.0 }
