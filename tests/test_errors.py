@@ -254,3 +254,11 @@ def test_description_round_trips_through_json():
     d = examples.six_bar_watt().to_dict()
     assert json.loads(json.dumps(d)) == d
     assert lw.Model(json.loads(json.dumps(d))).n_coords == 15
+
+
+def test_engine_panic_arrives_as_internal_error() -> None:
+    # every engine call from Python runs inside the same guard; a panic there is a bug,
+    # and must reach Python as an ordinary linkwork exception naming the operation
+    with pytest.raises(lw.InternalError, match=r"while checking the panic guard: deliberate panic.*report"):
+        _core._check_panic_guard()
+    assert issubclass(lw.InternalError, Exception) and issubclass(lw.InternalError, lw.LinkworkError)

@@ -25,6 +25,7 @@ __all__ = [
     "write_model",
     "screw_transport",
     "sweep_batch",
+    "_check_panic_guard",
 ]
 __version__: str
 
@@ -72,6 +73,7 @@ def motion_limits(
     steps: int | None = None,
 ) -> dict[str, Any]: ...
 def read_model(text: str, format: str, file: str) -> tuple[str, list[tuple[str, str, int]]]: ...
+def _check_panic_guard() -> None: ...
 def write_model(description_json: str, format: str) -> str: ...
 
 @final

@@ -14,6 +14,7 @@
         ├── SingularError       Phi_q is singular there (dead point, lock-up, redundancy)
         ├── NonFiniteError      a NaN or infinity appeared
         └── CancelledError      the sweep was stopped by its progress callback
+    InternalError           a bug in linkwork (an engine panic, caught): please report it
 
 Solve errors carry ``step`` and ``time`` (None where not known). A failed sweep's
 exception also carries ``partial``: the `Results` of the steps before the failure.
@@ -35,6 +36,7 @@ __all__ = [
     "SingularError",
     "NonFiniteError",
     "CancelledError",
+    "InternalError",
 ]
 
 
@@ -94,3 +96,8 @@ class NonFiniteError(SolveError):
 
 class CancelledError(SolveError):
     """The sweep was stopped by its progress callback."""
+
+
+class InternalError(LinkworkError):
+    """A bug in linkwork: the engine panicked. The message names the operation; please
+    report it with the model. A sweep that hits one keeps its good steps (``partial``)."""

@@ -8,7 +8,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{model_err, solve_err, start_guess, InputError, PyModel};
+use crate::{guard, model_err, solve_err, start_guess, InputError, PyModel};
 
 pub(crate) fn parse_on_singular(s: &str) -> PyResult<OnSingular> {
     match s {
@@ -52,14 +52,16 @@ pub(crate) fn motion_limits<'py>(
     let m = std::sync::Arc::clone(&model.model);
     let mut data = Data::new(&m);
     data.q = start_guess(&m, q_guess)?;
-    linkwork::solve(&m, &mut data, t).map_err(|e| solve_err(py, &e))?;
+    guard("solving", || linkwork::solve(&m, &mut data, t))?.map_err(|e| solve_err(py, &e))?;
     let q = data.q;
     if let Some(r) = range {
         if !(r.is_finite() && r > 0.0) {
             return Err(InputError::new_err(format!("range must be finite and > 0, not {r}")));
         }
     }
-    let lim = py.detach(|| engine_limits(&m, driver, t, &q, range, steps)).map_err(|e| match e {
+    let lim =
+        py.detach(|| guard("finding the motion limits", || engine_limits(&m, driver, t, &q, range, steps)))?;
+    let lim = lim.map_err(|e| match e {
         LimitsError::Model(e) => model_err(e),
         LimitsError::Solve(e) => solve_err(py, &e),
         LimitsError::NotADriver(_) => InputError::new_err(e.to_string()),

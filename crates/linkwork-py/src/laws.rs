@@ -120,7 +120,9 @@ fn expr_err(text: &str, e: ExprError) -> PyErr {
 #[pyfunction]
 #[pyo3(signature = (text, variable="t"))]
 fn parse_expression(text: &str, variable: &str) -> PyResult<()> {
-    Expression::parse(text, variable).map(|_| ()).map_err(|e| expr_err(text, e))
+    crate::guard("parsing an expression", || Expression::parse(text, variable))?
+        .map(|_| ())
+        .map_err(|e| expr_err(text, e))
 }
 
 /// (f, f', f'') of a motion law (a description's law as JSON) at each time: n x 3.
@@ -144,7 +146,7 @@ fn evaluate_law<'py>(
             }
         });
     }
-    law.prepare().map_err(model_err)?;
+    crate::guard("preparing a motion law", || law.prepare())?.map_err(model_err)?;
     let times = times.as_slice()?;
     if let Some((lo, hi)) = law.domain() {
         if let Some(t) = times.iter().find(|&&t| !(t >= lo && t <= hi)) {
@@ -155,7 +157,7 @@ fn evaluate_law<'py>(
     }
     let mut out = Vec::with_capacity(3 * times.len());
     for &t in times {
-        let v = law.eval(t);
+        let v = crate::guard("evaluating a motion law", || law.eval(t))?;
         if let Some(e) = failures.lock().ok().and_then(|mut s| s.take()) {
             return Err(e);
         }

@@ -15,7 +15,10 @@ mod events;
 mod laws;
 mod linkages;
 mod mobility;
+mod panics;
 mod screw;
+
+use panics::guard;
 
 mod py_errors {
     pyo3::import_exception!(linkwork.errors, ModelError);
@@ -49,7 +52,9 @@ fn parse_format(format: &str) -> PyResult<linkwork::Format> {
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 fn read_model(text: &str, format: &str, file: &str) -> PyResult<(String, Vec<(String, String, usize)>)> {
-    let read = linkwork::files::read(text, parse_format(format)?, file).map_err(model_err)?;
+    let format = parse_format(format)?;
+    let read =
+        guard("reading a model file", || linkwork::files::read(text, format, file))?.map_err(model_err)?;
     let lines = read.source.elements.into_iter().map(|(k, n, l)| (k.to_string(), n, l)).collect();
     Ok((linkwork::files::flat_json(&read.flat), lines))
 }
@@ -57,7 +62,8 @@ fn read_model(text: &str, format: &str, file: &str) -> PyResult<(String, Vec<(St
 /// Writes a flat description (JSON) as a model file's text (`format` "toml" or "json").
 #[pyfunction]
 fn write_model(description_json: &str, format: &str) -> PyResult<String> {
-    linkwork::files::write(description_json, parse_format(format)?).map_err(model_err)
+    let format = parse_format(format)?;
+    guard("writing a model file", || linkwork::files::write(description_json, format))?.map_err(model_err)
 }
 
 /// The one place where engine solve errors become Python exceptions; each carries
@@ -121,7 +127,8 @@ fn assembled(py: Python<'_>, m: &Model, t: f64, q: Vec<f64>, assemble: bool) -> 
     data.q = q;
     if assemble {
         linkwork::check_times(m, &[t]).map_err(|e| solve_err(py, &e))?;
-        linkwork::solve_position(m, &mut data, t, 0, true).map_err(|e| solve_err(py, &e))?;
+        guard("assembling", || linkwork::solve_position(m, &mut data, t, 0, true))?
+            .map_err(|e| solve_err(py, &e))?;
     }
     Ok(data.q)
 }
@@ -242,8 +249,12 @@ fn sweep_batch<'py>(
                 r.map_err(|e| interrupt = Some(e)).is_ok()
             })
         };
-        (linkwork::sweep_batch(&refs, times, request, threads, &mut watch), interrupt)
+        (
+            guard("sweeping a batch", || linkwork::sweep_batch(&refs, times, request, threads, &mut watch)),
+            interrupt,
+        )
     });
+    let items = items?;
     if let Some(e) = interrupt {
         return Err(e);
     }
@@ -306,11 +317,13 @@ impl PyModel {
             dense_max: dense_max.unwrap_or(d.dense_max),
             redundant,
         };
-        let mut desc = Description::from_json(description_json).map_err(model_err)?;
+        let mut desc = guard("reading a description", || Description::from_json(description_json))?
+            .map_err(model_err)?;
         let units = desc.units;
         let failures = laws::Failures::default();
         laws::bind(&mut desc, python_laws, &failures)?;
-        let model = Model::with_options(desc, options).map_err(model_err)?;
+        let model =
+            guard("compiling the model", || Model::with_options(desc, options))?.map_err(model_err)?;
         Ok(PyModel { model: Arc::new(model), failures, units })
     }
 
@@ -399,7 +412,8 @@ impl PyModel {
         let mut data = Data::new(model);
         data.q = start_guess(model, q_guess)?;
         laws::clear(&self.failures);
-        let info = linkwork::solve(model, &mut data, t).map_err(|e| self.solve_err(py, &e))?;
+        let info =
+            guard("solving", || linkwork::solve(model, &mut data, t))?.map_err(|e| self.solve_err(py, &e))?;
         Ok((
             data.q.into_pyarray(py),
             data.qd.into_pyarray(py),
@@ -455,18 +469,22 @@ impl PyModel {
                     }
                 })
             };
-            let r = linkwork::sweep(&model, &mut data, times, &mut out, progress_every, &mut on_progress);
+            let r = guard("sweeping", || {
+                linkwork::sweep(&model, &mut data, times, &mut out, progress_every, &mut on_progress)
+            });
             (r, interrupt)
         });
-        if result.is_ok() {
+        if matches!(result, Ok(Ok(()))) {
             if let Some(cb) = &progress {
                 cb.call1(py, (total, total))?;
             }
         }
+        // a panic keeps the steps stored before it, as a solve error does
         let error = match (result, interrupt) {
-            (Ok(()), _) => None,
-            (Err(_), Some(py_err)) => Some(py_err),
-            (Err(e), None) => Some(self.solve_err(py, &e)),
+            (Err(panic), _) => Some(panic),
+            (Ok(Ok(())), _) => None,
+            (Ok(Err(_)), Some(py_err)) => Some(py_err),
+            (Ok(Err(e)), None) => Some(self.solve_err(py, &e)),
         };
         out.truncate();
         Ok((output_dict(py, out)?, error))
@@ -488,13 +506,15 @@ impl PyModel {
         data.q = start_guess(model, q_guess)?;
         linkwork::check_times(model, &[t]).map_err(|e| solve_err(py, &e))?;
         laws::clear(&self.failures);
-        linkwork::solve_position(model, &mut data, t, 0, true).map_err(|e| self.solve_err(py, &e))?;
+        guard("assembling", || linkwork::solve_position(model, &mut data, t, 0, true))?
+            .map_err(|e| self.solve_err(py, &e))?;
         data.qd.fill(0.0);
         data.qdd.fill(0.0);
         // solve_forces refreshes the frames from q and qd = 0, so reactions see rest
-        linkwork::solve_forces(model, &mut data, t, 0).map_err(|e| self.solve_err(py, &e))?;
+        guard("solving for the forces", || linkwork::solve_forces(model, &mut data, t, 0))?
+            .map_err(|e| self.solve_err(py, &e))?;
         let mut reactions = vec![0.0; linkwork::REACTION_COLUMNS * model.constraints.len()];
-        linkwork::reactions(model, &data, t, &mut reactions);
+        guard("computing the reactions", || linkwork::reactions(model, &data, t, &mut reactions))?;
         let reactions = rows_to_array(py, reactions, model.constraints.len(), linkwork::REACTION_COLUMNS);
         Ok((data.q.into_pyarray(py), data.lambda.into_pyarray(py), reactions))
     }
@@ -570,6 +590,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyModel>()?;
     screw::register(m)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(panics::_check_panic_guard, m)?)?;
     m.add_function(wrap_pyfunction!(read_model, m)?)?;
     m.add_function(wrap_pyfunction!(write_model, m)?)?;
     m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;

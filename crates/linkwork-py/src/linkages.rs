@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::{assembled, solve_err, start_guess, PyModel};
+use crate::{assembled, guard, solve_err, start_guess, PyModel};
 
 fn four_bar<'py>(py: Python<'py>, l: &FourBarLoop) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -79,7 +79,7 @@ pub(crate) fn linkages<'py>(
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>)> {
     let m = std::sync::Arc::clone(&model.model);
     let q = assembled(py, &m, t, start_guess(&m, q_guess)?, assemble)?;
-    let found = find_linkages(&m, &q);
+    let found = guard("finding the linkages", || find_linkages(&m, &q))?;
     Ok((q.into_pyarray(py).into_any(), loops(py, &found)?))
 }
 
@@ -97,10 +97,11 @@ pub(crate) fn assembly_modes<'py>(
 ) -> PyResult<(usize, usize, Vec<(Bound<'py, PyAny>, f64, f64, Bound<'py, PyList>)>)> {
     let m = std::sync::Arc::clone(&model.model);
     let q_ref = start_guess(&m, q_guess)?;
-    let found = py.detach(|| find_modes(&m, &q_ref, t, tries)).map_err(|e| solve_err(py, &e))?;
+    let found = py.detach(|| guard("finding the assembly modes", || find_modes(&m, &q_ref, t, tries)))?;
+    let found = found.map_err(|e| solve_err(py, &e))?;
     let mut out = Vec::new();
     for mode in found.modes {
-        let l = find_linkages(&m, &mode.q);
+        let l = guard("finding the linkages", || find_linkages(&m, &mode.q))?;
         out.push((mode.q.into_pyarray(py).into_any(), mode.det_sign, mode.pivot_ratio, loops(py, &l)?));
     }
     Ok((found.tries, found.converged, out))

@@ -96,7 +96,8 @@ impl PySerialArm {
     #[pyo3(signature = (description_json, end_point=None))]
     fn from_description(description_json: &str, end_point: Option<&str>) -> PyResult<Self> {
         let d = description(description_json)?;
-        Ok(PySerialArm { arm: sc::SerialArm::from_description(&d, end_point).map_err(err)? })
+        let arm = crate::guard("reading an arm", || sc::SerialArm::from_description(&d, end_point))?;
+        Ok(PySerialArm { arm: arm.map_err(err)? })
     }
 
     #[getter]
@@ -154,7 +155,8 @@ impl PySerialArm {
 
     /// Forward kinematics at joint values q.
     fn forward(&self, q: PyReadonlyArray1<'_, f64>) -> PyResult<PyArmState> {
-        Ok(PyArmState { st: self.arm.forward(slice(&q)?).map_err(err)? })
+        let q = slice(&q)?;
+        Ok(PyArmState { st: crate::guard("forward kinematics", || self.arm.forward(q))?.map_err(err)? })
     }
 
     fn __repr__(&self) -> String {
@@ -354,7 +356,9 @@ fn screw_centres_from_velocities<'py>(
     qd: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mech = sc::MechanismJoints::from_description(&description(description_json)?).map_err(err)?;
-    let c = sc::centres_from_velocities(&mech, slice(&q)?, slice(&qd)?).map_err(err)?;
+    let (q, qd) = (slice(&q)?, slice(&qd)?);
+    let c = crate::guard("finding instant centres", || sc::centres_from_velocities(&mech, q, qd))?
+        .map_err(err)?;
     centres_dict(py, &c)
 }
 
@@ -366,7 +370,8 @@ fn screw_centres_by_kennedy<'py>(
     q: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mech = sc::MechanismJoints::from_description(&description(description_json)?).map_err(err)?;
-    let c = sc::centres_by_kennedy(&mech, slice(&q)?).map_err(err)?;
+    let q = slice(&q)?;
+    let c = crate::guard("finding instant centres", || sc::centres_by_kennedy(&mech, q))?.map_err(err)?;
     centres_dict(py, &c)
 }
 
@@ -379,7 +384,8 @@ fn screw_loop_singularity<'py>(
     q: PyReadonlyArray1<'py, f64>,
     tol: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let s = sc::loop_singularity(&description(description_json)?, slice(&q)?, tol).map_err(err)?;
+    let (d, q) = (description(description_json)?, slice(&q)?);
+    let s = crate::guard("checking the loops", || sc::loop_singularity(&d, q, tol))?.map_err(err)?;
     let d = PyDict::new(py);
     d.set_item("joints", s.joints)?;
     d.set_item("locked", s.locked)?;
