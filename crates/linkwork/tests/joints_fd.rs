@@ -6,15 +6,10 @@
 
 use linkwork::joints::{samples, Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 
-/// Deterministic pseudo-random numbers in [-1, 1) (xorshift), so failures reproduce.
-struct Rng(u64);
+mod common;
+use common::Rng;
+
 impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
     fn vec3(&mut self, scale: f64) -> [f64; 3] {
         [scale * self.next(), scale * self.next(), 3.0 * self.next()]
     }

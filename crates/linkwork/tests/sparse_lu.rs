@@ -11,21 +11,6 @@ use faer::MatMut;
 use linkwork::sparse_lu::{SparseLu, PIVOT_THRESHOLD};
 use linkwork::{small_lu, sweep, Data, Description, LinearKind, Model, Options, SweepOutput};
 
-struct Rng(u64);
-
-impl Rng {
-    /// uniform in [-1, 1)
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (((self.next() + 1.0) * 0.5 * n as f64) as usize).min(n - 1)
-    }
-}
-
 fn textbook() -> FourBar {
     FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }
 }

@@ -241,3 +241,20 @@ pub fn chain(m: &FourBar, loops: usize, th2: f64, omega: f64, offset: f64, spaci
     }
     d
 }
+
+/// Deterministic pseudo-random numbers (xorshift), so failures reproduce.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// uniform in [-1, 1)
+    pub fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+    /// uniform in 0 .. n
+    pub fn below(&mut self, n: usize) -> usize {
+        (((self.next() + 1.0) * 0.5 * n as f64) as usize).min(n - 1)
+    }
+}
