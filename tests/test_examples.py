@@ -37,15 +37,16 @@ def documented_run(path: Path) -> list[str]:
     return shlex.split(found.group(1))
 
 
-def with_steps(options: list[str], steps: int) -> list[str]:
-    """The options with --steps set to ``steps`` and without --plot and --animate (tested apart)."""
+def with_steps(options: list[str], steps: int, run: bool = True) -> list[str]:
+    """The options with --steps set to ``steps``, without --plot and --animate (tested apart),
+    and for `plot` (``run`` False) without the options only `run` has."""
     kept, skip = [], False
     for opt in options:
         if skip:
             skip = False
         elif opt in ("--steps", "--animate"):
             skip = True
-        elif opt != "--plot":
+        elif opt != "--plot" and (run or opt != "--forces"):
             kept.append(opt)
     return kept + ["--steps", str(steps)]
 
@@ -56,7 +57,7 @@ def test_model_file_check_run_plot(path, tmp_path, capsys):
     assert main(["check", str(path)]) == 0
     assert main(["run", str(path), *with_steps(options, 301), "--out", str(tmp_path)]) == 0
     assert (tmp_path / f"{path.stem}.csv").stat().st_size > 0
-    assert main(["plot", str(path), *with_steps(options, 101), "--out", str(tmp_path)]) == 0
+    assert main(["plot", str(path), *with_steps(options, 101, run=False), "--out", str(tmp_path)]) == 0
     assert (tmp_path / f"{path.stem}.png").stat().st_size > 0
     assert (tmp_path / f"{path.stem}_paths.png").stat().st_size > 0
     assert "error" not in capsys.readouterr().err
