@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 import linkwork as lw
+from linkwork import figures
 
 here = Path(__file__).resolve().parent
 out = Path(sys.argv[1] if len(sys.argv) > 1 else "linkwork-out")
@@ -40,5 +41,5 @@ print(f"peak ram speed: cutting {-ram.xd.min():.1f} mm/s, return {ram.xd.max():.
 err_ratio, err_stroke = abs(ratio / ratio_cf - 1.0), abs(stroke / stroke_cf - 1.0)
 print(f"errors: time ratio {err_ratio:.1e}, stroke {err_stroke:.1e} relative")
 assert err_ratio < 1e-9 and err_stroke < 1e-9
-res.plot(str(out / "quick_return_shaper.png"), bodies=["lever", "ram"])
+figures.plot_outputs(res, str(out / "quick_return_shaper.png"), ["lever", "ram.x"])  # as `linkwork plot`
 print(f"wrote {out / 'quick_return_shaper.png'}")

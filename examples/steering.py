@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 import linkwork as lw
+from linkwork import figures
 
 here = Path(__file__).resolve().parent
 out = Path(sys.argv[1] if len(sys.argv) > 1 else "linkwork-out")
@@ -63,5 +64,5 @@ print(f"Ackermann error (outer - ideal) {error.min():+.2f} .. {error.max():+.2f}
 torque = res.effort("steering")  # what the driver holds against the tyres' springs
 pull = np.linalg.norm(res.reaction("tie_rod_left").force, axis=1)
 print(f"peak steering torque {np.abs(torque).max():.2f} N m, tie rod force {pull.max():.0f} N")
-res.plot(str(out / "steering.png"), bodies=["knuckle_left", "knuckle_right"])
+figures.plot_outputs(res, str(out / "steering.png"), ["knuckle_left", "knuckle_right", "rack.x"])
 print(f"wrote {out / 'steering.png'}")

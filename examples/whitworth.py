@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import linkwork as lw
+from linkwork import figures
 
 here = Path(__file__).resolve().parent
 out = Path(sys.argv[1] if len(sys.argv) > 1 else "linkwork-out")
@@ -39,5 +40,5 @@ print(f"peak tool speed: slow stroke {slow:.4f} m/s, quick stroke {quick:.4f} m/
 err_ratio, err_stroke = abs(ratio / ratio_cf - 1.0), abs(stroke / (2 * arm) - 1.0)
 print(f"errors: time ratio {err_ratio:.1e}, stroke {err_stroke:.1e} relative")
 assert err_ratio < 1e-9 and err_stroke < 1e-9
-res.plot(str(out / "whitworth.png"), bodies=["lever", "ram"])
+figures.plot_outputs(res, str(out / "whitworth.png"), ["lever", "ram.x"])  # as `linkwork plot`
 print(f"wrote {out / 'whitworth.png'}")
