@@ -27,7 +27,7 @@ def test_example_runs(path, tmp_path, monkeypatch, capsys):
 
 def test_there_are_examples():
     assert len(EXAMPLES) >= 4
-    assert len(MODELS) >= 3
+    assert len(MODELS) >= 10
 
 
 def documented_run(path: Path) -> list[str]:
