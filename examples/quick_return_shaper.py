@@ -32,8 +32,8 @@ between = stops[1] - stops[0]  # one stroke; the other takes the rest of the 1 s
 ratio = max(between, 1.0 - between) / min(between, 1.0 - between)
 alpha = math.degrees(2.0 * math.asin(crank / d))
 ratio_cf = (180.0 + alpha) / (180.0 - alpha)
-ram_x = [model.solve(t).body("ram").x for t in stops]
-stroke, stroke_cf = abs(ram_x[1] - ram_x[0]), 2.0 * lever * crank / d
+tool_x = [model.solve(t).point("tool").position[0] for t in stops]  # on the welded tool post
+stroke, stroke_cf = abs(tool_x[1] - tool_x[0]), 2.0 * lever * crank / d
 print(f"time ratio {ratio:.12f}, closed form (180 + {alpha:.4f}) / (180 - {alpha:.4f}) = {ratio_cf:.12f}")
 print(f"stroke {stroke:.9f} mm, closed form {stroke_cf:.9f} mm")
 ram = res.body("ram")
