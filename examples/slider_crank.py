@@ -1,16 +1,18 @@
-"""An offset slider-crank from the built-in examples: slider position, velocity and
-acceleration over a revolution against the textbook closed form.
+"""An offset slider-crank from its model file: slider position, velocity and acceleration
+over a revolution against the textbook closed form.
 
     python examples/slider_crank.py
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
 
-from linkwork import closed_form, examples
+import linkwork as lw
+from linkwork import closed_form
 
-model = examples.slider_crank(crank=0.10, rod=0.35, offset=0.02, omega=5.0).compile()
+model = lw.Mechanism.load(Path(__file__).resolve().parent / "slider_crank.toml").compile()
 times = np.linspace(0.0, 2 * math.pi / 5.0, 10_001)
 res = model.sweep(times)
 slider = res.body("slider")
