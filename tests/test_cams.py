@@ -229,7 +229,7 @@ def test_pin_in_a_circular_slot_is_a_four_bar(where):
         m.pin_in_slot(rocker, crank, at=a, curve=lw.curves.circle(b, 0.35), name="S")
     m.drive_angle(crank, lw.Linear(th0, omega))
     r = m.compile().sweep(t)
-    assert r.columns[-1] == "S.s"
+    assert r.columns[-1] == "S.s" and r.units("S.s") == "rad" and r.units("S.s_dd") == "rad/s^2"
     s = r.q[:, -1], r.qd[:, -1], r.qdd[:, -1]
 
     if where == "ground":

@@ -174,7 +174,13 @@ def test_the_example_file_sweeps_like_the_builtin_four_bar():
         model.units["length"] == "mm"
         and res.units("coupler.x") == "mm"
         and res.units("coupler.theta") == "rad"
+        and res.units("coupler.x_d") == "mm/s"
+        and res.units("coupler.theta_dd") == "rad/s^2"
+        and res.units("time") == "s"
+        and res.units("residual") == ""
     )
+    with pytest.raises(KeyError, match="no column 'coupler.z'"):
+        res.units("coupler.z")
 
 
 def in_mm_and_degrees(m: lw.Mechanism) -> lw.Mechanism:

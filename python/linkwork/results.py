@@ -449,9 +449,22 @@ class Results(_Kinematics):
         return "\n".join(lines)
 
     def units(self, column: str) -> str:
-        """The unit of a coordinate column: the model's length unit ("m" or "mm") for x
-        and y, "rad" for theta (whatever angle unit the description was written in)."""
-        return "rad" if column.endswith(".theta") else self.model.units["length"]
+        """The unit of a column of `table`: the model's length unit ("m" or "mm") for x
+        and y, "rad" for theta (whatever angle unit the description was written in) and
+        for a curve parameter ``<joint>.s`` (an angle-like parameter of period 2 pi), over
+        "s" or "s^2" for a rate ``<column>_d`` or an acceleration ``<column>_dd``; "s" for
+        ``time``, "" for the diagnostics. An unknown column is a KeyError naming it."""
+        if column == "time":
+            return "s"
+        if column in ("iterations", "residual", "pivot_ratio"):
+            return ""
+        for suffix, per in (("_dd", "/s^2"), ("_d", "/s")):
+            base = column.removesuffix(suffix)
+            if base != column and base in self.columns:
+                return self.units(base) + per
+        if column not in self.columns:
+            raise KeyError(f"no column {column!r}; the coordinates are {', '.join(self.columns)}")
+        return "rad" if column.endswith((".theta", ".s")) else self.model.units["length"]
 
     def table(self) -> tuple[list[str], list[str], np.ndarray]:
         """Every output as one table: column names, their units and the data (n_steps x
@@ -459,18 +472,15 @@ class Results(_Kinematics):
         acceleration (``<column>_dd``) where solved, then the diagnostics ``iterations``,
         ``residual`` and ``pivot_ratio`` (unit ""). The CSV, NPZ and Parquet writers share it.
         """
-        u = [self.units(c) for c in self.columns]
-        names, units, parts = ["time"] + list(self.columns), ["s"] + u, [self.times, self.q]
+        names, parts = ["time"] + list(self.columns), [self.times, self.q]
         if self.qd is not None:
             names += [f"{c}_d" for c in self.columns]
-            units += [f"{x}/s" for x in u]
             parts.append(self.qd)
         if self.qdd is not None:
             names += [f"{c}_dd" for c in self.columns]
-            units += [f"{x}/s^2" for x in u]
             parts.append(self.qdd)
         names += ["iterations", "residual", "pivot_ratio"]
-        units += ["", "", ""]
+        units = [self.units(n) for n in names]
         return names, units, np.column_stack(parts + [self.iterations, self.residual, self.pivot_ratio])
 
     def to_csv(self, path: str) -> None:
