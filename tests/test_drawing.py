@@ -5,6 +5,7 @@ joint types; the artists; the outputs and paths the figures pick."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -150,6 +151,42 @@ def test_artists_follow_the_motion_with_fixed_limits():
     plt.close(fig)
     # the ternary coupler A-B-C is drawn as a triangle
     assert sorted(g.anchors[k].name for k in g.outlines["coupler"]) == ["A", "B", "C"]
+
+
+def test_cam_profiles_and_slots_are_drawn_with_their_body():
+    """The eccentric cam of the gallery: its circle (radius 50 mm about a centre 20 mm off
+    the pivot) is drawn in the cam's frame. At every step the drawn points keep the radius
+    about their centre, that centre turns with the cam, and the knife-edge tip the engine
+    solved lies on the drawn circle. Tolerances: round-off of a few transforms (1e-15 m),
+    and the engine's residual (1e-12 scaled) for the tip."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    mech = lw.Mechanism.load(Path(__file__).parent.parent / "examples" / "eccentric_cam.toml")
+    g, res = sweep(mech, np.linspace(0.0, 1.0, 73))
+    assert [c.joint for c in g.curves] == ["knife_tip", "flat_face"]
+    motion = Motion(g, res)
+    fig, ax = plt.subplots()
+    artists = MechanismArtists(ax, motion)
+    theta = res.body("cam").theta
+    tip = motion.xy[:, anchor(g, "knife_tip", "knife")]
+    for row in range(0, 73, 8):
+        artists.update(row)
+        drawn = np.column_stack(artists.curves[0].get_data())
+        assert np.array_equal(drawn, motion.curve(g.curves[0], row))
+        centre = drawn[:-1].mean(axis=0)  # equally spaced over one period, the last repeats the first
+        turned = 0.02 * np.array([math.cos(theta[row]), math.sin(theta[row])])
+        assert np.abs(centre - turned).max() < 1e-15
+        assert np.abs(np.hypot(*(drawn - centre).T) - 0.05).max() < 1e-15
+        assert abs(math.hypot(*(tip[row] - centre)) - 0.05) < 1e-12
+    plt.close(fig)
+    # the limits hold the curve wherever it turns
+    (x0, x1), (y0, y1) = motion.limits
+    everywhere = motion.curve(g.curves[0], np.arange(73))
+    assert x0 < everywhere[..., 0].min() and everywhere[..., 0].max() < x1
+    assert y0 < everywhere[..., 1].min() and everywhere[..., 1].max() < y1
 
 
 def test_outputs_by_column_body_and_point():

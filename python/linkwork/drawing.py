@@ -33,7 +33,17 @@ if TYPE_CHECKING:
     from .model import Model
     from .results import Results
 
-__all__ = ["WORLD_POINTS", "GUIDES", "Anchor", "Slider", "Geometry", "Motion", "MechanismArtists"]
+__all__ = [
+    "WORLD_POINTS",
+    "GUIDES",
+    "CURVES",
+    "Anchor",
+    "Slider",
+    "Curve",
+    "Geometry",
+    "Motion",
+    "MechanismArtists",
+]
 
 #: joint or driver type -> {field holding a world point at the start: the fields naming
 #: the bodies that point is fixed in}. A new joint type is one line here; a type not
@@ -62,6 +72,13 @@ WORLD_POINTS: dict[str, dict[str, tuple[str, ...]]] = {
 #: the sliding direction (a world direction at the start, fixed in body_a)
 GUIDES: dict[str, str] = {"prismatic": "axis"}
 
+#: joint types whose ``curve`` (world coordinates at the start) is fixed in body_a and
+#: drawn with it: a curved slot, a cam profile
+CURVES: tuple[str, ...] = ("pin_in_slot", "cam_follower")
+
+#: points drawn along a curve's period
+CURVE_SAMPLES = 257
+
 
 @dataclass(frozen=True)
 class Anchor:
@@ -85,6 +102,16 @@ class Slider:
     axis: tuple[float, float]
 
 
+@dataclass(frozen=True)
+class Curve:
+    """A curve fixed in a body (``body``: index among the moving bodies, -1 for the
+    ground) through the points ``local`` (m, 2) of its frame: a slot or a cam profile."""
+
+    joint: str
+    body: int
+    local: np.ndarray
+
+
 def _rotate(theta: float, v: tuple[float, float]) -> tuple[float, float]:
     c, s = math.cos(theta), math.sin(theta)
     return (c * v[0] - s * v[1], s * v[0] + c * v[1])
@@ -98,7 +125,8 @@ class Geometry:
     revolute; ``ground_pins``: the ground's side of revolutes to the ground;
     ``sliders``; ``actuators``: the two anchors of each two-point driver (distance);
     ``points``: the named points; ``traceable``: name -> anchor index of every named
-    point, joint and driver that has one (a joint's point on its moving side).
+    point, joint and driver that has one (a joint's point on its moving side);
+    ``curves``: the slots and cam profiles, each in the frame of the body carrying it.
     """
 
     def __init__(self, body_names: list[str], q_start: np.ndarray, description: dict[str, Any]) -> None:
@@ -112,6 +140,7 @@ class Geometry:
         self.actuators: list[tuple[int, int]] = []
         self.points: list[int] = []
         self.traceable: dict[str, int] = {}
+        self.curves: list[Curve] = []
 
         for kind, group in (("joint", "joints"), ("driver", "drivers")):
             for item in description.get(group, []):
@@ -170,6 +199,8 @@ class Geometry:
                 body = str(item.get(body_field))
                 if self._known(body):
                     added[body_field] = self._add(name, kind, type_, body, item[field])
+        if type_ in CURVES and self._known(str(item.get("body_a"))):
+            self._add_curve(name, str(item["body_a"]), item.get("curve"))
         moving = [k for k in added.values() if self.anchors[k].body != GROUND]
         if moving:
             self.traceable.setdefault(name, moving[-1])
@@ -188,6 +219,20 @@ class Geometry:
         elif kind == "driver" and len(added) == 2:
             a, b = added.values()
             self.actuators.append((a, b))
+
+    def _add_curve(self, joint: str, body: str, desc: Any) -> None:
+        """Samples the joint's curve over one period, in the frame of ``body``. The curve
+        comes from the independent reference's evaluator; one it refuses is not drawn
+        (compiling the model names the fault)."""
+        from .reference.curves import build_curve
+
+        try:
+            curve = build_curve(desc, self._pose(body) or (0.0, 0.0, 0.0), f"joint '{joint}'")
+            local = np.array([curve(s)[0] for s in np.linspace(0.0, 2.0 * math.pi, CURVE_SAMPLES)])
+        except (ValueError, KeyError, TypeError, ZeroDivisionError, OverflowError):
+            return
+        if local.shape == (CURVE_SAMPLES, 2) and np.all(np.isfinite(local)):
+            self.curves.append(Curve(joint, self._index.get(body, -1), local))
 
     def _outline(self, body: str, tol: float) -> list[int]:
         """The body's distinct anchors, ordered by angle about their centroid, so that
@@ -258,12 +303,26 @@ class Motion:
         self.size = diagonal if diagonal > 0.0 else results.model.length_scale
         self.axes = [geometry.axis_world(results.q, s) for s in geometry.sliders]  # each (n_steps, 2)
         self.guides = [self._guide(results.q, s, a) for s, a in zip(geometry.sliders, self.axes)]
+        self.q = results.q
+        # the curves' extent from a few steps spread over the sweep: a whole sweep of a
+        # 257-point curve would take n_steps times its memory
+        rows = self.frames(64)
         ends = [g.reshape(-1, 2) for g in self.guides]
+        ends += [self.curve(c, rows).reshape(-1, 2) for c in geometry.curves]
         allxy = np.concatenate([self.xy.reshape(-1, 2)] + ends)
         margin = 0.08 * self.size
         lo, hi = allxy.min(axis=0) - margin, allxy.max(axis=0) + margin
         lo[1] -= 0.06 * self.size if geometry.ground_pins else 0.0  # room for the ground symbols
         self.limits = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
+
+    def curve(self, curve: Curve, rows: Any) -> np.ndarray:
+        """World points of a curve at the steps ``rows`` (an index or an array of them),
+        (len(rows), m, 2) or (m, 2)."""
+        q = self.q[rows]
+        one = q.ndim == 1
+        bodies = np.full(len(curve.local), curve.body, dtype=np.intp)
+        xy = self.geometry.world(np.atleast_2d(q), curve.local, bodies)
+        return xy[0] if one else xy
 
     @property
     def block(self) -> tuple[float, float]:
@@ -299,7 +358,8 @@ _COLOURS = [f"tab:{c}" for c in ("blue", "orange", "green", "red", "purple", "br
 class MechanismArtists:
     """Matplotlib artists drawing a mechanism on ``ax``: each body as the polygon (or
     segment) through its anchors, pins as small circles, ground pivots as hatched
-    triangles, sliders as blocks on their guides, distance drivers as dashed lines, and
+    triangles, sliders as blocks on their guides, slots and cam profiles as curves in
+    the colour of their body, distance drivers as dashed lines, and
     named points with their trace so far. ``update(row)`` moves everything to a step."""
 
     def __init__(
@@ -354,6 +414,18 @@ class MechanismArtists:
             self.guides.append((line, hatch, block))
         self.actuators = [
             ax.plot([], [], color="0.2", lw=1.5, ls="--", alpha=alpha, zorder=3)[0] for _ in g.actuators
+        ]
+        # a slot or cam profile in the colour of the body that carries it
+        self.curves = [
+            ax.plot(
+                [],
+                [],
+                color=_COLOURS[c.body % len(_COLOURS)] if c.body >= 0 else "0.3",
+                lw=1.5,
+                alpha=alpha,
+                zorder=3,
+            )[0]
+            for c in g.curves
         ]
         self.pins = Line2D(
             [], [], ls="none", marker="o", ms=6, mfc="white", mec="black", mew=1.5, alpha=alpha, zorder=5
@@ -447,6 +519,9 @@ class MechanismArtists:
             )
         for (a, b), line in zip(m.geometry.actuators, self.actuators):
             line.set_data([xy[a, 0], xy[b, 0]], [xy[a, 1], xy[b, 1]])
+        for curve, line in zip(m.geometry.curves, self.curves):
+            pts = m.curve(curve, row)
+            line.set_data(pts[:, 0], pts[:, 1])
         pins = xy[m.geometry.pins]
         self.pins.set_data(pins[:, 0], pins[:, 1])
         rows = self._trace_rows[self._trace_rows <= row]
