@@ -475,3 +475,21 @@ def test_deep_nesting_is_refused_cleanly():
     for fmt, text in (("json", "[" * 100_000), ("toml", "a = " + "[" * 100_000)):
         with pytest.raises(lw.ModelError):
             lw.Mechanism._read(text, fmt, "deep")
+
+
+def test_the_format_reference_lists_every_joint_and_driver_type():
+    """docs/model-format.md has a row for every type the engine reads (the engine's own
+    list, from its error for an unknown type)."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parent.parent / "docs" / "model-format.md").read_text()
+    for group in ("joints", "drivers"):
+        d = examples.four_bar().to_dict()
+        d[group][0]["type"] = "no_such_type"
+        with pytest.raises(lw.ModelError) as info:
+            lw.Model(d)
+        known = re.findall(r"`(\w+)`", str(info.value).split("expected one of", 1)[1])
+        section = text.split(f"### `[[{group}]]`", 1)[1].split("###", 1)[0]
+        documented = re.findall(r'^\| `"(\w+)"`', section, flags=re.M)
+        assert len(known) > 4 and sorted(documented) == sorted(known), group
