@@ -189,6 +189,21 @@ def test_cam_profiles_and_slots_are_drawn_with_their_body():
     assert y0 < everywhere[..., 1].min() and everywhere[..., 1].max() < y1
 
 
+def test_a_roller_is_drawn_about_its_centre_on_the_follower():
+    mech = lw.Mechanism.load(Path(__file__).parent.parent / "examples" / "cam_rise_dwell_fall.toml")
+    d = mech.to_dict()
+    (joint,) = [j for j in d["joints"] if j["type"] == "cam_follower"]
+    g, res = sweep(mech, np.linspace(0.0, 1.0, 37))
+    motion = Motion(g, res)
+    profile, roller = [c for c in g.curves if c.joint == joint["name"]]
+    assert profile.body == g.body_names.index(joint["body_a"])
+    assert roller.body == g.body_names.index(joint["body_b"])
+    centre = motion.xy[:, anchor(g, joint["name"], joint["body_b"])]
+    circle = motion.curve(roller, np.arange(37))
+    distance = np.hypot(*(circle - centre[:, None, :]).transpose(2, 0, 1))
+    assert np.abs(distance - joint["radius"]).max() < 1e-15
+
+
 def test_outputs_by_column_body_and_point():
     _, res = sweep(lw.examples.four_bar(), REV[:50])
     rocker = figures.output(res, "rocker")

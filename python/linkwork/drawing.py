@@ -126,7 +126,7 @@ class Geometry:
     ``sliders``; ``actuators``: the two anchors of each two-point driver (distance);
     ``points``: the named points; ``traceable``: name -> anchor index of every named
     point, joint and driver that has one (a joint's point on its moving side);
-    ``curves``: the slots and cam profiles, each in the frame of the body carrying it.
+    ``curves``: the slots, cam profiles and rollers, each in the frame of its body.
     """
 
     def __init__(self, body_names: list[str], q_start: np.ndarray, description: dict[str, Any]) -> None:
@@ -201,6 +201,15 @@ class Geometry:
                     added[body_field] = self._add(name, kind, type_, body, item[field])
         if type_ in CURVES and self._known(str(item.get("body_a"))):
             self._add_curve(name, str(item["body_a"]), item.get("curve"))
+        body_b = str(item.get("body_b"))
+        if item.get("follower") == "roller" and self._known(body_b) and "at" in item:
+            # the roller itself, a circle about its centre on the follower
+            radius = float(item.get("radius") or 0.0)
+            centre = np.asarray(self._local(body_b, item["at"]))
+            s = np.linspace(0.0, 2.0 * math.pi, CURVE_SAMPLES)
+            local = centre + radius * np.column_stack([np.cos(s), np.sin(s)])
+            if radius > 0.0 and np.all(np.isfinite(local)):
+                self.curves.append(Curve(name, self._index.get(body_b, -1), local))
         moving = [k for k in added.values() if self.anchors[k].body != GROUND]
         if moving:
             self.traceable.setdefault(name, moving[-1])
