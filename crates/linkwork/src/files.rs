@@ -442,6 +442,10 @@ pub struct SourceMap {
 
 impl SourceMap {
     fn new(flat: &Node, text: &str, file: &str) -> SourceMap {
+        // the newlines' offsets once: an element's line by binary search, so that a large
+        // description (a one-line JSON of thousands of elements) is read in linear time
+        let newlines: Vec<usize> = text.match_indices('\n').map(|(i, _)| i).collect();
+        let line_of = |offset: usize| newlines.partition_point(|&i| i < offset) + 1;
         let mut elements = Vec::new();
         for (group, kind) in GROUPS {
             let Some(Entry { node: Node { value: Value::Array(items), .. }, .. }) = flat.get(group) else {
@@ -449,7 +453,7 @@ impl SourceMap {
             };
             for item in items {
                 if let Some(Entry { node: Node { value: Value::Str(name), .. }, .. }) = item.get("name") {
-                    elements.push((kind, name.clone(), line_column(text, item.span.start).0));
+                    elements.push((kind, name.clone(), line_of(item.span.start)));
                 }
             }
         }
