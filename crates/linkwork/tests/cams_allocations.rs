@@ -6,29 +6,11 @@ mod common;
 use common::*;
 use linkwork::curves::CurveDesc;
 use linkwork::{sweep, Data, Description, DriverDesc, JointDesc, Model, MotionLaw, SweepOutput};
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::f64::consts::TAU;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "common/counting.rs"]
+mod counting;
+use counting::allocations;
 
 fn follower(name: &str, b: &str, kind: &str, at: [f64; 2], curve: &CurveDesc) -> JointDesc {
     JointDesc::CamFollower {
@@ -86,10 +68,10 @@ fn allocations_of_sweep(model: &Model, n: usize) -> usize {
     let times: Vec<f64> = (0..n).map(|k| k as f64 * 1e-3).collect();
     let mut data = Data::new(model);
     let mut out = SweepOutput::new(model, &times);
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let before = allocations();
     sweep(model, &mut data, &times, &mut out, 0, &mut |_| true).unwrap();
     assert_eq!(out.n_done, n);
-    ALLOCATIONS.load(Ordering::Relaxed) - before
+    allocations() - before
 }
 
 #[test]

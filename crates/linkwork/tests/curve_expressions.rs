@@ -18,35 +18,11 @@ use linkwork::curves::CurveDesc;
 use linkwork::files::{read, write_description, Format};
 use linkwork::units::AngleUnit;
 use linkwork::{sweep, Data, Description, DriverDesc, JointDesc, Model, MotionLaw, SweepOutput, Units};
-use std::cell::Cell;
 use std::f64::consts::TAU;
 
-// an allocation counter for this thread only (tests run in parallel)
-struct Counting;
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl std::alloc::GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        std::alloc::System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
-        std::alloc::System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        std::alloc::System.realloc(ptr, layout, new_size)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations() -> usize {
-    ALLOCATIONS.with(|a| a.get())
-}
+#[path = "common/counting.rs"]
+mod counting;
+use counting::allocations;
 
 const E: f64 = 0.02;
 const R: f64 = 0.05;
