@@ -20,22 +20,8 @@
 mod common;
 use common::*;
 use linkwork::curves::CurveDesc;
-use linkwork::{sweep, Data, Description, DriverDesc, JointDesc, Model, MotionLaw, SweepOutput};
+use linkwork::{Description, DriverDesc, JointDesc, MotionLaw};
 use std::f64::consts::{FRAC_PI_2, TAU};
-
-fn run(desc: Description, times: &[f64]) -> (Model, SweepOutput) {
-    let model = Model::new(desc).unwrap();
-    let mut data = Data::new(&model);
-    let mut out = SweepOutput::new(&model, times);
-    sweep(&model, &mut data, times, &mut out, 0, &mut |_| true).unwrap();
-    assert_eq!(out.n_done, times.len());
-    (model, out)
-}
-
-fn column(model: &Model, v: &[f64], name: &str) -> Vec<f64> {
-    let j = model.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("no column {name}"));
-    v.chunks(model.n_coords).map(|row| row[j]).collect()
-}
 
 /// Angles compared modulo 2 pi: `got` brought to the turn of `want`.
 fn same_turn(got: &[f64], want: &[f64]) -> Vec<f64> {
@@ -130,7 +116,7 @@ fn eccentric_cam_with_translating_followers_matches_closed_form() {
             gravity: [0.0, 0.0],
             loads: vec![],
         };
-        let (model, out) = run(desc, &times);
+        let (model, out) = sweep_all(desc, &times);
         assert_eq!(model.columns[6], "F.s");
         let label = kind;
         let mut want = [vec![], vec![], vec![]];
@@ -140,14 +126,14 @@ fn eccentric_cam_with_translating_followers_matches_closed_form() {
             want[1].push(y[1] * th[1]);
             want[2].push(y[2] * th[1] * th[1] + y[1] * th[2]);
         }
-        check(&format!("{label} y"), &column(&model, &out.q, "follower.y"), &want[0]);
-        check(&format!("{label} y'"), &column(&model, &out.qd, "follower.y"), &want[1]);
-        check(&format!("{label} y''"), &column(&model, &out.qdd, "follower.y"), &want[2]);
+        check(&format!("{label} y"), &column_named(&model, &out.q, "follower.y"), &want[0]);
+        check(&format!("{label} y'"), &column_named(&model, &out.qd, "follower.y"), &want[1]);
+        check(&format!("{label} y''"), &column_named(&model, &out.qdd, "follower.y"), &want[2]);
 
         // the contact's parameter: its direction from the circle's centre, measured from the
         // cam's starting x axis (the cam turned by theta since)
-        let s = column(&model, &out.q, "F.s");
-        let sd = column(&model, &out.qd, "F.s");
+        let s = column_named(&model, &out.q, "F.s");
+        let sd = column_named(&model, &out.qd, "F.s");
         let (mut s_want, mut sd_want) = (vec![], vec![]);
         for (th, y) in theta.iter().zip(&want[0]) {
             if kind == "flat" {
@@ -165,12 +151,12 @@ fn eccentric_cam_with_translating_followers_matches_closed_form() {
         check(&format!("{label} s'"), &sd, &sd_want);
         if kind == "flat" {
             // s'' = -thdd: the tangency row's gamma (with its c''' term) is exact
-            let sdd = column(&model, &out.qdd, "F.s");
+            let sdd = column_named(&model, &out.qdd, "F.s");
             assert!(sdd.iter().all(|v| (v + alpha).abs() < 1e-10 * alpha), "flat s''");
         }
         // the follower stays upright and on its line
-        assert!(column(&model, &out.q, "follower.theta").iter().all(|v| v.abs() < 1e-14));
-        assert!(column(&model, &out.q, "follower.x").iter().all(|v| v.abs() < 1e-14));
+        assert!(column_named(&model, &out.q, "follower.theta").iter().all(|v| v.abs() < 1e-14));
+        assert!(column_named(&model, &out.q, "follower.x").iter().all(|v| v.abs() < 1e-14));
     }
 }
 
@@ -206,7 +192,7 @@ fn circular_cam_with_oscillating_followers_is_a_four_bar() {
             gravity: [0.0, 0.0],
             loads: vec![],
         };
-        let (model, out) = run(desc, &times);
+        let (model, out) = sweep_all(desc, &times);
         let mut want: [Vec<f64>; 5] = Default::default();
         for t in &times {
             let th2 = th0 + w * t;
@@ -221,12 +207,12 @@ fn circular_cam_with_oscillating_followers_is_a_four_bar() {
         let label = kind;
         check(
             &format!("{label} theta4"),
-            &same_turn(&column(&model, &out.q, "arm.theta"), &want[0]),
+            &same_turn(&column_named(&model, &out.q, "arm.theta"), &want[0]),
             &want[0],
         );
-        check(&format!("{label} omega4"), &column(&model, &out.qd, "arm.theta"), &want[1]);
-        check(&format!("{label} alpha4"), &column(&model, &out.qdd, "arm.theta"), &want[2]);
-        check(&format!("{label} s"), &same_turn(&column(&model, &out.q, "F.s"), &want[3]), &want[3]);
-        check(&format!("{label} s'"), &column(&model, &out.qd, "F.s"), &want[4]);
+        check(&format!("{label} omega4"), &column_named(&model, &out.qd, "arm.theta"), &want[1]);
+        check(&format!("{label} alpha4"), &column_named(&model, &out.qdd, "arm.theta"), &want[2]);
+        check(&format!("{label} s"), &same_turn(&column_named(&model, &out.q, "F.s"), &want[3]), &want[3]);
+        check(&format!("{label} s'"), &column_named(&model, &out.qd, "F.s"), &want[4]);
     }
 }

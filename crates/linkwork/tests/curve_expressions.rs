@@ -30,20 +30,6 @@ const RHO: f64 = 0.015;
 /// The eccentric circle as an expression about the pivot.
 const ECCENTRIC: &str = "0.02*cos(phi) + sqrt(0.05^2 - 0.02^2*sin(phi)^2)";
 
-fn run(desc: Description, times: &[f64]) -> (Model, SweepOutput) {
-    let model = Model::new(desc).unwrap();
-    let mut data = Data::new(&model);
-    let mut out = SweepOutput::new(&model, times);
-    sweep(&model, &mut data, times, &mut out, 0, &mut |_| true).unwrap();
-    assert_eq!(out.n_done, times.len());
-    (model, out)
-}
-
-fn column(model: &Model, v: &[f64], name: &str) -> Vec<f64> {
-    let j = model.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("no column {name}"));
-    v.chunks(model.n_coords).map(|row| row[j]).collect()
-}
-
 fn check(what: &str, got: &[f64], want: &[f64]) {
     let err = rel_err(got, want);
     assert!(err < 1e-10, "{what}: relative error {err:e}");
@@ -121,9 +107,11 @@ fn the_eccentric_cam_as_an_expression_moves_its_followers_like_the_circle() {
                 -E * th.sin() + E * E * (2.0 * th).cos() / s - E.powi(4) * s2 * s2 / (4.0 * s.powi(3)),
             ]
         };
-        let (circle, out_c) =
-            run(eccentric_cam(kind, CurveDesc::Circle { centre: [E, 0.0], radius: R }, coefficients), &times);
-        let (model, out) = run(eccentric_cam(kind, expression(ECCENTRIC), coefficients), &times);
+        let (circle, out_c) = sweep_all(
+            eccentric_cam(kind, CurveDesc::Circle { centre: [E, 0.0], radius: R }, coefficients),
+            &times,
+        );
+        let (model, out) = sweep_all(eccentric_cam(kind, expression(ECCENTRIC), coefficients), &times);
         let mut want = [vec![], vec![], vec![]];
         for t in &times {
             let (th, thd) = (th0 + w * t + 0.5 * alpha * t * t, w + alpha * t);
@@ -133,24 +121,24 @@ fn the_eccentric_cam_as_an_expression_moves_its_followers_like_the_circle() {
             want[2].push(y[2] * thd * thd + y[1] * alpha);
         }
         for (order, v) in [&out.q, &out.qd, &out.qdd].into_iter().enumerate() {
-            let got = column(&model, v, "follower.y");
+            let got = column_named(&model, v, "follower.y");
             check(&format!("{kind} y, derivative {order}, closed form"), &got, &want[order]);
             let v_c = [&out_c.q, &out_c.qd, &out_c.qdd][order];
             check(
                 &format!("{kind} y, derivative {order}, circle"),
                 &got,
-                &column(&circle, v_c, "follower.y"),
+                &column_named(&circle, v_c, "follower.y"),
             );
             // the cam's angle is driven, the follower's x and theta stay 0
             for name in ["cam.theta", "follower.x", "follower.theta"] {
-                let (a, b) = (column(&model, v, name), column(&circle, v_c, name));
+                let (a, b) = (column_named(&model, v, name), column_named(&circle, v_c, name));
                 assert!(a.iter().zip(&b).all(|(a, b)| (a - b).abs() <= 1e-12), "{kind} {name} {order}");
             }
         }
         // the contact's parameter: the polar angle about O of the contact point (the
         // circle's point towards the follower point, or its top for the flat face), from
         // the cam's x axis
-        let s = column(&model, &out.q, "F.s");
+        let s = column_named(&model, &out.q, "F.s");
         for ((t, s), y) in times.iter().zip(&s).zip(&want[0]) {
             let th = th0 + w * t + 0.5 * alpha * t * t;
             let centre = [E * th.cos(), E * th.sin()];
@@ -177,10 +165,10 @@ fn polar_expressions_ignore_the_angle_unit() {
     let k = 180.0 / std::f64::consts::PI;
     let mut deg = eccentric_cam("roller", expression(ECCENTRIC), [0.3 * k, 10.0 * k, 2.5 * k]);
     deg.units = Units { angle: AngleUnit::Degree, ..Default::default() };
-    let (m_rad, out_rad) = run(rad, &times);
-    let (m_deg, out_deg) = run(deg, &times);
+    let (m_rad, out_rad) = sweep_all(rad, &times);
+    let (m_deg, out_deg) = sweep_all(deg, &times);
     for (a, b) in [(&out_rad.q, &out_deg.q), (&out_rad.qd, &out_deg.qd), (&out_rad.qdd, &out_deg.qdd)] {
-        check("degrees", &column(&m_deg, b, "follower.y"), &column(&m_rad, a, "follower.y"));
+        check("degrees", &column_named(&m_deg, b, "follower.y"), &column_named(&m_rad, a, "follower.y"));
     }
 }
 

@@ -258,3 +258,19 @@ impl Rng {
         (((self.next() + 1.0) * 0.5 * n as f64) as usize).min(n - 1)
     }
 }
+
+/// A model compiled from `desc` and swept over `times` (every step must succeed).
+pub fn sweep_all(desc: Description, times: &[f64]) -> (linkwork::Model, linkwork::SweepOutput) {
+    let model = linkwork::Model::new(desc).unwrap();
+    let mut data = linkwork::Data::new(&model);
+    let mut out = linkwork::SweepOutput::new(&model, times);
+    linkwork::sweep(&model, &mut data, times, &mut out, 0, &mut |_| true).unwrap();
+    assert_eq!(out.n_done, times.len());
+    (model, out)
+}
+
+/// The column `name` of a sweep's rows `v` (q, qd or qdd).
+pub fn column_named(model: &linkwork::Model, v: &[f64], name: &str) -> Vec<f64> {
+    let j = model.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("no column {name}"));
+    v.chunks(model.n_coords).map(|row| row[j]).collect()
+}
