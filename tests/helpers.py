@@ -9,6 +9,8 @@ from typing import Callable
 
 import numpy as np
 
+import linkwork as lw
+
 
 def revolution(omega: float = 5.0, n: int = 721) -> np.ndarray:
     """Times of one crank revolution at omega rad/s."""
@@ -42,3 +44,23 @@ def spins_while(work: Callable[[], object]) -> tuple[int, float]:
         ticks += 1
     thread.join()
     return ticks, time.perf_counter() - start
+
+
+def translating_cam(
+    kind: str, curve: dict, law: lw.Law, e: float = 0.02, R: float = 0.05, rho: float = 0.015
+) -> lw.Mechanism:
+    """A cam pinned at the origin and turned by ``law``, under a follower ("knife",
+    "roller" of radius rho, or "flat" facing along x) translating along the y axis, drawn
+    3 mm off the circle of radius R whose centre is e from the pivot along +x (the height
+    assumes that circle: the cam's curve may be it or another). The joint is "F"."""
+    m = lw.Mechanism(f"cam, {kind} follower")
+    cam = m.body("cam")
+    reach = R + rho if kind == "roller" else R
+    y0 = (R if kind == "flat" else math.sqrt(reach**2 - e**2)) + 0.003
+    follower = m.body("follower", (0.0, y0))
+    m.revolute(m.ground, cam, at=(0, 0), name="O")
+    m.prismatic(m.ground, follower, at=(0.0, y0), axis=(0, 1), name="slide")
+    extra = {"roller": {"radius": rho}, "flat": {"face": (1.0, 0.0)}}.get(kind, {})
+    m.cam_follower(cam, follower, (0.0, y0), curve, kind=kind, name="F", **extra)
+    m.drive_angle(cam, law, name="turn")
+    return m

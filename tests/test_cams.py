@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import linkwork as lw
-from helpers import rel_err, wrap
+from helpers import rel_err, translating_cam, wrap
 from linkwork import closed_form
 from linkwork.reference import ReferenceModel
 from linkwork.reference import curves as ref_curves
@@ -40,17 +40,7 @@ def eccentric_cam(kind: str, e: float = 0.02, R: float = 0.05, rho: float = 0.01
     """A circular cam (radius R, centre e from its pivot at the origin, along +x at the
     start) turning at 10 rad/s from 0.3 rad, and a follower translating along the y axis,
     drawn a little off the profile."""
-    m = lw.Mechanism(f"eccentric cam, {kind} follower")
-    cam = m.body("cam")
-    reach = R + rho if kind == "roller" else R
-    y0 = (R if kind == "flat" else math.sqrt(reach**2 - e**2)) + 0.003
-    follower = m.body("follower", (0.0, y0))
-    m.revolute(m.ground, cam, at=(0, 0), name="O")
-    m.prismatic(m.ground, follower, at=(0.0, y0), axis=(0, 1), name="slide")
-    extra = {"roller": {"radius": rho}, "flat": {"face": (1.0, 0.0)}}.get(kind, {})
-    m.cam_follower(cam, follower, (0.0, y0), lw.curves.circle((e, 0.0), R), kind=kind, name="F", **extra)
-    m.drive_angle(cam, lw.Linear(0.3, 10.0), name="turn")
-    return m
+    return translating_cam(kind, lw.curves.circle((e, 0.0), R), lw.Linear(0.3, 10.0), e, R, rho)
 
 
 def oscillating_roller(n_rows: int = 36) -> lw.Mechanism:

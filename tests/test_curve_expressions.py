@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import linkwork as lw
-from helpers import rel_err, wrap
+from helpers import rel_err, translating_cam, wrap
 from linkwork.reference import ReferenceModel
 from linkwork.reference import curves as ref_curves
 from linkwork.reference.laws import expression, expression3
@@ -132,20 +132,10 @@ def test_reference_expression_curve_matches_differences_and_repeats():
 # --- the eccentric circular cam as an expression ---------------------------------------------
 
 
-def cam(kind: str, curve: dict, e: float = 0.02, R: float = 0.05, rho: float = 0.015) -> lw.Mechanism:
+def cam(kind: str, curve: dict) -> lw.Mechanism:
     """A cam turning about the origin, from 0.3 rad at 10 rad/s and speeding up at
     5 rad/s^2, under a follower translating along the y axis drawn 3 mm off the profile."""
-    m = lw.Mechanism(f"cam, {kind} follower")
-    body = m.body("cam")
-    reach = R + rho if kind == "roller" else R
-    y0 = (R if kind == "flat" else math.sqrt(reach**2 - e**2)) + 0.003
-    follower = m.body("follower", (0.0, y0))
-    m.revolute(m.ground, body, at=(0, 0), name="O")
-    m.prismatic(m.ground, follower, at=(0.0, y0), axis=(0, 1), name="slide")
-    extra = {"roller": {"radius": rho}, "flat": {"face": (1.0, 0.0)}}.get(kind, {})
-    m.cam_follower(body, follower, (0.0, y0), curve, kind=kind, name="F", **extra)
-    m.drive_angle(body, lw.Polynomial([0.3, 10.0, 2.5]), name="turn")
-    return m
+    return translating_cam(kind, curve, lw.Polynomial([0.3, 10.0, 2.5]))
 
 
 @pytest.mark.parametrize("kind", ["knife", "roller", "flat"])

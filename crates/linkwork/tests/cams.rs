@@ -81,41 +81,8 @@ fn eccentric_cam_with_translating_followers_matches_closed_form() {
         };
         // drawn at cam angle 0 with the follower a little off the profile: assembly moves it
         let y_drawn = y_of(0.0)[0] + 0.003;
-        let extra = match kind {
-            "roller" => (Some(rho), None),
-            "flat" => (None, Some([1.0, 0.0])),
-            _ => (None, None),
-        };
-        let desc = Description {
-            units: Default::default(),
-            name: "eccentric cam".into(),
-            bodies: vec![body("cam", 0.0, 0.0, 0.0), body("follower", 0.0, y_drawn, 0.0)],
-            joints: vec![
-                pin("O", "ground", "cam", [0.0, 0.0]),
-                JointDesc::Prismatic {
-                    name: "slide".into(),
-                    body_a: "ground".into(),
-                    body_b: "follower".into(),
-                    at: [0.0, y_drawn],
-                    axis: [0.0, 1.0],
-                },
-                cam_follower(
-                    kind,
-                    [0.0, y_drawn],
-                    CurveDesc::Circle { centre: [e, 0.0], radius: big_r },
-                    "follower",
-                    extra,
-                ),
-            ],
-            drivers: vec![DriverDesc::Angle {
-                name: "turn".into(),
-                body: "cam".into(),
-                law: MotionLaw::Polynomial { coefficients: vec![th0, w, 0.5 * alpha] },
-            }],
-            points: vec![],
-            gravity: [0.0, 0.0],
-            loads: vec![],
-        };
+        let circle = CurveDesc::Circle { centre: [e, 0.0], radius: big_r };
+        let desc = translating_cam(kind, circle, y_drawn, rho, vec![th0, w, 0.5 * alpha]);
         let (model, out) = sweep_all(desc, &times);
         assert_eq!(model.columns[6], "F.s");
         let label = kind;

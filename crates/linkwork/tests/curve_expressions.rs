@@ -17,7 +17,7 @@ use common::*;
 use linkwork::curves::CurveDesc;
 use linkwork::files::{read, write_description, Format};
 use linkwork::units::AngleUnit;
-use linkwork::{sweep, Data, Description, DriverDesc, JointDesc, Model, MotionLaw, SweepOutput, Units};
+use linkwork::{sweep, Data, Description, Model, SweepOutput, Units};
 use std::f64::consts::TAU;
 
 #[path = "common/counting.rs"]
@@ -40,44 +40,7 @@ fn check(what: &str, got: &[f64], want: &[f64]) {
 fn eccentric_cam(kind: &str, curve: CurveDesc, coefficients: [f64; 3]) -> Description {
     let reach = if kind == "roller" { R + RHO } else { R };
     let y_drawn = if kind == "flat" { R } else { (reach * reach - E * E).sqrt() } + 0.003;
-    let (radius, face) = match kind {
-        "roller" => (Some(RHO), None),
-        "flat" => (None, Some([1.0, 0.0])),
-        _ => (None, None),
-    };
-    Description {
-        units: Default::default(),
-        name: "eccentric cam".into(),
-        bodies: vec![body("cam", 0.0, 0.0, 0.0), body("follower", 0.0, y_drawn, 0.0)],
-        joints: vec![
-            pin("O", "ground", "cam", [0.0, 0.0]),
-            JointDesc::Prismatic {
-                name: "slide".into(),
-                body_a: "ground".into(),
-                body_b: "follower".into(),
-                at: [0.0, y_drawn],
-                axis: [0.0, 1.0],
-            },
-            JointDesc::CamFollower {
-                name: "F".into(),
-                body_a: "cam".into(),
-                body_b: "follower".into(),
-                follower: kind.into(),
-                at: [0.0, y_drawn],
-                curve,
-                radius,
-                face,
-            },
-        ],
-        drivers: vec![DriverDesc::Angle {
-            name: "turn".into(),
-            body: "cam".into(),
-            law: MotionLaw::Polynomial { coefficients: coefficients.to_vec() },
-        }],
-        points: vec![],
-        gravity: [0.0, 0.0],
-        loads: vec![],
-    }
+    translating_cam(kind, curve, y_drawn, RHO, coefficients.to_vec())
 }
 
 fn expression(r: &str) -> CurveDesc {

@@ -274,3 +274,54 @@ pub fn column_named(model: &linkwork::Model, v: &[f64], name: &str) -> Vec<f64> 
     let j = model.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("no column {name}"));
     v.chunks(model.n_coords).map(|row| row[j]).collect()
 }
+
+/// A cam pinned at the origin, turned by theta = the polynomial `coefficients` in t, under
+/// a follower ("knife", "roller" of `roller_radius`, or "flat" facing along x) that
+/// translates along the y axis, drawn at height `y_drawn`; the joint is named "F", the
+/// curve parameter column "F.s".
+pub fn translating_cam(
+    kind: &str,
+    curve: linkwork::curves::CurveDesc,
+    y_drawn: f64,
+    roller_radius: f64,
+    coefficients: Vec<f64>,
+) -> Description {
+    let (radius, face) = match kind {
+        "roller" => (Some(roller_radius), None),
+        "flat" => (None, Some([1.0, 0.0])),
+        _ => (None, None),
+    };
+    Description {
+        units: Default::default(),
+        name: "eccentric cam".into(),
+        bodies: vec![body("cam", 0.0, 0.0, 0.0), body("follower", 0.0, y_drawn, 0.0)],
+        joints: vec![
+            pin("O", "ground", "cam", [0.0, 0.0]),
+            JointDesc::Prismatic {
+                name: "slide".into(),
+                body_a: "ground".into(),
+                body_b: "follower".into(),
+                at: [0.0, y_drawn],
+                axis: [0.0, 1.0],
+            },
+            JointDesc::CamFollower {
+                name: "F".into(),
+                body_a: "cam".into(),
+                body_b: "follower".into(),
+                follower: kind.into(),
+                at: [0.0, y_drawn],
+                curve,
+                radius,
+                face,
+            },
+        ],
+        drivers: vec![DriverDesc::Angle {
+            name: "turn".into(),
+            body: "cam".into(),
+            law: MotionLaw::Polynomial { coefficients },
+        }],
+        points: vec![],
+        gravity: [0.0, 0.0],
+        loads: vec![],
+    }
+}
