@@ -16,7 +16,7 @@ pub fn solve_acceleration(model: &Model, data: &mut Data, t: f64, step: usize) -
     for ((qdd, x), s) in data.qdd.iter_mut().zip(&data.rhs).zip(&model.col_scale) {
         *qdd = x * s;
     }
-    if data.qdd.iter().all(|v| v.is_finite()) {
+    if crate::velocity::all_finite(&data.qdd) {
         Ok(())
     } else {
         Err(SolveError::NonFinite { step, time: t, what: "the accelerations".into() })
