@@ -64,3 +64,18 @@ def translating_cam(
     m.cam_follower(cam, follower, (0.0, y0), curve, kind=kind, name="F", **extra)
     m.drive_angle(cam, law, name="turn")
     return m
+
+
+def eccentric_follower(kind: str, e: float, R: float, rho: float, b: np.ndarray):
+    """Rise y of a follower on a disc of radius R whose centre is e from the cam pivot, at
+    cam angle b (the centre's angle from the follower's normal), and dy/db, d2y/db2:
+    y = e sin b + sqrt(R'^2 - e^2 cos^2 b) with R' = R (knife) or R + rho (roller), and
+    y = e sin b + R for a flat face."""
+    if kind == "flat":
+        return e * np.sin(b) + R, e * np.cos(b), -e * np.sin(b)
+    reach = R + rho if kind == "roller" else R
+    root = np.sqrt(reach**2 - e**2 * np.cos(b) ** 2)
+    y = e * np.sin(b) + root
+    dy = e * np.cos(b) + e**2 * np.sin(2 * b) / (2 * root)
+    ddy = -e * np.sin(b) + e**2 * np.cos(2 * b) / root - e**4 * np.sin(2 * b) ** 2 / (4 * root**3)
+    return y, dy, ddy

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import linkwork as lw
-from helpers import rel_err, translating_cam, wrap
+from helpers import eccentric_follower, rel_err, translating_cam, wrap
 from linkwork import closed_form
 from linkwork.reference import ReferenceModel
 from linkwork.reference import curves as ref_curves
@@ -253,14 +253,7 @@ def test_eccentric_cam_moves_its_follower_by_the_closed_form(kind):
     e, R, rho, omega = 0.02, 0.05, 0.015, 10.0
     t = np.linspace(0.0, TAU / omega, 361)
     th = 0.3 + omega * t
-    if kind == "flat":
-        y, dy, ddy = e * np.sin(th) + R, e * np.cos(th), -e * np.sin(th)
-    else:
-        reach = R + rho if kind == "roller" else R
-        root = np.sqrt(reach**2 - e**2 * np.cos(th) ** 2)
-        y = e * np.sin(th) + root
-        dy = e * np.cos(th) + e**2 * np.sin(2 * th) / (2 * root)
-        ddy = -e * np.sin(th) + e**2 * np.cos(2 * th) / root - e**4 * np.sin(2 * th) ** 2 / (4 * root**3)
+    y, dy, ddy = eccentric_follower(kind, e, R, rho, th)
     mech = eccentric_cam(kind, e, R, rho)
     r = mech.compile().sweep(t)
     f = r.body("follower")

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import linkwork as lw
-from helpers import rel_err, translating_cam, wrap
+from helpers import eccentric_follower, rel_err, translating_cam, wrap
 from linkwork.reference import ReferenceModel
 from linkwork.reference import curves as ref_curves
 from linkwork.reference.laws import expression, expression3
@@ -143,7 +143,7 @@ def test_the_eccentric_cam_as_an_expression_moves_its_follower_like_the_circle(k
     """A circle of radius R whose centre is e from the pivot at angle a on the cam is, as a
     polar profile about the pivot, r(phi) = e cos(phi - a) + sqrt(R^2 - e^2 sin^2(phi - a)).
     The follower then rises by y = e sin(th + a) + sqrt(R'^2 - e^2 cos^2(th + a)), R' = R or
-    R + rho (y = e sin(th + a) + R for the flat face); y' and y'' as in test_cams.py, the
+    R + rho (y = e sin(th + a) + R for the flat face); y' and y'' by helpers.eccentric_follower, the
     follower's rate y' thd and acceleration y'' thd^2 + y' thdd. The engine, the reference
     and the circle curve agree with it to 1e-10 over a turn; the reference's s too."""
     e, R, rho, a = 0.02, 0.05, 0.015, 0.7
@@ -152,14 +152,7 @@ def test_the_eccentric_cam_as_an_expression_moves_its_follower_like_the_circle(k
     t = np.linspace(0.0, 0.55, 361)
     th, thd, thdd = 0.3 + 10 * t + 2.5 * t * t, 10 + 5 * t, 5.0
     b = th + a
-    if kind == "flat":
-        y, dy, ddy = e * np.sin(b) + R, e * np.cos(b), -e * np.sin(b)
-    else:
-        reach = R + rho if kind == "roller" else R
-        root = np.sqrt(reach**2 - e**2 * np.cos(b) ** 2)
-        y = e * np.sin(b) + root
-        dy = e * np.cos(b) + e**2 * np.sin(2 * b) / (2 * root)
-        ddy = -e * np.sin(b) + e**2 * np.cos(2 * b) / root - e**4 * np.sin(2 * b) ** 2 / (4 * root**3)
+    y, dy, ddy = eccentric_follower(kind, e, R, rho, b)
     want = (y, dy * thd, ddy * thd**2 + dy * thdd)
     mech = cam(kind, lw.curves.polar_expression(text))
     r = mech.compile().sweep(t)
