@@ -21,8 +21,8 @@ const SMALL_TURN: f64 = 1.0 / 64.0;
 
 /// Recomputes each body's frame (cos, sin, velocity) from q and qd. From one step to the
 /// next the angles move little: cos and sin are then turned from the last ones computed
-/// in full (never from turned ones, so errors cannot accumulate: each is within a few
-/// ulps), which saves almost every sin_cos of a sweep.
+/// in full (never from turned ones, so errors cannot accumulate: each is within one ulp
+/// of sin_cos, as `turned`'s test measures), which saves almost every sin_cos of a sweep.
 #[inline]
 pub(crate) fn update_frames(data: &mut Data) {
     for ((i, f), base) in data.frames.iter_mut().enumerate().zip(data.frame_base.iter_mut()) {
