@@ -123,7 +123,13 @@ class Model:
     def solve(
         self, t: float, q_guess: npt.NDArray[np.float64] | None = None
     ) -> tuple[
-        npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], int, float, float
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64],
+        int,
+        float,
+        float,
+        list[dict[str, Any]],
     ]: ...
     def sweep(
         self,

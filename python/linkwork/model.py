@@ -11,7 +11,7 @@ import numpy as np
 
 from . import _core
 from .errors import InputError, ModelError
-from .events import MotionLimits
+from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
 from .results import Results, State, Statics
@@ -90,15 +90,30 @@ class Model:
         q_guess: Sequence[float] | np.ndarray | None = None,
         branch: str | dict[str, str] | None = None,
     ) -> State:
-        """Position, velocity and acceleration at time ``t``, assembled from ``q_guess``
-        (default: the starting configuration, so the branch is the one described), or on
-        the assembly mode ``branch`` names: "open" / "crossed", or {linkage: circuit}
-        (see `assembly_modes`)."""
+        """Position, velocity and acceleration at time ``t``.
+
+        By default on the drawing's branch: the drawing is assembled at its time (0, or
+        the nearest time the drivers are defined at) and followed along the drivers to
+        ``t`` in certified steps, so a time far from the drawing (``solve(100.0)``) gets
+        the drawing's configuration continued; singular configurations crossed on the way
+        are in the state's ``events``. With ``q_guess``, assembled at ``t`` from it; with
+        ``branch``, on the assembly mode it names: "open" / "crossed", or {linkage: circuit}
+        (see `assembly_modes`).
+
+        >>> import numpy as np
+        >>> from linkwork import examples
+        >>> model = examples.four_bar().compile()
+        >>> far = model.solve(100.0)
+        >>> bool(np.allclose(far.q, model.sweep(np.linspace(0.0, 100.0, 20001)).q[-1], atol=1e-9))
+        True
+        """
         if branch is not None:
             q_guess = self._branch_guess(float(t), branch)
         g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
-        q, qd, qdd, it, res, piv = self._core.solve(float(t), g)
-        return State(self, float(t), q, qd, qdd, it, res, piv)
+        q, qd, qdd, it, res, piv, events = self._core.solve(float(t), g)
+        state = State(self, float(t), q, qd, qdd, it, res, piv)
+        state.events = [Event.from_raw(e) for e in events]
+        return state
 
     def statics(self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None) -> Statics:
         """The driver efforts and joint reactions that hold the mechanism at rest at time

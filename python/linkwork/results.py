@@ -203,6 +203,8 @@ class State(_Kinematics):
     ) -> None:  # fmt: skip
         self.model, self.t, self.q, self.qd, self.qdd = model, t, q, qd, qdd
         self.iterations, self.residual, self.pivot_ratio = iterations, residual, pivot_ratio
+        #: singular configurations crossed on the way from the drawing to ``t`` (`Model.solve`)
+        self.events: list[Event] = []
 
     def __repr__(self) -> str:
         vals = ", ".join(f"{c}={v:.6g}" for c, v in zip(self.columns, self.q))

@@ -1,14 +1,14 @@
 //! Sweep events and limits of motion as Python dicts.
 
 use linkwork::analysis::limits::{motion_limits as engine_limits, LimitsError};
-use linkwork::analysis::singular::Event;
-use linkwork::analysis::tracking::OnSingular;
+use linkwork::stepping::singular::Event;
+use linkwork::stepping::tracking::OnSingular;
 use linkwork::Data;
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{guard, model_err, solve_err, start_guess, InputError, PyModel};
+use crate::{guard, model_err, solve_err, InputError, PyModel};
 
 pub(crate) fn parse_on_singular(s: &str) -> PyResult<OnSingular> {
     match s {
@@ -51,8 +51,7 @@ pub(crate) fn motion_limits<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = std::sync::Arc::clone(&model.model);
     let mut data = Data::new(&m);
-    data.q = start_guess(&m, q_guess)?;
-    guard("solving", || linkwork::solve(&m, &mut data, t))?.map_err(|e| solve_err(py, &e))?;
+    data.q = crate::assembled(py, &m, t, crate::guess(&m, q_guess)?, true)?;
     let q = data.q;
     if let Some(r) = range {
         if !(r.is_finite() && r > 0.0) {

@@ -4,6 +4,7 @@
 use std::sync::Arc;
 
 use linkwork::model::OnRedundant;
+use linkwork::stepping::singular::Event;
 use linkwork::{Data, Description, LinearKind, Model, ModelError, Options, SolveError, SweepOutput};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
@@ -121,16 +122,54 @@ struct PyModel {
     units: linkwork::Units,
 }
 
-/// q assembled at t from the guess q (with `assemble`; else q as given).
-fn assembled(py: Python<'_>, m: &Model, t: f64, q: Vec<f64>, assemble: bool) -> PyResult<Vec<f64>> {
-    let mut data = Data::new(m);
-    data.q = q;
-    if assemble {
-        linkwork::check_times(m, &[t]).map_err(|e| solve_err(py, &e))?;
-        guard("assembling", || linkwork::solve_position(m, &mut data, t, 0, true))?
-            .map_err(|e| solve_err(py, &e))?;
+/// q at t: assembled from the guess (with `assemble`; else as given), or without a
+/// guess, the drawing's branch followed to t (`along`).
+fn assembled(py: Python<'_>, m: &Arc<Model>, t: f64, q_guess: Option<Vec<f64>>, assemble: bool) -> PyResult<Vec<f64>> {
+    match (q_guess, assemble) {
+        (None, true) => Ok(along(py, m, t)?.0.q),
+        (q, _) => {
+            let mut data = Data::new(m);
+            data.q = q.unwrap_or_else(|| m.q_start.clone());
+            if assemble {
+                linkwork::check_times(m, &[t]).map_err(|e| solve_err(py, &e))?;
+                guard("assembling", || linkwork::solve_position(m, &mut data, t, 0, true))?
+                    .map_err(|e| solve_err(py, &e))?;
+            }
+            Ok(data.q)
+        }
     }
-    Ok(data.q)
+}
+
+/// The drawing's configuration followed along the drivers to t (`linkwork::solve_along`),
+/// with the GIL released and Ctrl-C noticed on the way: the solved workspace, its
+/// diagnostics and the events met.
+fn along(py: Python<'_>, m: &Arc<Model>, t: f64) -> PyResult<(Data, linkwork::PositionInfo, Vec<Event>)> {
+    let model = Arc::clone(m);
+    let (result, interrupt) = py.detach(|| {
+        let mut data = Data::new(&model);
+        let mut interrupt: Option<PyErr> = None;
+        let mut poll = || -> bool {
+            Python::attach(|py| match py.check_signals() {
+                Ok(()) => true,
+                Err(e) => {
+                    interrupt = Some(e);
+                    false
+                }
+            })
+        };
+        let r = guard("solving", || linkwork::solve_along(&model, &mut data, t, &mut poll));
+        (r.map(|r| r.map(|(info, events)| (data, info, events))), interrupt)
+    });
+    match (result?, interrupt) {
+        (Ok(r), _) => Ok(r),
+        (Err(_), Some(e)) => Err(e),
+        (Err(e), None) => Err(solve_err(py, &e)),
+    }
+}
+
+/// q_guess checked (length, finite), or None.
+fn guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Option<Vec<f64>>> {
+    q_guess.map(|g| start_guess(model, Some(g))).transpose()
 }
 
 fn start_guess(model: &Model, q_guess: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Vec<f64>> {
@@ -276,6 +315,11 @@ impl PyModel {
     fn solve_err(&self, py: Python<'_>, e: &SolveError) -> PyErr {
         laws::chain_failure(py, solve_err(py, e), &self.failures)
     }
+
+    /// A Python exception, with the exception of a failed Python law as the cause.
+    fn law_failure(&self, py: Python<'_>, e: PyErr) -> PyErr {
+        laws::chain_failure(py, e, &self.failures)
+    }
 }
 
 #[pymethods]
@@ -391,8 +435,9 @@ impl PyModel {
             .collect()
     }
 
-    /// Position, velocity and acceleration at time t, assembled from q_guess (default:
-    /// the starting configuration). Returns (q, qd, qdd, iterations, residual, pivot_ratio).
+    /// Position, velocity and acceleration at time t, assembled from q_guess; without
+    /// one, the drawing's branch followed along the drivers to t. Returns (q, qd, qdd,
+    /// iterations, residual, pivot_ratio, events met on the way).
     #[pyo3(signature = (t, q_guess=None))]
     #[allow(clippy::type_complexity)]
     fn solve<'py>(
@@ -407,13 +452,21 @@ impl PyModel {
         usize,
         f64,
         f64,
+        Vec<Bound<'py, PyDict>>,
     )> {
         let model = &self.model;
-        let mut data = Data::new(model);
-        data.q = start_guess(model, q_guess)?;
         laws::clear(&self.failures);
-        let info =
-            guard("solving", || linkwork::solve(model, &mut data, t))?.map_err(|e| self.solve_err(py, &e))?;
+        let (data, info, events) = match guess(model, q_guess)? {
+            None => along(py, model, t).map_err(|e| self.law_failure(py, e))?,
+            Some(q) => {
+                let mut data = Data::new(model);
+                data.q = q;
+                let info = guard("solving", || linkwork::solve(model, &mut data, t))?
+                    .map_err(|e| self.solve_err(py, &e))?;
+                (data, info, Vec::new())
+            }
+        };
+        let events = events.iter().map(|e| events::event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
         Ok((
             data.q.into_pyarray(py),
             data.qd.into_pyarray(py),
@@ -421,6 +474,7 @@ impl PyModel {
             info.iterations,
             info.residual,
             info.pivot_ratio,
+            events,
         ))
     }
 
@@ -448,7 +502,15 @@ impl PyModel {
         let model = Arc::clone(&self.model);
         let times = times.as_slice()?;
         let mut data = Data::new(&model);
-        data.q = start_guess(&model, q_guess)?;
+        // without a guess, the first time on the drawing's branch, however far from it
+        data.q = match (guess(&model, q_guess)?, times.first()) {
+            (Some(q), _) => q,
+            (None, Some(&t0)) if t0.is_finite() && t0 != linkwork::drawing_time(&model) => {
+                laws::clear(&self.failures);
+                along(py, &model, t0).map_err(|e| self.law_failure(py, e))?.0.q
+            }
+            (None, _) => model.q_start.clone(),
+        };
         let mut out = SweepOutput::with_request(&model, times, request);
         let total = times.len();
         laws::clear(&self.failures);
@@ -502,10 +564,10 @@ impl PyModel {
         q_guess: Option<PyReadonlyArray1<'py, f64>>,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyAny>)> {
         let model = &self.model;
-        let mut data = Data::new(model);
-        data.q = start_guess(model, q_guess)?;
-        linkwork::check_times(model, &[t]).map_err(|e| solve_err(py, &e))?;
         laws::clear(&self.failures);
+        let mut data = Data::new(model);
+        data.q = assembled(py, model, t, guess(model, q_guess)?, true).map_err(|e| self.law_failure(py, e))?;
+        // solved again from there (one iteration) for the factorization the forces use
         guard("assembling", || linkwork::solve_position(model, &mut data, t, 0, true))?
             .map_err(|e| self.solve_err(py, &e))?;
         data.qd.fill(0.0);

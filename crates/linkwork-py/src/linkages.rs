@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::{assembled, guard, solve_err, start_guess, PyModel};
+use crate::{assembled, guard, guess, solve_err, start_guess, PyModel};
 
 fn four_bar<'py>(py: Python<'py>, l: &FourBarLoop) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -78,7 +78,7 @@ pub(crate) fn linkages<'py>(
     assemble: bool,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyList>)> {
     let m = std::sync::Arc::clone(&model.model);
-    let q = assembled(py, &m, t, start_guess(&m, q_guess)?, assemble)?;
+    let q = assembled(py, &m, t, guess(&m, q_guess)?, assemble)?;
     let found = guard("finding the linkages", || find_linkages(&m, &q))?;
     Ok((q.into_pyarray(py).into_any(), loops(py, &found)?))
 }

@@ -5,7 +5,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{assembled, guard, start_guess, InputError, PyModel};
+use crate::{assembled, guard, guess, InputError, PyModel};
 
 /// Degrees of freedom and dependencies at q_guess (default: the starting configuration)
 /// and time t; with `assemble`, at the configuration assembled from it first.
@@ -19,7 +19,7 @@ pub(crate) fn mobility<'py>(
     assemble: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = std::sync::Arc::clone(&model.model);
-    let q = assembled(py, &m, t, start_guess(&m, q_guess)?, assemble)?;
+    let q = assembled(py, &m, t, guess(&m, q_guess)?, assemble)?;
     let mob = py.detach(|| guard("counting the degrees of freedom", || engine_mobility(&m, &q, t)))?;
     let mob = mob.map_err(|e| InputError::new_err(e.to_string()))?;
     let d = PyDict::new(py);

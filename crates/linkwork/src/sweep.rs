@@ -3,8 +3,9 @@
 //! allocated once, before the loop; a failure at step k keeps steps 0..k.
 
 use crate::acceleration::solve_acceleration;
-use crate::analysis::singular::Event;
-use crate::analysis::tracking::{is_jump, OnSingular, Tracker};
+use crate::stepping::singular::Event;
+use crate::stepping::predict::{predict, Predictor};
+use crate::stepping::tracking::{is_jump, OnSingular, Tracker, JUMP_FLOOR, JUMP_FLOOR_RATES};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
@@ -244,6 +245,10 @@ fn sweep_steps(
         if progress_every > 0 && k % progress_every == 0 && k > 0 && !progress(k) {
             return Err(SolveError::Cancelled { step: k });
         }
+        // cancellation polled inside the careful path too (a step there can take many solves)
+        let mut poll = || progress_every == 0 || progress(k);
+        // whether q, qd and qdd at t are all set (by the careful path or its interpolant)
+        let mut rates_set = false;
         let info = if k == 0 {
             solve_position(model, data, t, k, true)?
         } else {
@@ -256,24 +261,42 @@ fn sweep_steps(
                 _ => Predictor::Cubic,
             };
             predict(data, times, k, predictor);
-            let motion = data
-                .q
-                .iter()
-                .zip(&tracker.q_prev)
-                .zip(&data.inv_col_scale)
-                .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() * s));
-            let info = match solve_position(model, data, t, k, false) {
-                Ok(info) if !is_jump(&info, motion) => info,
-                Ok(_) => tracker.rescue(model, data, times[k - 1], t, k, None)?,
-                Err(e @ SolveError::NonFinite { .. }) => return Err(e),
-                Err(e) => tracker.rescue(model, data, times[k - 1], t, k, Some(e))?,
-            };
-            tracker.after_position(model, data, info, times[k - 1], t, k)?
+            if let Some(info) = tracker.spanned(model, data, t, k, &mut poll)? {
+                rates_set = true;
+                info
+            } else {
+                let motion = data
+                    .q
+                    .iter()
+                    .zip(&tracker.q_prev)
+                    .zip(&data.inv_col_scale)
+                    .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() * s));
+                let floor = match predictor {
+                    Predictor::Jerk | Predictor::Acceleration => JUMP_FLOOR_RATES,
+                    Predictor::Quadratic | Predictor::Cubic => JUMP_FLOOR,
+                };
+                match solve_position(model, data, t, k, false) {
+                    // the cheap path: on the predicted branch, well conditioned, no crossing
+                    Ok(info)
+                        if !is_jump(&info, motion, floor)
+                            && info.pivot_ratio >= NEAR_SINGULAR
+                            && info.det_sign * tracker.det_prev >= 0.0 =>
+                    {
+                        tracker.det_prev = info.det_sign;
+                        info
+                    }
+                    Err(e @ SolveError::NonFinite { .. }) => return Err(e),
+                    _ => {
+                        rates_set = true;
+                        tracker.careful(model, data, times[k - 1], t, k, &mut poll)?
+                    }
+                }
+            }
         };
-        if req.derivatives >= 1 {
+        if req.derivatives >= 1 && !rates_set {
             solve_velocity(model, data, t, k)?;
         }
-        if req.derivatives >= 2 {
+        if req.derivatives >= 2 && !rates_set {
             solve_acceleration(model, data, t, k)?;
         }
         if k == 0 {
@@ -301,74 +324,38 @@ fn sweep_steps(
     Ok(())
 }
 
-/// How `predict` extrapolates q to the next time.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Predictor {
-    /// q + h qd + h^2/2 qdd + h^3/6 jerk, the jerk from the last two accelerations
-    Jerk,
-    /// q + h qd + h^2/2 qdd, qdd from the last two velocities
-    Acceleration,
-    /// the quadratic through the last three positions
-    Quadratic,
-    /// the cubic through the last four positions
-    Cubic,
+/// Sub-steps allowed to follow the drivers from the drawing to a solve's time.
+pub const ALONG_BUDGET: usize = 200_000;
+
+/// The time of the drawing: 0, or the nearest time the drivers are defined at.
+pub fn drawing_time(model: &Model) -> f64 {
+    let (lo, hi) = model.time_domain;
+    0.0f64.max(lo).min(hi)
 }
 
-/// Predicts q at times[k] from the previous steps, by what the sweep computes: with
-/// accelerations `Jerk`, with velocities `Acceleration`, positions only `Cubic`.
-/// Their local errors are O(h^3) (`Acceleration`) or O(h^4) (`Jerk`, `Cubic`: with
-/// positions only, a quadratic's O(h^3) left 15 % of a fine sweep's steps needing a
-/// second Newton iteration), so that most steps take one Newton iteration. After a step close to a singular
-/// configuration, whose rates are ill-determined (and may point along the other branch),
-/// the sweep asks for `Quadratic`: positions only, and of low order, as the last
-/// positions may be packed close there (a higher order amplifies their round-off).
-/// Reads data.q, qd, qdd (step k-1) and the history; shifts the history.
-pub(crate) fn predict(data: &mut Data, times: &[f64], k: usize, predictor: Predictor) {
-    let t = times[k];
-    let t1 = times[k - 1];
-    let h = t - t1;
-    let h1 = if k >= 2 { t1 - times[k - 2] } else { 0.0 };
-    // Lagrange weights of the (up to) four previous positions, newest first, the same for
-    // every coordinate
-    let lagrange = |nodes: &[f64]| -> [f64; 4] {
-        let mut w = [0.0; 4];
-        for (a, &ta) in nodes.iter().enumerate() {
-            w[a] = nodes
-                .iter()
-                .enumerate()
-                .filter(|&(b, _)| b != a)
-                .map(|(_, &tb)| (t - tb) / (ta - tb))
-                .product();
-        }
-        w
-    };
-    let w = match (predictor, k) {
-        (Predictor::Jerk | Predictor::Acceleration, _) | (_, 1) => [1.0, 0.0, 0.0, 0.0],
-        (_, 2) => lagrange(&[t1, times[0]]),
-        (Predictor::Quadratic, _) | (_, 3) => lagrange(&[t1, times[k - 2], times[k - 3]]),
-        _ => lagrange(&[t1, times[k - 2], times[k - 3], times[k - 4]]),
-    };
-    let [q2, q3, q4] = &mut data.hist_q;
-    for i in 0..data.q.len() {
-        let q1 = data.q[i];
-        let p = match predictor {
-            Predictor::Jerk => {
-                let jerk = if k >= 2 { (data.qdd[i] - data.hist_qdd[i]) / h1 } else { 0.0 };
-                q1 + h * (data.qd[i] + h * (0.5 * data.qdd[i] + h * jerk / 6.0))
-            }
-            Predictor::Acceleration => {
-                let acc = if k >= 2 { (data.qd[i] - data.hist_qd[i]) / h1 } else { 0.0 };
-                q1 + h * (data.qd[i] + 0.5 * h * acc)
-            }
-            Predictor::Quadratic | Predictor::Cubic => w[0] * q1 + w[1] * q2[i] + w[2] * q3[i] + w[3] * q4[i],
-        };
-        data.hist_qdd[i] = data.qdd[i];
-        data.hist_qd[i] = data.qd[i];
-        q4[i] = q3[i];
-        q3[i] = q2[i];
-        q2[i] = q1;
-        data.q[i] = p;
+/// Position, velocity and acceleration at t on the drawing's branch: assembled at the
+/// drawing's time from the drawing, then followed along the drivers to t by the careful
+/// path (certified sub-steps, crossings stepped over and reported), so that a time far
+/// from the drawing gets the drawing's configuration continued, not whatever Newton finds
+/// from the drawing. Returns the events met on the way. `poll` may return false to cancel.
+pub fn solve_along(
+    model: &Model,
+    data: &mut Data,
+    t: f64,
+    poll: &mut dyn FnMut() -> bool,
+) -> Result<(crate::position::PositionInfo, Vec<Event>), SolveError> {
+    check_times(model, &[t])?;
+    let t_ref = drawing_time(model);
+    data.q.copy_from_slice(&model.q_start);
+    let info = solve(model, data, t_ref)?;
+    if t == t_ref {
+        return Ok((info, Vec::new()));
     }
+    let mut tracker = Tracker::new(model, OnSingular::Continue, false);
+    tracker.det_prev = info.det_sign;
+    let from = crate::stepping::hermite::State::capture(data, t_ref, info);
+    let info = tracker.follow(model, data, from, t, ALONG_BUDGET, poll)?;
+    Ok((info, std::mem::take(&mut tracker.events)))
 }
 
 /// Position, velocity and acceleration at one time, from data.q as the starting guess.

@@ -3,8 +3,8 @@
 
 mod common;
 use common::*;
-use linkwork::analysis::singular::EventKind;
-use linkwork::analysis::tracking::OnSingular;
+use linkwork::stepping::singular::EventKind;
+use linkwork::stepping::tracking::OnSingular;
 use linkwork::{sweep, Data, LinearKind, Model, Options, Request, SolveError, SweepOutput};
 
 fn run(model: &Model, times: &[f64], request: Request) -> (SweepOutput, Result<(), SolveError>) {

@@ -4,8 +4,8 @@
 //! limit of motion, or a whole turn (angles) or the search range (lengths) is covered.
 //! Each limit is located where Newton stops converging, to about round-off in the input.
 
-use crate::analysis::singular::{Event, EventKind};
-use crate::analysis::tracking::OnSingular;
+use crate::stepping::singular::{Event, EventKind};
+use crate::stepping::tracking::OnSingular;
 use crate::data::Data;
 use crate::description::DriverDesc;
 use crate::error::{ModelError, SolveError};

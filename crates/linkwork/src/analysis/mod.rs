@@ -7,5 +7,3 @@ pub mod limits;
 pub mod linkages;
 pub mod mobility;
 pub mod modes;
-pub mod singular;
-pub mod tracking;
