@@ -124,7 +124,13 @@ struct PyModel {
 
 /// q at t: assembled from the guess (with `assemble`; else as given), or without a
 /// guess, the drawing's branch followed to t (`along`).
-fn assembled(py: Python<'_>, m: &Arc<Model>, t: f64, q_guess: Option<Vec<f64>>, assemble: bool) -> PyResult<Vec<f64>> {
+fn assembled(
+    py: Python<'_>,
+    m: &Arc<Model>,
+    t: f64,
+    q_guess: Option<Vec<f64>>,
+    assemble: bool,
+) -> PyResult<Vec<f64>> {
     match (q_guess, assemble) {
         (None, true) => Ok(along(py, m, t)?.0.q),
         (q, _) => {
@@ -566,7 +572,8 @@ impl PyModel {
         let model = &self.model;
         laws::clear(&self.failures);
         let mut data = Data::new(model);
-        data.q = assembled(py, model, t, guess(model, q_guess)?, true).map_err(|e| self.law_failure(py, e))?;
+        data.q =
+            assembled(py, model, t, guess(model, q_guess)?, true).map_err(|e| self.law_failure(py, e))?;
         // solved again from there (one iteration) for the factorization the forces use
         guard("assembling", || linkwork::solve_position(model, &mut data, t, 0, true))?
             .map_err(|e| self.solve_err(py, &e))?;

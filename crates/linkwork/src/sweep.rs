@@ -3,15 +3,16 @@
 //! allocated once, before the loop; a failure at step k keeps steps 0..k.
 
 use crate::acceleration::solve_acceleration;
-use crate::stepping::singular::Event;
-use crate::stepping::predict::{predict, Predictor};
-use crate::stepping::tracking::{is_jump, OnSingular, Tracker, JUMP_FLOOR, JUMP_FLOOR_RATES};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
 use crate::joints::Constraint;
 use crate::model::Model;
 use crate::position::solve_position;
+use crate::stepping::hermite::continues;
+use crate::stepping::predict::{predict, Predictor};
+use crate::stepping::singular::Event;
+use crate::stepping::tracking::{is_jump, OnSingular, Tracker, JUMP_FLOOR, JUMP_FLOOR_RATES};
 use crate::velocity::solve_velocity;
 
 /// A pivot ratio below this marks a step next to a singular configuration: the next
@@ -282,7 +283,6 @@ fn sweep_steps(
                             && info.pivot_ratio >= NEAR_SINGULAR
                             && info.det_sign * tracker.det_prev >= 0.0 =>
                     {
-                        tracker.det_prev = info.det_sign;
                         info
                     }
                     Err(e @ SolveError::NonFinite { .. }) => return Err(e),
@@ -298,6 +298,24 @@ fn sweep_steps(
         }
         if req.derivatives >= 2 && !rates_set {
             solve_acceleration(model, data, t, k)?;
+        }
+        // the cheap path's step checked backwards from its own rates: next to a change
+        // point, Newton from a good prediction may still land on the other branch, which
+        // passes close there with other rates
+        let info = if k > 0 && !rates_set && req.derivatives >= 1 {
+            let qdd = (req.derivatives >= 2).then_some(&data.qdd[..]);
+            let h = t - times[k - 1];
+            if continues(model, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
+                info
+            } else {
+                rates_set = true;
+                tracker.careful(model, data, times[k - 1], t, k, &mut poll)?
+            }
+        } else {
+            info
+        };
+        if !rates_set || k == 0 {
+            tracker.det_prev = info.det_sign;
         }
         if k == 0 {
             tracker.start(&info, data);

@@ -263,3 +263,113 @@ fn motion_limits_evaluate_laws_that_need_preparing() {
         assert!((lim.start - 0.4).abs() < 1e-12, "start {}", lim.start);
     }
 }
+
+/// The reported silent flip: a parallelogram whose grid (linspace(0, pi, 1001) from a
+/// crank at pi/2) lands exactly on its change point at step 500. Every step stays on the
+/// parallelogram, rates included, and the change point is reported once.
+#[test]
+fn a_grid_point_on_a_change_point_keeps_the_parallelogram() {
+    let (r1, r2) = (1.0, 0.4);
+    let th = std::f64::consts::FRAC_PI_2;
+    let mut d = four_bar(&FourBar { r1, r2, r3: r1, r4: r2 }, th, 1.0);
+    let a = [0.0, r2];
+    d.bodies =
+        vec![body("crank", 0.0, 0.0, th), body("coupler", a[0], a[1], 0.0), body("rocker", r1, 0.0, th)];
+    d.joints = vec![
+        pin("O2", "ground", "crank", [0.0, 0.0]),
+        pin("A", "crank", "coupler", a),
+        pin("B", "coupler", "rocker", [r1, r2]),
+        pin("O4", "ground", "rocker", [r1, 0.0]),
+    ];
+    let model = Model::new(d).unwrap();
+    for n in [1001, 1000, 25, 7] {
+        let times = grid(0.0, std::f64::consts::PI, n);
+        let (out, r) = run(&model, &times, Request::default());
+        r.unwrap();
+        assert_eq!(out.n_steps, n);
+        for k in 0..n {
+            let q = &out.q[9 * k..9 * k + 9];
+            // positions to 1e-10 (measured below 1e-12); rates to 1e-8 (interpolated
+            // between states where Phi_q is conditioned to 1e-2 next to the change point)
+            assert!(wrap(q[8] - q[2]).abs() < 1e-10, "n {n} step {k}: rocker {} crank {}", q[8], q[2]);
+            assert!(wrap(q[5]).abs() < 1e-10, "n {n} step {k}: coupler {}", q[5]);
+            assert!(
+                (out.qd[9 * k + 8] - 1.0).abs() < 1e-8,
+                "n {n} step {k}: rocker rate {}",
+                out.qd[9 * k + 8]
+            );
+        }
+        let bif: Vec<_> = out.events.iter().filter(|e| e.kind == EventKind::Bifurcation).collect();
+        assert_eq!(bif.len(), 1, "n {n}: {:?}", out.events.iter().map(|e| e.time).collect::<Vec<_>>());
+        assert!((bif[0].time - std::f64::consts::FRAC_PI_2).abs() < 1e-6);
+    }
+}
+
+/// The reported hang: the same parallelogram drawn with the crank at (2.4e-17, 0.4),
+/// swept over three turns in 24 steps. It returns (bounded work per step) on its branch.
+#[test]
+fn a_coarse_grid_over_change_points_returns_on_the_branch() {
+    let (r1, r2, cx) = (1.0f64, 0.4f64, 2.4e-17f64);
+    let th = r2.atan2(cx);
+    let mut d = four_bar(&FourBar { r1, r2, r3: r1, r4: r2 }, th, 1.0);
+    d.drivers = vec![crank_driver(std::f64::consts::FRAC_PI_2, 1.0)];
+    d.bodies = vec![body("crank", 0.0, 0.0, th), body("coupler", cx, r2, 0.0), body("rocker", r1, 0.0, th)];
+    d.joints = vec![
+        pin("O2", "ground", "crank", [0.0, 0.0]),
+        pin("A", "crank", "coupler", [cx, r2]),
+        pin("B", "coupler", "rocker", [r1, r2]),
+        pin("O4", "ground", "rocker", [r1, 0.0]),
+    ];
+    let model = Model::new(d).unwrap();
+    let times = grid(0.0, 6.0 * std::f64::consts::PI, 25);
+    let start = std::time::Instant::now();
+    let (out, r) = run(&model, &times, Request::default());
+    // a hang would never return; the sweep takes milliseconds
+    assert!(start.elapsed().as_secs_f64() < 20.0);
+    r.unwrap();
+    for q in out.q.chunks_exact(9) {
+        assert!(wrap(q[8] - q[2]).abs() < 1e-10);
+    }
+    assert_eq!(out.events.len(), 6, "a change point every half turn");
+}
+
+/// Crank = rod: the grid of the report (linspace(0, pi, 201) from 0) lands on the toggle
+/// at step 100; "continue" goes on along x = 2 r cos(theta) and reports the toggle.
+#[test]
+fn an_isosceles_slider_crank_goes_on_through_a_toggle_on_the_grid() {
+    let m = SliderCrank { r2: 0.1, r3: 0.1, e: 0.0 };
+    let model = Model::new(slider_crank(&m, 0.3, 1.0)).unwrap();
+    let times: Vec<f64> = grid(0.0, std::f64::consts::PI, 201).iter().map(|t| t - 0.3).collect();
+    let (out, r) = run(&model, &times, Request::default());
+    r.unwrap();
+    for (k, q) in out.q.chunks_exact(9).enumerate() {
+        let th2 = 0.3 + times[k];
+        assert!((q[6] - 0.2 * th2.cos()).abs() < 1e-11, "step {k}: x {} vs {}", q[6], 0.2 * th2.cos());
+    }
+    let bif: Vec<f64> =
+        out.events.iter().filter(|e| e.kind == EventKind::Bifurcation).map(|e| e.time + 0.3).collect();
+    assert_eq!(bif.len(), 1);
+    assert!((bif[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-6);
+}
+
+/// A solve far from the drawing follows the drawing's branch there (the four-bar after
+/// 100 s of crank motion equals the sweep's last step) and reports crossings met.
+#[test]
+fn solve_along_continues_the_drawing_far_away() {
+    let m = FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 };
+    let model = Model::new(four_bar(&m, 0.0, 5.0)).unwrap();
+    let mut data = Data::new(&model);
+    let (_, events) = linkwork::solve_along(&model, &mut data, 100.0, &mut || true).unwrap();
+    assert!(events.is_empty());
+    let times = grid(0.0, 100.0, 200_001);
+    let (out, r) = run(&model, &times, Request::default());
+    r.unwrap();
+    let last = &out.q[9 * (times.len() - 1)..];
+    assert!(rel_err(&data.q, last) < 1e-12, "{:?} vs {:?}", data.q, last);
+    // the parallelogram crosses a change point every half turn of its crank
+    let model = Model::new(parallelogram()).unwrap();
+    let mut data = Data::new(&model);
+    let (_, events) = linkwork::solve_along(&model, &mut data, 10.0, &mut || true).unwrap();
+    assert_eq!(events.len(), 3, "crank from 0.5 to 10.5 rad crosses pi, 2 pi, 3 pi");
+    assert!(wrap(data.q[8] - 10.5).abs() < 1e-10);
+}

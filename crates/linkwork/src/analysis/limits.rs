@@ -4,13 +4,13 @@
 //! limit of motion, or a whole turn (angles) or the search range (lengths) is covered.
 //! Each limit is located where Newton stops converging, to about round-off in the input.
 
-use crate::stepping::singular::{Event, EventKind};
-use crate::stepping::tracking::OnSingular;
 use crate::data::Data;
 use crate::description::DriverDesc;
 use crate::error::{ModelError, SolveError};
 use crate::model::Model;
 use crate::motion::MotionLaw;
+use crate::stepping::singular::{Event, EventKind};
+use crate::stepping::tracking::OnSingular;
 use crate::sweep::{sweep, Request, SweepOutput};
 
 /// The range of one driver's input over which the mechanism assembles, on the branch of

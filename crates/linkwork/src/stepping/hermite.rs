@@ -71,8 +71,42 @@ pub fn consistent(model: &Model, a: &State, b: &State) -> bool {
     misfit <= CONSISTENCY * motion + CONSISTENCY_FLOOR
 }
 
+/// The cheap path's check that a step continues its predecessor's branch, the backward
+/// half of `consistent` (its forward half is the predictor's correction): q_prev
+/// predicted from the new step's rates, q, qd and qdd (or qd_prev, with velocities only:
+/// then qdd is their difference quotient), within CONSISTENCY of the motion.
+pub fn continues(
+    model: &Model,
+    h: f64,
+    q_prev: &[f64],
+    qd_prev: &[f64],
+    q: &[f64],
+    qd: &[f64],
+    qdd: Option<&[f64]>,
+) -> bool {
+    let (mut motion, mut misfit) = (0.0f64, 0.0f64);
+    for i in 0..q.len() {
+        let s = 1.0 / model.col_scale[i];
+        let acc = match qdd {
+            Some(qdd) => qdd[i],
+            None => (qd[i] - qd_prev[i]) / h,
+        };
+        let backward = q[i] - h * (qd[i] - 0.5 * h * acc);
+        motion = motion.max((q[i] - q_prev[i]).abs() * s);
+        misfit = misfit.max((q_prev[i] - backward).abs() * s);
+    }
+    misfit <= CONSISTENCY * motion + CONSISTENCY_FLOOR
+}
+
 /// The quintic Hermite interpolant of `a` and `b` at t: q, and qd, qdd where given.
-pub fn interpolate(a: &State, b: &State, t: f64, q: &mut [f64], mut qd: Option<&mut [f64]>, mut qdd: Option<&mut [f64]>) {
+pub fn interpolate(
+    a: &State,
+    b: &State,
+    t: f64,
+    q: &mut [f64],
+    mut qd: Option<&mut [f64]>,
+    mut qdd: Option<&mut [f64]>,
+) {
     let h = b.t - a.t;
     let s = (t - a.t) / h;
     for i in 0..a.q.len() {
@@ -99,7 +133,8 @@ mod tests {
     use super::*;
 
     fn state(t: f64, q: f64, qd: f64, qdd: f64) -> State {
-        let info = PositionInfo { iterations: 1, residual: 0.0, pivot_ratio: 1.0, det_sign: 1.0, correction: 0.0 };
+        let info =
+            PositionInfo { iterations: 1, residual: 0.0, pivot_ratio: 1.0, det_sign: 1.0, correction: 0.0 };
         State { t, q: vec![q], qd: vec![qd], qdd: vec![qdd], ratio: 1.0, det_sign: 1.0, info }
     }
 

@@ -17,16 +17,16 @@
 //! rate. All of this allocates only when something happens.
 
 use crate::acceleration::solve_acceleration;
-use crate::sweep::NEAR_SINGULAR;
-use crate::stepping::singular::{
-    classify, constraint_shares, coordinate_shares, smallest_singular, Event, EventKind,
-};
 use crate::data::Data;
-use crate::stepping::hermite::{consistent, interpolate, State};
 use crate::error::SolveError;
 use crate::joints::{Constraint, ConstraintKind};
 use crate::model::Model;
 use crate::position::{solve_position, PositionInfo};
+use crate::stepping::hermite::{consistent, interpolate, State};
+use crate::stepping::singular::{
+    classify, constraint_shares, coordinate_shares, smallest_singular, Event, EventKind,
+};
+use crate::sweep::NEAR_SINGULAR;
 use crate::velocity::solve_velocity;
 
 /// A step whose Newton correction exceeds this fraction of the predicted motion (or of
@@ -217,12 +217,25 @@ struct Stuck {
 }
 
 /// One sub-step of the careful path: Taylor from `from`, Newton at t, rates, checks.
-fn attempt(model: &Model, data: &mut Data, from: &State, t: f64, step: usize) -> Result<State, Failure> {
+fn attempt(
+    model: &Model,
+    data: &mut Data,
+    from: &State,
+    t: f64,
+    step: usize,
+    base_ratio: f64,
+) -> Result<State, Failure> {
     taylor(data, from, t);
-    let info = full_solve(model, data, t, step).map_err(Failure::NoSolution)?;
+    let info = match full_solve(model, data, t, step) {
+        Ok(info) => info,
+        // singular to round-off: at (or next to) a singular configuration, to step over
+        Err(SolveError::Singular { .. }) => return Err(Failure::NearSingular),
+        Err(e) => return Err(Failure::NoSolution(e)),
+    };
     // next to a singular configuration, relative to how well conditioned the branch was
-    // (a model ill-conditioned everywhere is not singular everywhere)
-    if info.pivot_ratio < NEAR_SINGULAR && info.pivot_ratio < NEAR_SINGULAR_DROP * from.ratio {
+    // where the careful path started (a model ill-conditioned everywhere is not singular
+    // everywhere)
+    if info.pivot_ratio < NEAR_SINGULAR && info.pivot_ratio < NEAR_SINGULAR_DROP * base_ratio {
         return Err(Failure::NearSingular);
     }
     let b = State::capture(data, t, info);
@@ -513,31 +526,35 @@ impl Tracker {
     ) -> Result<(State, State), SolveError> {
         let span = target - from.t;
         let h_min = (span.abs() * 0.5f64.powi(MAX_HALVINGS)).max(16.0 * f64::EPSILON * target.abs().max(1.0));
+        let base_ratio = from.ratio;
         let mut cur = from;
         let mut h = span;
         let mut tries = 0usize;
         loop {
             let to = if (cur.t + h - target) * span.signum() >= 0.0 { target } else { cur.t + h };
             let hh = to - cur.t;
-            let failure = match self.try_once(model, data, &cur, to, step, &mut tries, budget, poll)? {
-                Ok(b) if self.crossed(model, data, &cur, &b, step)? => {
-                    if to == target {
-                        return Ok((cur, b));
+            let failure =
+                match self.try_once(model, data, &cur, to, step, &mut tries, (budget, base_ratio), poll)? {
+                    Ok(b) if self.crossed(model, data, &cur, &b, step)? => {
+                        if to == target {
+                            return Ok((cur, b));
+                        }
+                        cur = b;
+                        h = 2.0 * hh;
+                        continue;
                     }
-                    cur = b;
-                    h = 2.0 * hh;
-                    continue;
-                }
-                Ok(_) => Failure::Inconsistent,
-                Err(f) => f,
-            };
+                    Ok(_) => Failure::Inconsistent,
+                    Err(f) => f,
+                };
             let small = (0.5 * hh).abs() < h_min;
             if matches!(failure, Failure::NearSingular) || small {
                 // a singular configuration at or just before `to`: step over it from cur
                 let mut over_it = false;
                 for m in OVERSHOOT {
                     let over = cur.t + m * hh;
-                    let Ok(b) = self.try_once(model, data, &cur, over, step, &mut tries, budget, poll)? else {
+                    let Ok(b) =
+                        self.try_once(model, data, &cur, over, step, &mut tries, (budget, base_ratio), poll)?
+                    else {
                         continue;
                     };
                     if self.crossed(model, data, &cur, &b, step)? {
@@ -571,7 +588,7 @@ impl Tracker {
         t: f64,
         step: usize,
         tries: &mut usize,
-        budget: usize,
+        (budget, base_ratio): (usize, f64),
         poll: &mut dyn FnMut() -> bool,
     ) -> Result<Result<State, Failure>, SolveError> {
         *tries += 1;
@@ -597,7 +614,7 @@ impl Tracker {
                 what: "the sub-step time".into(),
             })));
         }
-        Ok(attempt(model, data, from, t, step))
+        Ok(attempt(model, data, from, t, step, base_ratio))
     }
 
     /// Between two certified states: where det Phi_q changed sign, a singular
@@ -605,7 +622,14 @@ impl Tracker {
     /// satisfying the constraints (to `CROSSING_RESIDUAL`): located by the signed smallest
     /// singular value along it (no Newton solve next to it) and reported. Otherwise `b`
     /// is on another branch that passes close (Ok(false): the sub-step is not taken).
-    fn crossed(&mut self, model: &Model, data: &mut Data, a: &State, b: &State, step: usize) -> Result<bool, SolveError> {
+    fn crossed(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        a: &State,
+        b: &State,
+        step: usize,
+    ) -> Result<bool, SolveError> {
         if a.det_sign * b.det_sign >= 0.0 {
             return Ok(true);
         }
@@ -618,7 +642,8 @@ impl Tracker {
         let t_star = illinois(a.t, b.t, |tm| signed_sigma(data, tm)).unwrap_or(0.5 * (a.t + b.t));
         interpolate(a, b, t_star, &mut data.q, Some(&mut data.qd), Some(&mut data.qdd));
         let at = factor_at(model, data, t_star);
-        if !(at.residual <= CROSSING_RESIDUAL) {
+        // a NaN residual is no crossing either
+        if at.residual.is_nan() || at.residual > CROSSING_RESIDUAL {
             return Ok(false);
         }
         let ev = self.event(model, data, EventKind::Bifurcation, step, t_star);
@@ -692,7 +717,14 @@ impl Tracker {
     /// Narrows [last solved, first unsolved] to round-off by bisection; near a fold in t
     /// the solution moves like sqrt(t* - t), so each probe starts from the last solution
     /// (a Taylor prediction would overshoot).
-    fn bisect_fold(&self, model: &Model, data: &mut Data, mut good: State, mut bad: f64, step: usize) -> (State, f64) {
+    fn bisect_fold(
+        &self,
+        model: &Model,
+        data: &mut Data,
+        mut good: State,
+        mut bad: f64,
+        step: usize,
+    ) -> (State, f64) {
         for _ in 0..80 {
             let tol = 4.0 * f64::EPSILON * good.t.abs().max(bad.abs()).max(1.0);
             if (bad - good.t).abs() <= tol {
