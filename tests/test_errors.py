@@ -262,3 +262,22 @@ def test_engine_panic_arrives_as_internal_error() -> None:
     with pytest.raises(lw.InternalError, match=r"while checking the panic guard: deliberate panic.*report"):
         _core._check_panic_guard()
     assert issubclass(lw.InternalError, Exception) and issubclass(lw.InternalError, lw.LinkworkError)
+
+
+def test_a_sweep_too_large_for_memory_is_refused_before_it_starts():
+    # 5,000,000 steps of a 200-loop chain with rates: far more than this machine has.
+    # Refused with what it needs and how to ask for less, instead of the allocation
+    # failure aborting the interpreter; the same sweep asking for less runs
+    import time
+
+    model = lw.examples.chain(200).compile()
+    times = np.linspace(0.0, 1.0, 5_000_000)
+    start = time.perf_counter()
+    with pytest.raises(lw.InputError, match=r"outputs need [0-9.]+ GB .*every=k") as info:
+        model.sweep(times)
+    assert time.perf_counter() - start < 10.0, "refused before any work"
+    assert info.value.step is None
+    with pytest.raises(lw.InputError, match="for 3 models"):
+        lw.sweep_batch([model] * 3, times)
+    few = model.sweep(times[:2001], derivatives=0, every=1000)
+    assert few.n_steps == 3

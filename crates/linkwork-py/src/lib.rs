@@ -78,6 +78,7 @@ fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
         SolveError::NonFinite { time, .. } => (NonFiniteError::new_err(msg), Some(*time)),
         SolveError::Times { .. } => (InputError::new_err(msg), None),
         SolveError::OutOfRange { time, .. } => (InputError::new_err(msg), Some(*time)),
+        SolveError::TooLarge { .. } => (InputError::new_err(msg), None),
         SolveError::Cancelled { .. } => (CancelledError::new_err(msg), None),
         SolveError::Event { time, .. } => (SingularError::new_err(msg), Some(*time)),
     };
@@ -281,6 +282,23 @@ fn sweep_batch<'py>(
     let refs: Vec<&Model> = arcs.iter().map(|m| m.as_ref()).collect();
     let times = times.as_slice()?;
     let total = refs.len();
+    // every model's outputs are kept until all are returned: refused up front if they
+    // cannot all fit
+    let (bytes, what) = refs.iter().fold((0usize, String::new()), |(b, _), m| {
+        let (mb, what) = SweepOutput::bytes(m, times.len(), request);
+        (b.saturating_add(mb), what)
+    });
+    let available = linkwork::available_memory();
+    if available.is_some_and(|a| bytes > a) {
+        let e = SolveError::TooLarge {
+            bytes,
+            available,
+            steps: times.len().div_ceil(request.every.max(1)),
+            n_coords: refs.iter().map(|m| m.n_coords).max().unwrap_or(0),
+            what: format!("{what}, for {total} models"),
+        };
+        return Err(solve_err(py, &e));
+    }
     let (items, interrupt) = py.detach(|| {
         let mut interrupt: Option<PyErr> = None;
         let mut last = usize::MAX;
@@ -517,7 +535,8 @@ impl PyModel {
             }
             (None, _) => model.q_start.clone(),
         };
-        let mut out = SweepOutput::with_request(&model, times, request);
+        let mut out = SweepOutput::try_with_request(&model, times, request, linkwork::available_memory())
+            .map_err(|e| solve_err(py, &e))?;
         let total = times.len();
         laws::clear(&self.failures);
         let (result, interrupt) = py.detach(|| {

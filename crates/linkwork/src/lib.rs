@@ -44,6 +44,8 @@ pub use linear::{LinearKind, Pivots};
 pub use model::{Model, Options};
 pub use motion::{ExternalFn, ExternalLaw, MotionLaw};
 pub use position::{solve_position, PositionInfo};
-pub use sweep::{check_times, drawing_time, solve, solve_along, sweep, Request, SweepOutput};
+pub use sweep::{
+    available_memory, check_times, drawing_time, solve, solve_along, sweep, Request, SweepOutput,
+};
 pub use units::Units;
 pub use velocity::solve_velocity;

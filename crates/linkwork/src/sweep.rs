@@ -133,6 +133,57 @@ impl SweepOutput {
         }
     }
 
+    /// The bytes the outputs of a sweep of `n_times` times would take (as `with_request`
+    /// allocates them), and what they hold, for the refusal message.
+    pub fn bytes(model: &Model, n_times: usize, request: Request) -> (usize, String) {
+        let probe = SweepOutput::with_request(model, &[], request);
+        let req = probe.request;
+        let n = n_times.div_ceil(req.every.max(1));
+        let (m, r, nc) = (model.n_coords, model.n_rows, model.constraints.len());
+        let f = std::mem::size_of::<f64>();
+        let mut per_step = (3 * f + std::mem::size_of::<u32>() + f) + m * f; // diagnostics, times, q
+        let mut what = vec!["q"];
+        if req.derivatives >= 1 {
+            per_step += m * f;
+            what.push("qd");
+        }
+        if req.derivatives >= 2 {
+            per_step += m * f;
+            what.push("qdd");
+        }
+        if req.forces {
+            per_step += (4 * r + nc * REACTION_COLUMNS + 1) * f;
+            what.push("forces");
+        }
+        (n.saturating_mul(per_step), format!(": {}", what.join(", ")))
+    }
+
+    /// `with_request`, refusing (instead of aborting the process) outputs that cannot be
+    /// allocated or that exceed `available` bytes.
+    pub fn try_with_request(
+        model: &Model,
+        times: &[f64],
+        request: Request,
+        available: Option<usize>,
+    ) -> Result<SweepOutput, SolveError> {
+        let (bytes, what) = SweepOutput::bytes(model, times.len(), request);
+        let too_large = || SolveError::TooLarge {
+            bytes,
+            available,
+            steps: times.len().div_ceil(request.every.max(1)),
+            n_coords: model.n_coords,
+            what: what.clone(),
+        };
+        if available.is_some_and(|a| bytes > a) {
+            return Err(too_large());
+        }
+        // allocate once, fallibly, to find out whether the allocator can give that much
+        let mut probe: Vec<u8> = Vec::new();
+        probe.try_reserve_exact(bytes).map_err(|_| too_large())?;
+        drop(probe);
+        Ok(SweepOutput::with_request(model, times, request))
+    }
+
     /// Drops the rows that were never reached.
     pub fn truncate(&mut self) {
         let (k, m) = (self.n_done, self.n_coords);
@@ -340,6 +391,15 @@ fn sweep_steps(
         }
     }
     Ok(())
+}
+
+/// Memory available for new allocations (Linux: MemAvailable of /proc/meminfo), or None
+/// where it is not known.
+pub fn available_memory() -> Option<usize> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: usize = line.split_whitespace().nth(1)?.parse().ok()?;
+    kb.checked_mul(1024)
 }
 
 /// Sub-steps allowed to follow the drivers from the drawing to a solve's time.
