@@ -297,3 +297,25 @@ def test_property_change_point_mechanisms_keep_their_branch(kind, scale, size, r
     th2, th4 = theta0 + res.times, res.body("rocker").theta
     assert np.abs(wrap(res.body("crank").theta - th2)).max() < 1e-12
     assert invariant(kind, a, b, th2, th4, sign).max() < POS_TOL * a
+
+
+def test_on_singular_switch_takes_the_other_branch_at_each_crossing():
+    # the parallelogram becomes the antiparallelogram at its change point (and back at
+    # the next); the isosceles slider-crank folds (slider pin on the crank pivot, x = 0)
+    a, b, theta0 = 0.3, 0.1, 0.5
+    model = parallelogram(1.0, theta0)
+    for n in (1001, 201, 25, 8):
+        res = timed_sweep(model, np.linspace(0.0, 2 * PI, n), on_singular="switch")
+        th2, th4 = theta0 + res.times, res.body("rocker").theta
+        first = th2 < PI - 1e-9
+        second = (th2 > PI + 1e-9) & (th2 < 2 * PI - 1e-9)
+        assert invariant("parallelogram", a, b, th2[first], th4[first]).max() < POS_TOL
+        assert invariant("antiparallelogram", a, b, th2[second], th4[second]).max() < POS_TOL
+        assert [e.kind for e in res.events] == ["bifurcation", "bifurcation"]
+        assert all("takes the other branch" in e.message for e in res.events)
+    r = 0.1
+    slider = examples.slider_crank(crank=r, rod=r, offset=0.0, theta0=0.0, omega=1.0).compile()
+    res = timed_sweep(slider, np.linspace(0.0, PI, 201), on_singular="switch")
+    x, th = res.body("slider").x, res.times
+    assert np.abs(x - 2 * r * np.cos(th))[th < PI / 2 - 1e-9].max() < POS_TOL
+    assert np.abs(x)[th > PI / 2 + 1e-9].max() < POS_TOL

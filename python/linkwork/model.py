@@ -227,8 +227,10 @@ class Model:
         ``every``: keep every ``every``-th step only (all are solved; each kept row's
         diagnostics are the worst since the previous kept row).
         ``on_singular``: at a limit of motion, a bifurcation or a branch jump, "continue"
-        (default: report it in ``results.events`` and go on along the same branch where
-        one exists) or "stop" (raise `SingularError` there).
+        (default: report it in ``results.events`` and go on along the same branch, its
+        analytic continuation, where one exists), "switch" (at a bifurcation, go on along
+        the other branch through it: a parallelogram becomes an antiparallelogram at its
+        change point) or "stop" (raise `SingularError` there).
         ``locks``: also locate where each output (a link pinned to the ground, a slider)
         stops and reverses (needs velocities; solved even if ``derivatives=0``).
         Each step is checked against its prediction: a step that fails or would jump to

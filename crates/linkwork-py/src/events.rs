@@ -14,7 +14,10 @@ pub(crate) fn parse_on_singular(s: &str) -> PyResult<OnSingular> {
     match s {
         "continue" => Ok(OnSingular::Continue),
         "stop" => Ok(OnSingular::Stop),
-        other => Err(InputError::new_err(format!("on_singular must be 'continue' or 'stop', not {other:?}"))),
+        "switch" => Ok(OnSingular::Switch),
+        other => Err(InputError::new_err(format!(
+            "on_singular must be 'continue', 'stop' or 'switch', not {other:?}"
+        ))),
     }
 }
 

@@ -373,3 +373,27 @@ fn solve_along_continues_the_drawing_far_away() {
     assert_eq!(events.len(), 3, "crank from 0.5 to 10.5 rad crosses pi, 2 pi, 3 pi");
     assert!(wrap(data.q[8] - 10.5).abs() < 1e-10);
 }
+
+/// Switch: at each change point the parallelogram takes the other branch (the
+/// antiparallelogram, where O4 A stays parallel to O2 B), then back.
+#[test]
+fn on_singular_switch_takes_the_other_branch() {
+    let model = Model::new(parallelogram()).unwrap();
+    let times = grid(0.0, 2.0 * std::f64::consts::PI, 301);
+    let (out, r) = run(&model, &times, Request { on_singular: OnSingular::Switch, ..Request::default() });
+    r.unwrap();
+    let (r1, r2) = (0.30, 0.10);
+    for (k, q) in out.q.chunks_exact(9).enumerate() {
+        let th2 = 0.5 + times[k];
+        let (th4, pi) = (q[8], std::f64::consts::PI);
+        if th2 < pi - 1e-9 {
+            assert!(wrap(th4 - th2).abs() < 1e-10, "step {k}: parallelogram");
+        } else if th2 > pi + 1e-9 && th2 < 2.0 * pi - 1e-9 {
+            let a = [r2 * th2.cos() - r1, r2 * th2.sin()];
+            let b = [r1 + r2 * th4.cos(), r2 * th4.sin()];
+            assert!((a[0] * b[1] - a[1] * b[0]).abs() < 1e-10, "step {k}: antiparallelogram");
+        }
+    }
+    assert_eq!(out.events.len(), 2);
+    assert!(out.events.iter().all(|e| e.message.contains("takes the other branch")));
+}

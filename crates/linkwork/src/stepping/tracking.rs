@@ -22,7 +22,7 @@ use crate::error::SolveError;
 use crate::joints::{Constraint, ConstraintKind};
 use crate::model::Model;
 use crate::position::{solve_position, PositionInfo};
-use crate::stepping::hermite::{consistent, interpolate, State};
+use crate::stepping::hermite::{consistent, interpolate, State, CONSISTENCY};
 use crate::stepping::singular::{
     classify, constraint_shares, coordinate_shares, smallest_singular, Event, EventKind,
 };
@@ -58,6 +58,9 @@ pub enum OnSingular {
     /// Stop with an error at the first limit, bifurcation or branch jump, keeping the
     /// steps before it.
     Stop,
+    /// At a bifurcation, go on along the other branch through it (found by deflated
+    /// Newton next to the crossing); otherwise as Continue.
+    Switch,
 }
 
 /// A quantity whose sign change is a lock: a rate made of coordinate rates.
@@ -280,6 +283,9 @@ pub struct Tracker {
     /// where the careful path stepped over a singular configuration: the certified states
     /// before and after it; the sweep times between them are filled from its interpolant
     span: Option<(State, State)>,
+    /// after a switch of branch at a crossing: its time and the first certified state on
+    /// the new branch; span times past the crossing come from this branch
+    switched: Option<(f64, State)>,
     pub events: Vec<Event>,
 }
 
@@ -294,6 +300,7 @@ impl Tracker {
             q_prev: vec![0.0; model.n_coords],
             det_prev: 0.0,
             span: None,
+            switched: None,
             events: Vec::new(),
         }
     }
@@ -400,6 +407,11 @@ impl Tracker {
             return Ok(None);
         };
         let direction = (ahead.t - behind.t).signum();
+        if let Some((t_star, other)) = self.switched.clone() {
+            if (t - t_star) * direction >= 0.0 {
+                return self.on_new_branch(model, data, t_star, other, t, step, poll).map(Some);
+            }
+        }
         if (t - ahead.t) * direction < 0.0 {
             return Ok(Some(self.fill(model, data, t, step)));
         }
@@ -422,11 +434,7 @@ impl Tracker {
         poll: &mut dyn FnMut() -> bool,
     ) -> Result<PositionInfo, SolveError> {
         let (behind, ahead) = self.advance(model, data, from, t, 0, budget, poll)?;
-        if ahead.t == t {
-            return Ok(land(model, data, &ahead));
-        }
-        self.span = Some((behind, ahead));
-        Ok(self.fill(model, data, t, 0))
+        self.settle(model, data, behind, ahead, t, 0, poll)
     }
 
     /// From a certified state to t: advance, then land on t or fill it from the span.
@@ -440,11 +448,117 @@ impl Tracker {
         poll: &mut dyn FnMut() -> bool,
     ) -> Result<PositionInfo, SolveError> {
         let (behind, ahead) = self.advance(model, data, from, t, step, STEP_BUDGET, poll)?;
-        if ahead.t == t {
+        self.settle(model, data, behind, ahead, t, step, poll)
+    }
+
+    /// After `advance` to t: land on t, or keep the span and fill t from it (from the new
+    /// branch if the path switched branches before t).
+    #[allow(clippy::too_many_arguments)]
+    fn settle(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        behind: State,
+        ahead: State,
+        t: f64,
+        step: usize,
+        poll: &mut dyn FnMut() -> bool,
+    ) -> Result<PositionInfo, SolveError> {
+        if ahead.t == t && self.switched.is_none() {
             return Ok(land(model, data, &ahead));
         }
         self.span = Some((behind, ahead));
-        Ok(self.fill(model, data, t, step))
+        Ok(self.spanned(model, data, t, step, poll)?.expect("a span was just set"))
+    }
+
+    /// A time past a switch of branch: on the new branch, reached from its first state
+    /// (backwards for times between the crossing and that state; no events are recorded
+    /// there: the crossing has been).
+    #[allow(clippy::too_many_arguments)]
+    fn on_new_branch(
+        &mut self,
+        model: &Model,
+        data: &mut Data,
+        t_star: f64,
+        other: State,
+        t: f64,
+        step: usize,
+        poll: &mut dyn FnMut() -> bool,
+    ) -> Result<PositionInfo, SolveError> {
+        let direction = (other.t - t_star).signum();
+        if (t - other.t) * direction >= 0.0 {
+            // at or past the new branch's first state: an ordinary careful step from it
+            self.span = None;
+            self.switched = None;
+            if t == other.t {
+                return Ok(land(model, data, &other));
+            }
+            return self.step_from(model, data, other, t, step, poll);
+        }
+        let (n_events, det_prev) = (self.events.len(), self.det_prev);
+        let (span, switched, on_singular) = (self.span.take(), self.switched.take(), self.on_singular);
+        self.on_singular = OnSingular::Continue;
+        let info = match self.advance(model, data, other, t, step, STEP_BUDGET, poll) {
+            Ok((_, ahead)) if ahead.t == t => Ok(land(model, data, &ahead)),
+            Ok((behind, ahead)) => {
+                self.span = Some((behind, ahead));
+                Ok(self.fill(model, data, t, step))
+            }
+            Err(e) => Err(e),
+        };
+        self.events.truncate(n_events);
+        (self.det_prev, self.span, self.switched, self.on_singular) = (det_prev, span, switched, on_singular);
+        info
+    }
+
+    /// The other branch through a crossing at (t_star, q_star), at the time of `b` (the
+    /// continuation's state just past it): deflated Newton (the continuation's solution
+    /// divided out) from starts off `b` along the singular direction `v` (scaled). None
+    /// if no other solution there leads back to the crossing.
+    fn other_branch(
+        &self,
+        model: &Model,
+        data: &mut Data,
+        b: &State,
+        (t_star, q_star): (f64, &[f64]),
+        v: &[f64],
+        step: usize,
+    ) -> Option<State> {
+        let n = model.n_coords;
+        let scale = &model.col_scale;
+        let scaled_dist = |q: &[f64], r: &[f64]| -> f64 {
+            (0..n).map(|i| ((q[i] - r[i]) / scale[i]).powi(2)).sum::<f64>().sqrt()
+        };
+        let dist = scaled_dist(&b.q, q_star);
+        let tol = model.options.tol_residual;
+        for c in [1.0, 2.0, 0.5, 4.0, 0.25] {
+            for sign in [1.0, -1.0] {
+                for i in 0..n {
+                    data.q[i] = b.q[i] + sign * c * dist * v[i] * scale[i];
+                }
+                if !deflated_newton(model, data, b.t, &b.q, tol) {
+                    continue;
+                }
+                let far = scaled_dist(&data.q, &b.q);
+                if far <= 1e-6 * (1.0 + dist) || far > 16.0 * dist + 1e-9 {
+                    continue;
+                }
+                let Ok(info) = full_solve(model, data, b.t, step) else { continue };
+                let other = State::capture(data, b.t, info);
+                // a branch through the crossing: its own expansion leads back there
+                let h = t_star - b.t;
+                let (mut back, mut span) = (0.0f64, 0.0f64);
+                for i in 0..n {
+                    let p = other.q[i] + h * (other.qd[i] + 0.5 * h * other.qdd[i]);
+                    back = back.max((p - q_star[i]).abs() / scale[i]);
+                    span = span.max((other.q[i] - q_star[i]).abs() / scale[i]);
+                }
+                if back <= CONSISTENCY * span + 1e-9 {
+                    return Some(other);
+                }
+            }
+        }
+        None
     }
 
     /// A time the careful path stepped over: q, qd, qdd from the span's interpolant; q
@@ -536,7 +650,7 @@ impl Tracker {
             let failure =
                 match self.try_once(model, data, &cur, to, step, &mut tries, (budget, base_ratio), poll)? {
                     Ok(b) if self.crossed(model, data, &cur, &b, step)? => {
-                        if to == target {
+                        if to == target || self.switched.is_some() {
                             return Ok((cur, b));
                         }
                         cur = b;
@@ -558,7 +672,7 @@ impl Tracker {
                         continue;
                     };
                     if self.crossed(model, data, &cur, &b, step)? {
-                        if (over - target) * span.signum() >= 0.0 {
+                        if (over - target) * span.signum() >= 0.0 || self.switched.is_some() {
                             return Ok((cur, b));
                         }
                         cur = b;
@@ -646,8 +760,23 @@ impl Tracker {
         if at.residual.is_nan() || at.residual > CROSSING_RESIDUAL {
             return Ok(false);
         }
-        let ev = self.event(model, data, EventKind::Bifurcation, step, t_star);
+        let mut ev = self.event(model, data, EventKind::Bifurcation, step, t_star);
         self.det_prev = b.det_sign;
+        if self.on_singular == OnSingular::Switch && ev.kind == EventKind::Bifurcation {
+            let q_star = data.q.clone();
+            let v = smallest_singular(model, data, 4).v;
+            let kept = "the sweep follows the branch it was on";
+            match self.other_branch(model, data, b, (t_star, &q_star), &v, step) {
+                Some(other) => {
+                    ev.message = ev.message.replace(kept, "the sweep takes the other branch through it");
+                    self.det_prev = other.det_sign;
+                    self.switched = Some((t_star, other));
+                }
+                None => {
+                    ev.message = ev.message.replace(kept, &format!("no other branch was found there: {kept}"))
+                }
+            }
+        }
         let err = SolveError::Event { step, time: t_star, message: ev.message.clone() };
         self.events.push(ev);
         if self.on_singular == OnSingular::Stop {
@@ -841,4 +970,45 @@ fn illinois(mut a: f64, mut b: f64, mut f: impl FnMut(f64) -> Option<f64>) -> Op
         }
     }
     Some(b)
+}
+
+/// Newton on Phi(q, t) / (|q - known|^2) + Phi(q, t) from data.q: a solution other than
+/// `known` (deflation). With m(q) = 1 / |q - known|^2 + 1 (scaled), the deflated Newton
+/// step is the plain one divided by 1 - grad(m).step / m (Sherman-Morrison), so it reuses
+/// the factorization of Phi_q. True if it converged (data.q is the solution).
+fn deflated_newton(model: &Model, data: &mut Data, t: f64, known: &[f64], tol: f64) -> bool {
+    let n = model.n_coords;
+    let scale = &model.col_scale;
+    for _ in 0..40 {
+        let residual = crate::assembly::position(model, data, t);
+        data.pivots = data.factor.factor(&model.symbolic, &data.jac);
+        if !(residual.is_finite() && data.pivots.ratio > 0.0) {
+            return false;
+        }
+        for (r, p) in data.rhs.iter_mut().zip(&data.phi) {
+            *r = -p;
+        }
+        data.factor.solve(&model.symbolic, &mut data.rhs);
+        let d2: f64 = (0..n).map(|i| ((data.q[i] - known[i]) / scale[i]).powi(2)).sum();
+        if d2 == 0.0 {
+            return false;
+        }
+        let m = 1.0 / d2 + 1.0;
+        let g_dot: f64 =
+            (0..n).map(|i| -2.0 * (data.q[i] - known[i]) / scale[i] / (d2 * d2) * data.rhs[i]).sum();
+        let factor = 1.0 / (1.0 - g_dot / m);
+        let mut step_norm = 0.0f64;
+        for ((q, r), s) in data.q.iter_mut().zip(&data.rhs[..n]).zip(scale) {
+            let d = factor * r;
+            *q += d * s;
+            step_norm = step_norm.max(d.abs());
+        }
+        if !step_norm.is_finite() {
+            return false;
+        }
+        if residual <= tol && step_norm <= 1e-10 {
+            return true;
+        }
+    }
+    false
 }
