@@ -114,10 +114,13 @@ def test_description_syntax_errors_name_the_line():
 
 
 def test_solver_options_are_checked():
-    with pytest.raises(lw.ModelError, match="options"):
+    # bad options are bad arguments: InputError naming the option, its value, what is allowed
+    with pytest.raises(lw.InputError, match=r"tol_residual must be a finite number > 0, not -1.0"):
         examples.four_bar().compile(tol_residual=-1.0)
-    with pytest.raises(ValueError, match="linear"):
+    with pytest.raises(lw.InputError, match="linear must be one of 'auto'.*not 'cholesky'"):
         examples.four_bar().compile(linear="cholesky")
+    with pytest.raises(lw.InputError, match="unknown option 'lienar'"):
+        examples.four_bar().compile(lienar="dense")
 
 
 def test_unreachable_start_is_an_assembly_error():

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable
 
 from . import _core, curves
-from .errors import ModelError
+from .errors import InputError, ModelError
 from .motion import Law
 
 if TYPE_CHECKING:
@@ -615,14 +615,22 @@ class Mechanism:
     @classmethod
     def from_dict(cls, desc: dict[str, Any]) -> Mechanism:
         """A mechanism from its description (``to_dict``'s inverse)."""
+        from . import _args
+
+        desc = _args.mapping(desc, "desc")
+        for key in ("bodies", "joints", "drivers", "points", "loads"):
+            _args.each(desc.get(key, []), key, lambda item, name: _args.mapping(item, name))
+        g = desc.get("gravity", (0.0, 0.0))
+        if not (isinstance(g, (list, tuple)) and len(g) == 2):
+            raise InputError(f"gravity must be a pair of numbers (gx, gy), not {g!r}")
+        g = (_args.number(g[0], "gravity[0]"), _args.number(g[1], "gravity[1]"))
         m = cls(str(desc.get("name", "mechanism")))
         m._bodies = [dict(b) for b in desc.get("bodies", [])]
         m._joints = [dict(j) for j in desc.get("joints", [])]
         m._drivers = [dict(d) for d in desc.get("drivers", [])]
         m._points = [dict(p) for p in desc.get("points", [])]
         m._loads = [dict(ld) for ld in desc.get("loads", [])]
-        g = desc.get("gravity", (0.0, 0.0))
-        m.gravity = (float(g[0]), float(g[1]))
+        m.gravity = g
         units = desc.get("units")
         m.units = dict(units) if units else None
         return m

@@ -9,7 +9,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import _core
+from . import _args, _core
 from .errors import InputError, ModelError
 from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
@@ -38,6 +38,9 @@ class Model:
     """
 
     def __init__(self, mechanism: Any, **options: Any) -> None:
+        if not hasattr(mechanism, "to_dict"):
+            _args.mapping(mechanism, "mechanism")
+        options = _options(options)
         desc = mechanism.to_dict() if hasattr(mechanism, "to_dict") else dict(mechanism)
         _check_finite(desc)
         self.description: dict[str, Any] = desc
@@ -107,10 +110,11 @@ class Model:
         >>> bool(np.allclose(far.q, model.sweep(np.linspace(0.0, 100.0, 20001)).q[-1], atol=1e-9))
         True
         """
+        t = _args.number(t, "t")
         if branch is not None:
-            q_guess = self._branch_guess(float(t), branch)
-        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
-        q, qd, qdd, it, res, piv, events = self._core.solve(float(t), g)
+            q_guess = self._branch_guess(t, branch)
+        g = self._guess(q_guess)
+        q, qd, qdd, it, res, piv, events = self._core.solve(t, g)
         state = State(self, float(t), q, qd, qdd, it, res, piv)
         state.events = [Event.from_raw(e) for e in events]
         return state
@@ -118,8 +122,8 @@ class Model:
     def statics(self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None) -> Statics:
         """The driver efforts and joint reactions that hold the mechanism at rest at time
         ``t`` against gravity and the loads (velocities and accelerations set to zero)."""
-        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
-        q, lam, reactions = self._core.statics(float(t), g)
+        t, g = _args.number(t, "t"), self._guess(q_guess)
+        q, lam, reactions = self._core.statics(t, g)
         return Statics(self, float(t), q, lam, reactions)
 
     def mobility(
@@ -134,8 +138,8 @@ class Model:
         >>> (m.gruebler_dof, m.dof, m.dof_driven)
         (1, 1, 0)
         """
-        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
-        return Mobility.from_raw(_core.mobility(self._core, float(t), g, bool(assemble)))
+        t, g = _args.number(t, "t"), self._guess(q_guess)
+        return Mobility.from_raw(_core.mobility(self._core, t, g, _args.flag(assemble, "assemble")))
 
     def linkages(self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None) -> list[Linkage]:
         """The four-bar loops and slider-cranks of the mechanism (found from its pins and
@@ -148,8 +152,8 @@ class Model:
         >>> fb.kind_of, fb.input_limits, fb.circuit
         ('crank-rocker', None, 'open')
         """
-        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
-        _, raw = _core.linkages(self._core, float(t), g)
+        t, g = _args.number(t, "t"), self._guess(q_guess)
+        _, raw = _core.linkages(self._core, t, g)
         return [Linkage.from_raw(r, self.body_names) for r in raw]
 
     def assembly_modes(
@@ -166,13 +170,17 @@ class Model:
         >>> sorted(m.circuits["crank/coupler/rocker"] for m in modes)
         ['crossed', 'open']
         """
-        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
-        tried, converged, raw = _core.assembly_modes(self._core, float(t), g, int(tries))
+        t, g = _args.number(t, "t"), self._guess(q_guess)
+        tries = _args.integer(tries, "tries", 1, 1_000_000)
+        tried, converged, raw = _core.assembly_modes(self._core, t, g, tries)
         modes = tuple(
             AssemblyMode(q, float(det), float(ratio), {str(r["name"]): str(r["circuit"]) for r in loops})
             for q, det, ratio, loops in raw
         )
         return AssemblyModes(modes, int(tried), int(converged))
+
+    def _guess(self, q_guess: Any) -> np.ndarray | None:
+        return _args.optional_vector(q_guess, "q_guess", self.n_coords)
 
     def _branch_guess(self, t: float, branch: str | dict[str, str]) -> np.ndarray:
         mode: AssemblyMode = self.assembly_modes(t).find(branch)
@@ -195,13 +203,17 @@ class Model:
         >>> examples.four_bar().compile().motion_limits().full_rotation
         True
         """
+        t, g = _args.number(t, "t"), self._guess(q_guess)
+        range = _args.optional_number(range, "range", positive=True)
+        steps = _args.optional_integer(steps, "steps", 2)
+        if driver is not None and not isinstance(driver, str):
+            raise InputError(f"driver must be a driver's name, not {driver!r}")
         if driver is None:
             drivers = [c[0] for c in self.constraints if c[1] == "driver"]
             if len(drivers) != 1:
                 raise InputError(f"name the driver: this model has {len(drivers)} ({', '.join(drivers)})")
             driver = drivers[0]
-        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
-        raw = _core.motion_limits(self._core, driver, float(t), g, range, steps)
+        raw = _core.motion_limits(self._core, driver, t, g, range, steps)
         return MotionLimits.from_raw(raw)
 
     def sweep(
@@ -240,17 +252,18 @@ class Model:
         the one nearest ``q_guess``: "open" or "crossed" (every recognised four-bar loop or
         slider-crank), or {linkage name: circuit}; see `assembly_modes` and `linkages`.
         """
-        t = np.ascontiguousarray(times, dtype=np.float64)
-        if t.ndim != 1:
-            raise InputError(f"times must be one-dimensional, got shape {t.shape}")
+        t = _args.times(times)
+        forces, locks = _args.flag(forces, "forces"), _args.flag(locks, "locks")
+        derivatives = _args.integer(derivatives, "derivatives", 0, 2)
+        every = _args.integer(every, "every", 1)
+        on_singular = _args.choice(on_singular, "on_singular", ON_SINGULAR)
+        progress = _args.callback(progress, "progress", allow_true=True)
         if branch is not None and len(t):
             q_guess = self._branch_guess(float(t[0]), branch)
-        g = None if q_guess is None else np.ascontiguousarray(q_guess, dtype=np.float64)
+        g = self._guess(q_guess)
         callback = _ProgressBar() if progress is True else (progress or None)
         check = max(1024, len(t) // 100) if callback is not None else 16384
-        raw, error = self._core.sweep(
-            t, g, callback, check, forces, int(derivatives), int(every), on_singular, bool(locks)
-        )
+        raw, error = self._core.sweep(t, g, callback, check, forces, derivatives, every, on_singular, locks)
         results = Results(self, raw)
         if error is not None:
             error.partial = results
@@ -280,15 +293,17 @@ def sweep_batch(
     model's failure (with ``.index`` and ``.partial``); ``errors="return"`` puts the
     exception, with its ``.partial``, in that model's place instead.
     """
-    if errors not in ("raise", "return"):
-        raise InputError(f"errors must be 'raise' or 'return', not {errors!r}")
-    t = np.ascontiguousarray(times, dtype=np.float64)
-    if t.ndim != 1:
-        raise InputError(f"times must be one-dimensional, got shape {t.shape}")
+    errors = _args.choice(errors, "errors", ("raise", "return"))
+    t = _args.times(times)
+    models = _args.each(models, "models", lambda m, name: _args.of_type(m, name, Model, "a compiled Model"))
+    threads = _args.optional_integer(threads, "threads", 0) or 0
+    derivatives = _args.integer(derivatives, "derivatives", 0, 2)
+    every = _args.integer(every, "every", 1)
+    on_singular = _args.choice(on_singular, "on_singular", ON_SINGULAR)
+    progress = _args.callback(progress, "progress")
+    forces, locks = _args.flag(forces, "forces"), _args.flag(locks, "locks")
     cores = [m._core for m in models]
-    items = _core.sweep_batch(
-        cores, t, threads or 0, int(derivatives), forces, progress, int(every), on_singular, bool(locks)
-    )
+    items = _core.sweep_batch(cores, t, threads, derivatives, forces, progress or None, every, on_singular, locks)
     out: list[Any] = []
     for i, (model, (raw, error)) in enumerate(zip(models, items)):
         results = Results(model, raw)
@@ -300,6 +315,29 @@ def sweep_batch(
             raise error
         out.append(error)
     return out
+
+
+ON_SINGULAR = ("continue", "stop", "switch")
+LINEAR = ("auto", "refactor", "small", "dense", "sparse")
+
+
+def _options(options: dict[str, Any]) -> dict[str, Any]:
+    """The compile options checked (names, types, ranges)."""
+    checks: dict[str, Callable[[Any, str], Any]] = {
+        "tol_residual": lambda v, n: _args.optional_number(v, n, positive=True),
+        "tol_step": lambda v, n: _args.optional_number(v, n, positive=True),
+        "singular_tol": lambda v, n: _args.optional_number(v, n, positive=True),
+        "max_iter": lambda v, n: _args.optional_integer(v, n, 1),
+        "max_iter_assembly": lambda v, n: _args.optional_integer(v, n, 1),
+        "dense_max": lambda v, n: _args.optional_integer(v, n, 0),
+        "linear": lambda v, n: _args.choice(v, n, LINEAR),
+        "redundant": lambda v, n: _args.choice(v, n, ("error", "solve")),
+        "python_laws": lambda v, n: v if v is None else dict(_args.mapping(v, n)),
+    }
+    unknown = sorted(set(options) - set(checks))
+    if unknown:
+        raise InputError(f"unknown option {unknown[0]!r}; the options are {', '.join(sorted(checks))}")
+    return {k: checks[k](v, k) for k, v in options.items()}
 
 
 _KINDS = {"bodies": "body", "joints": "joint", "drivers": "driver", "points": "point", "loads": "load"}
