@@ -42,10 +42,16 @@ for n, style in ((1001, "-"), (25, "o"), (8, "s")):
     axes[0].semilogy(crank_angle, np.maximum(dev, 1e-17), style, ms=4, label=label)
     axes[1].semilogy(crank_angle, np.maximum(rate, 1e-17), style, ms=4, label=label)
     axes[2].semilogy(crank_angle, np.maximum(res.pivot_ratio, 1e-17), style, ms=4, label=label)
-    print(f"{n:5d} steps: |rocker - crank| <= {dev.max():.1e} rad, |rocker rate - 1| <= {rate.max():.1e} rad/s, "
-          f"events: {[(e.kind, round(float(np.degrees(np.pi / 2 + e.time)), 6)) for e in res.events]}")
+    events = [(e.kind, round(float(np.degrees(np.pi / 2 + e.time)), 6)) for e in res.events]
+    print(f"{n:5d} steps: |rocker - crank| <= {dev.max():.1e} rad, ", end="")
+    print(f"|rocker rate - 1| <= {rate.max():.1e} rad/s, events: {events}")
 for ax, title in zip(
-    axes, ("parallelogram: |theta_rocker - theta_crank| [rad]", "|omega_rocker - omega_crank| [rad/s]", "pivot ratio")
+    axes,
+    (
+        "parallelogram: |theta_rocker - theta_crank| [rad]",
+        "|omega_rocker - omega_crank| [rad/s]",
+        "pivot ratio",
+    ),
 ):
     ax.axvline(180.0, color="0.6", lw=0.8, ls="--")
     ax.set_xlabel("crank angle [deg]; change point at 180 (dashed)")

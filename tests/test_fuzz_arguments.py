@@ -84,9 +84,13 @@ def test_sweep_arguments(times, derivatives, every, forces, on_singular, locks, 
 
 
 @SETTINGS
-@given(progress=anything, threads=anything, models=st.one_of(anything, st.just([MODEL, SLIDER])), errors=anything)
+@given(
+    progress=anything, threads=anything, models=st.one_of(anything, st.just([MODEL, SLIDER])), errors=anything
+)
 def test_sweep_batch_arguments(progress, threads, models, errors):
-    out = attempt(lambda: lw.sweep_batch(models, [0.0, 0.01], threads=threads, progress=progress, errors=errors))
+    out = attempt(
+        lambda: lw.sweep_batch(models, [0.0, 0.01], threads=threads, progress=progress, errors=errors)
+    )
     if out is not None:
         for r in out:
             if isinstance(r, lw.Results):
@@ -94,7 +98,15 @@ def test_sweep_batch_arguments(progress, threads, models, errors):
 
 
 @SETTINGS
-@given(t=anything, q_guess=anything, assemble=anything, tries=anything, rng=anything, steps=anything, driver=anything)
+@given(
+    t=anything,
+    q_guess=anything,
+    assemble=anything,
+    tries=anything,
+    rng=anything,
+    steps=anything,
+    driver=anything,
+)
 def test_single_time_analyses_arguments(t, q_guess, assemble, tries, rng, steps, driver):
     st_ = attempt(lambda: MODEL.solve(t, q_guess=q_guess))
     if st_ is not None:
@@ -106,13 +118,34 @@ def test_single_time_analyses_arguments(t, q_guess, assemble, tries, rng, steps,
     attempt(lambda: MODEL.mobility(t, q_guess=q_guess, assemble=assemble))
     attempt(lambda: MODEL.linkages(t, q_guess=q_guess))
     attempt(lambda: MODEL.assembly_modes(t, tries=tries) if isinstance(tries, int) and tries < 300 else None)
-    attempt(lambda: MODEL.motion_limits(driver, t=t, range=rng, steps=steps if not isinstance(steps, int) else None))
+    attempt(
+        lambda: MODEL.motion_limits(
+            driver, t=t, range=rng, steps=steps if not isinstance(steps, int) else None
+        )
+    )
 
 
 @SETTINGS
-@given(desc=anything, options=st.dictionaries(st.sampled_from(
-    ["linear", "tol_residual", "tol_step", "max_iter", "max_iter_assembly", "singular_tol", "dense_max", "redundant", "bogus"]
-), anything, max_size=3))
+@given(
+    desc=anything,
+    options=st.dictionaries(
+        st.sampled_from(
+            [
+                "linear",
+                "tol_residual",
+                "tol_step",
+                "max_iter",
+                "max_iter_assembly",
+                "singular_tol",
+                "dense_max",
+                "redundant",
+                "bogus",
+            ]
+        ),
+        anything,
+        max_size=3,
+    ),
+)
 def test_model_building_arguments(desc, options):
     attempt(lambda: lw.Mechanism.from_dict(desc))
     model = attempt(lambda: examples.four_bar().compile(**options))

@@ -61,7 +61,12 @@ def grids(theta0: float, turns: int, crossing_angles: list[float]) -> list[np.nd
 
 def parallelogram(scale: float, theta0: float) -> lw.Model:
     return examples.four_bar(
-        ground=0.3 * scale, crank=0.1 * scale, coupler=0.3 * scale, rocker=0.1 * scale, omega=1.0, theta0=theta0
+        ground=0.3 * scale,
+        crank=0.1 * scale,
+        coupler=0.3 * scale,
+        rocker=0.1 * scale,
+        omega=1.0,
+        theta0=theta0,
     ).compile()
 
 
@@ -120,7 +125,9 @@ def test_the_reported_hang_returns_and_stays_a_parallelogram():
 def test_an_antiparallelogram_keeps_its_branch():
     # ground = coupler, crank = rocker, crossed: O4 A stays parallel to O2 B
     a, b, theta0 = 0.3, 0.1, 0.5
-    model = examples.four_bar(ground=a, crank=b, coupler=a, rocker=b, omega=1.0, theta0=theta0, branch="crossed")
+    model = examples.four_bar(
+        ground=a, crank=b, coupler=a, rocker=b, omega=1.0, theta0=theta0, branch="crossed"
+    )
     model = model.compile()
     for times in grids(theta0, 2, [PI, 2 * PI]):
         res = timed_sweep(model, times)
@@ -161,7 +168,12 @@ def test_an_isosceles_slider_crank_goes_on_through_its_toggles(scale):
     # grid (linspace(0, pi, 201) from 0) lands on it
     r = 0.1 * scale
     model = examples.slider_crank(crank=r, rod=r, offset=0.0, theta0=0.0, omega=1.0).compile()
-    for times in (np.linspace(0, PI, 201), np.linspace(0, 4 * PI, 17), np.linspace(0, 4 * PI, 1000), np.linspace(0, 2 * PI, 9)):
+    for times in (
+        np.linspace(0, PI, 201),
+        np.linspace(0, 4 * PI, 17),
+        np.linspace(0, 4 * PI, 1000),
+        np.linspace(0, 2 * PI, 9),
+    ):
         res = timed_sweep(model, times)
         assert res.n_steps == len(times)
         x = res.body("slider").x
@@ -221,7 +233,9 @@ def test_solve_far_from_the_drawing_of_a_parallelogram_reports_the_change_points
     assert len([e for e in st_.events if e.kind == "bifurcation"]) == 3  # at pi, 2 pi, 3 pi
 
 
-def invariant(kind: str, a: float, b: float, th2: np.ndarray, th4: np.ndarray, sign: float = 1.0) -> np.ndarray:
+def invariant(
+    kind: str, a: float, b: float, th2: np.ndarray, th4: np.ndarray, sign: float = 1.0
+) -> np.ndarray:
     """How far a four-bar of the kind is from its branch's defining relation (lengths)."""
     if kind == "parallelogram":
         return b * np.abs(wrap(th4 - th2))
@@ -239,7 +253,11 @@ def invariant(kind: str, a: float, b: float, th2: np.ndarray, th4: np.ndarray, s
     return np.abs(B - s * np.stack([np.cos(h), np.sin(h)])).max(axis=0)
 
 
-@settings(max_examples=int(os.environ.get("LINKWORK_PROPERTY_EXAMPLES", "25")), deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(
+    max_examples=int(os.environ.get("LINKWORK_PROPERTY_EXAMPLES", "25")),
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
 @given(
     kind=st.sampled_from(["parallelogram", "antiparallelogram", "deltoid", "slider"]),
     scale=st.sampled_from([1.0, 1000.0]),
@@ -250,7 +268,9 @@ def invariant(kind: str, a: float, b: float, th2: np.ndarray, th4: np.ndarray, s
     turns=st.integers(1, 3),
     on_point=st.booleans(),
 )
-def test_property_change_point_mechanisms_keep_their_branch(kind, scale, size, ratio, theta0, n, turns, on_point):
+def test_property_change_point_mechanisms_keep_their_branch(
+    kind, scale, size, ratio, theta0, n, turns, on_point
+):
     # random change-point mechanisms and grids, some with a grid point on a crossing:
     # every step on the starting branch (whichever of the kind's branches the drawing is
     # on), no exception, no hang
@@ -279,9 +299,13 @@ def test_property_change_point_mechanisms_keep_their_branch(kind, scale, size, r
         return
     for branch in ("open", "crossed"):
         if kind == "deltoid":
-            mech = examples.four_bar(ground=b, crank=b, coupler=a, rocker=a, omega=1.0, theta0=theta0, branch=branch)
+            mech = examples.four_bar(
+                ground=b, crank=b, coupler=a, rocker=a, omega=1.0, theta0=theta0, branch=branch
+            )
         else:
-            mech = examples.four_bar(ground=a, crank=b, coupler=a, rocker=b, omega=1.0, theta0=theta0, branch=branch)
+            mech = examples.four_bar(
+                ground=a, crank=b, coupler=a, rocker=b, omega=1.0, theta0=theta0, branch=branch
+            )
         model = mech.compile()
         q0 = model.solve(times[0])
         th4_0 = np.array([q0.q[8]])

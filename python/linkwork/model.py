@@ -303,7 +303,9 @@ def sweep_batch(
     progress = _args.callback(progress, "progress")
     forces, locks = _args.flag(forces, "forces"), _args.flag(locks, "locks")
     cores = [m._core for m in models]
-    items = _core.sweep_batch(cores, t, threads, derivatives, forces, progress or None, every, on_singular, locks)
+    items = _core.sweep_batch(
+        cores, t, threads, derivatives, forces, progress or None, every, on_singular, locks
+    )
     out: list[Any] = []
     for i, (model, (raw, error)) in enumerate(zip(models, items)):
         results = Results(model, raw)
