@@ -8,6 +8,9 @@ import csv
 import json
 import math
 import re
+import subprocess
+import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +20,8 @@ from hypothesis import strategies as st
 
 import linkwork as lw
 from linkwork import examples
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 ROOT = Path(__file__).resolve().parent.parent
 DEG = 180.0 / math.pi
@@ -493,3 +498,30 @@ def test_the_format_reference_lists_every_joint_and_driver_type():
         section = text.split(f"### `[[{group}]]`", 1)[1].split("###", 1)[0]
         documented = re.findall(r'^\| `"(\w+)"`', section, flags=re.M)
         assert len(known) > 4 and sorted(documented) == sorted(known), group
+
+
+def test_a_file_that_is_not_utf8_is_a_model_error_naming_the_place(tmp_path):
+    path = tmp_path / "latin1.toml"
+    path.write_bytes(b'[model]\nname = "Kurbelschwinge \xfcber"\nversion = 1\n')
+    with pytest.raises(lw.ModelError, match=r"latin1.toml: line 2, byte 31: the file is not UTF-8"):
+        lw.Mechanism.load(path)
+
+
+def test_a_file_without_units_that_looks_like_mm_and_deg_is_warned_about(tmp_path):
+    # the shipped four-bar is in mm and deg; without its units line it would be read in m
+    # and rad, 1000x and 57x off: said, as a LinkworkWarning, and by the CLI
+    text = (EXAMPLES / "four_bar.toml").read_text(encoding="utf-8")
+    path = tmp_path / "no_units.toml"
+    path.write_text("\n".join(line for line in text.splitlines() if not line.startswith("units =")))
+    with pytest.warns(lw.LinkworkWarning, match=r"no units .* look like millimetres .* look like degrees"):
+        m = lw.Mechanism.load(path)
+    assert not m.units_declared
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        declared = lw.Mechanism.load(EXAMPLES / "four_bar.toml")
+    assert declared.units_declared and declared.units_warning is None
+    run = subprocess.run(
+        [sys.executable, "-m", "linkwork", "check", str(path)], capture_output=True, text=True, timeout=120
+    )
+    assert "units: lengths in m, angles in rad (the default: the file declares no units)" in run.stdout
+    assert "warning:" in run.stderr and "millimetres" in run.stderr

@@ -33,12 +33,13 @@ import math
 import os
 import sys
 import time
+import warnings
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import examples
-from .errors import LinkworkError
+from .errors import LinkworkError, LinkworkWarning
 
 if TYPE_CHECKING:
     from .model import Model
@@ -78,10 +79,20 @@ def _load(path: str) -> Model:
     from .mechanism import Mechanism
 
     try:
-        return Mechanism.load(path).compile()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", LinkworkWarning)
+            mechanism = Mechanism.load(path)
+        model = mechanism.compile()
     except (OSError, ValueError, TypeError, KeyError, AttributeError, LinkworkError) as e:
-        # a model error already names the body, joint or driver at fault
-        raise _Failed(f"{path}: {e}") from None
+        # a model error already names the body, joint or driver at fault (and the file)
+        message = str(e)
+        raise _Failed(message if message.startswith(os.fspath(path)) else f"{path}: {message}") from None
+    units = model.units
+    said = "as the file declares" if mechanism.units_declared else "the default: the file declares no units"
+    print(f"units: lengths in {units.get('length', 'm')}, angles in {units.get('angle', 'rad')} ({said})")
+    for w in caught:
+        print(f"warning: {w.message}", file=sys.stderr)
+    return model
 
 
 class _Failed(Exception):

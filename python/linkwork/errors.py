@@ -15,6 +15,8 @@
         ├── NonFiniteError      a NaN or infinity appeared
         └── CancelledError      the sweep was stopped by its progress callback
     InternalError           a bug in linkwork (an engine panic, caught): please report it
+    LinkworkWarning         a warning (a UserWarning): e.g. a model file without units whose
+                            numbers look like mm or degrees
 
 Solve errors carry ``step`` and ``time`` (None where not known). A failed sweep's
 exception also carries ``partial``: the `Results` of the steps before the failure.
@@ -37,6 +39,7 @@ __all__ = [
     "NonFiniteError",
     "CancelledError",
     "InternalError",
+    "LinkworkWarning",
 ]
 
 
@@ -101,3 +104,8 @@ class CancelledError(SolveError):
 class InternalError(LinkworkError):
     """A bug in linkwork: the engine panicked. The message names the operation; please
     report it with the model. A sweep that hits one keeps its good steps (``partial``)."""
+
+
+class LinkworkWarning(UserWarning):
+    """Something probably wrong that does not stop the work (a model file without a units
+    header whose numbers look like mm or degrees)."""

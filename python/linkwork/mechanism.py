@@ -17,12 +17,13 @@ from __future__ import annotations
 import json
 import math
 import os
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable
 
 from . import _core, curves
-from .errors import InputError, ModelError
+from .errors import InputError, LinkworkWarning, ModelError
 from .motion import Law
 
 if TYPE_CHECKING:
@@ -659,9 +660,19 @@ class Mechanism:
         errors found later by ``compile`` name the element and its line in the file.
         JSON written before format versions existed reads as version 1, metres, radians."""
         fmt = _format_of(path)
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
-        return cls._read(text, fmt, os.fspath(path))
+        with open(path, "rb") as f:
+            raw = f.read()
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError as e:
+            line = raw.count(b"\n", 0, e.start) + 1
+            raise ModelError(
+                f"{os.fspath(path)}: line {line}, byte {e.start}: the file is not UTF-8 text "
+                f"({e.reason}: {raw[e.start : e.start + 4]!r}); model files are UTF-8: save it as UTF-8"
+            ) from None
+        m = cls._read(text, fmt, os.fspath(path))
+        m._warn_units(text, fmt, os.fspath(path))
+        return m
 
     @classmethod
     def from_toml(cls, text: str, file: str = "model.toml") -> Mechanism:
@@ -684,6 +695,46 @@ class Mechanism:
         desc = self.to_dict()
         _check_finite(desc)  # names the element: JSON cannot carry NaN to the writer
         return json.dumps(desc)
+
+    #: set by ``load``: whether the file declared its units, and a warning if it did not
+    #: and its numbers look like millimetres or degrees (``None`` when there is nothing to say)
+    units_declared: bool = True
+    units_warning: str | None = None
+
+    def _warn_units(self, text: str, fmt: str, file: str) -> None:
+        """A file without a units header reads as m and rad; when its lengths look like
+        mm (a pin or body more than 10 m from the origin) or its angles like degrees (a
+        body angle beyond 2 pi), say so, as a `LinkworkWarning`."""
+        try:
+            if fmt == "toml":
+                import tomllib
+
+                doc = tomllib.loads(text)
+            else:
+                doc = json.loads(text)
+        except ValueError:
+            return
+        header = doc.get("model", doc) if isinstance(doc, dict) else {}
+        self.units_declared = isinstance(header, dict) and "units" in header
+        if self.units_declared:
+            return
+        points = [b.get(k, 0.0) for b in self._bodies for k in ("x", "y")]
+        points += [c for j in self._joints for c in (j.get("at") or [])]
+        points += [c for p in self._points for c in (p.get("at") or [])]
+        lengths = max((abs(v) for v in points if isinstance(v, (int, float))), default=0.0)
+        angles = max((abs(b.get("theta", 0.0)) for b in self._bodies), default=0.0)
+        looks = []
+        if lengths > 10.0:
+            looks.append(f"lengths up to {lengths:g} look like millimetres")
+        if angles > 2 * math.pi + 1e-9:
+            looks.append(f"body angles up to {angles:g} look like degrees")
+        if looks:
+            self.units_warning = (
+                f"{file}: no units in the model header, so lengths are read in m and angles in rad; "
+                f"but its {' and its '.join(looks)}: if so, declare them "
+                '(units = { length = "mm", angle = "deg" } in the [model] table)'
+            )
+            warnings.warn(self.units_warning, LinkworkWarning, stacklevel=3)
 
     @classmethod
     def _read(cls, text: str, fmt: str, file: str) -> Mechanism:
