@@ -7,6 +7,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import shutil
 import subprocess
 import sys
@@ -382,3 +383,46 @@ def test_check_reports_grashof_type_limits_and_assembly_modes(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "non-Grashof triple-rocker" in out and "crank angle limits -78.5" in out
     assert "assembly modes at t = 0: 2" in out and "open" in out and "crossed" in out
+
+
+def test_check_works_on_a_model_beyond_the_dense_limit(tmp_path, capsys):
+    # 400 loops, 3600 coordinates: mobility by the sparse LU (the dense SVD stops at
+    # 3000), a few drivers' limits, the linkages listed in part, no mode search
+    path = tmp_path / "chain400.toml"
+    lw.examples.chain(400).save(path)
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "3600 coordinates" in out or "3600" in out
+    assert "assembly modes at t = 0: not searched (400 loops" in out
+    assert "more linkages" in out
+    assert out.strip().endswith("ok")
+
+
+def test_ctrl_c_in_run_stops_cleanly_and_writes_the_steps_done(tmp_path):
+    import signal
+    import time
+
+    model = tmp_path / "chain30.toml"
+    lw.examples.chain(30).save(model)
+    out = tmp_path / "out"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "linkwork", "run", str(model), "--steps", "20000000", "--every", "1000",
+         "--format", "npz", "--out", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )  # fmt: skip
+    # the model line is printed once it is compiled, just before the sweep (minutes for
+    # the whole grid) starts
+    assert proc.stdout is not None
+    while "<linkwork Model" not in proc.stdout.readline():
+        assert proc.poll() is None, proc.stderr.read() if proc.stderr else ""
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stderr
+    assert "Traceback" not in stderr
+    assert "interrupted at t = " in stderr and "steps done" in stderr
+    data = np.load(out / "chain30.npz")
+    n = len(data["time"])
+    assert 0 < n < 20000
+    assert np.isfinite(data["crank1.theta"] if "crank1.theta" in data else data[data["columns"][1]]).all()

@@ -121,6 +121,14 @@ def _sweep(
     times = np.linspace(args.t0, args.t1, args.steps)
     try:
         return model.sweep(times, progress=sys.stderr.isatty(), forces=forces, every=every), 0
+    except KeyboardInterrupt as e:
+        # Ctrl-C: the steps done are kept and written, and the exit status says so
+        partial = getattr(e, "partial", None)
+        if partial is None or len(partial) == 0:
+            raise
+        last = float(partial.times[-1])
+        print(f"interrupted at t = {last:g}: writing the {len(partial)} steps done", file=sys.stderr)
+        return partial, 130
     except LinkworkError as e:
         partial = getattr(e, "partial", None)
         if partial is None or len(partial) == 0:
@@ -198,14 +206,30 @@ def check(args: argparse.Namespace) -> int:
     print(mob.report())
     problem = mob.redundant or mob.dof_driven > 0
     drivers = [c[0] for c in model.constraints if c[1] == "driver"]
-    for name in drivers:
+    # each search sweeps the whole model over a turn: a few drivers of a large model
+    listed = MAX_LISTED if model.n_coords <= LARGE_MODEL else 2
+    if len(drivers) > listed:
+        print(f"  limits of motion        of the first {listed} of {len(drivers)} drivers "
+              "(linkwork.Model.motion_limits gives any)")  # fmt: skip
+    for name in drivers[:listed]:
         try:
             print(f"  limits of motion        {model.motion_limits(name, t=args.t, q_guess=mob.q)}")
         except LinkworkError as e:
             print(f"  limits of motion        {name}: not found ({e})")
     # the four-bar loops and slider-cranks inside it: Grashof type, closed-form limits
-    for linkage in model.linkages(t=args.t, q_guess=mob.q):
+    linkages = model.linkages(t=args.t, q_guess=mob.q)
+    for linkage in linkages[:MAX_LISTED]:
         print(f"  {linkage}")
+    if len(linkages) > MAX_LISTED:
+        print(
+            f"  ... and {len(linkages) - MAX_LISTED} more linkages (linkwork.Model.linkages lists them all)"
+        )
+    if len(linkages) > MAX_MODE_LOOPS:
+        # 2 circuits a loop: 2^n modes, which no search of seeded starts can list
+        n = len(linkages)
+        print(f"  assembly modes at t = {args.t:g}: not searched ({n} loops, up to 2^{n})")
+        print("problems found" if problem else "ok")
+        return 1 if problem else 0
     modes = model.assembly_modes(t=args.t, q_guess=mob.q)
     circuits = "; ".join(
         ", ".join([f"{k} {v}" for k, v in m.circuits.items()] + [f"det {m.det_sign:+.0f}"]) for m in modes
@@ -213,6 +237,14 @@ def check(args: argparse.Namespace) -> int:
     print(f"  assembly modes at t = {args.t:g}: {len(modes)} ({circuits}; {modes.tries} starts searched)")
     print("problems found" if problem else "ok")
     return 1 if problem else 0
+
+
+#: linkages listed by ``check`` (a large model has thousands)
+MAX_LISTED = 20
+#: coordinates above which ``check`` searches the limits of motion of two drivers only
+LARGE_MODEL = 3000
+#: above this many loops ``check`` does not search the assembly modes (2 circuits a loop)
+MAX_MODE_LOOPS = 6
 
 
 def _names(text: str) -> list[str]:
@@ -387,6 +419,9 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as e:  # an output that cannot be written
         print(f"error: {e}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

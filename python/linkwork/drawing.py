@@ -150,12 +150,16 @@ class Geometry:
             self.points.append(k)
             self.traceable[str(p["name"])] = k
         # a body with nothing attached is drawn as a dot at its frame origin
+        attached = {a.body for a in self.anchors}
         for name in self.body_names:
-            if not any(a.body == name for a in self.anchors):
+            if name not in attached:
                 self.anchors.append(Anchor(name, "origin", "origin", name, (0.0, 0.0)))
         # coincident anchors (a pin and a slider at one point) count once in an outline
         tol = 1e-9 * max([abs(c) for a in self.anchors for c in a.local] + [1e-300])
-        self.outlines = {name: self._outline(name, tol) for name in self.body_names}
+        by_body: dict[str, list[int]] = {}
+        for k, a in enumerate(self.anchors):
+            by_body.setdefault(a.body, []).append(k)
+        self.outlines = {name: self._outline(by_body.get(name, []), tol) for name in self.body_names}
 
     @classmethod
     def from_model(cls, model: Model) -> Geometry:
@@ -243,13 +247,12 @@ class Geometry:
         if local.shape == (CURVE_SAMPLES, 2) and np.all(np.isfinite(local)):
             self.curves.append(Curve(joint, self._index.get(body, -1), local))
 
-    def _outline(self, body: str, tol: float) -> list[int]:
-        """The body's distinct anchors, ordered by angle about their centroid, so that
-        the polygon through them does not cross itself."""
+    def _outline(self, anchors: list[int], tol: float) -> list[int]:
+        """A body's distinct anchors (given: the indices of its anchors), ordered by angle
+        about their centroid, so that the polygon through them does not cross itself."""
         found: list[int] = []
-        for k, a in enumerate(self.anchors):
-            if a.body != body:
-                continue
+        for k in anchors:
+            a = self.anchors[k]
             if all(math.dist(a.local, self.anchors[j].local) > tol for j in found):
                 found.append(k)
         if len(found) < 3:

@@ -115,6 +115,11 @@ def output(results: Results, name: str) -> Output:
     return Output(name, _length_unit(results), p.position[:, k], axis(p.velocity), axis(p.acceleration))
 
 
+#: outputs and paths drawn when none are named, at most (a large model has thousands;
+#: name them with --outputs / --paths)
+MAX_DEFAULT = 12
+
+
 def default_outputs(results: Results) -> list[str]:
     """The outputs plotted when none are named: the angle of every body that turns, and
     x and y of every body that only translates (a slider), where they change."""
@@ -126,7 +131,9 @@ def default_outputs(results: Results) -> list[str]:
             names.append(body)
             continue
         names += [f"{body}.{c}" for c, v in (("x", b.x), ("y", b.y)) if np.ptp(v) > tol]
-    return names or list(results.model.body_names)
+        if len(names) >= MAX_DEFAULT:
+            break
+    return (names or list(results.model.body_names))[:MAX_DEFAULT]
 
 
 def _step(n: int) -> int:
@@ -169,7 +176,7 @@ def plot_outputs(results: Results, path: str, names: Sequence[str] | None = None
             ax.set_ylabel(f"{what} [{unit}{suffix}]")
             ax.grid(True, alpha=0.3)
             if i == 0:
-                ax.legend(fontsize=8)
+                ax.legend(fontsize=8, loc="upper right")
         axes[-1, j].set_xlabel("t [s]")
     fig.suptitle(f"{results.model.name}: {results.n_steps} steps, t = {t[0]:g} .. {results.times[-1]:g} s")
     fig.savefig(path, dpi=110)
@@ -182,10 +189,10 @@ def default_paths(model: Model) -> list[str]:
     none, every pin's that is not on the ground."""
     points = _point_names(model)
     if points:
-        return points
+        return points[:MAX_DEFAULT]
     g = Geometry.from_model(model)
     ground = {g.anchors[k].name for k in g.ground_pins}
-    return [g.anchors[k].name for k in g.pins if g.anchors[k].name not in ground]
+    return [g.anchors[k].name for k in g.pins if g.anchors[k].name not in ground][:MAX_DEFAULT]
 
 
 def unknown_paths(model: Model, names: Sequence[str]) -> str | None:
@@ -217,7 +224,8 @@ def plot_paths(results: Results, path: str, names: Sequence[str] | None = None) 
         ax.plot(xy[:, 0], xy[:, 1], lw=1.5, label=name)
     setup_axes(ax, motion, _length_unit(results))
     if chosen:
-        ax.legend(fontsize=8)
+        # a fixed place: "best" searches over every line drawn (seconds on a large model)
+        ax.legend(fontsize=8, loc="upper right")
     ax.set_title(
         f"{results.model.name}: paths over t = {results.times[0]:g} .. {results.times[-1]:g} s "
         f"(mechanism at t = {results.times[0]:g} s)"

@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -705,17 +706,19 @@ class Mechanism:
         """A file without a units header reads as m and rad; when its lengths look like
         mm (a pin or body more than 10 m from the origin) or its angles like degrees (a
         body angle beyond 2 pi), say so, as a `LinkworkWarning`."""
-        try:
-            if fmt == "toml":
-                import tomllib
-
-                doc = tomllib.loads(text)
-            else:
+        if fmt == "toml":
+            # the header is what comes before the first array of tables ([[bodies]] ...):
+            # a units key there, or a [model.units] / [units] table (not parsed again: a
+            # 10,000-loop file takes seconds to parse)
+            head = re.split(r"^\s*\[\[", text, maxsplit=1, flags=re.M)[0]
+            self.units_declared = bool(re.search(r"^\s*(units\s*=|\[(model\.)?units\])", head, flags=re.M))
+        else:
+            try:
                 doc = json.loads(text)
-        except ValueError:
-            return
-        header = doc.get("model", doc) if isinstance(doc, dict) else {}
-        self.units_declared = isinstance(header, dict) and "units" in header
+            except ValueError:
+                return
+            header = doc.get("model", doc) if isinstance(doc, dict) else {}
+            self.units_declared = isinstance(header, dict) and "units" in header
         if self.units_declared:
             return
         points = [b.get(k, 0.0) for b in self._bodies for k in ("x", "y")]

@@ -47,6 +47,10 @@ class Model:
         # the functions of PythonLaw laws travel beside the JSON (a dict may pass them too)
         python_laws = {**getattr(mechanism, "python_laws", {}), **(options.pop("python_laws", None) or {})}
         self._core = _core.Model(json.dumps(desc), python_laws=python_laws or None, **options)
+        # immutable: asked once (each ask builds a new list in the engine; results ask per column)
+        self._columns: list[str] = list(self._core.columns)
+        self._body_names: list[str] = list(self._core.body_names)
+        self._column_index = {c: i for i, c in enumerate(self._columns)}
 
     name = property(lambda self: self._core.name, doc="The mechanism's name.")
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
@@ -55,8 +59,8 @@ class Model:
         doc="Coordinates: 3 per moving body, then one per joint with its own (a curve parameter).",
     )
     n_rows = property(lambda self: self._core.n_rows, doc="Constraint rows (joints and drivers).")
-    columns = property(lambda self: self._core.columns, doc="Names of the coordinates.")
-    body_names = property(lambda self: self._core.body_names, doc="Names of the moving bodies.")
+    columns = property(lambda self: self._columns, doc="Names of the coordinates (do not modify).")
+    body_names = property(lambda self: self._body_names, doc="Names of the moving bodies (do not modify).")
     linear = property(lambda self: self._core.linear, doc="'dense' or 'sparse' LU.")
     length_scale = property(lambda self: self._core.length_scale, doc="L: lengths are measured in L.")
     q_start = property(lambda self: self._core.q_start, doc="The starting configuration as described.")
@@ -262,7 +266,11 @@ class Model:
             q_guess = self._branch_guess(float(t[0]), branch)
         g = self._guess(q_guess)
         callback = _ProgressBar() if progress is True else (progress or None)
-        check = max(1024, len(t) // 100) if callback is not None else 16384
+        # Ctrl-C (and the progress bar) are looked at every `check` steps: about every
+        # 0.1 s whatever the model's size (a step costs ~0.1 us per coordinate)
+        check = max(1, min(16384, 1_000_000 // max(1, self.n_coords)))
+        if callback is not None:
+            check = min(check, max(1024, len(t) // 100))
         raw, error = self._core.sweep(t, g, callback, check, forces, derivatives, every, on_singular, locks)
         results = Results(self, raw)
         if error is not None:

@@ -460,11 +460,12 @@ class Results(_Kinematics):
             return "s"
         if column in ("iterations", "residual", "pivot_ratio"):
             return ""
+        index = self.model._column_index
         for suffix, per in (("_dd", "/s^2"), ("_d", "/s")):
             base = column.removesuffix(suffix)
-            if base != column and base in self.columns:
+            if base != column and base in index:
                 return self.units(base) + per
-        if column not in self.columns:
+        if column not in index:
             raise KeyError(f"no column {column!r}; the coordinates are {', '.join(self.columns)}")
         return "rad" if column.endswith((".theta", ".s")) else self.model.units["length"]
 
@@ -482,7 +483,15 @@ class Results(_Kinematics):
             names += [f"{c}_dd" for c in self.columns]
             parts.append(self.qdd)
         names += ["iterations", "residual", "pivot_ratio"]
-        units = [self.units(n) for n in names]
+        # one unit per coordinate, then its rate's and acceleration's (not looked up per
+        # column: that was quadratic in the model's size)
+        base = {c: self.units(c) for c in self.columns}
+        units = ["s"] + [base[c] for c in self.columns]
+        if self.qd is not None:
+            units += [base[c] + "/s" for c in self.columns]
+        if self.qdd is not None:
+            units += [base[c] + "/s^2" for c in self.columns]
+        units += ["", "", ""]
         return names, units, np.column_stack(parts + [self.iterations, self.residual, self.pivot_ratio])
 
     def to_csv(self, path: str) -> None:

@@ -397,3 +397,44 @@ fn on_singular_switch_takes_the_other_branch() {
     assert_eq!(out.events.len(), 2);
     assert!(out.events.iter().all(|e| e.message.contains("takes the other branch")));
 }
+
+/// The sparse mobility of large models agrees with the dense SVD where both run: a
+/// regular four-bar, a six-bar, a chain, and a parallelogram at its change point (one
+/// dependency of its joint rows).
+#[test]
+fn sparse_mobility_agrees_with_the_dense_svd() {
+    use linkwork::analysis::mobility::{mobility, sparse_mobility};
+    let cases = vec![
+        four_bar(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 0.3, 5.0),
+        six_bar_stephenson(0.2, 1.0),
+        chain(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 20, 0.3, 1.0, 0.0, 1.0),
+    ];
+    for d in cases {
+        let model = Model::new(d).unwrap();
+        let mut data = Data::new(&model);
+        linkwork::solve(&model, &mut data, 0.0).unwrap();
+        let (dense, sparse) =
+            (mobility(&model, &data.q, 0.0).unwrap(), sparse_mobility(&model, &data.q, 0.0));
+        assert_eq!(
+            (dense.rank, dense.rank_joints, dense.dof, dense.dof_driven),
+            (sparse.rank, sparse.rank_joints, sparse.dof, sparse.dof_driven)
+        );
+        assert!(sparse.redundancies.is_empty() && dense.redundancies.is_empty());
+    }
+    // the parallelogram at its change point (crank along the ground): joint rows dependent
+    let model = Model::new(parallelogram()).unwrap();
+    let mut data = Data::new(&model);
+    let (_, _) = linkwork::solve_along(&model, &mut data, std::f64::consts::PI - 0.5, &mut || true).unwrap();
+    let (dense, sparse) = (
+        mobility(&model, &data.q, std::f64::consts::PI - 0.5).unwrap(),
+        sparse_mobility(&model, &data.q, std::f64::consts::PI - 0.5),
+    );
+    assert_eq!(dense.redundancies.len(), 1, "{dense:?}");
+    assert_eq!((dense.rank, dense.rank_joints, dense.dof), (sparse.rank, sparse.rank_joints, sparse.dof));
+    let names = |d: &linkwork::analysis::mobility::Dependency| {
+        let mut v: Vec<String> = d.constraints.iter().map(|(n, _)| n.clone()).collect();
+        v.sort();
+        v
+    };
+    assert_eq!(names(&dense.redundancies[0]), names(&sparse.redundancies[0]));
+}
