@@ -299,7 +299,8 @@ pub fn sparse_mobility(model: &Model, q: &[f64], t: f64) -> Mobility {
     let driver_rows = model.n_rows - joint_rows;
     let n_own: usize = model.constraints.iter().map(|c| c.kind.n_own()).sum();
     let gruebler_dof = n_coords as i64 - joint_rows as i64;
-    let singular = !(data.pivots.ratio > 0.0) || triple.sigma <= RANK_TOL;
+    // a NaN pivot ratio counts as singular
+    let singular = data.pivots.ratio.is_nan() || data.pivots.ratio <= 0.0 || triple.sigma <= RANK_TOL;
     let dependency =
         Dependency { sigma: triple.sigma, constraints: constraint_shares(model, &triple.w, 0.05) };
     let mut explanation = Vec::new();
