@@ -401,8 +401,7 @@ class MechanismArtists:
             ax.add_patch(patch)
             ax.add_patch(edge)
             self.bodies.append((g.outlines[name], patch, edge))
-        for k in g.ground_pins:
-            self._ground_symbol(ax, motion.xy[0, k], 0.035 * s, alpha)
+        self._ground_symbols(ax, [motion.xy[0, k] for k in g.ground_pins], 0.035 * s, alpha)
         self.guides = []
         for slider in g.sliders:
             (line,) = ax.plot([], [], color="0.35", lw=1.5, alpha=alpha, zorder=1)
@@ -464,36 +463,41 @@ class MechanismArtists:
         self.clock = ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9) if clock else None
 
     @staticmethod
-    def _ground_symbol(ax: Axes, p: np.ndarray, h: float, alpha: float) -> None:
-        """The usual ground pivot: a triangle under the pin on a hatched base."""
-        from matplotlib.patches import Polygon, Rectangle
+    def _ground_symbols(ax: Axes, pins: list[np.ndarray], h: float, alpha: float) -> None:
+        """The usual ground pivot under each pin: a triangle on a hatched base (three
+        collections for all of them: a large model has thousands)."""
+        from matplotlib.collections import LineCollection, PolyCollection
 
-        x, y = float(p[0]), float(p[1])
-        ax.add_patch(
-            Polygon(
-                [(x, y), (x - h, y - 1.6 * h), (x + h, y - 1.6 * h)],
-                closed=True,
-                facecolor="0.85",
-                edgecolor="0.2",
-                lw=1.2,
-                alpha=alpha,
-                zorder=1,
+        if not pins:
+            return
+        p = np.asarray(pins, dtype=np.float64).reshape(-1, 2)
+        x, y = p[:, 0], p[:, 1]
+        triangles = np.stack(
+            [np.stack([x, y], -1), np.stack([x - h, y - 1.6 * h], -1), np.stack([x + h, y - 1.6 * h], -1)], 1
+        )
+        bases = np.stack(
+            [
+                np.stack([x - 1.5 * h, y - 2.2 * h], -1),
+                np.stack([x + 1.5 * h, y - 2.2 * h], -1),
+                np.stack([x + 1.5 * h, y - 1.6 * h], -1),
+                np.stack([x - 1.5 * h, y - 1.6 * h], -1),
+            ],
+            1,
+        )
+        lines = np.stack(
+            [np.stack([x - 1.5 * h, y - 1.6 * h], -1), np.stack([x + 1.5 * h, y - 1.6 * h], -1)], 1
+        )
+        ax.add_collection(
+            PolyCollection(
+                triangles, facecolors="0.85", edgecolors="0.2", linewidths=1.2, alpha=alpha, zorder=1
             )
         )
-        ax.add_patch(
-            Rectangle(
-                (x - 1.5 * h, y - 2.2 * h),
-                3.0 * h,
-                0.6 * h,
-                fill=False,
-                hatch="////",
-                lw=0,
-                edgecolor="0.4",
-                alpha=alpha,
-                zorder=1,
+        ax.add_collection(
+            PolyCollection(
+                bases, facecolors="none", edgecolors="0.4", linewidths=0, hatch="////", alpha=alpha, zorder=1
             )
         )
-        ax.plot([x - 1.5 * h, x + 1.5 * h], [y - 1.6 * h] * 2, color="0.2", lw=1.2, alpha=alpha, zorder=1)
+        ax.add_collection(LineCollection(lines, colors="0.2", linewidths=1.2, alpha=alpha, zorder=1))
 
     def update(self, row: int) -> None:
         """Moves every artist to step ``row`` of the sweep."""
