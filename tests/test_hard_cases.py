@@ -343,3 +343,66 @@ def test_on_singular_switch_takes_the_other_branch_at_each_crossing():
     x, th = res.body("slider").x, res.times
     assert np.abs(x - 2 * r * np.cos(th))[th < PI / 2 - 1e-9].max() < POS_TOL
     assert np.abs(x)[th > PI / 2 + 1e-9].max() < POS_TOL
+
+
+def six_bar(a: float, b: float, theta0: float) -> lw.Model:
+    """A Watt six-bar whose first loop is a parallelogram (ground a, crank b, through its
+    change points every half turn) and whose second loop is a Grashof crank-rocker driven
+    by the parallelogram's rocker (ternary: O4, B and C, 0.4 b further along the line)."""
+    import math
+
+    m = lw.Mechanism("six-bar on a parallelogram")
+    c, s = math.cos(theta0), math.sin(theta0)
+    A, B = (b * c, b * s), (a + b * c, b * s)
+    C = (a + 1.4 * b * c, 1.4 * b * s)  # on the rocker's line, beyond B
+    # second loop O4-C-D-O6, a Grashof crank-rocker on its input O4 C = 1.4 b: ground
+    # 1.75, coupler 1.75, rocker 1.25 (x 1.4 b), s + l = 2.75 <= p + q = 3
+    r = 1.4 * b
+    O6 = (a + 1.75 * r * math.cos(-0.5), 1.75 * r * math.sin(-0.5))
+    dx, dy = O6[0] - C[0], O6[1] - C[1]
+    d = math.hypot(dx, dy)
+    l1, l2 = 1.75 * r, 1.25 * r
+    x = (l1 * l1 - l2 * l2 + d * d) / (2 * d)
+    h = math.sqrt(max(l1 * l1 - x * x, 0.0))
+    D = (C[0] + x * dx / d - h * dy / d, C[1] + x * dy / d + h * dx / d)
+    crank = m.link("crank", (0, 0), A)
+    coupler = m.link("coupler", A, B)
+    rocker = m.link("rocker", (a, 0), B)
+    link5 = m.link("link5", C, D)
+    link6 = m.link("link6", O6, D)
+    m.revolute(m.ground, crank, at=(0, 0))
+    m.revolute(crank, coupler, at=A)
+    m.revolute(coupler, rocker, at=B)
+    m.revolute(rocker, m.ground, at=(a, 0))
+    m.revolute(rocker, link5, at=C)
+    m.revolute(link5, link6, at=D)
+    m.revolute(link6, m.ground, at=O6)
+    m.drive_angle(crank, lw.Linear(theta0, 1.0))
+    return m.compile()
+
+
+@settings(max_examples=int(os.environ.get("LINKWORK_PROPERTY_EXAMPLES", "15")), deadline=None)
+@given(
+    size=st.floats(0.05, 0.2),
+    ratio=st.floats(2.0, 4.0),
+    theta0=st.floats(0.2, PI - 0.2),
+    n=st.integers(3, 300),
+    turns=st.integers(1, 2),
+)
+def test_property_a_six_bar_on_a_parallelogram_keeps_both_loops_branches(size, ratio, theta0, n, turns):
+    b, a = size, size * ratio
+    model = six_bar(a, b, theta0)
+    res = timed_sweep(model, np.linspace(0.0, 2 * PI * turns, n + 1))
+    assert res.n_steps == n + 1
+    th2 = theta0 + res.times
+    assert invariant("parallelogram", a, b, th2, res.body("rocker").theta).max() < POS_TOL
+    # the second loop keeps its circuit: D stays on one side of the line C -> O6
+    q = res.q
+    i5, i6 = model.body_names.index("link5"), model.body_names.index("link6")
+    C = q[:, 3 * i5 : 3 * i5 + 2]
+    th5 = q[:, 3 * i5 + 2]
+    D = C + 1.75 * 1.4 * b * np.stack([np.cos(th5), np.sin(th5)], 1)
+    O6 = q[:, 3 * i6 : 3 * i6 + 2]
+    side = (O6[:, 0] - C[:, 0]) * (D[:, 1] - C[:, 1]) - (O6[:, 1] - C[:, 1]) * (D[:, 0] - C[:, 0])
+    assert (np.sign(side) == np.sign(side[0])).all()
+    assert all(e.kind == "bifurcation" for e in res.events)
