@@ -472,7 +472,7 @@ def test_pin_in_slot_refusals_name_the_joint():
 
 def test_builders_refuse_what_is_not_a_curve_or_a_follower():
     m = lw.Mechanism()
-    with pytest.raises(TypeError, match="a curve is a dict made by linkwork.curves"):
+    with pytest.raises(lw.InputError, match="a curve is a dict made by linkwork.curves"):
         m.pin_in_slot(m.ground, "b", at=(0, 0), curve=(0.0, 0.1))  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="unknown curve type 'ellipse'"):
         m.pin_in_slot(m.ground, "b", at=(0, 0), curve={"type": "ellipse"})

@@ -152,9 +152,14 @@ def test_file_names_must_say_the_format(tmp_path):
 
 def test_a_description_that_is_not_finite_is_not_saved(tmp_path):
     m = examples.four_bar()
-    m.body("extra", (float("nan"), 0.0))
+    # refused where it is given (the builder checks its points) ...
+    with pytest.raises(lw.InputError, match=r"a point or direction must be finite"):
+        m.body("extra", (float("nan"), 0.0))
+    # ... and where a description is saved that was not built by the checked builder
+    desc = m.to_dict()
+    desc["bodies"].append({"name": "extra", "x": float("nan"), "y": 0.0, "theta": 0.0})
     with pytest.raises(lw.ModelError, match=r"body 'extra': x is nan"):
-        m.save(tmp_path / "m.toml")
+        lw.Mechanism.from_dict(desc).save(tmp_path / "m.toml")
 
 
 # -- the example file and units ------------------------------------------------------

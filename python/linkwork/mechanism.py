@@ -14,6 +14,8 @@ named ``"ground"``; it has no coordinates.
 
 from __future__ import annotations
 
+import functools
+import inspect
 import json
 import math
 import os
@@ -24,7 +26,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable
 
 from . import _core, curves
-from .errors import InputError, LinkworkWarning, ModelError
+from .errors import InputError, LinkworkError, LinkworkWarning, ModelError
 from .motion import Law
 
 if TYPE_CHECKING:
@@ -52,12 +54,22 @@ Curve = dict[str, Any]
 
 
 def _name(body: Body | str) -> str:
-    return body.name if isinstance(body, Body) else str(body)
+    if isinstance(body, Body):
+        return body.name
+    if not isinstance(body, str):
+        raise InputError(f"a body is given by its name (or the Body returned by body/link), not {body!r}")
+    return body
 
 
 def _xy(p: Sequence[float]) -> list[float]:
-    x, y = p
-    return [float(x), float(y)]
+    try:
+        x, y = p
+        xy = [float(x), float(y)]
+    except (TypeError, ValueError):
+        raise InputError(f"a point or direction is a pair of numbers (x, y), not {p!r}") from None
+    if not all(math.isfinite(v) for v in xy):
+        raise InputError(f"a point or direction must be finite, not {p!r}")
+    return xy
 
 
 class Mechanism:
@@ -100,6 +112,8 @@ class Mechanism:
 
         For inverse dynamics: ``mass``, ``inertia`` (about the centre of mass) and ``com``
         (the centre of mass, a world point at the start; default the origin)."""
+        if not isinstance(name, str) or not name:
+            raise InputError(f"a body's name is a non-empty string, not {name!r}")
         x, y = _xy(origin)
         body: dict[str, Any] = {"name": str(name), "x": x, "y": y, "theta": float(angle)}
         if mass or inertia:
@@ -438,7 +452,7 @@ class Mechanism:
     # -- drivers --------------------------------------------------------------------
     def _driver(self, kind: str, name: str | None, law: Law, **fields: Any) -> str:
         if not isinstance(law, Law):
-            raise TypeError(f"driver law must be a linkwork motion law, got {type(law).__name__}")
+            raise InputError(f"driver law must be a linkwork motion law (Linear, Expression...), not {law!r}")
         name = self._auto("D", name)
         self._register(law)
         self._drivers.append({"type": kind, "name": name, **fields, "law": law.to_dict()})
@@ -777,3 +791,24 @@ def _uses_python(law: Any) -> bool:
     if isinstance(law, list):
         return any(_uses_python(v) for v in law)
     return False
+
+
+def _checked(method: Callable[..., Any]) -> Callable[..., Any]:
+    """A builder method whose argument conversions (float(...) of a name, a pair that is
+    not one) raise the project's InputError naming the method, not a bare TypeError."""
+
+    @functools.wraps(method)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return method(*args, **kwargs)
+        except LinkworkError:
+            raise
+        except (TypeError, ValueError, OverflowError) as e:
+            raise InputError(f"Mechanism.{method.__name__}: {e}") from None
+
+    return wrapper
+
+
+for _attr, _value in list(vars(Mechanism).items()):
+    if not _attr.startswith("_") and inspect.isfunction(_value):
+        setattr(Mechanism, _attr, _checked(_value))
