@@ -1,0 +1,213 @@
+//! Smale's alpha test on the affine target system: a point x with
+//! alpha = beta * gamma < alpha0 is an approximate zero (Newton from it converges
+//! quadratically) and its root lies within 2 beta of it. gamma is bounded above by the
+//! Shub-Smale bound with the Bombieri-Weyl norm (as in Hauenstein and Sottile's
+//! alphaCertified): gamma <= mu D^(3/2) / (2 |x|_1), mu = max(1, |f| |Df^{-1} Delta|).
+//! Computed in f64: beta is enlarged by a bound on the rounding error of f(x), norms are
+//! Frobenius (above the spectral norm), and alpha must stay below 0.9 alpha0.
+
+use num_complex::Complex64 as C64;
+
+use crate::linear::Lu;
+use crate::polynomial::{bombieri_weyl_norms, Compiled, System};
+
+/// (13 - 3 sqrt 17) / 4: Smale's constant for approximate zeros.
+pub const ALPHA0: f64 = 0.157_670_780_786_754_6;
+
+/// An affine, parameter-free square system prepared for polishing and certification.
+pub struct Affine {
+    pub system: System,
+    compiled: Compiled,
+    degrees: Vec<u32>,
+    norm: f64,
+}
+
+/// What the alpha test found at a point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlphaTest {
+    pub alpha: f64,
+    pub beta: f64,
+    pub gamma: f64,
+    /// |Df| |Df^{-1}| (Frobenius).
+    pub condition: f64,
+    pub certified: bool,
+}
+
+impl Affine {
+    pub fn new(system: System) -> Self {
+        let compiled = Compiled::new(&system.polys, system.n_vars);
+        let degrees = system.degrees();
+        let norm = bombieri_weyl_norms(&system).iter().map(|v| v * v).sum::<f64>().sqrt();
+        Affine { system, compiled, degrees, norm }
+    }
+
+    pub fn n(&self) -> usize {
+        self.system.n_vars
+    }
+
+    fn eval(&self, x: &[C64], f: &mut [C64], df: &mut [C64]) {
+        let mut pow = vec![C64::default(); self.compiled.pow_len];
+        self.compiled.eval(x, f, Some(df), &mut pow);
+    }
+
+    /// Newton from x in place until the step stops shrinking; true if it converged.
+    pub fn newton(&self, x: &mut [C64], max_iter: usize) -> bool {
+        let n = self.n();
+        let mut f = vec![C64::default(); n];
+        let mut lu = Lu::new(n);
+        let mut scratch = vec![C64::default(); n];
+        let mut last = f64::INFINITY;
+        for _ in 0..max_iter {
+            self.eval(x, &mut f, &mut lu.a);
+            if lu.factorize() == 0.0 {
+                return false;
+            }
+            lu.solve(&mut f, &mut scratch);
+            let step = f.iter().map(|v| v.norm()).fold(0.0, f64::max);
+            if !step.is_finite() {
+                return false;
+            }
+            for (xi, di) in x.iter_mut().zip(&f) {
+                *xi -= di;
+            }
+            let size = x.iter().map(|v| v.norm()).fold(0.0, f64::max);
+            if step <= 4.0 * f64::EPSILON * (1.0 + size) {
+                return true;
+            }
+            if step >= last {
+                // stalled at the rounding level: converged as far as f64 allows
+                return step <= 1e-6 * (1.0 + size);
+            }
+            last = step;
+        }
+        true
+    }
+
+    /// max_i |f_i(x)| and the normwise backward error
+    /// max_i |f_i(x)| / (|c_i|_1 max(1, |x|)^d_i): the relative change of coefficients
+    /// that makes x an exact root, scale-free.
+    pub fn residual(&self, x: &[C64]) -> (f64, f64) {
+        let (values, _) = self.values_and_sizes(x);
+        let size = x.iter().map(|v| v.norm()).fold(1.0, f64::max);
+        let mut abs: f64 = 0.0;
+        let mut rel: f64 = 0.0;
+        for ((v, poly), d) in values.iter().zip(&self.system.polys).zip(&self.degrees) {
+            abs = abs.max(v.norm());
+            let c: f64 = poly.terms.iter().map(|t| t.coeff.norm()).sum();
+            rel = rel.max(v.norm() / (c * size.powi(*d as i32)));
+        }
+        (abs, rel)
+    }
+
+    fn values_and_sizes(&self, x: &[C64]) -> (Vec<C64>, Vec<f64>) {
+        let mut values = Vec::with_capacity(self.n());
+        let mut sizes = Vec::with_capacity(self.n());
+        for poly in &self.system.polys {
+            let mut v = C64::default();
+            let mut s = 0.0;
+            for term in &poly.terms {
+                let mut m = term.coeff;
+                for &(i, e) in &term.powers {
+                    m *= x[i].powu(e);
+                }
+                v += m;
+                s += m.norm();
+            }
+            values.push(v);
+            sizes.push(s);
+        }
+        (values, sizes)
+    }
+
+    /// The alpha test at x.
+    pub fn alpha(&self, x: &[C64]) -> AlphaTest {
+        let n = self.n();
+        let failed = AlphaTest {
+            alpha: f64::INFINITY,
+            beta: f64::INFINITY,
+            gamma: f64::INFINITY,
+            condition: f64::INFINITY,
+            certified: false,
+        };
+        let mut f = vec![C64::default(); n];
+        let mut lu = Lu::new(n);
+        self.eval(x, &mut f, &mut lu.a);
+        let jac_norm = lu.a.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt();
+        if lu.factorize() == 0.0 {
+            return failed;
+        }
+        let mut scratch = vec![C64::default(); n];
+        // columns of Df^{-1}
+        let mut inv = vec![C64::default(); n * n];
+        for j in 0..n {
+            let mut e = vec![C64::default(); n];
+            e[j] = C64::new(1.0, 0.0);
+            lu.solve(&mut e, &mut scratch);
+            for i in 0..n {
+                inv[i * n + j] = e[i];
+            }
+        }
+        let inv_norm = inv.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt();
+        if !inv_norm.is_finite() {
+            return failed;
+        }
+        // beta = |Df^{-1} f|, enlarged by |Df^{-1}| times f's rounding bound
+        let (_, sizes) = self.values_and_sizes(x);
+        let max_terms = self.system.polys.iter().map(|p| p.terms.len()).max().unwrap_or(1);
+        let max_degree = *self.degrees.iter().max().unwrap_or(&1);
+        let k = (max_terms + max_degree as usize + 4) as f64;
+        let rounding = sizes.iter().map(|s| (k * f64::EPSILON * s).powi(2)).sum::<f64>().sqrt();
+        let mut step = f.clone();
+        lu.solve(&mut step, &mut scratch);
+        let beta = step.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt() + inv_norm * rounding;
+        // gamma bound
+        let x1 = (1.0 + x.iter().map(|v| v.norm_sqr()).sum::<f64>()).sqrt();
+        let mut m_norm = 0.0;
+        for j in 0..n {
+            let d = self.degrees[j] as f64;
+            let delta = d.sqrt() * x1.powf(d - 1.0);
+            for i in 0..n {
+                m_norm += (inv[i * n + j] * delta).norm_sqr();
+            }
+        }
+        let m_norm = m_norm.sqrt();
+        let mu = (self.norm * m_norm).max(1.0);
+        let big_d = max_degree as f64;
+        let gamma = mu * big_d.powf(1.5) / (2.0 * x1);
+        let alpha = beta * gamma;
+        AlphaTest {
+            alpha,
+            beta,
+            gamma,
+            condition: jac_norm * inv_norm,
+            certified: alpha.is_finite() && alpha < 0.9 * ALPHA0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::polynomial::{Polynomial, Term};
+
+    #[test]
+    fn certifies_a_simple_root_and_refuses_a_far_point() {
+        // x^2 - 2 = 0
+        let system = System::new(
+            1,
+            0,
+            vec![Polynomial::new(vec![
+                Term::new(C64::new(1.0, 0.0), &[2]),
+                Term::new(C64::new(-2.0, 0.0), &[0]),
+            ])],
+        )
+        .unwrap();
+        let affine = Affine::new(system);
+        let near = affine.alpha(&[C64::new(1.414, 0.0)]);
+        assert!(near.certified, "{near:?}");
+        let root = affine.alpha(&[C64::new(2f64.sqrt(), 0.0)]);
+        assert!(root.certified && root.beta < 1e-14);
+        let far = affine.alpha(&[C64::new(0.05, 0.0)]);
+        assert!(!far.certified, "{far:?}");
+    }
+}

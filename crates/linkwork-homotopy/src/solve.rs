@@ -1,0 +1,205 @@
+//! All isolated roots: track every start path (in parallel), classify each endpoint
+//! (finite, at infinity, singular, failed), polish finite ones on the affine system,
+//! certify them by the alpha test (and real ones as real), and merge duplicates.
+
+use num_complex::Complex64 as C64;
+use rayon::prelude::*;
+
+use crate::certify::{Affine, AlphaTest};
+use crate::homotopy::{Groups, Homotopy, ParameterHomotopy, StartHomotopy};
+use crate::polynomial::{System, SystemError};
+use crate::random::Rng;
+use crate::track::{track, PathEnd, PathStatus, TrackOptions};
+
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    pub track: TrackOptions,
+    /// Seed of gamma, the patches and the start system.
+    pub seed: u64,
+    /// Paths per rayon task; fewer paths than this run on the calling thread.
+    pub parallel_from: usize,
+    /// A homogenizing coordinate below this (relative) marks an endpoint at infinity.
+    pub infinity: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { track: TrackOptions::default(), seed: 0x5eed, parallel_from: 16, infinity: 1e-8 }
+    }
+}
+
+/// One finite root of the target system.
+#[derive(Clone, Debug)]
+pub struct Root {
+    pub x: Vec<C64>,
+    /// max_i |f_i(x)|
+    pub residual: f64,
+    /// max_i |f_i(x)| / (|c_i|_1 max(1, |x|)^d_i)
+    pub backward_error: f64,
+    /// |Df| |Df^{-1}| at x
+    pub condition: f64,
+    /// alpha test passed: a root lies within `radius` of x
+    pub certified: bool,
+    /// certified as a real root (x is then real)
+    pub real: bool,
+    pub alpha: f64,
+    /// 2 beta: the distance within which the certified root lies
+    pub radius: f64,
+    /// index of the start path that ended here
+    pub path: usize,
+}
+
+/// Everything the paths found.
+#[derive(Clone, Debug, Default)]
+pub struct Solutions {
+    /// Distinct finite nonsingular roots.
+    pub roots: Vec<Root>,
+    /// Paths tracked.
+    pub paths: usize,
+    /// Endpoints at infinity.
+    pub at_infinity: usize,
+    /// Finite endpoints where the Jacobian is singular (not certified, not in roots).
+    pub singular: Vec<Vec<C64>>,
+    /// Paths that stopped before t = 1.
+    pub failed: usize,
+    /// Paths that reached a root another path already reached (path jumping when the
+    /// start count is the generic root count).
+    pub duplicates: usize,
+    /// Whether the certified roots' balls are pairwise disjoint (so they are distinct).
+    pub distinct: bool,
+    pub steps: usize,
+    pub rejected: usize,
+}
+
+impl Solutions {
+    pub fn real(&self) -> impl Iterator<Item = &Root> {
+        self.roots.iter().filter(|r| r.real)
+    }
+}
+
+/// All isolated roots of a parameter-free square system, from a linear-product start
+/// system on the given groups (total degree when None).
+pub fn solve(system: &System, groups: Option<Groups>, opts: &Options) -> Result<Solutions, SystemError> {
+    let groups = groups.unwrap_or_else(|| Groups::total_degree(system.n_vars));
+    let mut rng = Rng::new(opts.seed);
+    let hom = StartHomotopy::new(system, groups, &mut rng)?;
+    let starts = hom.start.roots(&hom.proj);
+    let ends = track_all(&hom, &starts, opts);
+    Ok(collect(&hom.proj, Affine::new(system.clone()), ends, opts))
+}
+
+/// All roots at parameters p1 by parameter homotopy from the roots `starts` (affine) of
+/// the same family at generic complex parameters p0.
+pub fn solve_parameter(
+    family: &System,
+    p0: &[C64],
+    starts: &[Vec<C64>],
+    p1: &[C64],
+    opts: &Options,
+) -> Result<Solutions, SystemError> {
+    let mut rng = Rng::new(opts.seed);
+    let hom = ParameterHomotopy::new(
+        family,
+        Groups::total_degree(family.n_vars),
+        p0.to_vec(),
+        p1.to_vec(),
+        &mut rng,
+    )?;
+    let lifted: Vec<Vec<C64>> = starts.iter().map(|x| hom.proj.from_affine(x)).collect();
+    let ends = track_all(&hom, &lifted, opts);
+    let target = family.specialize(p1)?;
+    Ok(collect(&hom.proj, Affine::new(target), ends, opts))
+}
+
+fn track_all(hom: &dyn Homotopy, starts: &[Vec<C64>], opts: &Options) -> Vec<PathEnd> {
+    if starts.len() < opts.parallel_from {
+        starts.iter().map(|y| track(hom, y, &opts.track)).collect()
+    } else {
+        starts.par_iter().map(|y| track(hom, y, &opts.track)).collect()
+    }
+}
+
+fn collect(
+    proj: &crate::homotopy::Projective,
+    affine: Affine,
+    ends: Vec<PathEnd>,
+    opts: &Options,
+) -> Solutions {
+    let mut out = Solutions { paths: ends.len(), ..Default::default() };
+    let real_system = affine.system.is_real();
+    for (path, end) in ends.into_iter().enumerate() {
+        out.steps += end.steps;
+        out.rejected += end.rejected;
+        let (mut x, ratios) = proj.to_affine(&end.y);
+        if ratios.iter().any(|r| *r < opts.infinity) {
+            out.at_infinity += 1;
+            continue;
+        }
+        if end.status == PathStatus::Failed {
+            out.failed += 1;
+            continue;
+        }
+        affine.newton(&mut x, 12);
+        let mut test = affine.alpha(&x);
+        if !test.certified && (end.status == PathStatus::Singular || test.condition > 1e12) {
+            out.singular.push(x);
+            continue;
+        }
+        let mut real = false;
+        if real_system {
+            let size = x.iter().map(|v| v.norm()).fold(1.0, f64::max);
+            let imag = x.iter().map(|v| v.im.abs()).fold(0.0, f64::max);
+            if imag <= 1e-6 * size {
+                // Newton from a real point of a real system stays real, so a certified
+                // real point certifies a real root.
+                let mut xr: Vec<C64> = x.iter().map(|v| C64::new(v.re, 0.0)).collect();
+                affine.newton(&mut xr, 12);
+                let test_r: AlphaTest = affine.alpha(&xr);
+                if test_r.certified && xr.iter().all(|v| v.im == 0.0) {
+                    x = xr;
+                    test = test_r;
+                    real = true;
+                }
+            }
+        }
+        let (residual, backward_error) = affine.residual(&x);
+        let root = Root {
+            x,
+            residual,
+            backward_error,
+            condition: test.condition,
+            certified: test.certified,
+            real,
+            alpha: test.alpha,
+            radius: 2.0 * test.beta,
+            path,
+        };
+        if let Some(dup) = out.roots.iter().position(|r| same_root(r, &root)) {
+            out.duplicates += 1;
+            // keep the better certified copy
+            if !out.roots[dup].certified && root.certified {
+                out.roots[dup] = root;
+            }
+        } else {
+            out.roots.push(root);
+        }
+    }
+    out.distinct = out.roots.iter().all(|r| r.certified)
+        && out.roots.iter().enumerate().all(|(i, a)| {
+            out.roots[i + 1..].iter().all(|b| {
+                let d = distance(&a.x, &b.x);
+                d > a.radius + b.radius
+            })
+        });
+    out
+}
+
+fn distance(a: &[C64], b: &[C64]) -> f64 {
+    a.iter().zip(b).map(|(u, v)| (u - v).norm_sqr()).sum::<f64>().sqrt()
+}
+
+fn same_root(a: &Root, b: &Root) -> bool {
+    let d = distance(&a.x, &b.x);
+    let size = a.x.iter().map(|v| v.norm()).fold(1.0, f64::max);
+    d <= (a.radius + b.radius).max(1e-8 * size)
+}
