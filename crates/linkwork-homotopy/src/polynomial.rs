@@ -34,6 +34,59 @@ impl Polynomial {
         Polynomial { terms }
     }
 
+    /// The polynomial z_i.
+    pub fn var(i: usize) -> Self {
+        Polynomial { terms: vec![Term { coeff: C64::new(1.0, 0.0), powers: vec![(i, 1)] }] }
+    }
+
+    /// A constant.
+    pub fn constant(c: C64) -> Self {
+        Polynomial { terms: vec![Term { coeff: c, powers: vec![] }] }
+    }
+
+    /// self + other, equal monomials merged.
+    pub fn add(&self, other: &Polynomial) -> Polynomial {
+        let mut out = self.clone();
+        for t in &other.terms {
+            out.push(t.clone());
+        }
+        out
+    }
+
+    /// self * k.
+    pub fn scale(&self, k: C64) -> Polynomial {
+        Polynomial {
+            terms: self.terms.iter().map(|t| Term { coeff: t.coeff * k, powers: t.powers.clone() }).collect(),
+        }
+    }
+
+    /// self * other, equal monomials merged.
+    pub fn mul(&self, other: &Polynomial) -> Polynomial {
+        let mut out = Polynomial::default();
+        for a in &self.terms {
+            for b in &other.terms {
+                let mut powers = a.powers.clone();
+                for &(i, e) in &b.powers {
+                    match powers.iter_mut().find(|(j, _)| *j == i) {
+                        Some(p) => p.1 += e,
+                        None => powers.push((i, e)),
+                    }
+                }
+                powers.sort_unstable();
+                out.push(Term { coeff: a.coeff * b.coeff, powers });
+            }
+        }
+        out
+    }
+
+    fn push(&mut self, mut term: Term) {
+        term.powers.sort_unstable();
+        match self.terms.iter_mut().find(|t| t.powers == term.powers) {
+            Some(t) => t.coeff += term.coeff,
+            None => self.terms.push(term),
+        }
+    }
+
     /// Degree in the unknowns listed (indices into z).
     pub fn degree_in(&self, vars: &[usize]) -> u32 {
         self.terms.iter().map(|t| t.degree_in(vars)).max().unwrap_or(0)

@@ -6,7 +6,7 @@ use num_complex::Complex64 as C64;
 use rayon::prelude::*;
 
 use crate::certify::{Affine, AlphaTest};
-use crate::homotopy::{Groups, Homotopy, ParameterHomotopy, StartHomotopy};
+use crate::homotopy::{Groups, Homotopy, ParameterHomotopy, Projective, StartHomotopy};
 use crate::polynomial::{System, SystemError};
 use crate::random::Rng;
 use crate::track::{track, PathEnd, PathStatus, TrackOptions};
@@ -84,7 +84,7 @@ pub fn solve(system: &System, groups: Option<Groups>, opts: &Options) -> Result<
     let mut rng = Rng::new(opts.seed);
     let hom = StartHomotopy::new(system, groups, &mut rng)?;
     let starts = hom.start.roots(&hom.proj);
-    let ends = track_all(&hom, &starts, opts);
+    let ends = track_all(&hom, &hom.proj, &starts, opts);
     Ok(collect(&hom.proj, Affine::new(system.clone()), ends, opts))
 }
 
@@ -106,17 +106,34 @@ pub fn solve_parameter(
         &mut rng,
     )?;
     let lifted: Vec<Vec<C64>> = starts.iter().map(|x| hom.proj.from_affine(x)).collect();
-    let ends = track_all(&hom, &lifted, opts);
+    let ends = track_all(&hom, &hom.proj, &lifted, opts);
     let target = family.specialize(p1)?;
     Ok(collect(&hom.proj, Affine::new(target), ends, opts))
 }
 
-fn track_all(hom: &dyn Homotopy, starts: &[Vec<C64>], opts: &Options) -> Vec<PathEnd> {
+fn track_all(hom: &dyn Homotopy, proj: &Projective, starts: &[Vec<C64>], opts: &Options) -> Vec<PathEnd> {
+    let endgame = |samples: &[(f64, Vec<C64>)]| diverging(proj, samples, opts.infinity);
     if starts.len() < opts.parallel_from {
-        starts.iter().map(|y| track(hom, y, &opts.track)).collect()
+        starts.iter().map(|y| track(hom, y, &opts.track, &endgame)).collect()
     } else {
-        starts.par_iter().map(|y| track(hom, y, &opts.track)).collect()
+        starts.par_iter().map(|y| track(hom, y, &opts.track, &endgame)).collect()
     }
+}
+
+/// Smallest homogenizing coordinate (relative) of each endgame sample.
+fn ratios(proj: &Projective, samples: &[(f64, Vec<C64>)]) -> Vec<f64> {
+    samples.iter().map(|(_, y)| proj.to_affine(y).1.into_iter().fold(f64::INFINITY, f64::min)).collect()
+}
+
+/// A path goes to infinity when its smallest homogenizing coordinate has fallen by at
+/// least a factor 3 per decade of 1 - t over the last three decades and is already small:
+/// h ~ (1 - t)^w with w > 0.4, extrapolating to 0 at t = 1.
+fn diverging(proj: &Projective, samples: &[(f64, Vec<C64>)], infinity: f64) -> bool {
+    if samples.len() < 4 {
+        return false;
+    }
+    let r = ratios(proj, &samples[samples.len() - 4..]);
+    r[3] < infinity.sqrt() && r.windows(2).all(|w| w[1] < w[0] / 2.5)
 }
 
 fn collect(
@@ -131,7 +148,7 @@ fn collect(
         out.steps += end.steps;
         out.rejected += end.rejected;
         let (mut x, ratios) = proj.to_affine(&end.y);
-        if ratios.iter().any(|r| *r < opts.infinity) {
+        if ratios.iter().any(|r| *r < opts.infinity) || diverging(proj, &end.samples, opts.infinity) {
             out.at_infinity += 1;
             continue;
         }

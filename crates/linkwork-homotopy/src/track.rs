@@ -45,7 +45,14 @@ pub struct PathEnd {
     pub rejected: usize,
     /// Pivot ratio of H_y at the end (small: singular endpoint).
     pub pivot_ratio: f64,
+    /// Endgame samples: (1 - t, y) at the first accepted step past each 1 - t = 10^-k,
+    /// k >= 2. Paths to infinity or to singular roots are judged from them.
+    pub samples: Vec<(f64, Vec<C64>)>,
 }
+
+/// Decides from the endgame samples whether the path may stop early (its endpoint is
+/// already known to be at infinity).
+pub type Endgame<'a> = &'a (dyn Fn(&[(f64, Vec<C64>)]) -> bool + Sync);
 
 struct Buffers {
     ws: Workspace,
@@ -130,7 +137,7 @@ impl Buffers {
 }
 
 /// Track one path from y0 at t = 0 to t = 1.
-pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions) -> PathEnd {
+pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions, endgame: Endgame) -> PathEnd {
     let d = hom.dim();
     let mut b = Buffers::new(hom);
     let mut y = y0.to_vec();
@@ -140,9 +147,20 @@ pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions) -> PathEnd {
     let mut steps = 0;
     let mut rejected = 0;
     let mut trial = vec![C64::default(); d];
+    let mut samples: Vec<(f64, Vec<C64>)> = Vec::new();
+    let mut next_sample = 1e-2;
     while t < 1.0 {
         if steps + rejected >= opts.max_steps || dt < opts.min_step {
-            return finish(hom, &mut b, y, t, PathStatus::Failed, steps, rejected);
+            return finish(hom, &mut b, y, t, PathStatus::Failed, steps, rejected, samples);
+        }
+        if 1.0 - t <= next_sample {
+            samples.push((1.0 - t, y.clone()));
+            while next_sample >= 1.0 - t {
+                next_sample /= 10.0;
+            }
+            if endgame(&samples) {
+                return finish(hom, &mut b, y, t, PathStatus::Failed, steps, rejected, samples);
+            }
         }
         let h = dt.min(1.0 - t);
         // RK4 predictor
@@ -197,9 +215,10 @@ pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions) -> PathEnd {
             dt /= 2.0;
         }
     }
-    finish(hom, &mut b, y, 1.0, PathStatus::Reached, steps, rejected)
+    finish(hom, &mut b, y, 1.0, PathStatus::Reached, steps, rejected, samples)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn finish(
     hom: &dyn Homotopy,
     b: &mut Buffers,
@@ -208,6 +227,7 @@ fn finish(
     status: PathStatus,
     steps: usize,
     rejected: usize,
+    samples: Vec<(f64, Vec<C64>)>,
 ) -> PathEnd {
     let mut status = status;
     if status == PathStatus::Reached {
@@ -223,5 +243,5 @@ fn finish(
     if status == PathStatus::Singular && pivot_ratio > 1e-8 {
         status = PathStatus::Reached;
     }
-    PathEnd { y, t, status, steps, rejected, pivot_ratio }
+    PathEnd { y, t, status, steps, rejected, pivot_ratio, samples }
 }

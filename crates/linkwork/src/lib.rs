@@ -29,6 +29,7 @@ pub mod small_lu;
 pub mod sparse_lu;
 pub mod stepping;
 pub mod sweep;
+pub mod synthesis;
 pub mod units;
 pub mod velocity;
 
