@@ -204,3 +204,54 @@ fn bad_input_is_named() {
     let collinear: Vec<Pose> = (0..3).map(|k| p(k as f64, 0.0)).collect();
     assert!(matches!(three_pose_ground(&collinear, [0.0, 1.0]), Err(SynthesisError::Collinear { .. })));
 }
+
+/// The source document's chained six-bar: both dyad systems solved completely, each real
+/// solution satisfies its equations, and the elimination agrees.
+#[test]
+fn chained_six_bar_dyads_all_found_and_agree() {
+    use linkwork::synthesis::sixbar::{dyad_1, dyad_2, dyads_by_resultant};
+    let points = [[1.0, 2.8], [-2.8, -3.8], [-8.3, -7.3], [-8.9, -6.7], [-7.2, 3.2]];
+    let q = [-3.7, 12.9];
+    let deg = std::f64::consts::PI / 180.0;
+    let phi: Vec<f64> = [0.0, -45.0, -90.0, -150.0, -210.0].iter().map(|v| v * deg).collect();
+    let theta: Vec<f64> = [0.0, 0.5, 16.5, 27.0, 27.0].iter().map(|v| v * deg).collect();
+    let one = dyad_1(&points, q, &phi, &theta).unwrap();
+    let two = dyad_2(&points, &phi, &theta).unwrap();
+    for set in [&one, &two] {
+        assert!(set.dyads.len() <= 4 && set.failed == 0 && set.distinct, "{set:?}");
+        assert!(set.dyads.iter().all(|d| d.certified));
+    }
+    let [r1, r2] = dyads_by_resultant(&points, q, &phi, &theta).unwrap();
+    assert_eq!(r1.len(), one.real().count());
+    assert_eq!(r2.len(), two.real().count());
+    // the equations themselves, in world coordinates, for every real dyad
+    let rot = |v: C64, a: f64| v * C64::from_polar(1.0, a);
+    let p = |k: usize| C64::new(points[k][0], points[k][1]);
+    let qc = C64::new(q[0], q[1]);
+    for d in one.real() {
+        let (a1, b1) = (C64::new(d.ground[0], d.ground[1]), C64::new(d.moving[0], d.moving[1]));
+        for n in 0..5 {
+            let an = qc + rot(a1 - qc, phi[n]);
+            let bn = p(n) + rot(b1 - p(0), theta[n]);
+            assert!(((an - bn).norm() - (a1 - b1).norm()).abs() < 1e-10 * (a1 - b1).norm(), "{d:?}");
+        }
+    }
+    for d in two.real() {
+        let (c1, d1) = (C64::new(d.ground[0], d.ground[1]), C64::new(d.moving[0], d.moving[1]));
+        for n in 0..5 {
+            let dn = p(n) + rot(d1 - p(0), theta[n]);
+            let cn = dn + rot(c1 - d1, phi[n]);
+            assert!((cn.norm() - c1.norm()).abs() < 1e-10 * c1.norm(), "{d:?}");
+        }
+    }
+    eprintln!(
+        "six-bar: dyad 1 {} real of {}, dyad 2 {} real of {}",
+        one.real().count(),
+        one.dyads.len(),
+        two.real().count(),
+        two.dyads.len()
+    );
+    for d in one.real().chain(two.real()) {
+        eprintln!("  {:?} {:?}", d.ground, d.moving);
+    }
+}

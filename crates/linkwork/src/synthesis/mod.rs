@@ -15,6 +15,7 @@ pub mod function;
 pub mod motion;
 pub mod path;
 pub mod resultant;
+pub mod sixbar;
 pub mod univariate;
 
 use num_complex::Complex64 as C64;
