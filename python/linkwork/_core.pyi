@@ -1,4 +1,5 @@
 # Hand-written stub of the compiled module (checked by mypy.stubtest in the test suite).
+from collections.abc import Sequence
 from typing import Any, Callable, final
 
 import numpy as np
@@ -26,6 +27,11 @@ __all__ = [
     "screw_transport",
     "sweep_batch",
     "_check_panic_guard",
+    "synth_chebyshev",
+    "synth_dyads",
+    "synth_freudenstein",
+    "synth_motion",
+    "synth_start_set",
 ]
 __version__: str
 
@@ -235,3 +241,23 @@ def screw_transport(kind: str, to: str, pose: _V3, v: _V3) -> list[float]: ...
 def screw_centres_from_velocities(description_json: str, q: _F, qd: _F) -> dict[str, Any]: ...
 def screw_centres_by_kennedy(description_json: str, q: _F) -> dict[str, Any]: ...
 def screw_loop_singularity(description_json: str, q: _F, tol: float = 1e-9) -> dict[str, Any]: ...
+
+# synthesis (linkwork.synthesis)
+def synth_dyads(
+    problem: str,
+    method: str,
+    poses_or_points: Sequence[float],
+    angles_a: Sequence[float] = ...,
+    angles_b: Sequence[float] = ...,
+    point: Sequence[float] = ...,
+) -> dict[str, Any]: ...
+def synth_motion(
+    problem: str,
+    poses_flat: Sequence[float],
+    point: Sequence[float] = ...,
+    along: float = 0.0,
+    samples: int = 360,
+) -> dict[str, Any]: ...
+def synth_freudenstein(kind: str, input: Sequence[float], output: Sequence[float], ground: float) -> list[float]: ...
+def synth_chebyshev(lo: float, hi: float, n: int) -> list[float]: ...
+def synth_start_set() -> tuple[int, int, int]: ...

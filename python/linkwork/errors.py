@@ -8,6 +8,8 @@
     ├── InputError          bad arguments to a solve (time grid, q_guess); also a ValueError
     ├── ScrewError          a screw-theory question without a (unique) answer: coincident
     │                       or collinear joints, parallel lines, a redundant arm; also a ValueError
+    ├── SynthesisError      a synthesis problem that is not well posed (point count, coincident
+    │                       or collinear points); also a ValueError
     └── SolveError          a solve could not be completed at some time step
         ├── AssemblyError       no configuration found at the first time
         ├── ConvergenceError    Newton-Raphson did not converge at a later step
@@ -32,6 +34,7 @@ __all__ = [
     "ExpressionError",
     "InputError",
     "ScrewError",
+    "SynthesisError",
     "SolveError",
     "AssemblyError",
     "ConvergenceError",
@@ -71,6 +74,12 @@ class InputError(LinkworkError, ValueError):
 class ScrewError(LinkworkError, ValueError):
     """Degenerate geometry or bad input in `linkwork.screw`; the message names the joints
     at fault (e.g. "joints 2 and 3 coincide")."""
+
+
+class SynthesisError(LinkworkError, ValueError):
+    """A synthesis problem without a well-posed answer: the wrong number of precision
+    points for an exact method, coincident or collinear points, non-finite input; the
+    message names the points at fault."""
 
 
 class SolveError(LinkworkError):

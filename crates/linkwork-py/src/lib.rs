@@ -18,6 +18,7 @@ mod linkages;
 mod mobility;
 mod panics;
 mod screw;
+mod synthesis;
 
 use panics::guard;
 
@@ -677,6 +678,11 @@ impl PyModel {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyModel>()?;
     screw::register(m)?;
+    m.add_function(wrap_pyfunction!(synthesis::synth_dyads, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesis::synth_motion, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesis::synth_freudenstein, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesis::synth_chebyshev, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesis::synth_start_set, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(panics::_check_panic_guard, m)?)?;
     m.add_function(wrap_pyfunction!(read_model, m)?)?;

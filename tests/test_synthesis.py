@@ -1,0 +1,173 @@
+"""Synthesis against mechanisms that generated the precision points: the generator must be
+among the real solutions to 1e-10, every root certified, the homotopy must agree with the
+independent elimination, and the engine's screening must pass the generator and flag
+designs that cannot make the motion."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import linkwork
+from linkwork import synthesis as S
+from linkwork.errors import SynthesisError
+
+# generator four-bar: ground pivots O2, O4; crank, coupler, rocker; coupler point P at
+# (1.7, 1.1) in the frame of A -> B
+O2, O4, CRANK, COUPLER, ROCKER, PC = 0j, 4 + 0.5j, 1.5, 4.0, 3.0, 1.7 + 1.1j
+PHIS = np.array([0.3, 0.7, 1.2, 1.8, 2.3])
+
+
+def at(phi: float) -> tuple[complex, complex, float, complex]:
+    a = O2 + CRANK * np.exp(1j * phi)
+    d = O4 - a
+    dist = abs(d)
+    along = (COUPLER**2 - ROCKER**2 + dist**2) / (2 * dist)
+    b = a + d / dist * (along + 1j * math.sqrt(COUPLER**2 - along**2))
+    angle = float(np.angle(b - a))
+    return a, b, angle, a + PC * np.exp(1j * angle)
+
+
+def poses(phis: np.ndarray) -> np.ndarray:
+    return np.array([(at(p)[3].real, at(p)[3].imag, at(p)[2]) for p in phis])
+
+
+def has(dyads: list[S.Dyad], ground: complex, moving: complex, tol: float = 1e-10) -> S.Dyad | None:
+    for d in dyads:
+        if abs(complex(*d.ground) - ground) < tol and abs(complex(*d.moving) - moving) < tol:
+            return d
+    return None
+
+
+def test_burmester_recovers_the_generator_and_screens_it_defect_free() -> None:
+    result = S.motion(poses(PHIS))
+    sols = result.dyads
+    assert isinstance(sols, S.DyadSolutions)
+    assert len(sols) <= 4 and sols.failed == 0 and sols.distinct
+    assert all(d.certified for d in sols)
+    a1, b1, _, _ = at(PHIS[0])
+    for g, m in ((O2, a1), (O4, b1)):
+        d = has(sols.real, g, m)
+        assert d is not None and d.residual < 1e-12 and d.radius < 1e-9
+    # the generator, crank O2 -> A as input, is a design and is defect-free
+    gen = [d for d in result.designs if abs(complex(*d.o2) - O2) < 1e-9 and abs(complex(*d.o4) - O4) < 1e-9]
+    assert len(gen) == 1
+    f = gen[0].defects
+    assert f.ok and all(f.reached) and max(f.error) < 1e-9 and f.grashof == "Grashof"
+    assert result.designs[0].defects.ok  # defect-free designs sort first
+    # the design is a real model: the engine puts P on the precision points
+    res = (
+        gen[0].model().compile().sweep(gen[0].crank_rotations() * f.direction % (2 * math.pi), derivatives=0)
+    )
+    assert np.allclose(res.point("P").position, poses(PHIS)[:, :2], atol=1e-10)
+
+
+def test_homotopy_and_resultant_agree() -> None:
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        p = np.column_stack([rng.uniform(-2, 2, (5, 2)), rng.uniform(0, 3, 5)])
+        h = S.dyads("burmester", poses=p)
+        r = S.dyads("burmester", poses=p, method="resultant")
+        assert len(r.real) == len(h.real)
+        for d in r.real:
+            assert has(h.real, complex(*d.ground), complex(*d.moving), 1e-8 * (1 + abs(complex(*d.ground))))
+
+
+def test_timed_path_recovers_the_input_dyad_and_the_four_bar() -> None:
+    pts = poses(PHIS)[:, :2]
+    result = S.path(pts, PHIS - PHIS[0])
+    first = result.dyads[0]
+    a1, b1, _, _ = at(PHIS[0])
+    assert has(first.real, O2, a1) is not None
+    gen = [d for d in result.designs if abs(complex(*d.o2) - O2) < 1e-9 and abs(complex(*d.o4) - O4) < 1e-9]
+    assert len(gen) == 1 and gen[0].defects.ok
+    assert abs(complex(*gen[0].b) - b1) < 1e-9
+    # the elimination finds the same input dyads
+    r = S.dyads("timed", points=pts, input_angles=PHIS - PHIS[0], method="resultant")
+    assert len(r.real) == len(first.real)
+
+
+def test_out_of_order_positions_are_an_order_defect() -> None:
+    order = [0, 2, 1, 3, 4]
+    result = S.motion(poses(PHIS)[order])
+    gen = [d for d in result.designs if abs(complex(*d.o2) - O2) < 1e-9 and abs(complex(*d.o4) - O4) < 1e-9]
+    assert len(gen) == 1
+    assert gen[0].defects.order and not gen[0].defects.ok
+
+
+def test_three_and_two_poses() -> None:
+    p = poses(PHIS[[0, 2, 4]])
+    a1, b1, _, _ = at(PHIS[0])
+    r = S.motion(p, moving=[(a1.real, a1.imag), (b1.real, b1.imag)])
+    (d,) = r.designs
+    assert abs(complex(*d.o2) - O2) < 1e-12 and abs(complex(*d.o4) - O4) < 1e-12
+    r = S.motion(p, ground=[(O2.real, O2.imag), (O4.real, O4.imag)])
+    assert abs(complex(*r.designs[0].a) - a1) < 1e-12
+    two = S.motion(poses(PHIS[:2]), moving=[(a1.real, a1.imag), (b1.real, b1.imag)], along=(0.5, -0.5))
+    d = two.designs[0]
+    for k in range(2):
+        g, m = (d.o2, d.a) if k == 0 else (d.o4, d.b)
+        assert abs(np.hypot(*(g - m)) - two.dyads.dyads[k].length) < 1e-12
+
+
+def test_four_pose_curves_are_exact_dyads() -> None:
+    p = poses(PHIS[:4])
+    r = S.motion(p, samples=360)
+    assert r.curves is not None and len(r.curves.circle_points) > 300
+    p1 = complex(*p[0, :2])
+    for m, g in zip(r.curves.circle_points[::17], r.curves.centre_points[::17]):
+        m, g = complex(*m), complex(*g)
+        radii = [abs(complex(*q[:2]) + (m - p1) * np.exp(1j * (q[2] - p[0, 2])) - g) for q in p]
+        assert np.ptp(radii) < 1e-8 * (1 + radii[0])
+
+
+def test_freudenstein_four_bar_and_slider_crank() -> None:
+    phi = S.chebyshev(0.4, 1.6, 3)
+    assert np.allclose(phi, 1.0 - 0.6 * np.cos(np.array([1, 3, 5]) * np.pi / 6))
+    # pairs from the generator (crank input, rocker output)
+    psi = np.array([np.angle(at(p)[1] - O4) for p in phi])
+    # the generator's ground line is not the x axis: rotate into Freudenstein's frame
+    tilt = np.angle(O4 - O2)
+    fb = S.function(phi - tilt, psi - tilt, ground=abs(O4 - O2))
+    assert abs(fb.a - CRANK) < 1e-12 and abs(fb.b - COUPLER) < 1e-12 and abs(fb.c - ROCKER) < 1e-12
+    # structural error: zero at the pairs, and the engine follows the generator between them
+    grid = np.linspace(0.4, 1.6, 25) - tilt
+    want = np.array([np.angle(at(p + tilt)[1] - O4) for p in grid]) - tilt
+    err = fb.structural_error(grid, want)
+    assert np.max(np.abs(err)) < 1e-9
+    # slider-crank
+    sc = S.function([0.2, 0.9, 1.7], [1.9, 1.5, 0.8], kind="slider_crank")
+    for phi_k, s_k in zip([0.2, 0.9, 1.7], [1.9, 1.5, 0.8]):
+        assert (
+            abs((s_k - sc.a * math.cos(phi_k)) ** 2 + (sc.e - sc.a * math.sin(phi_k)) ** 2 - sc.b**2) < 1e-12
+        )
+
+
+def test_bad_input_is_a_named_error() -> None:
+    p = poses(PHIS)
+    with pytest.raises(SynthesisError, match="2 to 5 poses"):
+        S.motion(np.vstack([p, p[:1] + 1.0]))
+    with pytest.raises(SynthesisError, match="degrees"):
+        S.motion(np.column_stack([p[:, :2], np.degrees(p[:, 2])]))
+    assert len(S.motion(np.column_stack([p[:, :2], np.degrees(p[:, 2])]), angles="deg").dyads.real) == 2
+    same = p.copy()
+    same[2] = same[1]
+    with pytest.raises(SynthesisError, match="poses 2 and 3 coincide"):
+        S.motion(same)
+    nan = p.copy()
+    nan[3, 0] = np.nan
+    with pytest.raises(SynthesisError, match="row 4 is not finite"):
+        S.motion(nan)
+    with pytest.raises(SynthesisError, match="exactly 5 points"):
+        S.path(p[:4, :2], PHIS[:4])
+    with pytest.raises(SynthesisError, match="leave free choices"):
+        S.motion(p[:3])
+    with pytest.raises(SynthesisError, match="3 precision pairs"):
+        S.function([0.1, 0.2], [0.3, 0.4])
+    assert issubclass(SynthesisError, linkwork.errors.LinkworkError)
+
+
+def test_generic_root_count() -> None:
+    assert S.generic_root_count() == 5
