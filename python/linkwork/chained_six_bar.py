@@ -233,7 +233,8 @@ def report() -> str:
         err = max(c.position_error)
         state = "completes" if c.completed else f"stops at t = {c.stopped_at:.4g}: {c.message}"
         lines.append(
-            f"    A1 ({c.one.ground[0]:.3f}, {c.one.ground[1]:.3f}) C1 ({c.two.ground[0]:.3f}, {c.two.ground[1]:.3f}): "
+            f"    A1 ({c.one.ground[0]:.3f}, {c.one.ground[1]:.3f}) "
+            f"C1 ({c.two.ground[0]:.3f}, {c.two.ground[1]:.3f}): "
             f"{state}; precision error {err:.1e}; events {c.events}"
         )
     good = [c for c in combos if c.ok]
