@@ -200,3 +200,36 @@ def test_chained_six_bar_from_the_source_document() -> None:
     # inverse dynamics and virtual work agree (both from the engine's solution, by
     # different routes: multipliers vs energy rate)
     assert np.abs(tq.total - tq.virtual_work).max() < 1e-9 * np.abs(tq.total).max()
+
+
+@pytest.mark.parametrize("name", ["motion", "path", "chained_six_bar"])
+def test_cli_synth_writes_designs_report_and_figure(name: str, tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    from pathlib import Path
+
+    from linkwork.cli import main
+
+    problem = Path(__file__).parent.parent / "examples" / f"synthesis_{name}.toml"
+    assert main(["synth", str(problem), "--out", str(tmp_path)]) == 0
+    stem = f"synthesis_{name}"
+    assert (tmp_path / f"{stem}_report.txt").read_text().strip()
+    assert (tmp_path / f"{stem}.png").stat().st_size > 10_000
+    models = sorted(tmp_path.glob(f"{stem}_design*.toml"))
+    assert models
+    # every written design is a model file the engine reads and sweeps
+    for path in models:
+        m = linkwork.Mechanism.load(path).compile()
+        res = m.sweep(np.linspace(0.0, 0.5, 6), derivatives=0)
+        assert np.all(np.isfinite(res.q))
+    assert "designs" in capsys.readouterr().out or name == "chained_six_bar"
+
+
+def test_cli_synth_bad_problem_file(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    from linkwork.cli import main
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text('problem = "motion"\nposes = [[0, 0, 0], [1, 0, 0.1]]\n')
+    assert main(["synth", str(bad), "--out", str(tmp_path)]) == 1
+    assert "leave free choices" in capsys.readouterr().err
+    bad.write_text('problem = "gears"\n')
+    assert main(["synth", str(bad), "--out", str(tmp_path)]) == 1
+    assert "problem must be one of" in capsys.readouterr().err

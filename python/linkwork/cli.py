@@ -383,12 +383,30 @@ A sweep that fails at step k writes its k good steps and exits with status 1."""
     )
     c.add_argument("model", help="model file (as written by Mechanism.save)")
     c.add_argument("--t", type=float, default=0.0, help="time of the configuration checked (default 0)")
-    return parser, {"demo": d, "run": r, "plot": p, "check": c}
+
+    s = sub.add_parser(
+        "synth",
+        formatter_class=fmt,
+        help="design mechanisms from precision points: every solution, screened, as model files",
+        description="""Reads a synthesis problem file (TOML: problem = motion | path | function |
+chained-six-bar, with its poses, points or angles; docs/synthesis.md), finds every exact
+solution (certified), assembles and screens the designs with the engine, and writes:
+  DIR/PROBLEM_designK.toml   each design as a model file (linkwork run can sweep it)
+  DIR/PROBLEM_report.txt     the solutions, their certificates, defects and merit order
+  DIR/PROBLEM.png            the designs at position 1 and their coupler paths through
+                             the precision points
+Exit status 1 if no design results.""",
+    )
+    s.add_argument("problem", help="problem file (TOML)")
+    s.add_argument(
+        "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
+    )
+    return parser, {"demo": d, "run": r, "plot": p, "check": c, "synth": s}
 
 
 def _usage_problem(args: argparse.Namespace) -> str | None:
     """What is wrong with the arguments before any model is read, or None."""
-    if args.command == "check":
+    if args.command in ("check", "synth"):
         return None
     if args.steps < 2:
         return "--steps must be at least 2"
@@ -404,15 +422,24 @@ def _usage_problem(args: argparse.Namespace) -> str | None:
     return None
 
 
+def _synth(args: argparse.Namespace) -> int:
+    from .synth_cli import synth
+
+    return synth(args)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser, commands = _parser()
     args = parser.parse_args(argv)
     problem = _usage_problem(args)
     if problem:
         commands[args.command].error(problem)  # exits with status 2
-    do: dict[str, Any] = {"demo": demo, "run": run, "plot": plot, "check": check}
+    do: dict[str, Any] = {"demo": demo, "run": run, "plot": plot, "check": check, "synth": _synth}
     try:
         return int(do[args.command](args))
+    except LinkworkError as e:  # a synthesis problem that is not well posed
+        print(f"error: {e}", file=sys.stderr)
+        return 1
     except _Failed as e:
         print(f"error: {e}", file=sys.stderr)
         return e.status

@@ -1,0 +1,190 @@
+"""``linkwork synth PROBLEM``: read a synthesis problem file, solve it, write every design
+as a model file, a report and a figure of the designs through the precision points.
+
+Problem file (TOML; docs/synthesis.md)::
+
+    problem = "motion"        # motion | path | function | chained-six-bar
+    angles = "deg"            # units of every angle in the file: "deg" or "rad" (default)
+    poses = [[x, y, angle], ...]          # motion: 2 to 5 poses
+    moving = [[x, y], [x, y]]             # motion, 2 or 3 poses: chosen moving pivots
+    points = [[x, y], ...]                # path: 5 points
+    input_angles = [...]                  # path: crank rotations; function: input angles
+    output = [...]                        # function: output angles or slider positions
+    kind = "four_bar"                     # function: four_bar | slider_crank
+    ground = 1.0                          # function, four_bar: ground length
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+from typing import Any
+
+import numpy as np
+
+from . import synthesis as S
+from .errors import LinkworkError, SolveError
+
+PROBLEMS = ("motion", "path", "function", "chained-six-bar")
+
+
+def _read(path: str) -> dict[str, Any]:
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover - Python < 3.11
+        import tomli as tomllib
+    with open(path, "rb") as f:
+        try:
+            return tomllib.load(f)
+        except tomllib.TOMLDecodeError as e:
+            raise S.SynthesisError(f"{path}: not a TOML problem file: {e}") from None
+
+
+def _need(problem: dict[str, Any], key: str, kind: str) -> Any:
+    if key not in problem:
+        raise S.SynthesisError(f"a {kind} problem needs '{key}'")
+    return problem[key]
+
+
+def _angle_column(a: Any, unit: str) -> np.ndarray:
+    return np.radians(np.asarray(a, dtype=float)) if unit == "deg" else np.asarray(a, dtype=float)
+
+
+def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
+    """(report, designs with .model(), precision points to draw) of one problem."""
+    kind = problem.get("problem")
+    unit = problem.get("angles", "rad")
+    if unit not in ("rad", "deg"):
+        raise S.SynthesisError(f"angles must be 'rad' or 'deg', not {unit!r}")
+    if kind == "motion":
+        poses = np.array(_need(problem, "poses", kind), dtype=float)
+        if poses.ndim != 2 or poses.shape[1] != 3:
+            raise S.SynthesisError("poses must be rows of [x, y, angle]")
+        result = S.motion(
+            poses, moving=problem.get("moving"), ground=problem.get("ground_pivots"), angles=unit
+        )
+        return result.report(), result.designs, poses[:, :2]
+    if kind == "path":
+        points = np.array(_need(problem, "points", kind), dtype=float)
+        result = S.path(points, _need(problem, "input_angles", kind), angles=unit)
+        return result.report(), result.designs, points
+    if kind == "function":
+        phi = _angle_column(_need(problem, "input_angles", kind), unit)
+        out = np.asarray(_need(problem, "output", kind), dtype=float)
+        fk = problem.get("kind", "four_bar")
+        if fk == "four_bar":
+            out = _angle_column(out, unit)
+        design = S.function(phi, out, kind=fk, ground=float(problem.get("ground", 1.0)))
+        if fk == "four_bar":
+            text = (
+                f"function generation (Freudenstein four-bar): crank {design.a:.6g}, coupler {design.b:.6g}, "
+                f"rocker {design.c:.6g}, ground {design.d:.6g} (negative: pointing the other way)"
+            )
+            return text, [design], None
+        text = f"function generation (Freudenstein slider-crank): crank {design.a:.6g}, rod {design.b:.6g}, "
+        text += f"offset {design.e:.6g}"
+        return text, [], None
+    if kind == "chained-six-bar":
+        from . import chained_six_bar as C
+
+        one, two = C.dyads()
+        designs = [_SixBar(C, c) for c in (C.screen(a, b) for a in one.real for b in two.real) if c.ok]
+        return C.report(), designs, C.POINTS
+    raise S.SynthesisError(f"problem must be one of {', '.join(PROBLEMS)}; got {kind!r}")
+
+
+class _SixBar:
+    """A defect-free combination of the chained six-bar, with .model() like a design."""
+
+    def __init__(self, module: Any, combination: Any) -> None:
+        self._c = combination
+        self._m = module
+
+    def model(self) -> Any:
+        return self._m.model(self._c.one, self._c.two)
+
+
+def _figure(path: str, designs: list[Any], points: np.ndarray | None, title: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 6))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for k, design in enumerate(designs[:6]):
+        color = colors[k % len(colors)]
+        compiled = design.model().compile()
+        t = np.linspace(0.0, 2.0 * math.pi, 721)
+        try:
+            res = compiled.sweep(t, derivatives=0)
+        except SolveError as e:
+            res = getattr(e, "partial", None)
+        names = [p[0] for p in compiled._core.points]
+        if res is not None and len(res.times) and "P" in names:
+            p = res.point("P").position
+            ax.plot(p[:, 0], p[:, 1], "-", color=color, lw=1.2, label=f"design {k + 1}: path of P")
+        # the linkage at position 1: its joints joined body by body
+        joints = {}
+        for name, b1, b2, x, y in _joint_points(compiled):
+            joints[name] = (x, y, b1, b2)
+        marks = {p["body"]: tuple(p["at"]) for p in compiled.description.get("points", [])}
+        for body in compiled.body_names:
+            pts = [(x, y) for (x, y, b1, b2) in joints.values() if body in (b1, b2)]
+            if body in marks:
+                pts.append(marks[body])
+            if len(pts) >= 2:
+                xs, ys = zip(*pts, pts[0])
+                ax.plot(xs, ys, "-", color=color, lw=2.5, alpha=0.6)
+        ground = [(x, y) for (x, y, b1, b2) in joints.values() if "ground" in (b1, b2)]
+        if ground:
+            gx, gy = zip(*ground)
+            ax.plot(gx, gy, "^", color=color, ms=9)
+    if points is not None:
+        ax.plot(points[:, 0], points[:, 1], "ko", ms=7, label="precision points", zorder=5)
+        for j, (x, y) in enumerate(points, 1):
+            ax.annotate(str(j), (x, y), textcoords="offset points", xytext=(5, 5))
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_title(title)
+    ax.legend(fontsize=8, loc="best")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _joint_points(compiled: Any) -> list[tuple[str, str, str, float, float]]:
+    """(name, body a, body b, x, y) of each revolute at the drawing."""
+    out = []
+    for j in compiled.description.get("joints", []):
+        if j.get("type") == "revolute" and "at" in j:
+            out.append((j["name"], j.get("body_a", "ground"), j.get("body_b", "ground"), *j["at"]))
+    return out
+
+
+def synth(args: Any) -> int:
+    """The ``synth`` command: status 0 done, 1 no design (report still written)."""
+    problem = _read(args.problem)
+    report, designs, points = solve(problem)
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.splitext(os.path.basename(args.problem))[0]
+    written = []
+    for k, design in enumerate(designs, 1):
+        if hasattr(design, "model"):
+            path = os.path.join(args.out, f"{stem}_design{k}.toml")
+            design.model().save(path)
+            written.append(path)
+    with open(os.path.join(args.out, f"{stem}_report.txt"), "w", encoding="utf-8") as f:
+        f.write(report + "\n")
+    figure = os.path.join(args.out, f"{stem}.png")
+    if designs or points is not None:
+        _figure(
+            figure, [d for d in designs if hasattr(d, "model")], points, f"{stem}: {problem.get('problem')}"
+        )
+    print(report)
+    print(f"wrote {len(written)} design model file(s), {stem}_report.txt and {stem}.png in {args.out}")
+    return 0 if designs else 1
+
+
+__all__ = ["synth", "solve", "PROBLEMS", "LinkworkError"]
