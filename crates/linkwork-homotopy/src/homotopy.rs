@@ -394,12 +394,28 @@ impl Homotopy for StartHomotopy {
 }
 
 /// H = F(y; (1 - t) p0 + t p1): a problem class solved once at generic complex p0, then
-/// any instance p1 by tracking only the generic number of paths.
+/// any instance p1 by tracking only the generic number of paths. The parameters are
+/// folded into each monomial's coefficient as a polynomial in t when the homotopy is
+/// built, so a step evaluates only the unknowns' monomials (and dH/dt from the
+/// coefficients' derivatives), whatever the number of parameters.
 pub struct ParameterHomotopy {
     pub proj: Projective,
-    pub family: Compiled,
-    pub p0: Vec<C64>,
-    pub p1: Vec<C64>,
+    /// the lifted system over y, its coefficients unused (they depend on t)
+    pub system: Compiled,
+    /// per term: coefficients of its t-polynomial, lowest degree first
+    t_starts: Vec<usize>,
+    t_coeffs: Vec<C64>,
+}
+
+/// Product of two polynomials in t (lowest degree first).
+fn t_mul(a: &[C64], b: &[C64]) -> Vec<C64> {
+    let mut out = vec![C64::default(); a.len() + b.len() - 1];
+    for (i, u) in a.iter().enumerate() {
+        for (j, v) in b.iter().enumerate() {
+            out[i + j] += u * v;
+        }
+    }
+    out
 }
 
 impl ParameterHomotopy {
@@ -417,8 +433,55 @@ impl ParameterHomotopy {
         }
         groups.validate(family.n_vars)?;
         let proj = Projective::new(family.n_vars, groups, rng);
-        let compiled = Compiled::new(&proj.lift(family), proj.dim() + family.n_params);
-        Ok(ParameterHomotopy { proj, family: compiled, p0, p1 })
+        let dim = proj.dim();
+        let lifted = proj.lift(family);
+        let mut polys = Vec::with_capacity(lifted.len());
+        let mut t_polys: Vec<Vec<C64>> = Vec::new();
+        for poly in &lifted {
+            let mut terms: Vec<Term> = Vec::new();
+            let mut tp: Vec<Vec<C64>> = Vec::new();
+            for term in &poly.terms {
+                let mut y_powers = Vec::new();
+                let mut coeff_t = vec![term.coeff];
+                for &(i, e) in &term.powers {
+                    if i < dim {
+                        y_powers.push((i, e));
+                    } else {
+                        // p_k(t) = p0_k + t (p1_k - p0_k)
+                        let k = i - dim;
+                        let lin = [p0[k], p1[k] - p0[k]];
+                        for _ in 0..e {
+                            coeff_t = t_mul(&coeff_t, &lin);
+                        }
+                    }
+                }
+                match terms.iter().position(|t| t.powers == y_powers) {
+                    Some(j) => {
+                        let merged = &mut tp[j];
+                        if merged.len() < coeff_t.len() {
+                            merged.resize(coeff_t.len(), C64::default());
+                        }
+                        for (m, c) in merged.iter_mut().zip(&coeff_t) {
+                            *m += c;
+                        }
+                    }
+                    None => {
+                        terms.push(Term { coeff: C64::new(1.0, 0.0), powers: y_powers });
+                        tp.push(coeff_t);
+                    }
+                }
+            }
+            polys.push(Polynomial { terms });
+            t_polys.extend(tp);
+        }
+        let system = Compiled::new(&polys, dim);
+        let mut t_starts = vec![0];
+        let mut t_coeffs = Vec::new();
+        for p in t_polys {
+            t_coeffs.extend(p);
+            t_starts.push(t_coeffs.len());
+        }
+        Ok(ParameterHomotopy { proj, system, t_starts, t_coeffs })
     }
 }
 
@@ -429,33 +492,30 @@ impl Homotopy for ParameterHomotopy {
 
     fn workspace(&self) -> Workspace {
         let d = self.dim();
-        let nz = self.family.n_z;
+        let n_terms = self.system.n_terms();
         Workspace {
             f: vec![C64::default(); d],
-            df: vec![C64::default(); d * nz],
-            g: vec![],
-            dg: vec![],
-            z: vec![C64::default(); nz],
-            pow: vec![C64::default(); self.family.pow_len],
+            df: vec![],
+            // coefficients at t and their t-derivatives
+            g: vec![C64::default(); n_terms],
+            dg: vec![C64::default(); n_terms],
+            z: vec![],
+            pow: vec![C64::default(); self.system.pow_len],
         }
     }
 
     fn eval(&self, y: &[C64], t: f64, h: &mut [C64], hy: &mut [C64], ht: &mut [C64], ws: &mut Workspace) {
-        let d = self.dim();
-        let nz = self.family.n_z;
-        ws.z[..d].copy_from_slice(y);
-        for (k, (a, b)) in self.p0.iter().zip(&self.p1).enumerate() {
-            ws.z[d + k] = a * (1.0 - t) + b * t;
-        }
-        self.family.eval(&ws.z, &mut ws.f, Some(&mut ws.df), &mut ws.pow);
-        h[..d].copy_from_slice(&ws.f[..d]);
-        for i in 0..d {
-            hy[i * d..(i + 1) * d].copy_from_slice(&ws.df[i * nz..i * nz + d]);
-            let mut s = C64::default();
-            for (k, (a, b)) in self.p0.iter().zip(&self.p1).enumerate() {
-                s += ws.df[i * nz + d + k] * (b - a);
+        for (k, w) in self.t_starts.windows(2).enumerate() {
+            // Horner for the value and the derivative together
+            let mut v = C64::default();
+            let mut dv = C64::default();
+            for c in self.t_coeffs[w[0]..w[1]].iter().rev() {
+                dv = dv * t + v;
+                v = v * t + c;
             }
-            ht[i] = s;
+            ws.g[k] = v;
+            ws.dg[k] = dv;
         }
+        self.system.eval_with(y, &ws.g, Some((&ws.dg, ht)), h, Some(hy), &mut ws.pow);
     }
 }

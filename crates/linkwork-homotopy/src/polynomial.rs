@@ -252,7 +252,27 @@ impl Compiled {
 
     /// Values f (n_eqs) and, if given, the full derivative df (n_eqs x n_z, row-major)
     /// at z. `pow` is scratch of length `pow_len`.
-    pub fn eval(&self, z: &[C64], f: &mut [C64], mut df: Option<&mut [C64]>, pow: &mut [C64]) {
+    pub fn eval(&self, z: &[C64], f: &mut [C64], df: Option<&mut [C64]>, pow: &mut [C64]) {
+        self.eval_with(z, &self.coeffs, None, f, df, pow);
+    }
+
+    /// Number of terms (the length of a coefficient vector for `eval_with`).
+    pub fn n_terms(&self) -> usize {
+        self.coeffs.len()
+    }
+
+    /// As `eval`, with the terms' coefficients given (one per term, in compile order) and,
+    /// if `rate` = (dcoeffs, fr) is given, fr = sum of dcoeff * monomial per equation: the
+    /// derivative of f along a change of the coefficients alone.
+    pub fn eval_with(
+        &self,
+        z: &[C64],
+        coeffs: &[C64],
+        mut rate: Option<(&[C64], &mut [C64])>,
+        f: &mut [C64],
+        mut df: Option<&mut [C64]>,
+        pow: &mut [C64],
+    ) {
         let offsets = &self.offsets;
         for (v, &m) in self.max_exp.iter().enumerate() {
             let mut acc = C64::new(1.0, 0.0);
@@ -267,14 +287,18 @@ impl Compiled {
         }
         for eq in 0..self.n_eqs {
             let mut value = C64::new(0.0, 0.0);
+            let mut along = C64::new(0.0, 0.0);
             for t in self.starts[eq]..self.starts[eq + 1] {
                 let fs = &self.factors[self.factor_starts[t]..self.factor_starts[t + 1]];
-                let c = self.coeffs[t];
-                let mut prod = c;
+                let c = coeffs[t];
+                let mut monomial = C64::new(1.0, 0.0);
                 for &(v, e) in fs {
-                    prod *= pow[offsets[v] + e as usize];
+                    monomial *= pow[offsets[v] + e as usize];
                 }
-                value += prod;
+                value += c * monomial;
+                if let Some((dc, _)) = rate.as_ref() {
+                    along += dc[t] * monomial;
+                }
                 if let Some(d) = df.as_deref_mut() {
                     // d/dz_v: replace factor z_v^e by e z_v^(e-1); the other factors kept
                     for (k, &(v, e)) in fs.iter().enumerate() {
@@ -289,6 +313,9 @@ impl Compiled {
                 }
             }
             f[eq] = value;
+            if let Some((_, fr)) = rate.as_mut() {
+                fr[eq] = along;
+            }
         }
     }
 }

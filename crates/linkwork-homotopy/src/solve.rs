@@ -16,7 +16,8 @@ pub struct Options {
     pub track: TrackOptions,
     /// Seed of gamma, the patches and the start system.
     pub seed: u64,
-    /// Paths per rayon task; fewer paths than this run on the calling thread.
+    /// Fewer paths than this run on the calling thread (rayon's start-up costs more than
+    /// they do); more are spread over the cores.
     pub parallel_from: usize,
     /// A homogenizing coordinate below this (relative) marks an endpoint at infinity.
     pub infinity: f64,
@@ -126,14 +127,15 @@ fn ratios(proj: &Projective, samples: &[(f64, Vec<C64>)]) -> Vec<f64> {
 }
 
 /// A path goes to infinity when its smallest homogenizing coordinate has fallen by at
-/// least a factor 3 per decade of 1 - t over the last three decades and is already small:
-/// h ~ (1 - t)^w with w > 0.4, extrapolating to 0 at t = 1.
+/// least a factor 2.5 per decade of 1 - t over the last two decades and is already small
+/// (below infinity^(3/8), 1e-3 by default): h ~ (1 - t)^w with w > 0.4, extrapolating to
+/// 0 at t = 1. A finite root's coordinate levels off instead.
 fn diverging(proj: &Projective, samples: &[(f64, Vec<C64>)], infinity: f64) -> bool {
-    if samples.len() < 4 {
+    if samples.len() < 3 {
         return false;
     }
-    let r = ratios(proj, &samples[samples.len() - 4..]);
-    r[3] < infinity.sqrt() && r.windows(2).all(|w| w[1] < w[0] / 2.5)
+    let r = ratios(proj, &samples[samples.len() - 3..]);
+    r[2] < infinity.powf(0.375) && r.windows(2).all(|w| w[1] < w[0] / 2.5)
 }
 
 fn collect(

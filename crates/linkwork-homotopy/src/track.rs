@@ -18,11 +18,27 @@ pub struct TrackOptions {
     pub tol: f64,
     /// Newton iterations allowed per step while tracking.
     pub max_newton: usize,
+    /// First step in t.
+    pub initial_step: f64,
+    /// Consecutive easy steps (Newton in at most 2 iterations) before the step doubles.
+    pub grow_after: usize,
+    /// Largest first Newton correction accepted, relative to 1 + |y|: the prediction
+    /// must land this close to the path.
+    pub max_correction: f64,
 }
 
 impl Default for TrackOptions {
     fn default() -> Self {
-        TrackOptions { max_step: 0.1, min_step: 1e-13, max_steps: 20_000, tol: 1e-9, max_newton: 3 }
+        TrackOptions {
+            max_step: 0.25,
+            min_step: 1e-13,
+            max_steps: 20_000,
+            tol: 1e-9,
+            max_newton: 3,
+            initial_step: 0.05,
+            grow_after: 2,
+            max_correction: 1e-2,
+        }
     }
 }
 
@@ -142,7 +158,7 @@ pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions, endgame: Endga
     let mut b = Buffers::new(hom);
     let mut y = y0.to_vec();
     let mut t = 0.0;
-    let mut dt = opts.max_step / 4.0;
+    let mut dt = opts.initial_step.min(opts.max_step);
     let mut easy = 0;
     let mut steps = 0;
     let mut rejected = 0;
@@ -197,15 +213,19 @@ pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions, endgame: Endga
             let scale = 1.0 + norm_inf(&y);
             let (conv, iters, first) = b.newton(hom, &mut trial, t + h, opts.max_newton, opts.tol);
             // the predictor must land close to the path, not merely in some basin
-            if conv && first <= 1e-3 * scale {
+            if conv && first <= opts.max_correction * scale {
                 accepted = true;
                 t = if h >= 1.0 - t { 1.0 } else { t + h };
                 y.copy_from_slice(&trial);
                 steps += 1;
+                // RK4's error ~ h^5: aim the next first correction at 1e-3 of the path's size
                 easy = if iters <= 2 { easy + 1 } else { 0 };
-                if easy >= 3 {
-                    dt = (dt * 2.0).min(opts.max_step);
-                    easy = 0;
+                let aim = 1e-3 * scale;
+                let ratio = (aim / first.max(1e-300)).powf(0.2).clamp(0.5, 2.5);
+                if easy >= opts.grow_after || ratio <= 1.5 {
+                    dt = (h * ratio).min(opts.max_step);
+                } else {
+                    dt = (h * 1.5).min(opts.max_step);
                 }
             }
         }
