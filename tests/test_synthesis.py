@@ -166,6 +166,10 @@ def test_bad_input_is_a_named_error() -> None:
         S.motion(p[:3])
     with pytest.raises(SynthesisError, match="3 precision pairs"):
         S.function([0.1, 0.2], [0.3, 0.4])
+    with pytest.raises(SynthesisError, match="exactly 9 points"):
+        S.nine_points(p[:, :2])
+    with pytest.raises(SynthesisError, match="points 1 and 2 coincide"):
+        S.nine_points(np.vstack([p[:1, :2], p[:1, :2], np.arange(14.0).reshape(7, 2)]))
     assert issubclass(SynthesisError, linkwork.errors.LinkworkError)
 
 
@@ -233,3 +237,33 @@ def test_cli_synth_bad_problem_file(tmp_path, capsys) -> None:  # type: ignore[n
     bad.write_text('problem = "gears"\n')
     assert main(["synth", str(bad), "--out", str(tmp_path)]) == 1
     assert "problem must be one of" in capsys.readouterr().err
+
+
+WMS3 = [
+    (0.25, 0.00), (0.52, 0.10), (0.80, 0.70), (1.20, 1.00), (1.40, 1.30),
+    (1.10, 1.48), (0.70, 1.40), (0.20, 1.00), (0.02, 0.40),
+]  # fmt: skip
+
+
+def test_alt_nine_points_published_count_and_a_real_four_bar_through_all_nine() -> None:
+    # Wampler, Morgan and Sommese's Problem 3: 64 of the 1442 four-bars are real
+    # (certified by Hauenstein and Sottile with alphaCertified)
+    r = S.nine_points(np.array(WMS3), screen=False)
+    assert r.paths == 1442
+    assert r.physical_classes == 64
+    assert len(r.designs) == 3 * 64  # each with its two Roberts cognates
+    assert r.certified >= 1400 and r.max_residual < 1e-12
+    # every real four-bar passes the nine points: its crank length is constant over them
+    assert max(d.residual for design in r.designs for d in design.dyads) < 1e-8
+    # and the engine, driving the crank of one of them, puts P on the points it reaches
+    design = r.designs[0]
+    model = design.model().compile()
+    turns = np.sort(np.mod(design.crank_rotations(), 2 * np.pi))
+    try:
+        res = model.sweep(np.union1d(np.linspace(0, 2 * np.pi, 721), turns), derivatives=0)
+        path = res.point("P").position
+    except linkwork.errors.SolveError as e:
+        path = e.partial.point("P").position  # type: ignore[attr-defined]
+    near = [np.min(np.hypot(*(path - p).T)) for p in np.array(WMS3)]
+    assert min(near) < 1e-9  # at least the drawing's own point; the rest by the defects report
+    assert design.defects.reached[0]

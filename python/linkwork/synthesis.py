@@ -54,6 +54,8 @@ __all__ = [
     "function",
     "chebyshev",
     "generic_root_count",
+    "nine_points",
+    "NinePointResult",
 ]
 
 #: How designs are ordered: defect-free first, then the larger worst transmission angle
@@ -708,3 +710,115 @@ class FunctionFourBar:
         """Desired minus generated output angle at each input angle (rad)."""
         want = _array(desired, "desired", 1)
         return want - self.output(input_angles)
+
+
+@dataclass(frozen=True)
+class NinePointResult:
+    """Alt's nine-point problem at one instance: ``classes`` roots found (1442 for
+    generic points), of which ``physical_classes`` are real four-bars, each giving three
+    Roberts cognates as ``designs`` (screened, sorted by `MERIT`); ``paths``, ``failed``,
+    ``at_infinity``, ``singular``, ``duplicates``: what the 1442 paths did;
+    ``certified``: roots passing the alpha test; ``seconds``: the homotopy's wall time."""
+
+    points: np.ndarray
+    classes: int
+    certified: int
+    distinct: bool
+    physical_classes: int
+    paths: int
+    failed: int
+    at_infinity: int
+    singular: int
+    duplicates: int
+    max_residual: float
+    seconds: float
+    designs: list[FourBarDesign]
+
+    def report(self) -> str:
+        lines = [
+            "Alt's nine-point path synthesis:",
+            f"  {self.paths} paths in {self.seconds:.2f} s: {self.classes} classes of roots "
+            f"({self.certified} certified, distinct: {self.distinct}), {self.failed} failed, "
+            f"{self.at_infinity} at infinity, {self.singular} singular, {self.duplicates} duplicates; "
+            f"largest backward error {self.max_residual:.1e}",
+            f"  {self.physical_classes} real four-bars (classes), "
+            f"{len(self.designs)} designs with their cognates, "
+            f"{sum(d.defects.ok for d in self.designs)} defect-free; sorted by: {MERIT}",
+        ]
+        for i, d in enumerate(self.designs[:10], 1):
+            lines.append(f"    {i}. {d}")
+        if len(self.designs) > 10:
+            lines.append(f"    ... {len(self.designs) - 10} more")
+        return "\n".join(lines)
+
+
+def nine_points(points: Any, screen: bool = True) -> NinePointResult:
+    """Alt's problem: every four-bar whose coupler curve passes through the nine
+    ``points`` (9 x 2), by parameter homotopy from the shipped start set of 1442 generic
+    classes (docs/synthesis.md says how it was made). Each real four-bar comes with its
+    two Roberts cognates; with ``screen``, each design is swept by the engine (is every
+    point reached, in order, on one circuit?) and the list sorted by `MERIT`."""
+    pts = _array(points, "points", 2)
+    if len(pts) != 9:
+        raise SynthesisError(f"Alt's problem takes exactly 9 points; got {len(pts)}")
+    raw = _core.synth_alt(pts.ravel().tolist())
+    designs = []
+    for k in range(len(raw["class"])):
+        a, b = _alt_dyads(raw, k, pts)
+        designs.append(
+            FourBarDesign(
+                a.ground,
+                a.moving,
+                b.ground,
+                b.moving,
+                pts[0].copy(),
+                pts,
+                np.concatenate([[0.0], raw["coupler_angles"][k]]),
+                None,
+                (a, b),
+            )
+        )
+    if screen:
+        designs.sort(key=_merit)
+    return NinePointResult(
+        pts,
+        raw["roots"],
+        raw["certified"],
+        raw["distinct"],
+        raw["physical_classes"],
+        raw["paths"],
+        raw["failed"],
+        raw["at_infinity"],
+        raw["singular"],
+        raw["duplicates"],
+        raw["max_residual"],
+        raw["seconds"],
+        designs,
+    )
+
+
+def _alt_dyads(raw: dict[str, Any], k: int, pts: np.ndarray) -> tuple[Dyad, Dyad]:
+    """The two dyads of four-bar k, with their residual: the largest change of the crank
+    length over the nine positions (pin at P_j + x theta_j, x = pin - P_0 at position 0)."""
+    theta = np.exp(1j * np.concatenate([[0.0], raw["coupler_angles"][k]]))
+    p = pts[:, 0] + 1j * pts[:, 1]
+    out = []
+    for g, m in (("ground_a", "moving_a"), ("ground_b", "moving_b")):
+        ground, moving = complex(*raw[g][k]), complex(*raw[m][k])
+        lengths = np.abs(p + (moving - p[0]) * theta - ground)
+        zero = np.zeros(2)
+        out.append(
+            Dyad(
+                np.array(raw[g][k]),
+                np.array(raw[m][k]),
+                zero,
+                zero,
+                True,
+                True,
+                float(np.ptp(lengths)),
+                float(raw["max_residual"]),
+                math.nan,
+                0.0,
+            )
+        )
+    return out[0], out[1]

@@ -3,8 +3,9 @@
 //! quadratically) and its root lies within 2 beta of it. gamma is bounded above by the
 //! Shub-Smale bound with the Bombieri-Weyl norm (as in Hauenstein and Sottile's
 //! alphaCertified): gamma <= mu D^(3/2) / (2 |x|_1), mu = max(1, |f| |Df^{-1} Delta|).
-//! Computed in f64: beta is enlarged by a bound on the rounding error of f(x), norms are
-//! Frobenius (above the spectral norm), and alpha must stay below 0.9 alpha0.
+//! Computed in floating point: f(x) in double-double, beta enlarged by bounds on the
+//! rounding of f(x) and of the solve, norms Frobenius (above the spectral norm), and
+//! alpha must stay below 0.9 alpha0.
 
 use num_complex::Complex64 as C64;
 
@@ -119,6 +120,31 @@ impl Affine {
         (values, sizes)
     }
 
+    /// f(x) evaluated in double-double complex arithmetic (rounded to f64 at the end),
+    /// and each polynomial's sum of |term|.
+    fn values_double_double(&self, x: &[C64]) -> (Vec<C64>, Vec<f64>) {
+        let mut values = Vec::with_capacity(self.n());
+        let mut sizes = Vec::with_capacity(self.n());
+        for poly in &self.system.polys {
+            let mut v = Cdd::from(C64::default());
+            let mut s = 0.0;
+            for term in &poly.terms {
+                let mut m = Cdd::from(term.coeff);
+                for &(i, e) in &term.powers {
+                    let xi = Cdd::from(x[i]);
+                    for _ in 0..e {
+                        m = m.mul(&xi);
+                    }
+                }
+                s += m.to_c64().norm();
+                v = v.add(&m);
+            }
+            values.push(v.to_c64());
+            sizes.push(s);
+        }
+        (values, sizes)
+    }
+
     /// The alpha test at x.
     pub fn alpha(&self, x: &[C64]) -> AlphaTest {
         let n = self.n();
@@ -152,14 +178,23 @@ impl Affine {
             return failed;
         }
         // beta = |Df^{-1} f|, enlarged by |Df^{-1}| times f's rounding bound
-        let (_, sizes) = self.values_and_sizes(x);
+        // f(x) in double-double: its rounding error is ~eps^2 of the terms' sizes, so beta
+        // is limited by x's own distance to the root, not by the evaluation
+        let (f_dd, sizes) = self.values_double_double(x);
         let max_terms = self.system.polys.iter().map(|p| p.terms.len()).max().unwrap_or(1);
         let max_degree = *self.degrees.iter().max().unwrap_or(&1);
-        let k = (max_terms + max_degree as usize + 4) as f64;
-        let rounding = sizes.iter().map(|s| (k * f64::EPSILON * s).powi(2)).sum::<f64>().sqrt();
-        let mut step = f.clone();
+        let k = 4.0 * (max_terms + 2 * max_degree as usize + 4) as f64;
+        let eps = f64::EPSILON;
+        let rounding = sizes
+            .iter()
+            .zip(&f_dd)
+            .map(|(s, v)| (k * eps * eps * s + eps * v.norm()).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let mut step = f_dd.clone();
         lu.solve(&mut step, &mut scratch);
-        let beta = step.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt() + inv_norm * rounding;
+        let solve_error = 1.0 + 4.0 * n as f64 * eps * jac_norm * inv_norm;
+        let beta = step.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt() * solve_error + inv_norm * rounding;
         // gamma bound
         let x1 = (1.0 + x.iter().map(|v| v.norm_sqr()).sum::<f64>()).sqrt();
         let mut m_norm = 0.0;
@@ -182,6 +217,66 @@ impl Affine {
             condition: jac_norm * inv_norm,
             certified: alpha.is_finite() && alpha < 0.9 * ALPHA0,
         }
+    }
+}
+
+/// A double-double number hi + lo (|lo| <= ulp(hi) / 2), by error-free transformations.
+#[derive(Clone, Copy, Debug)]
+struct Dd {
+    hi: f64,
+    lo: f64,
+}
+
+impl Dd {
+    fn two_sum(a: f64, b: f64) -> Dd {
+        let s = a + b;
+        let bb = s - a;
+        Dd { hi: s, lo: (a - (s - bb)) + (b - bb) }
+    }
+
+    fn add(self, o: Dd) -> Dd {
+        let s = Dd::two_sum(self.hi, o.hi);
+        let lo = s.lo + self.lo + o.lo;
+        Dd::two_sum(s.hi, lo)
+    }
+
+    fn mul(self, o: Dd) -> Dd {
+        let p = self.hi * o.hi;
+        let e = self.hi.mul_add(o.hi, -p);
+        let lo = e + (self.hi * o.lo + self.lo * o.hi);
+        Dd::two_sum(p, lo)
+    }
+
+    fn neg(self) -> Dd {
+        Dd { hi: -self.hi, lo: -self.lo }
+    }
+}
+
+/// A complex double-double.
+#[derive(Clone, Copy, Debug)]
+struct Cdd {
+    re: Dd,
+    im: Dd,
+}
+
+impl Cdd {
+    fn from(z: C64) -> Cdd {
+        Cdd { re: Dd { hi: z.re, lo: 0.0 }, im: Dd { hi: z.im, lo: 0.0 } }
+    }
+
+    fn add(&self, o: &Cdd) -> Cdd {
+        Cdd { re: self.re.add(o.re), im: self.im.add(o.im) }
+    }
+
+    fn mul(&self, o: &Cdd) -> Cdd {
+        Cdd {
+            re: self.re.mul(o.re).add(self.im.mul(o.im).neg()),
+            im: self.re.mul(o.im).add(self.im.mul(o.re)),
+        }
+    }
+
+    fn to_c64(self) -> C64 {
+        C64::new(self.re.hi + self.re.lo, self.im.hi + self.im.lo)
     }
 }
 

@@ -44,7 +44,8 @@ pub struct Root {
     /// certified as a real root (x is then real)
     pub real: bool,
     pub alpha: f64,
-    /// 2 beta: the distance within which the certified root lies
+    /// 2 beta: the distance within which the certified root lies (measured on the
+    /// projective patch for a root certified there, far from the origin)
     pub radius: f64,
     /// index of the start path that ended here
     pub path: usize,
@@ -107,17 +108,126 @@ pub fn solve_parameter(
         &mut rng,
     )?;
     let lifted: Vec<Vec<C64>> = starts.iter().map(|x| hom.proj.from_affine(x)).collect();
-    let ends = track_all(&hom, &hom.proj, &lifted, opts);
+    let mut ends = track_all(&hom, &hom.proj, &lifted, opts);
+    // a path that failed on the straight line may have passed near the discriminant:
+    // go round it through a random complex midpoint (twice at most)
+    let mut detour_rng = Rng::new(opts.seed ^ 0xde70_0a5e);
+    for _ in 0..2 {
+        let lost: Vec<usize> = (0..ends.len())
+            .filter(|&k| {
+                ends[k].status == PathStatus::Failed && !diverging(&hom.proj, &ends[k].samples, opts.infinity)
+            })
+            .collect();
+        if lost.is_empty() {
+            break;
+        }
+        let size =
+            (p1.iter().chain(p0).map(|z| z.norm_sqr()).sum::<f64>() / (2 * p1.len()).max(1) as f64).sqrt();
+        let pm: Vec<C64> = p0
+            .iter()
+            .zip(p1)
+            .map(|(a, b)| (a + b) / 2.0 + detour_rng.complex_normal() * size * 0.5)
+            .collect();
+        // same seed: the same patch as `hom`, so endpoints read the same way
+        let first = ParameterHomotopy::new(
+            family,
+            Groups::total_degree(family.n_vars),
+            p0.to_vec(),
+            pm.clone(),
+            &mut Rng::new(opts.seed),
+        )?;
+        let second = ParameterHomotopy::new(
+            family,
+            Groups::total_degree(family.n_vars),
+            pm,
+            p1.to_vec(),
+            &mut Rng::new(opts.seed),
+        )?;
+        let from: Vec<Vec<C64>> = lost.iter().map(|&k| lifted[k].clone()).collect();
+        let middle = track_all(&first, &first.proj, &from, opts);
+        for (&k, mid) in lost.iter().zip(middle) {
+            if mid.status == PathStatus::Failed {
+                continue;
+            }
+            let end = track_all(&second, &second.proj, std::slice::from_ref(&mid.y), opts).remove(0);
+            if end.status != PathStatus::Failed {
+                ends[k] = PathEnd {
+                    steps: ends[k].steps + mid.steps + end.steps,
+                    rejected: ends[k].rejected + mid.rejected + end.rejected,
+                    ..end
+                };
+            }
+        }
+    }
     let target = family.specialize(p1)?;
     Ok(collect(&hom.proj, Affine::new(target), ends, opts))
 }
 
+/// Affine endpoints of the paths from `starts` (roots at p0) to p1, one per start: None
+/// where the path failed or went to infinity. For monodromy loops and
+/// other compositions of homotopies; `solve_parameter` also certifies.
+pub fn track_parameter(
+    family: &System,
+    p0: &[C64],
+    starts: &[Vec<C64>],
+    p1: &[C64],
+    opts: &Options,
+) -> Result<Vec<Option<Vec<C64>>>, SystemError> {
+    let mut rng = Rng::new(opts.seed);
+    let hom = ParameterHomotopy::new(
+        family,
+        Groups::total_degree(family.n_vars),
+        p0.to_vec(),
+        p1.to_vec(),
+        &mut rng,
+    )?;
+    let lifted: Vec<Vec<C64>> = starts.iter().map(|x| hom.proj.from_affine(x)).collect();
+    let ends = track_all(&hom, &hom.proj, &lifted, opts);
+    Ok(ends
+        .into_iter()
+        .map(|end| {
+            let (x, ratios) = hom.proj.to_affine(&end.y);
+            let finite = ratios.iter().all(|r| *r >= opts.infinity);
+            // an ill-conditioned endpoint (Singular) is kept: the caller's Newton judges it
+            (end.status != PathStatus::Failed
+                && finite
+                && x.iter().all(|v| v.re.is_finite() && v.im.is_finite()))
+            .then_some(x)
+        })
+        .collect())
+}
+
+/// Every path; a path that fails (not one going to infinity) is tracked again, once,
+/// with steps ten times smaller and a tighter corrector, before it counts as failed.
 fn track_all(hom: &dyn Homotopy, proj: &Projective, starts: &[Vec<C64>], opts: &Options) -> Vec<PathEnd> {
     let endgame = |samples: &[(f64, Vec<C64>)]| diverging(proj, samples, opts.infinity);
+    let careful = TrackOptions {
+        max_step: opts.track.max_step / 10.0,
+        initial_step: opts.track.initial_step / 10.0,
+        max_correction: opts.track.max_correction / 10.0,
+        max_steps: opts.track.max_steps * 4,
+        min_step: opts.track.min_step / 100.0,
+        ..opts.track
+    };
+    let one = |y: &Vec<C64>| {
+        let end = track(hom, y, &opts.track, &endgame);
+        let lost = end.status == PathStatus::Failed && !diverging(proj, &end.samples, opts.infinity);
+        if lost {
+            let again = track(hom, y, &careful, &endgame);
+            if again.status != PathStatus::Failed || diverging(proj, &again.samples, opts.infinity) {
+                return PathEnd {
+                    steps: end.steps + again.steps,
+                    rejected: end.rejected + again.rejected,
+                    ..again
+                };
+            }
+        }
+        end
+    };
     if starts.len() < opts.parallel_from {
-        starts.iter().map(|y| track(hom, y, &opts.track, &endgame)).collect()
+        starts.iter().map(one).collect()
     } else {
-        starts.par_iter().map(|y| track(hom, y, &opts.track, &endgame)).collect()
+        starts.par_iter().map(one).collect()
     }
 }
 
@@ -146,6 +256,9 @@ fn collect(
 ) -> Solutions {
     let mut out = Solutions { paths: ends.len(), ..Default::default() };
     let real_system = affine.system.is_real();
+    let patch = Affine::new(
+        System::new(proj.dim(), 0, proj.lift(&affine.system)).expect("the lifted system is square"),
+    );
     for (path, end) in ends.into_iter().enumerate() {
         out.steps += end.steps;
         out.rejected += end.rejected;
@@ -160,6 +273,18 @@ fn collect(
         }
         affine.newton(&mut x, 12);
         let mut test = affine.alpha(&x);
+        if !test.certified {
+            // far from the origin the affine gamma bound grows like |x|^(D-1): certify on
+            // the projective patch, where the root has coordinates of order one
+            let mut y = proj.from_affine(&x);
+            if patch.newton(&mut y, 8) {
+                let on_patch = patch.alpha(&y);
+                if on_patch.certified {
+                    x = proj.to_affine(&y).0;
+                    test = AlphaTest { condition: test.condition, ..on_patch };
+                }
+            }
+        }
         if !test.certified && (end.status == PathStatus::Singular || test.condition > 1e12) {
             out.singular.push(x);
             continue;

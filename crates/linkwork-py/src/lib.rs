@@ -683,6 +683,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synthesis::synth_freudenstein, m)?)?;
     m.add_function(wrap_pyfunction!(synthesis::synth_chebyshev, m)?)?;
     m.add_function(wrap_pyfunction!(synthesis::synth_start_set, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesis::synth_alt, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(panics::_check_panic_guard, m)?)?;
     m.add_function(wrap_pyfunction!(read_model, m)?)?;

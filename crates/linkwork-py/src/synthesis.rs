@@ -158,3 +158,56 @@ pub(crate) fn synth_start_set() -> (usize, usize, usize) {
     let s = syn::dyad::start_set();
     (s.roots.len(), s.total_degree.paths, s.total_degree.at_infinity)
 }
+
+/// Alt's nine-point problem: every class of four-bars through the points (flat 9 x 2),
+/// by parameter homotopy from the shipped start set; the real four-bars with their
+/// coupler rotations.
+#[pyfunction]
+pub(crate) fn synth_alt<'py>(py: Python<'py>, points: Vec<f64>) -> PyResult<Bound<'py, PyDict>> {
+    use linkwork::synthesis::alt;
+    use num_complex::Complex64 as C64;
+    if points.len() != 18 || points.iter().any(|v| !v.is_finite()) {
+        return Err(err(SynthesisError::Count {
+            problem: "Alt's nine-point path synthesis",
+            got: points.len() / 2,
+            want: "exactly 9 finite points".into(),
+        }));
+    }
+    let pts: [C64; 9] = std::array::from_fn(|k| C64::new(points[2 * k], points[2 * k + 1]));
+    for i in 0..9 {
+        for j in i + 1..9 {
+            if (pts[i] - pts[j]).norm() <= 1e-9 * (1.0 + pts[i].norm()) {
+                return Err(err(SynthesisError::Coincident { what: "points", i: i + 1, j: j + 1 }));
+            }
+        }
+    }
+    let started = std::time::Instant::now();
+    let out =
+        py.detach(|| guard("solving Alt's nine-point problem", || alt::four_bars(&pts, alt::shipped())))?;
+    let seconds = started.elapsed().as_secs_f64();
+    let d = PyDict::new(py);
+    let s = &out.solutions;
+    d.set_item("paths", s.paths)?;
+    d.set_item("roots", s.roots.len())?;
+    d.set_item("certified", s.roots.iter().filter(|r| r.certified).count())?;
+    d.set_item("distinct", s.distinct)?;
+    d.set_item("failed", s.failed)?;
+    d.set_item("at_infinity", s.at_infinity)?;
+    d.set_item("singular", s.singular.len())?;
+    d.set_item("duplicates", s.duplicates)?;
+    d.set_item("max_residual", s.roots.iter().map(|r| r.backward_error).fold(0.0, f64::max))?;
+    d.set_item("physical_classes", out.physical_classes)?;
+    d.set_item("seconds", seconds)?;
+    let c = |z: C64| vec![z.re, z.im];
+    d.set_item("ground_a", out.four_bars.iter().map(|f| c(f.ground_a)).collect::<Vec<_>>())?;
+    d.set_item("moving_a", out.four_bars.iter().map(|f| c(f.moving_a)).collect::<Vec<_>>())?;
+    d.set_item("ground_b", out.four_bars.iter().map(|f| c(f.ground_b)).collect::<Vec<_>>())?;
+    d.set_item("moving_b", out.four_bars.iter().map(|f| c(f.moving_b)).collect::<Vec<_>>())?;
+    d.set_item(
+        "coupler_angles",
+        out.four_bars.iter().map(|f| f.coupler_angles.to_vec()).collect::<Vec<_>>(),
+    )?;
+    d.set_item("class", out.four_bars.iter().map(|f| f.class).collect::<Vec<_>>())?;
+    d.set_item("cognate", out.four_bars.iter().map(|f| f.cognate).collect::<Vec<_>>())?;
+    Ok(d)
+}

@@ -10,6 +10,7 @@
 
 #![allow(clippy::needless_range_loop)] // dense kernels index several arrays by one index
 
+pub mod alt;
 pub mod dyad;
 pub mod function;
 pub mod motion;

@@ -1,0 +1,462 @@
+//! Alt's nine-point path problem: every four-bar whose coupler curve passes through nine
+//! given points. Wampler, Morgan and Sommese's formulation in isotropic coordinates
+//! (a planar vector z as the pair z, z-bar, independent over C): unknowns
+//! v = (x, x^, a, a^, y, y^, b, b^, g_1..g_8, g^_1..g^_8), parameters d_j = P_j - P_0 and
+//! d^_j (the conjugates for a real instance), j = 1..8:
+//!
+//!   D1_j: (a^ - d^_j) x g_j + (a - d_j) x^ g^_j + (a^ - x^) d_j + (a - x) d^_j - d_j d^_j = 0
+//!   D2_j: the same with (y, b)
+//!   D3_j: g_j g^_j + g_j + g^_j = 0          (g = theta - 1 with theta theta^ = 1)
+//!
+//! D1_j is |d_j + x theta_j - a|^2 = |x - a|^2: the crank pin P_0 + x (on the coupler,
+//! at P_0 + x at position 0) stays at one distance from the ground pivot P_0 + a while the
+//! coupler turns by theta_j. Generically 8652 regular roots, 1442 classes under the group
+//! of order 6 (swap the two dyads; Roberts cognates). The classes at generic complex
+//! parameters are made once by monodromy (`monodromy`, see examples/alt_start_set.rs) and
+//! shipped (data/alt_start.bin); an instance tracks 1442 paths from them.
+
+use std::collections::HashMap;
+use std::sync::OnceLock;
+
+use linkwork_homotopy::random::Rng;
+use linkwork_homotopy::{
+    solve_parameter, track_parameter, Affine, Options, Polynomial, Solutions, System, C64,
+};
+
+pub const N_VARS: usize = 24;
+pub const N_PARAMS: usize = 16;
+/// Classes of roots at generic parameters (Wampler, Morgan and Sommese 1992).
+pub const CLASSES: usize = 1442;
+/// Order of the symmetry group: dyad swap (2) times Roberts cognates (3).
+pub const GROUP_ORDER: usize = 6;
+
+// variable indices
+const X: usize = 0;
+const XH: usize = 1;
+const A: usize = 2;
+const AH: usize = 3;
+const Y: usize = 4;
+const YH: usize = 5;
+const B: usize = 6;
+const BH: usize = 7;
+const G: usize = 8;
+const GH: usize = 16;
+
+fn build_family() -> System {
+    let v = Polynomial::var;
+    let neg = |p: &Polynomial| p.scale(C64::new(-1.0, 0.0));
+    let d = |j: usize| v(N_VARS + j);
+    let dh = |j: usize| v(N_VARS + 8 + j);
+    let dyad = |x: usize, xh: usize, a: usize, ah: usize, j: usize| {
+        // (a^ - d^) x g + (a - d) x^ g^ + (a^ - x^) d + (a - x) d^ - d d^
+        let t1 = v(ah).add(&neg(&dh(j))).mul(&v(x)).mul(&v(G + j));
+        let t2 = v(a).add(&neg(&d(j))).mul(&v(xh)).mul(&v(GH + j));
+        let t3 = v(ah).add(&neg(&v(xh))).mul(&d(j));
+        let t4 = v(a).add(&neg(&v(x))).mul(&dh(j));
+        t1.add(&t2).add(&t3).add(&t4).add(&neg(&d(j).mul(&dh(j))))
+    };
+    let mut polys = Vec::with_capacity(N_VARS);
+    for j in 0..8 {
+        polys.push(dyad(X, XH, A, AH, j));
+    }
+    for j in 0..8 {
+        polys.push(dyad(Y, YH, B, BH, j));
+    }
+    for j in 0..8 {
+        polys.push(v(G + j).mul(&v(GH + j)).add(&v(G + j)).add(&v(GH + j)));
+    }
+    System::new(N_VARS, N_PARAMS, polys).expect("Alt's system is square")
+}
+
+/// The family F(v; d, d^).
+pub fn family() -> &'static System {
+    static FAMILY: OnceLock<System> = OnceLock::new();
+    FAMILY.get_or_init(build_family)
+}
+
+/// The parameters of nine points P_0..P_8 (planar, real): d_j = P_j - P_0 and their
+/// conjugates.
+pub fn params(points: &[C64; 9]) -> Vec<C64> {
+    let d: Vec<C64> = (1..9).map(|j| points[j] - points[0]).collect();
+    d.iter().copied().chain(d.iter().map(|z| z.conj())).collect()
+}
+
+/// g, g^ from (x, x^, a, a^, y, y^, b, b^): D1_j and D2_j are linear in (g_j, g^_j).
+pub fn complete(v8: &[C64; 8], p: &[C64]) -> Option<Vec<C64>> {
+    let mut v = vec![C64::default(); N_VARS];
+    v[..8].copy_from_slice(v8);
+    for j in 0..8 {
+        let (d, dh) = (p[j], p[8 + j]);
+        let row = |x: C64, xh: C64, a: C64, ah: C64| {
+            ([(ah - dh) * x, (a - d) * xh], -((ah - xh) * d + (a - x) * dh - d * dh))
+        };
+        let (r1, c1) = row(v8[0], v8[1], v8[2], v8[3]);
+        let (r2, c2) = row(v8[4], v8[5], v8[6], v8[7]);
+        let det = r1[0] * r2[1] - r1[1] * r2[0];
+        if det.norm() == 0.0 || !det.re.is_finite() {
+            return None;
+        }
+        v[G + j] = (c1 * r2[1] - r1[1] * c2) / det;
+        v[GH + j] = (r1[0] * c2 - c1 * r2[0]) / det;
+    }
+    Some(v)
+}
+
+fn head(v: &[C64]) -> [C64; 8] {
+    std::array::from_fn(|k| v[k])
+}
+
+/// The dyad swap: (x, a) <-> (y, b).
+pub fn swap(v8: &[C64; 8]) -> [C64; 8] {
+    [v8[4], v8[5], v8[6], v8[7], v8[0], v8[1], v8[2], v8[3]]
+}
+
+/// One Roberts cognate step on (x, a, y, b) (and separately on the hatted quadruple):
+/// r(x, a, y, b) = ((x - a) y / (x - y), (b x - a y) / (x - y), a - x, a).
+fn roberts(x: C64, a: C64, y: C64, b: C64) -> (C64, C64, C64, C64) {
+    ((x - a) * y / (x - y), (b * x - a * y) / (x - y), a - x, a)
+}
+
+pub fn cognate(v8: &[C64; 8]) -> [C64; 8] {
+    let (x, a, y, b) = roberts(v8[0], v8[2], v8[4], v8[6]);
+    let (xh, ah, yh, bh) = roberts(v8[1], v8[3], v8[5], v8[7]);
+    [x, xh, a, ah, y, yh, b, bh]
+}
+
+/// The class of a root: itself, its two Roberts cognates, and the swaps of the three.
+pub fn orbit(v8: &[C64; 8]) -> Vec<[C64; 8]> {
+    let c1 = cognate(v8);
+    let c2 = cognate(&c1);
+    vec![*v8, c1, c2, swap(v8), swap(&c1), swap(&c2)]
+}
+
+/// Classes found so far, looked up by a rounded key of each orbit member.
+struct Classes {
+    reps: Vec<[C64; 8]>,
+    index: HashMap<[i64; 4], Vec<[C64; 8]>>,
+}
+
+impl Classes {
+    fn key(v: &[C64; 8]) -> [i64; 4] {
+        // x and a, rounded: exact agreement is checked on the whole vector
+        let q = |z: f64| (z * 1e5).round() as i64;
+        [q(v[0].re), q(v[0].im), q(v[2].re), q(v[2].im)]
+    }
+
+    fn contains(&self, v: &[C64; 8]) -> bool {
+        let k = Self::key(v);
+        let scale = v.iter().map(|z| z.norm()).fold(1.0, f64::max);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                let kk = [k[0] + dx, k[1] + dy, k[2], k[3]];
+                if let Some(list) = self.index.get(&kk) {
+                    if list.iter().any(|w| w.iter().zip(v).all(|(p, q)| (p - q).norm() < 1e-7 * scale)) {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    fn insert(&mut self, v: &[C64; 8]) -> bool {
+        if self.contains(v) {
+            return false;
+        }
+        for w in orbit(v) {
+            if w.iter().all(|z| z.re.is_finite() && z.im.is_finite()) {
+                self.index.entry(Self::key(&w)).or_default().push(w);
+            }
+        }
+        self.reps.push(*v);
+        true
+    }
+}
+
+/// A start set: generic complex parameters and one root per class there.
+#[derive(Clone, Debug)]
+pub struct StartSet {
+    pub p0: Vec<C64>,
+    pub classes: Vec<[C64; 8]>,
+}
+
+/// A random root and the generic parameters it solves: random (x, .., b^) and rotations,
+/// then for each j the two dyad equations solved for (d_j, d^_j) (their difference is
+/// linear, leaving a quadratic).
+fn start_pair(rng: &mut Rng) -> (Vec<C64>, [C64; 8]) {
+    let v8: [C64; 8] = std::array::from_fn(|_| rng.complex_normal());
+    let mut p = vec![C64::default(); N_PARAMS];
+    for j in 0..8 {
+        let turn = std::f64::consts::TAU * rng.uniform();
+        let g = C64::from_polar(1.0, turn) - 1.0;
+        let gh = C64::from_polar(1.0, -turn) - 1.0;
+        // D = c0 + c1 d + c2 d^ - d d^
+        let coeffs =
+            |x: C64, xh: C64, a: C64, ah: C64| (ah * x * g + a * xh * gh, -xh * gh + ah - xh, -x * g + a - x);
+        let (c0, c1, c2) = coeffs(v8[0], v8[1], v8[2], v8[3]);
+        let (e0, e1, e2) = coeffs(v8[4], v8[5], v8[6], v8[7]);
+        let k0 = -(c0 - e0) / (c2 - e2);
+        let k1 = -(c1 - e1) / (c2 - e2);
+        // c0 + c1 d + (c2 - d)(k0 + k1 d) = 0
+        let (qa, qb, qc) = (-k1, c1 + c2 * k1 - k0, c0 + c2 * k0);
+        let disc = (qb * qb - 4.0 * qa * qc).sqrt();
+        let d = (-qb + disc) / (2.0 * qa);
+        p[j] = d;
+        p[8 + j] = k0 + k1 * d;
+    }
+    (p, v8)
+}
+
+/// Progress of a monodromy run: (loop, classes so far, paths tracked, paths that came
+/// back to p0 as certified roots).
+pub type Progress<'a> = &'a mut dyn FnMut(usize, usize, usize, usize);
+
+/// All classes at generic parameters by monodromy: loops p0 -> p1 -> p2 -> p0 through
+/// random complex parameters carry the known roots to possibly new ones; every root found
+/// adds its class (the group action). Stops at `target` classes, or when `patience` loops
+/// in a row find nothing new (the stable-count rule).
+pub fn monodromy(
+    seed: u64,
+    target: usize,
+    patience: usize,
+    max_loops: usize,
+    progress: Progress,
+) -> StartSet {
+    let mut rng = Rng::new(seed);
+    let (p0, v8) = start_pair(&mut rng);
+    let set = StartSet { p0, classes: vec![v8] };
+    monodromy_from(set, &mut rng, target, patience, max_loops, progress)
+}
+
+/// Monodromy continued from a (partial) start set.
+pub fn monodromy_from(
+    set: StartSet,
+    rng: &mut Rng,
+    target: usize,
+    patience: usize,
+    max_loops: usize,
+    progress: Progress,
+) -> StartSet {
+    let p0 = set.p0;
+    let affine = Affine::new(family().specialize(&p0).expect("parameter count"));
+    let mut classes = Classes { reps: Vec::new(), index: HashMap::new() };
+    for v in &set.classes {
+        classes.insert(v);
+    }
+    let opts = Options::default();
+    let mut quiet = 0;
+    let size = (p0.iter().map(|z| z.norm_sqr()).sum::<f64>() / N_PARAMS as f64).sqrt();
+    for lap in 0..max_loops {
+        if classes.reps.len() >= target || quiet >= patience {
+            break;
+        }
+        // loop points of p0's size, so the loop encircles the discriminant as often as not
+        let p1: Vec<C64> = (0..N_PARAMS).map(|_| rng.complex_normal() * size).collect();
+        let p2: Vec<C64> = (0..N_PARAMS).map(|_| rng.complex_normal() * size).collect();
+        let starts: Vec<Vec<C64>> = classes.reps.iter().filter_map(|v| complete(v, &p0)).collect();
+        let tracked = starts.len();
+        let mut ends: Vec<Vec<C64>> = starts;
+        for (from, to) in [(&p0, &p1), (&p1, &p2), (&p2, &p0)] {
+            ends = track_parameter(family(), from, &ends, to, &opts)
+                .expect("parameter count")
+                .into_iter()
+                .flatten()
+                .collect();
+        }
+        let mut new = 0;
+        let mut back = 0;
+        for mut v in ends {
+            // a root when Newton converges onto it (certification waits for the instance)
+            if !affine.newton(&mut v, 8) || affine.residual(&v).1 > 1e-12 {
+                continue;
+            }
+            back += 1;
+            if classes.insert(&head(&v)) {
+                new += 1;
+            }
+        }
+        quiet = if new == 0 { quiet + 1 } else { 0 };
+        progress(lap + 1, classes.reps.len(), tracked, back);
+    }
+    StartSet { p0, classes: classes.reps }
+}
+
+const MAGIC: &[u8; 8] = b"LWALT\x00\x00\x01";
+
+/// The start set as bytes: magic, p0 (16 complex), count (u64), count x 8 complex; f64
+/// little-endian, real part first.
+pub fn encode(set: &StartSet) -> Vec<u8> {
+    let mut out = MAGIC.to_vec();
+    let mut put = |z: &C64| {
+        out.extend(z.re.to_le_bytes());
+        out.extend(z.im.to_le_bytes());
+    };
+    set.p0.iter().for_each(&mut put);
+    let mut bytes = (set.classes.len() as u64).to_le_bytes().to_vec();
+    let mut rest = Vec::new();
+    for v in &set.classes {
+        for z in v {
+            rest.extend(z.re.to_le_bytes());
+            rest.extend(z.im.to_le_bytes());
+        }
+    }
+    out.append(&mut bytes);
+    out.append(&mut rest);
+    out
+}
+
+pub fn decode(bytes: &[u8]) -> Option<StartSet> {
+    if bytes.len() < 8 + N_PARAMS * 16 + 8 || &bytes[..8] != MAGIC {
+        return None;
+    }
+    let f = |k: usize| f64::from_le_bytes(bytes[k..k + 8].try_into().expect("8 bytes"));
+    let z = |k: usize| C64::new(f(k), f(k + 8));
+    let p0: Vec<C64> = (0..N_PARAMS).map(|i| z(8 + 16 * i)).collect();
+    let at = 8 + 16 * N_PARAMS;
+    let count = u64::from_le_bytes(bytes[at..at + 8].try_into().ok()?) as usize;
+    let body = at + 8;
+    if bytes.len() != body + count * 8 * 16 {
+        return None;
+    }
+    let classes = (0..count).map(|c| std::array::from_fn(|k| z(body + 16 * (8 * c + k)))).collect();
+    Some(StartSet { p0, classes })
+}
+
+/// The shipped start set (data/alt_start.bin).
+pub fn shipped() -> &'static StartSet {
+    static SET: OnceLock<StartSet> = OnceLock::new();
+    SET.get_or_init(|| {
+        decode(include_bytes!("../../data/alt_start.bin")).expect("data/alt_start.bin is a start set")
+    })
+}
+
+/// All classes of four-bars through nine points, by parameter homotopy from a start set.
+pub fn solve_points(points: &[C64; 9], start: &StartSet) -> Solutions {
+    let p1 = params(points);
+    let starts: Vec<Vec<C64>> = start.classes.iter().filter_map(|v| complete(v, &start.p0)).collect();
+    solve_parameter(family(), &start.p0, &starts, &p1, &Options::default()).expect("parameter count")
+}
+
+/// A root is physical (a real four-bar) when each hatted unknown is the conjugate of its
+/// partner. Certified so: the symmetrized point is an approximate zero (alpha test), and
+/// Newton keeps a symmetric point symmetric for a real instance (d^ = conj d), so its root
+/// is symmetric. Returns the symmetrized, polished root.
+pub fn physical(v: &[C64], points: &[C64; 9]) -> Option<Vec<C64>> {
+    let scale = v.iter().map(|z| z.norm()).fold(1.0, f64::max);
+    let pairs = [(X, XH), (A, AH), (Y, YH), (B, BH)].into_iter().chain((0..8).map(|j| (G + j, GH + j)));
+    let mut w = v.to_vec();
+    for (i, ih) in pairs.clone() {
+        if (v[i] - v[ih].conj()).norm() > 1e-6 * scale {
+            return None;
+        }
+        let m = (v[i] + v[ih].conj()) / 2.0;
+        w[i] = m;
+        w[ih] = m.conj();
+    }
+    let affine = Affine::new(family().specialize(&params(points)).expect("parameter count"));
+    affine.newton(&mut w, 6);
+    for (i, ih) in pairs {
+        let m = (w[i] + w[ih].conj()) / 2.0;
+        w[i] = m;
+        w[ih] = m.conj();
+    }
+    affine.alpha(&w).certified.then_some(w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_start_pair_solves_the_system_and_its_orbit_too() {
+        let mut rng = Rng::new(5);
+        let (p0, v8) = start_pair(&mut rng);
+        let affine = Affine::new(family().specialize(&p0).unwrap());
+        for w in orbit(&v8) {
+            let v = complete(&w, &p0).unwrap();
+            let (_, backward) = affine.residual(&v);
+            assert!(backward < 1e-12, "{backward}");
+        }
+    }
+
+    #[test]
+    fn encode_decode_round_trip() {
+        let mut rng = Rng::new(9);
+        let (p0, v8) = start_pair(&mut rng);
+        let set = StartSet { p0, classes: vec![v8, cognate(&v8)] };
+        let back = decode(&encode(&set)).unwrap();
+        assert_eq!(back.p0, set.p0);
+        assert_eq!(back.classes, set.classes);
+        assert!(decode(&encode(&set)[..100]).is_none());
+    }
+}
+
+/// A real four-bar from a physical root: ground pivots P_0 + a and P_0 + b, crank pins
+/// P_0 + x and P_0 + y at position 0, coupler rotations arg(1 + g_j) at positions 1..8.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AltFourBar {
+    pub ground_a: C64,
+    pub moving_a: C64,
+    pub ground_b: C64,
+    pub moving_b: C64,
+    pub coupler_angles: [f64; 8],
+    /// Class (index into the instance's roots) and cognate (0, 1, 2) it comes from.
+    pub class: usize,
+    pub cognate: usize,
+}
+
+/// Everything one instance gave: the homotopy's account and the real four-bars (three
+/// cognates per physical class; the dyad swap gives the same linkage).
+#[derive(Clone, Debug)]
+pub struct AltResult {
+    pub solutions: Solutions,
+    pub physical_classes: usize,
+    pub four_bars: Vec<AltFourBar>,
+}
+
+pub fn four_bars(points: &[C64; 9], start: &StartSet) -> AltResult {
+    let solutions = solve_points(points, start);
+    let p = params(points);
+    let mut four_bars = Vec::new();
+    let mut physical_classes = 0;
+    for (class, root) in solutions.roots.iter().enumerate() {
+        let Some(w) = physical(&root.x, points) else { continue };
+        physical_classes += 1;
+        let c1 = cognate(&head(&w));
+        let c2 = cognate(&c1);
+        for (k, v8) in [head(&w), c1, c2].iter().enumerate() {
+            let Some(v) = complete(v8, &p) else { continue };
+            four_bars.push(AltFourBar {
+                ground_a: points[0] + v[A],
+                moving_a: points[0] + v[X],
+                ground_b: points[0] + v[B],
+                moving_b: points[0] + v[Y],
+                coupler_angles: std::array::from_fn(|j| (v[G + j] + 1.0).arg()),
+                class,
+                cognate: k,
+            });
+        }
+    }
+    AltResult { solutions, physical_classes, four_bars }
+}
+
+#[cfg(test)]
+mod shipped_tests {
+    use super::*;
+
+    /// The shipped start set: 1442 classes, each a root of the family at p0 (g, g^ by the
+    /// 2 x 2 solves), pairwise in distinct classes.
+    #[test]
+    fn the_shipped_start_set_is_complete_and_solves_the_system() {
+        let set = shipped();
+        assert_eq!(set.classes.len(), CLASSES);
+        let affine = Affine::new(family().specialize(&set.p0).unwrap());
+        let mut classes = Classes { reps: Vec::new(), index: HashMap::new() };
+        for v8 in &set.classes {
+            let v = complete(v8, &set.p0).expect("g from the dyad equations");
+            let (_, backward) = affine.residual(&v);
+            assert!(backward < 1e-10, "{backward}");
+            assert!(classes.insert(v8), "two start roots in one class");
+        }
+    }
+}
