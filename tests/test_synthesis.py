@@ -212,9 +212,9 @@ def test_cli_synth_writes_designs_report_and_figure(name: str, tmp_path, capsys)
 
     from linkwork.cli import main
 
-    problem = Path(__file__).parent.parent / "examples" / f"synthesis_{name}.toml"
+    problem = Path(__file__).parent.parent / "examples" / "synthesis" / f"{name}.toml"
     assert main(["synth", str(problem), "--out", str(tmp_path)]) == 0
-    stem = f"synthesis_{name}"
+    stem = name
     assert (tmp_path / f"{stem}_report.txt").read_text().strip()
     assert (tmp_path / f"{stem}.png").stat().st_size > 10_000
     models = sorted(tmp_path.glob(f"{stem}_design*.toml"))
