@@ -267,3 +267,28 @@ def test_alt_nine_points_published_count_and_a_real_four_bar_through_all_nine() 
     near = [np.min(np.hypot(*(path - p).T)) for p in np.array(WMS3)]
     assert min(near) < 1e-9  # at least the drawing's own point; the rest by the defects report
     assert design.defects.reached[0]
+
+
+def test_least_squares_motion_through_nine_poses() -> None:
+    phis = np.linspace(0.2, 2.6, 9)
+    p = poses(phis)
+    a1, b1, _, _ = at(phis[0])
+    # exact poses: the generator's dyads are zero-residual minima and are found
+    r = S.motion_least_squares(p, length_range=(0.5, 10.0))
+    for g, m in ((O2, a1), (O4, b1)):
+        d = has(r.dyads.dyads, g, m, 1e-8)  # type: ignore[union-attr]
+        assert d is not None and d.residual < 1e-10
+    gen = [d for d in r.designs if abs(complex(*d.o2) - O2) < 1e-8 and abs(complex(*d.o4) - O4) < 1e-8]
+    assert len(gen) == 1 and gen[0].defects.ok
+    # bounds hold: the fitted length is in range, so the length at pose 1 is within the
+    # dyad's residual of it
+    assert all(0.5 - d.residual - 1e-12 <= d.length <= 10.0 + d.residual + 1e-12 for d in r.dyads)
+    # noisy poses (1e-4): the generator's neighbourhood, residual at the noise level
+    rng = np.random.default_rng(0)
+    noisy = p + np.column_stack([rng.normal(0, 1e-4, (9, 2)), rng.normal(0, 1e-4, 9)])
+    r = S.motion_least_squares(noisy, min_transmission=30.0)
+    best = min(r.dyads, key=lambda d: abs(complex(*d.ground) - O2))
+    assert abs(complex(*best.ground) - O2) < 1e-2 and best.residual < 1e-3
+    assert all(d.defects.worst_transmission >= 30.0 for d in r.designs)
+    with pytest.raises(SynthesisError, match="more than 5 poses"):
+        S.motion_least_squares(p[:5])

@@ -56,6 +56,7 @@ __all__ = [
     "generic_root_count",
     "nine_points",
     "NinePointResult",
+    "motion_least_squares",
 ]
 
 #: How designs are ordered: defect-free first, then the larger worst transmission angle
@@ -293,6 +294,9 @@ class FourBarDesign:
     input_angles: np.ndarray | None
     dyads: tuple[Dyad, Dyad]
     _defects: Defects | None = field(default=None, repr=False)
+    #: pose error (length units) up to which a position counts as reached; None: the exact
+    #: methods' POSITION_TOLERANCE of the design's size
+    tolerance: float | None = None
 
     @property
     def lengths(self) -> dict[str, float]:
@@ -412,7 +416,7 @@ def _screen(design: FourBarDesign, steps: int = 720) -> Defects:
         err_p = float(np.hypot(*(p.position[k] - design.positions[j])))
         err_a = abs(math.remainder(th - theta0 - design.coupler_angles[j], 2.0 * math.pi)) * scale
         e = max(err_p, err_a)
-        ok = e <= POSITION_TOLERANCE * scale
+        ok = e <= (design.tolerance if design.tolerance is not None else POSITION_TOLERANCE * scale)
         reached.append(ok)
         errors.append(e)
         circuit |= not ok
@@ -822,3 +826,100 @@ def _alt_dyads(raw: dict[str, Any], k: int, pts: np.ndarray) -> tuple[Dyad, Dyad
             )
         )
     return out[0], out[1]
+
+
+def motion_least_squares(
+    poses: Any,
+    length_range: tuple[float, float] | None = None,
+    min_transmission: float = 0.0,
+    subsets: int = 12,
+    angles: str = "rad",
+    seed: int = 0,
+) -> Synthesis:
+    """Motion generation through more poses than the exact methods take (n > 5): dyads
+    minimizing the change of their link length over all poses, then four-bars screened
+    by the engine.
+
+    Each dyad (ground pivot G, moving pivot M fixed in the body, length R) minimizes
+    sum_j (|M_j - G| - R)^2 by trust-region least squares (scipy), R bounded by
+    ``length_range``; the starts are the real Burmester dyads of ``subsets`` five-pose
+    subsets (exact, certified), so every local minimum near an exact design of some five
+    poses is found. Dyads' ``residual`` is the largest |M_j - G| - R over the poses. Designs
+    pair two dyads, are swept by the engine (`Defects`), and those whose transmission
+    angle comes closer than ``min_transmission`` (deg) to 0 or 180 are dropped; sorted by
+    `MERIT`. Needs scipy (``pip install linkwork[synthesis]``).
+    """
+    try:
+        from scipy.optimize import least_squares
+    except ImportError:  # pragma: no cover - optional dependency
+        raise SynthesisError(
+            "least-squares synthesis needs scipy: pip install 'linkwork[synthesis]'"
+        ) from None
+    p = _array(poses, "poses", 3).copy()
+    p[:, 2] = _angles(p[:, 2], angles, "pose angles")
+    n = len(p)
+    if n <= 5:
+        raise SynthesisError(
+            f"least squares is for more than 5 poses (got {n}); use motion() for exact synthesis"
+        )
+    lo, hi = length_range if length_range is not None else (0.0, np.inf)
+    if not 0.0 <= lo < hi:
+        raise SynthesisError(f"length_range must be 0 <= lo < hi, got {length_range}")
+    pts = p[:, 0] + 1j * p[:, 1]
+    rot = np.exp(1j * (p[:, 2] - p[0, 2]))
+    size = float(np.ptp(p[:, :2])) or 1.0
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        g, m, r = complex(z[0], z[1]), complex(z[2], z[3]), z[4]
+        return np.abs(pts + (m - pts[0]) * rot - g) - r
+
+    rng = np.random.default_rng(seed)
+    chosen = [np.linspace(0, n - 1, 5).round().astype(int)]
+    while len(chosen) < subsets:
+        chosen.append(np.sort(rng.choice(n, 5, replace=False)))
+    found: list[Dyad] = []
+    for idx in chosen:
+        try:
+            exact = dyads("burmester", poses=p[idx])
+        except SynthesisError:
+            continue
+        for d in exact.real:
+            # the exact dyad's moving pivot is given at the subset's first pose
+            k0 = int(idx[0])
+            m1 = pts[0] + (complex(*d.moving) - pts[k0]) / rot[k0]
+            g = complex(*d.ground)
+            r0 = float(
+                np.clip(np.median(np.abs(pts + (m1 - pts[0]) * rot - g)), lo, hi if np.isfinite(hi) else None)
+            )
+            z0 = np.array([g.real, g.imag, m1.real, m1.imag, r0])
+            bounds = ([-np.inf] * 4 + [lo], [np.inf] * 4 + [hi])
+            fit = least_squares(
+                residual, z0, bounds=bounds, x_scale="jac", xtol=1e-15, ftol=1e-15, gtol=1e-15
+            )
+            res = residual(fit.x)
+            dyad = Dyad(
+                np.array(fit.x[:2]),
+                np.array(fit.x[2:4]),
+                np.zeros(2),
+                np.zeros(2),
+                True,
+                False,
+                float(np.max(np.abs(res))),
+                float(np.sqrt(np.mean(res**2)) / size),
+                float(np.linalg.cond(fit.jac)) if fit.jac.size else math.inf,
+                0.0,
+            )
+            if not any(
+                np.allclose(dyad.ground, e.ground, atol=1e-5 * size)
+                and np.allclose(dyad.moving, e.moving, atol=1e-5 * size)
+                for e in found
+            ):
+                found.append(dyad)
+    sols = DyadSolutions(found, "least squares")
+    paired = _pair_designs(found, p[:, :2], p[:, 2] - p[0, 2], None)
+    for d in paired:
+        # a least-squares design meets its poses only as well as its dyads fit them
+        d.tolerance = 10.0 * max(x.residual for x in d.dyads) + POSITION_TOLERANCE * size
+    designs = [d for d in paired if d.defects.worst_transmission >= min_transmission]
+    designs.sort(key=_merit)
+    return Synthesis(f"motion generation, {n} poses (least squares)", sols, designs)
