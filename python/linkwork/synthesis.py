@@ -13,6 +13,10 @@ Problems (lengths in any unit, angles in radians unless ``angles="deg"``):
   by the Burmester dyads of the coupler motion it implies.
 - `function` (Freudenstein): a four-bar or slider-crank through 3 precision pairs
   (Chebyshev spacing by `chebyshev`), with its structural error over the range.
+- `nine_points` (Alt's problem): every four-bar whose coupler curve passes nine points,
+  by parameter homotopy from 1442 shipped generic classes, with the Roberts cognates.
+- `motion_least_squares`: more than five poses, by least squares from the exact dyads of
+  five-pose subsets, with bounds on link lengths and the transmission angle.
 - `dyads`: the raw dyad solutions of any of these, by "homotopy" (every root,
   alpha-certified) or "resultant" (the independent elimination, real roots only).
 
