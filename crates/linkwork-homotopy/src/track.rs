@@ -34,7 +34,7 @@ impl Default for TrackOptions {
             min_step: 1e-13,
             max_steps: 20_000,
             tol: 1e-9,
-            max_newton: 3,
+            max_newton: 4,
             initial_step: 0.05,
             grow_after: 2,
             max_correction: 1e-2,

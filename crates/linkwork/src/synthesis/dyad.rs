@@ -92,8 +92,35 @@ pub fn start_set() -> &'static StartSet {
 pub fn solve_rows(rows: &[DyadRow; 4]) -> Solutions {
     let start = start_set();
     let p1 = params(rows);
-    solve_parameter(family(), &start.p0, &start.roots, &p1, &Options::default())
-        .expect("parameter count matches the family")
+    let opts = tracking();
+    let first = solve_parameter(family(), &start.p0, &start.roots, &p1, &opts)
+        .expect("parameter count matches the family");
+    if first.duplicates == 0 && first.failed == 0 && first.singular.is_empty() {
+        return first;
+    }
+    // two paths met (one jumped), or one was lost: track again, ten times more carefully,
+    // from another patch; keep whichever found more distinct roots
+    let mut careful = opts;
+    careful.seed ^= 0x0a11_0ade;
+    careful.track.max_correction /= 10.0;
+    careful.track.max_step /= 4.0;
+    let second = solve_parameter(family(), &start.p0, &start.roots, &p1, &careful)
+        .expect("parameter count matches the family");
+    if second.roots.len() > first.roots.len() {
+        second
+    } else {
+        first
+    }
+}
+
+/// Five paths are cheap: track them with steps that keep each prediction within 0.1 % of
+/// the path's size, so that paths passing close to each other (nearly coincident
+/// precision positions) do not jump.
+fn tracking() -> Options {
+    let mut opts = Options::default();
+    opts.track.max_correction = 1e-3;
+    opts.track.max_step = 0.1;
+    opts
 }
 
 /// Residual of the four equations at (x, y) given as real planar vectors.
