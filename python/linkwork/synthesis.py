@@ -105,7 +105,12 @@ def _array(value: Any, what: str, columns: int) -> np.ndarray:
 class Dyad:
     """One RR dyad at position 1: ``ground`` (the fixed pivot, or for a chained problem
     the pivot on the guiding link) and ``moving`` (the pivot on the guided body), in world
-    coordinates. A complex solution keeps its imaginary parts in ``*_imag``."""
+    coordinates. A complex solution keeps its imaginary parts in ``*_imag``.
+    ``residual``: the largest change of the link length over the positions (length units);
+    ``backward_error``, ``condition`` (|Df| |Df^-1|), ``certified``, ``real`` and
+    ``radius`` come from the root's certificate. Dyads of `nine_points` designs carry their
+    class's largest backward error and ``condition`` NaN (their roots are certified per
+    class, in 24 unknowns, not per dyad); least-squares dyads are not certified."""
 
     ground: np.ndarray
     moving: np.ndarray
