@@ -80,8 +80,9 @@ struct Buffers {
     tmp: Vec<C64>,
 }
 
+/// max_i |v_i|, one square root (the tracker's values are far from overflow).
 fn norm_inf(v: &[C64]) -> f64 {
-    v.iter().map(|z| z.norm()).fold(0.0, f64::max)
+    v.iter().map(|z| z.norm_sqr()).fold(0.0, f64::max).sqrt()
 }
 
 impl Buffers {
@@ -108,6 +109,18 @@ impl Buffers {
             return false;
         }
         let k = &mut self.k[slot];
+        for (ki, hti) in k.iter_mut().zip(&self.ht) {
+            *ki = -hti;
+        }
+        self.hy.solve(k, &mut self.scratch);
+        k.iter().all(|v| v.re.is_finite() && v.im.is_finite())
+    }
+
+    /// dy/dt into k[0] from the factorization and H_t Newton left: they were evaluated
+    /// one converged correction (<= tol) away from the new point, far closer than the
+    /// predictor's own error, and the next step (or its retries) starts there.
+    fn tangent_from_newton(&mut self) -> bool {
+        let k = &mut self.k[0];
         for (ki, hti) in k.iter_mut().zip(&self.ht) {
             *ki = -hti;
         }
@@ -168,6 +181,8 @@ pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions, endgame: Endga
     let mut trial = vec![C64::default(); d];
     let mut samples: Vec<(f64, Vec<C64>)> = Vec::new();
     let mut next_sample = 1e-2;
+    // k[0] already holds dy/dt at (y, t)
+    let mut have_tangent = false;
     while t < 1.0 {
         if steps + rejected >= opts.max_steps || dt < opts.min_step {
             return finish(hom, &mut b, y, t, PathStatus::Failed, steps, rejected, samples);
@@ -183,7 +198,8 @@ pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions, endgame: Endga
         }
         let h = dt.min(1.0 - t);
         // RK4 predictor
-        let mut ok = b.tangent(hom, &y, t, 0);
+        let mut ok = have_tangent || b.tangent(hom, &y, t, 0);
+        have_tangent = ok;
         if ok {
             for i in 0..d {
                 b.tmp[i] = y[i] + b.k[0][i] * (h / 2.0);
@@ -221,6 +237,7 @@ pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions, endgame: Endga
                 t = if h >= 1.0 - t { 1.0 } else { t + h };
                 y.copy_from_slice(&trial);
                 steps += 1;
+                have_tangent = b.tangent_from_newton();
                 // RK4's error ~ h^5: aim the next first correction at 1e-3 of the path's size
                 easy = if iters <= 2 { easy + 1 } else { 0 };
                 let aim = 1e-3 * scale;
