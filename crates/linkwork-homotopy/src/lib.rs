@@ -22,5 +22,5 @@ pub use certify::{Affine, AlphaTest, ALPHA0};
 pub use homotopy::Groups;
 pub use num_complex::Complex64 as C64;
 pub use polynomial::{Polynomial, System, SystemError, Term};
-pub use solve::{solve, solve_parameter, track_parameter, Options, Root, Solutions};
+pub use solve::{certify_points, solve, solve_parameter, track_parameter, Options, Root, Solutions};
 pub use track::{PathStatus, TrackOptions};

@@ -159,8 +159,68 @@ pub fn solve_parameter(
             }
         }
     }
+    // two paths that end at one root: one of them jumped (the start count is the generic
+    // root count, so every root has exactly one path); track both again, more carefully
+    // (once: a path that fails on the straight line and met another after its detour
+    // would only fail again)
+    let met = coincident(&hom.proj, &ends, opts);
+    if !met.is_empty() {
+        let careful = Options {
+            track: TrackOptions {
+                max_correction: opts.track.max_correction / 10.0,
+                max_step: opts.track.max_step / 10.0,
+                initial_step: opts.track.initial_step / 10.0,
+                ..opts.track
+            },
+            ..*opts
+        };
+        let from: Vec<Vec<C64>> = met.iter().map(|&k| lifted[k].clone()).collect();
+        for (&k, end) in met.iter().zip(track_all(&hom, &hom.proj, &from, &careful)) {
+            if end.status != PathStatus::Failed {
+                ends[k] = PathEnd {
+                    steps: ends[k].steps + end.steps,
+                    rejected: ends[k].rejected + end.rejected,
+                    ..end
+                };
+            }
+        }
+    }
     let target = family.specialize(p1)?;
     Ok(collect(&hom.proj, Affine::new(target), ends, opts))
+}
+
+/// Paths whose finite endpoint another path also reached (every member of each group).
+fn coincident(proj: &Projective, ends: &[PathEnd], opts: &Options) -> Vec<usize> {
+    let points: Vec<(usize, Vec<C64>)> = ends
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.status != PathStatus::Failed)
+        .filter_map(|(k, e)| {
+            let (x, ratios) = proj.to_affine(&e.y);
+            let finite = ratios.iter().all(|r| *r >= opts.infinity)
+                && x.iter().all(|v| v.re.is_finite() && v.im.is_finite());
+            finite.then_some((k, x))
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| points[a].1[0].re.total_cmp(&points[b].1[0].re));
+    let mut met = vec![false; points.len()];
+    for (i, &a) in order.iter().enumerate() {
+        let xa = &points[a].1;
+        let size = xa.iter().map(|v| v.norm()).fold(1.0, f64::max);
+        let tol = 1e-8 * size;
+        for &b in &order[i + 1..] {
+            let xb = &points[b].1;
+            if xb[0].re - xa[0].re > tol {
+                break;
+            }
+            if distance(xa, xb) <= tol {
+                met[a] = true;
+                met[b] = true;
+            }
+        }
+    }
+    (0..points.len()).filter(|&i| met[i]).map(|i| points[i].0).collect()
 }
 
 /// Affine endpoints of the paths from `starts` (roots at p0) to p1, one per start: None
@@ -255,7 +315,6 @@ fn collect(
     opts: &Options,
 ) -> Solutions {
     let mut out = Solutions { paths: ends.len(), ..Default::default() };
-    let real_system = affine.system.is_real();
     let patch = Affine::new(
         System::new(proj.dim(), 0, proj.lift(&affine.system)).expect("the lifted system is square"),
     );
@@ -272,62 +331,120 @@ fn collect(
             continue;
         }
         affine.newton(&mut x, 12);
-        let mut test = affine.alpha(&x);
-        if !test.certified {
-            // far from the origin the affine gamma bound grows like |x|^(D-1): certify on
-            // the projective patch, where the root has coordinates of order one
-            let mut y = proj.from_affine(&x);
-            if patch.newton(&mut y, 8) {
-                let on_patch = patch.alpha(&y);
-                if on_patch.certified {
-                    x = proj.to_affine(&y).0;
-                    test = AlphaTest { condition: test.condition, ..on_patch };
-                }
-            }
-        }
-        if !test.certified && (end.status == PathStatus::Singular || test.condition > 1e12) {
-            out.singular.push(x);
-            continue;
-        }
-        let mut real = false;
-        if real_system {
-            let size = x.iter().map(|v| v.norm()).fold(1.0, f64::max);
-            let imag = x.iter().map(|v| v.im.abs()).fold(0.0, f64::max);
-            if imag <= 1e-6 * size {
-                // Newton from a real point of a real system stays real, so a certified
-                // real point certifies a real root.
-                let mut xr: Vec<C64> = x.iter().map(|v| C64::new(v.re, 0.0)).collect();
-                affine.newton(&mut xr, 12);
-                let test_r: AlphaTest = affine.alpha(&xr);
-                if test_r.certified && xr.iter().all(|v| v.im == 0.0) {
-                    x = xr;
-                    test = test_r;
-                    real = true;
-                }
-            }
-        }
-        let (residual, backward_error) = affine.residual(&x);
-        let root = Root {
-            x,
-            residual,
-            backward_error,
-            condition: test.condition,
-            certified: test.certified,
-            real,
-            alpha: test.alpha,
-            radius: 2.0 * test.beta,
-            path,
-        };
-        if let Some(dup) = out.roots.iter().position(|r| same_root(r, &root)) {
-            out.duplicates += 1;
-            // keep the better certified copy
-            if !out.roots[dup].certified && root.certified {
-                out.roots[dup] = root;
-            }
-        } else {
-            out.roots.push(root);
+        match certify(&affine, Some((proj, &patch)), x, end.status == PathStatus::Singular, path) {
+            Ok(root) => push_root(&mut out, root),
+            Err(x) => out.singular.push(x),
         }
     }
+    finish(out)
+}
+
+/// Certify candidate roots found some other way (an elimination, a closed form): each is
+/// polished by Newton, kept if Newton converges to a root (backward error <= 1e-10),
+/// alpha-tested, real ones certified real, duplicates merged. `paths` counts the
+/// candidates; `singular` holds converged candidates whose Jacobian is singular.
+pub fn certify_points(system: &System, candidates: Vec<Vec<C64>>) -> Solutions {
+    let affine = Affine::new(system.clone());
+    let mut out = Solutions { paths: candidates.len(), ..Default::default() };
+    for (path, mut x) in candidates.into_iter().enumerate() {
+        if x.len() != system.n_vars || !affine.newton(&mut x, 12) || affine.residual(&x).1 > 1e-10 {
+            out.failed += 1;
+            continue;
+        }
+        match certify(&affine, None, x, false, path) {
+            Ok(root) => push_root(&mut out, root),
+            Err(x) => out.singular.push(x),
+        }
+    }
+    finish(out)
+}
+
+/// The alpha test at a polished point (on the projective patch, if given, when the
+/// affine test fails far from the origin), then the real test. Err: a singular root.
+fn certify(
+    affine: &Affine,
+    patch: Option<(&Projective, &Affine)>,
+    mut x: Vec<C64>,
+    singular_end: bool,
+    path: usize,
+) -> Result<Root, Vec<C64>> {
+    // a nearly real point of a real system: certify it real first (most roots of the
+    // problems this crate serves are), complex only if that fails
+    if let Some(root) = certify_real(affine, &x, path) {
+        return Ok(root);
+    }
+    let mut test = affine.alpha(&x);
+    if let (false, Some((proj, patch))) = (test.certified, patch) {
+        // far from the origin the affine gamma bound grows like |x|^(D-1): certify on
+        // the projective patch, where the root has coordinates of order one
+        let mut y = proj.from_affine(&x);
+        if patch.newton(&mut y, 8) {
+            let on_patch = patch.alpha(&y);
+            if on_patch.certified {
+                x = proj.to_affine(&y).0;
+                test = AlphaTest { condition: test.condition, ..on_patch };
+            }
+        }
+    }
+    if !test.certified && (singular_end || test.condition > 1e12) {
+        return Err(x);
+    }
+    let (residual, backward_error) = affine.residual(&x);
+    Ok(Root {
+        x,
+        residual,
+        backward_error,
+        condition: test.condition,
+        certified: test.certified,
+        real: false,
+        alpha: test.alpha,
+        radius: 2.0 * test.beta,
+        path,
+    })
+}
+
+/// A certified real root near x, if x is real to 1e-6 of its size and the system real:
+/// Newton from a real point of a real system stays real, so a certified real point
+/// certifies a real root.
+fn certify_real(affine: &Affine, x: &[C64], path: usize) -> Option<Root> {
+    let size = x.iter().map(|v| v.norm()).fold(1.0, f64::max);
+    let imag = x.iter().map(|v| v.im.abs()).fold(0.0, f64::max);
+    if imag > 1e-6 * size || !affine.system.is_real() {
+        return None;
+    }
+    let mut xr: Vec<C64> = x.iter().map(|v| C64::new(v.re, 0.0)).collect();
+    affine.newton(&mut xr, 12);
+    let test = affine.alpha(&xr);
+    if !test.certified || xr.iter().any(|v| v.im != 0.0) {
+        return None;
+    }
+    let (residual, backward_error) = affine.residual(&xr);
+    Some(Root {
+        x: xr,
+        residual,
+        backward_error,
+        condition: test.condition,
+        certified: true,
+        real: true,
+        alpha: test.alpha,
+        radius: 2.0 * test.beta,
+        path,
+    })
+}
+
+fn push_root(out: &mut Solutions, root: Root) {
+    if let Some(dup) = out.roots.iter().position(|r| same_root(r, &root)) {
+        out.duplicates += 1;
+        // keep the better certified copy
+        if !out.roots[dup].certified && root.certified {
+            out.roots[dup] = root;
+        }
+    } else {
+        out.roots.push(root);
+    }
+}
+
+fn finish(mut out: Solutions) -> Solutions {
     out.distinct = out.roots.iter().all(|r| r.certified)
         && out.roots.iter().enumerate().all(|(i, a)| {
             out.roots[i + 1..].iter().all(|b| {

@@ -77,13 +77,14 @@ pub(crate) fn synth_dyads<'py>(
                 motion::burmester(&poses(&poses_or_points)).map(|s| (s.dyads.clone(), Some(s)))
             }
             ("burmester", false) => {
-                motion::burmester_by_resultant(&poses(&poses_or_points)).map(|d| (d, None))
+                motion::burmester_by_resultant(&poses(&poses_or_points)).map(|s| (s.dyads.clone(), Some(s)))
             }
             ("timed", true) => {
                 path::timed_dyads(&pairs(&poses_or_points), &angles_a).map(|s| (s.dyads.clone(), Some(s)))
             }
             ("timed", false) => {
-                path::timed_dyads_by_resultant(&pairs(&poses_or_points), &angles_a).map(|d| (d, None))
+                path::timed_dyads_by_resultant(&pairs(&poses_or_points), &angles_a)
+                    .map(|s| (s.dyads.clone(), Some(s)))
             }
             ("chain1", true) => sixbar::dyad_1(&pairs(&poses_or_points), q, &angles_a, &angles_b)
                 .map(|s| (s.dyads.clone(), Some(s))),
@@ -91,7 +92,10 @@ pub(crate) fn synth_dyads<'py>(
                 .map(|s| (s.dyads.clone(), Some(s))),
             ("chain1", false) | ("chain2", false) => {
                 sixbar::dyads_by_resultant(&pairs(&poses_or_points), q, &angles_a, &angles_b)
-                    .map(|[a, b]| (if problem == "chain1" { a } else { b }, None))
+                    .map(|[a, b]| {
+                        let s = if problem == "chain1" { a } else { b };
+                        (s.dyads.clone(), Some(s))
+                    })
             }
             _ => Err(SynthesisError::Degenerate(format!("unknown problem {problem:?}"))),
         })

@@ -6,7 +6,7 @@ use linkwork::synthesis::motion::{
     burmester, burmester_by_resultant, four_pose_curves, three_pose_ground, three_pose_moving, Pose,
 };
 use linkwork::synthesis::path::{coupler_rotations, timed_dyads, timed_dyads_by_resultant};
-use linkwork::synthesis::{Dyad, SynthesisError};
+use linkwork::synthesis::{Dyad, DyadSet, SynthesisError};
 use num_complex::Complex64 as C64;
 
 /// A four-bar: ground pivots a0, b0, crank |A - a0| = ra, coupler |B - A| = l, rocker
@@ -71,13 +71,26 @@ fn burmester_recovers_both_dyads_of_the_generator() {
         let hit = hit.unwrap_or_else(|| panic!("generator dyad {g} {m} missing from {set:?}"));
         assert!(hit.residual < 1e-12, "{hit:?}");
     }
-    // the elimination finds the same real dyads
-    let other = burmester_by_resultant(&poses).unwrap();
-    assert_eq!(other.len(), set.real().count(), "{other:?} vs {set:?}");
-    for d in &other {
-        let g = C64::new(d.ground[0], d.ground[1]);
-        let m = C64::new(d.moving[0], d.moving[1]);
-        assert!(set.real().any(|e| near(e, g, m, 1e-9)), "{d:?}");
+    // the elimination finds the same roots, real and complex, all certified
+    agree(&set, &burmester_by_resultant(&poses).unwrap(), 1e-9);
+}
+
+/// Two solution sets of one problem hold the same roots: as many, as many real, each root
+/// of `other` certified and within `tol` (relative to its size) of one of `set`.
+fn agree(set: &DyadSet, other: &DyadSet, tol: f64) {
+    assert_eq!(other.dyads.len(), set.dyads.len(), "{other:?} vs {set:?}");
+    assert_eq!(other.real().count(), set.real().count(), "{other:?} vs {set:?}");
+    assert!(other.distinct, "{other:?}");
+    let parts = |d: &Dyad| [d.ground, d.moving, d.ground_imag, d.moving_imag].concat();
+    for d in &other.dyads {
+        assert!(d.certified, "{d:?}");
+        let a = parts(d);
+        let size = a.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        let hit = set.dyads.iter().any(|e| {
+            let b = parts(e);
+            a.iter().zip(&b).all(|(u, v)| (u - v).abs() <= tol * size) && e.real == d.real
+        });
+        assert!(hit, "{d:?} not in {set:?}");
     }
 }
 
@@ -106,8 +119,7 @@ fn timed_path_recovers_the_input_dyad_and_then_the_four_bar() {
         points.iter().zip(&theta).map(|(p, t)| Pose { x: p[0], y: p[1], angle: *t }).collect();
     let followers = burmester(&poses).unwrap();
     assert!(followers.real().any(|d| near(d, fb.b0, b1, 1e-10)));
-    let other = timed_dyads_by_resultant(&points, &input).unwrap();
-    assert_eq!(other.len(), set.real().count());
+    agree(&set, &timed_dyads_by_resultant(&points, &input).unwrap(), 1e-9);
 }
 
 /// Random problems: homotopy and elimination agree on every real dyad.
@@ -125,16 +137,7 @@ fn homotopy_and_elimination_agree_on_random_problems() {
             .collect();
         let set = burmester(&poses).unwrap();
         assert!(set.dyads.len() <= 4 && set.failed == 0 && set.distinct, "case {case}: {set:?}");
-        let other = burmester_by_resultant(&poses).unwrap();
-        assert_eq!(other.len(), set.real().count(), "case {case}: {other:?} vs {set:?}");
-        for d in &other {
-            let g = C64::new(d.ground[0], d.ground[1]);
-            let m = C64::new(d.moving[0], d.moving[1]);
-            assert!(
-                set.real().any(|e| near(e, g, m, 1e-8 * (1.0 + g.norm() + m.norm()))),
-                "case {case}: {d:?}"
-            );
-        }
+        agree(&set, &burmester_by_resultant(&poses).unwrap(), 1e-8);
         // Burmester's count: real dyads come in an even number (0, 2 or 4)
         assert_eq!(set.real().count() % 2, 0, "case {case}");
         total_real += set.real().count();
@@ -222,8 +225,8 @@ fn chained_six_bar_dyads_all_found_and_agree() {
         assert!(set.dyads.iter().all(|d| d.certified));
     }
     let [r1, r2] = dyads_by_resultant(&points, q, &phi, &theta).unwrap();
-    assert_eq!(r1.len(), one.real().count());
-    assert_eq!(r2.len(), two.real().count());
+    agree(&one, &r1, 1e-9);
+    agree(&two, &r2, 1e-9);
     // the equations themselves, in world coordinates, for every real dyad
     let rot = |v: C64, a: f64| v * C64::from_polar(1.0, a);
     let p = |k: usize| C64::new(points[k][0], points[k][1]);

@@ -95,11 +95,13 @@ pub fn solve_rows(rows: &[DyadRow; 4]) -> Solutions {
     let opts = tracking();
     let first = solve_parameter(family(), &start.p0, &start.roots, &p1, &opts)
         .expect("parameter count matches the family");
-    if first.duplicates == 0 && first.failed == 0 && first.singular.is_empty() {
+    // an instance (|sigma_j| = 1) sends exactly one of the 5 generic paths to infinity
+    // unless it is special; more means a path to a finite root was taken for one
+    if first.duplicates == 0 && first.failed == 0 && first.singular.is_empty() && first.at_infinity <= 1 {
         return first;
     }
-    // two paths met (one jumped), or one was lost: track again, ten times more carefully,
-    // from another patch; keep whichever found more distinct roots
+    // two paths met (one jumped), one was lost, or one more went to infinity: track again,
+    // ten times more carefully, from another patch; keep whichever found more roots
     let mut careful = opts;
     careful.seed ^= 0x0a11_0ade;
     careful.track.max_correction /= 10.0;
@@ -120,6 +122,9 @@ fn tracking() -> Options {
     let mut opts = Options::default();
     opts.track.max_correction = 1e-3;
     opts.track.max_step = 0.1;
+    // dyads 10^4 times the problem's size are roots, not infinity (the endgame then
+    // judges a path diverging only below 3e-5 of its size)
+    opts.infinity = 1e-12;
     opts
 }
 

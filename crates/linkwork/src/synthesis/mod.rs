@@ -104,24 +104,6 @@ impl Dyad {
             radius: 0.0,
         }
     }
-
-    /// A real dyad from an eliminated root z = (x1, x2, y1, y2); None if not real.
-    fn from_real(
-        z: &[C64; 4],
-        rows: &[DyadRow; 4],
-        frame: &Frame,
-        map: impl Fn(C64, C64) -> (C64, C64),
-    ) -> Option<Self> {
-        let size = z.iter().map(|v| v.norm()).fold(1.0, f64::max);
-        if z.iter().any(|v| v.im.abs() > 1e-8 * size) {
-            return None;
-        }
-        let x = C64::new(z[0].re, z[1].re);
-        let y = C64::new(z[2].re, z[3].re);
-        let (g, m) = map(x, y);
-        let (g, m) = (frame.to_world(g), frame.to_world(m));
-        Some(Dyad { residual: length_residual(rows, x, y) * frame.scale, ..Dyad::exact(g, m) })
-    }
 }
 
 /// Largest | |V_j + sigma_j y| - |y| | over the rows (local units).

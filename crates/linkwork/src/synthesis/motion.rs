@@ -78,16 +78,13 @@ pub fn burmester(poses: &[Pose]) -> Result<DyadSet, SynthesisError> {
 }
 
 /// The same dyads by elimination (resultant.rs): the independent cross-check.
-pub fn burmester_by_resultant(poses: &[Pose]) -> Result<Vec<Dyad>, SynthesisError> {
+pub fn burmester_by_resultant(poses: &[Pose]) -> Result<DyadSet, SynthesisError> {
     check_poses(poses, "exactly 5 poses for the Burmester dyads", poses.len() == 5)?;
     let poses: &[Pose; 5] = poses.try_into().expect("length checked");
     let frame = Frame::fit(poses.iter().map(Pose::point));
     let rows = rows(poses, &frame);
     let p1 = frame.to_local(poses[0].point());
-    Ok(solve_by_resultant(&rows)
-        .into_iter()
-        .filter_map(|z| Dyad::from_real(&z, &rows, &frame, |x, y| (p1 + x - y, p1 + x)))
-        .collect())
+    Ok(DyadSet::from_solutions(&solve_by_resultant(&rows), &rows, &frame, |x, y| (p1 + x - y, p1 + x)))
 }
 
 /// Positions of a body-fixed point (given at pose 1) at every pose.

@@ -62,15 +62,12 @@ pub fn timed_dyads(points: &[[f64; 2]], input: &[f64]) -> Result<DyadSet, Synthe
 }
 
 /// The same by elimination: the independent cross-check.
-pub fn timed_dyads_by_resultant(points: &[[f64; 2]], input: &[f64]) -> Result<Vec<Dyad>, SynthesisError> {
+pub fn timed_dyads_by_resultant(points: &[[f64; 2]], input: &[f64]) -> Result<DyadSet, SynthesisError> {
     check(points, input)?;
     let frame = Frame::fit(points.iter().map(|p| C64::new(p[0], p[1])));
     let rows = rows(points, input, &frame);
     let p1 = frame.to_local(C64::new(points[0][0], points[0][1]));
-    Ok(solve_by_resultant(&rows)
-        .into_iter()
-        .filter_map(|z| Dyad::from_real(&z, &rows, &frame, |w, z| (p1 - z - w, p1 - z)))
-        .collect())
+    Ok(DyadSet::from_solutions(&solve_by_resultant(&rows), &rows, &frame, |w, z| (p1 - z - w, p1 - z)))
 }
 
 /// Coupler rotations theta_j (from position 1) that a real input dyad implies.

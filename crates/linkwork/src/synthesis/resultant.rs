@@ -1,32 +1,36 @@
-//! An independent route to the roots of a dyad system (dyad.rs), by elimination:
-//! for fixed x the rows are linear in y, so consistency of rows (1, 2, k) is
-//! det[l_1 q_1; l_2 q_2; l_k q_k](x) = 0, a quartic curve, k = 3, 4. The two curves'
-//! Sylvester resultant in x2 is a polynomial in x1 of degree <= 16, found by sampling on
-//! the unit circle and an inverse DFT; its roots (companion matrix), the common roots in
-//! x2, y by least squares, then Newton on the full system. Points where rows 1 and 2 are
-//! dependent satisfy both curves without being roots; Newton and the residual reject them.
+//! An independent route to the roots of a dyad system (dyad.rs), by elimination in
+//! isotropic coordinates: x and its conjugate as independent unknowns z, w, and y as u, v.
+//! Row j reads V_j W_j + conj(sigma_j) V_j v + sigma_j W_j u = 0 with V_j = alpha_j z + beta_j
+//! and W_j = conj(alpha_j) w + conj(beta_j): linear in (u, v) for fixed (z, w). Rows 1, 2, k
+//! are consistent only where C_k(z, w) = det[r_1; r_2; r_k] = 0, with
+//! r_j = (sigma_j W_j, conj(sigma_j) V_j, V_j W_j): a curve of bidegree (2, 2), k = 3, 4.
+//! Their resultant in w is a polynomial R(z) of degree <= 8: the family's 5 roots (4 when
+//! every |sigma_j| = 1, the fifth then at infinity) and 3 spurious ones (r_1 = 0, r_2 = 0,
+//! or r_1 parallel to r_2, where rows 1 and 2 fix nothing). R is sampled on a circle and
+//! interpolated (inverse DFT), its roots are a companion eigenproblem (nalgebra); at each,
+//! w is the common root of C_3 and C_4 and (u, v) the least-squares solution of the four
+//! rows; a spurious root leaves the rows inconsistent and is dropped. The candidates are
+//! then polished, alpha-certified and merged on the dyad system itself (`certify_points`).
 
-use linkwork_homotopy::{Affine, C64};
-use nalgebra::{DMatrix, Matrix2, Vector2};
+use linkwork_homotopy::{certify_points, Solutions, C64};
+use nalgebra::{Matrix2, Vector2};
 
 use super::dyad::{family, params, DyadRow};
 use super::univariate;
 
-/// A fixed, generic rotation of the (x1, x2) plane, so that no two roots share x1.
-const TURN: f64 = 0.618_033_988_749_895;
+/// Samples of R on each circle: twice its degree, so the interpolated coefficients above
+/// 8 measure the rounding.
+const SAMPLES: usize = 16;
+/// Circles of interpolation: R's coefficients are accurate for roots near the circle, so
+/// roots up to `SPLIT` are taken from the unit circle and larger ones from the outer one.
+const RADII: [f64; 2] = [1.0, 16.0];
+const SPLIT: f64 = 4.0;
 
-fn rows_at(rows: &[DyadRow; 4], x: [C64; 2]) -> [[C64; 3]; 4] {
-    let mut out = [[C64::default(); 3]; 4];
-    for (o, r) in out.iter_mut().zip(rows) {
-        let vr = r.alpha.re * x[0] - r.alpha.im * x[1] + r.beta.re;
-        let vi = r.alpha.im * x[0] + r.alpha.re * x[1] + r.beta.im;
-        *o = [
-            2.0 * (vr * r.sigma.re + vi * r.sigma.im),
-            2.0 * (vi * r.sigma.re - vr * r.sigma.im),
-            vr * vr + vi * vi,
-        ];
-    }
-    out
+/// Row j at (z, w): (coefficient of u, coefficient of v, constant).
+fn row(r: &DyadRow, z: C64, w: C64) -> [C64; 3] {
+    let v = r.alpha * z + r.beta;
+    let wb = r.alpha.conj() * w + r.beta.conj();
+    [r.sigma * wb, r.sigma.conj() * v, v * wb]
 }
 
 fn det3(a: [C64; 3], b: [C64; 3], c: [C64; 3]) -> C64 {
@@ -34,132 +38,116 @@ fn det3(a: [C64; 3], b: [C64; 3], c: [C64; 3]) -> C64 {
         + a[2] * (b[0] * c[1] - b[1] * c[0])
 }
 
-/// x in the original plane from turned coordinates (u1, u2).
-fn unturn(u: [C64; 2]) -> [C64; 2] {
-    let (s, c) = TURN.sin_cos();
-    [c * u[0] - s * u[1], s * u[0] + c * u[1]]
+/// C_3 and C_4 at (z, w).
+fn curves(rows: &[DyadRow; 4], z: C64, w: C64) -> [C64; 2] {
+    let (r1, r2) = (row(&rows[0], z, w), row(&rows[1], z, w));
+    [det3(r1, r2, row(&rows[2], z, w)), det3(r1, r2, row(&rows[3], z, w))]
 }
 
-/// Coefficients in u2 (degree <= 4) of the two consistency conditions at fixed u1.
-fn quartics(rows: &[DyadRow; 4], u1: C64) -> [Vec<C64>; 2] {
-    const N: usize = 5;
-    let mut vals = [[C64::default(); N]; 2];
-    for k in 0..N {
-        let w = C64::from_polar(1.0, std::f64::consts::TAU * k as f64 / N as f64);
-        let r = rows_at(rows, unturn([u1, w]));
-        vals[0][k] = det3(r[0], r[1], r[2]);
-        vals[1][k] = det3(r[0], r[1], r[3]);
-    }
-    vals.map(|v| trim(idft(&v)))
+/// Coefficients (a, b, c) in w of C_3 and C_4 at fixed z, from w = 0, 1, -1 (exact for a
+/// quadratic).
+fn quadratics(rows: &[DyadRow; 4], z: C64) -> [[C64; 3]; 2] {
+    let one = C64::new(1.0, 0.0);
+    let (c0, cp, cm) = (curves(rows, z, C64::default()), curves(rows, z, one), curves(rows, z, -one));
+    std::array::from_fn(|k| [(cp[k] + cm[k]) / 2.0 - c0[k], (cp[k] - cm[k]) / 2.0, c0[k]])
 }
 
-/// Drop leading coefficients at rounding level: the curves' degree in u2 is below 4 in
-/// most problems (Burmester's quadratic terms cancel), and a zero leading coefficient
-/// would make the Sylvester determinant vanish identically.
-fn trim(mut p: Vec<C64>) -> Vec<C64> {
-    let scale = p.iter().map(|c| c.norm()).fold(0.0, f64::max);
-    while p.len() > 1 && p[p.len() - 1].norm() <= 1e-11 * scale {
-        p.pop();
-    }
-    p
+/// Res_w(C_3, C_4)(z) = (a3 c4 - a4 c3)^2 - (a3 b4 - a4 b3)(b3 c4 - b4 c3).
+fn resultant(rows: &[DyadRow; 4], z: C64) -> C64 {
+    let [[a3, b3, c3], [a4, b4, c4]] = quadratics(rows, z);
+    let ac = a3 * c4 - a4 * c3;
+    ac * ac - (a3 * b4 - a4 * b3) * (b3 * c4 - b4 * c3)
 }
 
-fn idft(v: &[C64]) -> Vec<C64> {
-    let n = v.len();
-    (0..n)
-        .map(|m| {
-            let mut s = C64::default();
-            for (k, vk) in v.iter().enumerate() {
-                s += vk * C64::from_polar(1.0, -std::f64::consts::TAU * (k * m) as f64 / n as f64);
-            }
-            s / n as f64
-        })
+/// Inverse DFT of samples on the unit circle: polynomial coefficients, lowest first.
+fn idft(v: &[C64; SAMPLES]) -> Vec<C64> {
+    let unit: [C64; SAMPLES] =
+        std::array::from_fn(|k| C64::from_polar(1.0, -std::f64::consts::TAU * k as f64 / SAMPLES as f64));
+    (0..SAMPLES)
+        .map(|m| v.iter().enumerate().map(|(k, vk)| vk * unit[(k * m) % SAMPLES]).sum::<C64>() / SAMPLES as f64)
         .collect()
 }
 
-fn sylvester(p: &[C64], q: &[C64]) -> C64 {
-    let (m, n) = (p.len() - 1, q.len() - 1);
-    if m + n == 0 {
-        return C64::new(1.0, 0.0);
+/// The roots of R, each taken from the circle it is accurate on (the outer circle only
+/// when the unit circle's interpolant has roots beyond `SPLIT`).
+fn z_roots(rows: &[DyadRow; 4]) -> Vec<C64> {
+    let roots_on = |radius: f64| {
+        let values: [C64; SAMPLES] = std::array::from_fn(|k| {
+            resultant(rows, C64::from_polar(radius, std::f64::consts::TAU * k as f64 / SAMPLES as f64))
+        });
+        univariate::roots(&idft(&values), 1e-11).into_iter().map(move |zeta| zeta * radius)
+    };
+    let (mut out, outer): (Vec<C64>, Vec<C64>) = roots_on(RADII[0]).partition(|z| z.norm() <= SPLIT);
+    if !outer.is_empty() {
+        out.extend(roots_on(RADII[1]).filter(|z| z.norm() > SPLIT));
     }
-    let size = m + n;
-    let mut s = DMatrix::<C64>::zeros(size, size);
-    for i in 0..n {
-        for (k, c) in p.iter().rev().enumerate() {
-            s[(i, i + k)] = *c;
-        }
-    }
-    for i in 0..m {
-        for (k, c) in q.iter().rev().enumerate() {
-            s[(n + i, i + k)] = *c;
-        }
-    }
-    s.lu().determinant()
+    out
 }
 
-/// Candidate roots (x1, x2, y1, y2), polished by Newton and deduplicated.
-pub fn solve_by_resultant(rows: &[DyadRow; 4]) -> Vec<[C64; 4]> {
-    const SAMPLES: usize = 32;
-    // the interpolated coefficients are accurate for roots near the sampling circle: one
-    // circle per decade and a half of |x1|, candidates merged
-    let mut candidates = Vec::new();
-    for radius in [1.0, 8.0, 64.0] {
-        let values: Vec<C64> = (0..SAMPLES)
-            .map(|k| {
-                let u1 = C64::from_polar(radius, std::f64::consts::TAU * k as f64 / SAMPLES as f64);
-                let [p, q] = quartics(rows, u1);
-                sylvester(&p, &q)
-            })
-            .collect();
-        // coefficients of R(radius w) in w
-        let resultant = idft(&values);
-        candidates.extend(univariate::roots(&resultant, 1e-11).into_iter().map(|w| w * radius));
+/// Roots of a w^2 + b w + c, without cancellation; one when a is negligible.
+fn quadratic_roots(a: C64, b: C64, c: C64) -> [Option<C64>; 2] {
+    let scale = a.norm().max(b.norm()).max(c.norm());
+    if scale == 0.0 {
+        return [None, None];
     }
-    let affine = Affine::new(family().specialize(&params(rows)).expect("parameter count"));
-    let mut found: Vec<[C64; 4]> = Vec::new();
-    for u1 in candidates {
-        let [p, q] = quartics(rows, u1);
-        let q_scale = q.iter().map(|c| c.norm()).fold(0.0, f64::max);
-        for u2 in univariate::roots(&p, 1e-11) {
-            let size = u2.norm().max(1.0).powi(4);
-            if univariate::eval(&q, u2).norm() > 1e-6 * q_scale * size {
-                continue;
-            }
-            let x = unturn([u1, u2]);
-            let Some(y) = least_squares_y(rows, x) else { continue };
-            let mut z = vec![x[0], x[1], y[0], y[1]];
-            if !affine.newton(&mut z, 12) {
-                continue;
-            }
-            let (_, backward) = affine.residual(&z);
-            if backward > 1e-12 || !affine.alpha(&z).certified {
-                continue;
-            }
-            let scale = z.iter().map(|v| v.norm()).fold(1.0, f64::max);
-            let new = !found
-                .iter()
-                .any(|f| f.iter().zip(&z).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max) < 1e-8 * scale);
-            if new {
-                found.push([z[0], z[1], z[2], z[3]]);
-            }
-        }
+    if a.norm() <= 1e-14 * scale {
+        return [(b.norm() > 0.0).then(|| -c / b), None];
     }
-    found
+    let sq = (b * b - 4.0 * a * c).sqrt();
+    // q = -(b + sign sqrt(disc)) / 2 with the sign that avoids cancellation
+    let q = if (b.conj() * sq).re >= 0.0 { -(b + sq) / 2.0 } else { -(b - sq) / 2.0 };
+    if q.norm() == 0.0 {
+        return [Some(C64::default()), Some(C64::default())];
+    }
+    [Some(q / a), Some(c / q)]
 }
 
-/// y from the four rows l_j . y = -q_j (consistent at a root): normal equations.
-fn least_squares_y(rows: &[DyadRow; 4], x: [C64; 2]) -> Option<[C64; 2]> {
-    let r = rows_at(rows, x);
+/// (u, v) from the four rows, least squares (the rows are consistent at a root).
+fn least_squares_y(rows: &[DyadRow; 4], z: C64, w: C64) -> Option<[C64; 2]> {
     let mut a = Matrix2::<C64>::zeros();
     let mut b = Vector2::<C64>::zeros();
-    for row in &r {
+    for r in rows {
+        let row = row(r, z, w);
         for i in 0..2 {
             for j in 0..2 {
-                a[(i, j)] += row[i] * row[j];
+                a[(i, j)] += row[i].conj() * row[j];
             }
-            b[i] -= row[i] * row[2];
+            b[i] -= row[i].conj() * row[2];
         }
     }
     let y = a.lu().solve(&b)?;
     Some([y[0], y[1]])
+}
+
+/// Candidate roots (x1, x2, y1, y2) of the dyad system, before polishing.
+fn candidates(rows: &[DyadRow; 4]) -> Vec<Vec<C64>> {
+    let half_i = C64::new(0.0, -0.5);
+    z_roots(rows)
+        .into_iter()
+        .filter_map(|z| {
+            let [[a3, b3, c3], [a4, b4, c4]] = quadratics(rows, z);
+            // the root of C_3 (a quadratic in w) on which C_4 is smallest
+            let w = quadratic_roots(a3, b3, c3).into_iter().flatten().min_by(|p, q| {
+                    let f = |w: &C64| (a4 * w * w + b4 * w + c4).norm() / (1.0 + w.norm_sqr());
+                f(p).total_cmp(&f(q))
+            })?;
+            let [u, v] = least_squares_y(rows, z, w)?;
+            // the spurious roots leave rows 3 and 4 inconsistent: drop them before Newton
+            let inconsistent = rows.iter().any(|r| {
+                let [a, b, c] = row(r, z, w);
+                let (p, q) = (a * u, b * v);
+                (p + q + c).norm() > 1e-3 * (p.norm() + q.norm() + c.norm())
+            });
+            if inconsistent {
+                return None;
+            }
+            Some(vec![(z + w) / 2.0, (z - w) * half_i, (u + v) / 2.0, (u - v) * half_i])
+        })
+        .collect()
+}
+
+/// Every root of the dyad system by elimination, polished and certified.
+pub fn solve_by_resultant(rows: &[DyadRow; 4]) -> Solutions {
+    let system = family().specialize(&params(rows)).expect("parameter count");
+    certify_points(&system, candidates(rows))
 }

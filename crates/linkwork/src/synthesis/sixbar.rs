@@ -19,7 +19,7 @@ use num_complex::Complex64 as C64;
 
 use super::dyad::{solve_rows, DyadRow};
 use super::resultant::solve_by_resultant;
-use super::{Dyad, DyadSet, Frame, SynthesisError};
+use super::{DyadSet, Frame, SynthesisError};
 
 fn check(points: &[[f64; 2]], phi: &[f64], theta: &[f64]) -> Result<(), SynthesisError> {
     if points.len() != 5 || phi.len() != 5 || theta.len() != 5 {
@@ -95,7 +95,7 @@ pub fn dyads_by_resultant(
     q: [f64; 2],
     phi: &[f64],
     theta: &[f64],
-) -> Result<[Vec<Dyad>; 2], SynthesisError> {
+) -> Result<[DyadSet; 2], SynthesisError> {
     check(points, phi, theta)?;
     let f = frame(points, q);
     let ql = f.to_local(c(q));
@@ -103,13 +103,7 @@ pub fn dyads_by_resultant(
     let p1 = f.to_local(c(points[0]));
     let r1 = rows_1(points, ql, phi, theta, &f);
     let r2 = rows_2(points, phi, theta, &f);
-    let one = solve_by_resultant(&r1)
-        .into_iter()
-        .filter_map(|z| Dyad::from_real(&z, &r1, &f, |x, y| (ql + x, ql + x + y)))
-        .collect();
-    let two = solve_by_resultant(&r2)
-        .into_iter()
-        .filter_map(|z| Dyad::from_real(&z, &r2, &f, |x, y| (o + y, p1 + x)))
-        .collect();
+    let one = DyadSet::from_solutions(&solve_by_resultant(&r1), &r1, &f, |x, y| (ql + x, ql + x + y));
+    let two = DyadSet::from_solutions(&solve_by_resultant(&r2), &r2, &f, |x, y| (o + y, p1 + x));
     Ok([one, two])
 }
