@@ -70,9 +70,20 @@ def test_homotopy_and_resultant_agree() -> None:
         p = np.column_stack([rng.uniform(-2, 2, (5, 2)), rng.uniform(0, 3, 5)])
         h = S.dyads("burmester", poses=p)
         r = S.dyads("burmester", poses=p, method="resultant")
-        assert len(r.real) == len(h.real)
-        for d in r.real:
-            assert has(h.real, complex(*d.ground), complex(*d.moving), 1e-8 * (1 + abs(complex(*d.ground))))
+        # the same roots, real and complex, every one certified
+        assert len(r.dyads) == len(h.dyads) and len(r.real) == len(h.real)
+        assert all(d.certified for d in r.dyads) and r.distinct
+        for d in r.dyads:
+            size = 1e-8 * (1 + abs(complex(*d.ground)) + abs(complex(*d.moving)))
+            assert any(
+                np.allclose(
+                    np.r_[d.ground, d.moving, d.ground_imag, d.moving_imag],
+                    np.r_[e.ground, e.moving, e.ground_imag, e.moving_imag],
+                    atol=size,
+                    rtol=0,
+                )
+                for e in h.dyads
+            )
 
 
 def test_timed_path_recovers_the_input_dyad_and_the_four_bar() -> None:
@@ -292,3 +303,15 @@ def test_least_squares_motion_through_nine_poses() -> None:
     assert all(d.defects.worst_transmission >= 30.0 for d in r.designs)
     with pytest.raises(SynthesisError, match="more than 5 poses"):
         S.motion_least_squares(p[:5])
+
+
+def test_alt_random_complex_instance_every_class_finite_and_certified() -> None:
+    # Alt's problem at random complex parameters (the points' conjugates replaced by
+    # independent complex numbers): every one of the 1442 classes ends at a finite root,
+    # each alpha-certified, the roots in pairwise different orbits of the group
+    rng = np.random.default_rng(5)
+    pts, hat = rng.normal(size=(9, 2)), rng.normal(size=(9, 2))
+    r = linkwork._core.synth_alt(pts.ravel().tolist(), hat.ravel().tolist())
+    assert r["paths"] == r["roots"] == r["certified"] == 1442 and r["distinct"]
+    assert r["failed"] == r["at_infinity"] == r["singular"] == 0
+    assert r["max_residual"] < 1e-12 and r["physical_classes"] == 0

@@ -18,7 +18,8 @@ Problems (lengths in any unit, angles in radians unless ``angles="deg"``):
 - `motion_least_squares`: more than five poses, by least squares from the exact dyads of
   five-pose subsets, with bounds on link lengths and the transmission angle.
 - `dyads`: the raw dyad solutions of any of these, by "homotopy" (every root,
-  alpha-certified) or "resultant" (the independent elimination, real roots only).
+  alpha-certified) or "resultant" (the independent elimination, every root too,
+  certified the same way; about 20 times faster on these problems).
 
 Every exact solution is a root of a small polynomial system solved by parameter
 homotopy (linkwork-homotopy): each comes with ``residual`` (largest change of its link
@@ -132,8 +133,9 @@ class Dyad:
 class DyadSolutions:
     """Every dyad of one problem, and what the paths did: ``paths`` tracked,
     ``at_infinity``, ``failed``, ``singular``; ``distinct``: the certified roots are
-    pairwise distinct (disjoint certification balls). None where the method does not
-    track paths (the resultant)."""
+    pairwise distinct (disjoint certification balls). For the resultant, ``paths``
+    counts the elimination's candidates and ``failed`` those Newton did not take to a
+    root (the spurious ones)."""
 
     dyads: list[Dyad]
     method: str
@@ -202,7 +204,7 @@ def dyads(
     ``input_angles``), "chain1" / "chain2" (the chained six-bar's dyads: ``points``,
     ``input_angles`` phi_n, ``coupler_angles`` theta_n, and for "chain1" the input
     link's pivot Q as ``pivot``). ``method``: "homotopy" (every root, certified) or
-    "resultant" (elimination; real roots only).
+    "resultant" (elimination; every root, certified).
     """
     if method not in ("homotopy", "resultant"):
         raise SynthesisError(f"method must be 'homotopy' or 'resultant', not {method!r}")

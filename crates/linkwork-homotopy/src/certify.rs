@@ -34,6 +34,18 @@ pub struct AlphaTest {
     pub certified: bool,
 }
 
+impl AlphaTest {
+    fn failed() -> Self {
+        AlphaTest {
+            alpha: f64::INFINITY,
+            beta: f64::INFINITY,
+            gamma: f64::INFINITY,
+            condition: f64::INFINITY,
+            certified: false,
+        }
+    }
+}
+
 impl Affine {
     pub fn new(system: System) -> Self {
         let compiled = Compiled::new(&system.polys, system.n_vars);
@@ -120,9 +132,9 @@ impl Affine {
         (values, sizes)
     }
 
-    /// f(x) evaluated in double-double complex arithmetic (rounded to f64 at the end),
-    /// and each polynomial's sum of |term|.
-    fn values_double_double(&self, x: &[C64]) -> (Vec<C64>, Vec<f64>) {
+    /// f(x) at a double-double point, evaluated in double-double complex arithmetic
+    /// (rounded to f64 at the end), and each polynomial's sum of |term|.
+    fn values_double_double(&self, x: &[Cdd]) -> (Vec<C64>, Vec<f64>) {
         let mut values = Vec::with_capacity(self.n());
         let mut sizes = Vec::with_capacity(self.n());
         for poly in &self.system.polys {
@@ -131,9 +143,8 @@ impl Affine {
             for term in &poly.terms {
                 let mut m = Cdd::from(term.coeff);
                 for &(i, e) in &term.powers {
-                    let xi = Cdd::from(x[i]);
                     for _ in 0..e {
-                        m = m.mul(&xi);
+                        m = m.mul(&x[i]);
                     }
                 }
                 s += m.to_c64().norm();
@@ -145,16 +156,47 @@ impl Affine {
         (values, sizes)
     }
 
+    /// Newton in double-double from x (f in double-double, Df in double at x), then the
+    /// alpha test at the refined point: certifies roots whose condition leaves no room in
+    /// double, where beta is stuck at ~eps |x| cond. Returns the test (its beta enlarged
+    /// by half the rounding of the refined point to double, so that the root lies within
+    /// 2 beta of the returned point) and that point.
+    pub fn alpha_refined(&self, x: &[C64]) -> (AlphaTest, Vec<C64>) {
+        let n = self.n();
+        let mut f = vec![C64::default(); n];
+        let mut lu = Lu::new(n);
+        self.eval(x, &mut f, &mut lu.a);
+        if lu.factorize() == 0.0 {
+            return (AlphaTest::failed(), x.to_vec());
+        }
+        let mut scratch = vec![C64::default(); n];
+        let mut xd: Vec<Cdd> = x.iter().map(|&z| Cdd::from(z)).collect();
+        for _ in 0..4 {
+            let (mut step, _) = self.values_double_double(&xd);
+            lu.solve(&mut step, &mut scratch);
+            for (xi, si) in xd.iter_mut().zip(&step) {
+                *xi = xi.add(&Cdd::from(-si));
+            }
+        }
+        let rounded: Vec<C64> = xd.iter().map(|z| z.to_c64()).collect();
+        let mut test = self.test(&rounded, &xd);
+        let offset = xd.iter().map(|z| z.sub_c64(z.to_c64()).norm_sqr()).sum::<f64>().sqrt();
+        test.beta += offset / 2.0;
+        (test, rounded)
+    }
+
     /// The alpha test at x.
     pub fn alpha(&self, x: &[C64]) -> AlphaTest {
+        let xd: Vec<Cdd> = x.iter().map(|&z| Cdd::from(z)).collect();
+        self.test(x, &xd)
+    }
+
+    /// The alpha test at the double-double point xd; x is xd rounded, where Df and the
+    /// gamma bound are evaluated (they change by a relative 1e-16 between the two, far
+    /// inside the margin alpha < 0.9 alpha0 leaves).
+    fn test(&self, x: &[C64], xd: &[Cdd]) -> AlphaTest {
         let n = self.n();
-        let failed = AlphaTest {
-            alpha: f64::INFINITY,
-            beta: f64::INFINITY,
-            gamma: f64::INFINITY,
-            condition: f64::INFINITY,
-            certified: false,
-        };
+        let failed = AlphaTest::failed();
         let mut f = vec![C64::default(); n];
         let mut lu = Lu::new(n);
         self.eval(x, &mut f, &mut lu.a);
@@ -180,7 +222,7 @@ impl Affine {
         // beta = |Df^{-1} f|, enlarged by |Df^{-1}| times f's rounding bound
         // f(x) in double-double: its rounding error is ~eps^2 of the terms' sizes, so beta
         // is limited by x's own distance to the root, not by the evaluation
-        let (f_dd, sizes) = self.values_double_double(x);
+        let (f_dd, sizes) = self.values_double_double(xd);
         let max_terms = self.system.polys.iter().map(|p| p.terms.len()).max().unwrap_or(1);
         let max_degree = *self.degrees.iter().max().unwrap_or(&1);
         let k = 4.0 * (max_terms + 2 * max_degree as usize + 4) as f64;
@@ -277,6 +319,11 @@ impl Cdd {
 
     fn to_c64(self) -> C64 {
         C64::new(self.re.hi + self.re.lo, self.im.hi + self.im.lo)
+    }
+
+    /// self - z, rounded to double: what rounding self to z lost.
+    fn sub_c64(&self, z: C64) -> C64 {
+        self.add(&Cdd::from(-z)).to_c64()
     }
 }
 

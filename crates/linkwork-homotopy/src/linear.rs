@@ -7,7 +7,9 @@
 
 use num_complex::Complex64 as C64;
 
-/// LU factors of an n x n row-major matrix, with its row and column orders.
+/// LU factors of an n x n row-major matrix, with its row and column orders and, per step,
+/// the rows it eliminated and the pivot row's nonzero columns (so the solves are sparse
+/// too).
 pub struct Lu {
     pub n: usize,
     pub a: Vec<C64>,
@@ -15,10 +17,18 @@ pub struct Lu {
     perm: Vec<usize>,
     /// Column eliminated at step k.
     cols: Vec<usize>,
-    done: Vec<bool>,
+    /// Rows not yet pivoted.
+    active: Vec<usize>,
     row_nnz: Vec<usize>,
     col_nnz: Vec<usize>,
-    nz: Vec<usize>,
+    /// Whether `cols` and `row_nnz` hold the structure's order yet.
+    ordered: bool,
+    /// Rows eliminated at step k: l_rows[l_start[k]..l_start[k + 1]].
+    l_rows: Vec<usize>,
+    l_start: Vec<usize>,
+    /// Nonzero columns of the pivot row after step k: u_cols[u_start[k]..u_start[k + 1]].
+    u_cols: Vec<usize>,
+    u_start: Vec<usize>,
 }
 
 /// |re| + |im|: within a factor sqrt 2 of the modulus, without hypot's cost.
@@ -36,11 +46,38 @@ impl Lu {
             a: vec![C64::default(); n * n],
             perm: (0..n).collect(),
             cols: (0..n).collect(),
-            done: vec![false; n],
+            active: Vec::with_capacity(n),
             row_nnz: vec![0; n],
             col_nnz: vec![0; n],
-            nz: Vec::with_capacity(n),
+            ordered: false,
+            l_rows: Vec::with_capacity(n * n),
+            l_start: Vec::with_capacity(n + 1),
+            u_cols: Vec::with_capacity(n * n),
+            u_start: Vec::with_capacity(n + 1),
         }
+    }
+
+    /// Count the nonzeros of the matrix now held and order the columns sparsest first.
+    /// Done at the first factorization only: a tracker's Jacobians share one structure,
+    /// and the counts only steer the order (the elimination reads the values).
+    fn order(&mut self) {
+        let n = self.n;
+        let zero = C64::default();
+        let (row_nnz, col_nnz) = (&mut self.row_nnz[..], &mut self.col_nnz[..]);
+        row_nnz.fill(0);
+        col_nnz.fill(0);
+        for (r, row) in self.a.chunks_exact(n).enumerate() {
+            for (c, v) in row.iter().enumerate() {
+                let nz = (*v != zero) as usize;
+                row_nnz[r] += nz;
+                col_nnz[c] += nz;
+            }
+        }
+        for (k, c) in self.cols.iter_mut().enumerate() {
+            *c = k;
+        }
+        self.cols.sort_unstable_by_key(|&c| (col_nnz[c], c));
+        self.ordered = true;
     }
 
     /// Factorize the matrix now held in `self.a`. Returns min|u_kk| / max|u_kk|, 0 when
@@ -48,71 +85,78 @@ impl Lu {
     pub fn factorize(&mut self) -> f64 {
         let n = self.n;
         let zero = C64::default();
-        let Lu { a, perm, cols, done, row_nnz, col_nnz, nz, .. } = self;
-        row_nnz.fill(0);
-        col_nnz.fill(0);
-        for r in 0..n {
-            for c in 0..n {
-                if a[r * n + c] != zero {
-                    row_nnz[r] += 1;
-                    col_nnz[c] += 1;
-                }
-            }
+        if !self.ordered {
+            self.order();
         }
-        for (k, c) in cols.iter_mut().enumerate() {
-            *c = k;
-        }
-        cols.sort_unstable_by_key(|&c| (col_nnz[c], c));
-        done.fill(false);
+        let Lu { a, perm, cols, active, row_nnz, l_rows, l_start, u_cols, u_start, .. } = self;
+        active.clear();
+        active.extend(0..n);
+        l_rows.clear();
+        u_cols.clear();
+        l_start.clear();
+        u_start.clear();
         let mut min_pivot = f64::INFINITY;
         let mut max_pivot: f64 = 0.0;
         for k in 0..n {
             let c = cols[k];
+            l_start.push(l_rows.len());
+            u_start.push(u_cols.len());
+            // the column's nonzero active rows (the L entries of this step, pivot aside)
+            let first = l_rows.len();
             let mut big: f64 = 0.0;
-            for r in 0..n {
-                if !done[r] {
-                    big = big.max(l1(a[r * n + c]));
+            for &r in active.iter() {
+                let v = l1(a[r * n + c]);
+                if v > 0.0 {
+                    l_rows.push(r);
+                    big = big.max(v);
                 }
             }
-            let mut p = usize::MAX;
-            for r in 0..n {
-                if done[r] {
+            // among rows within THRESHOLD of the largest, the sparsest: less fill
+            let mut best = usize::MAX;
+            for (i, &r) in l_rows[first..].iter().enumerate() {
+                let v = l1(a[r * n + c]);
+                if v < THRESHOLD * big {
                     continue;
                 }
-                let v = l1(a[r * n + c]);
-                let better = p == usize::MAX
-                    || (v >= THRESHOLD * big
-                        && (l1(a[p * n + c]) < THRESHOLD * big
-                            || row_nnz[r] < row_nnz[p]
-                            || (row_nnz[r] == row_nnz[p] && v > l1(a[p * n + c]))));
+                let better = best == usize::MAX || {
+                    let q = l_rows[first + best];
+                    row_nnz[r] < row_nnz[q] || (row_nnz[r] == row_nnz[q] && v > l1(a[q * n + c]))
+                };
                 if better {
-                    p = r;
+                    best = i;
                 }
             }
-            done[p] = true;
+            let p = if best == usize::MAX {
+                // an empty column: singular; pivot any active row to keep the orders whole
+                active[0]
+            } else {
+                l_rows.swap_remove(first + best)
+            };
+            let at = active.iter().position(|&r| r == p).expect("the pivot row is active");
+            active.swap_remove(at);
             perm[k] = p;
             let pivot = a[p * n + c];
             let size = pivot.norm_sqr().sqrt();
             min_pivot = min_pivot.min(size);
             max_pivot = max_pivot.max(size);
             if size == 0.0 {
+                l_rows.truncate(first);
                 continue;
             }
-            nz.clear();
-            nz.extend(cols[k + 1..].iter().copied().filter(|&cc| a[p * n + cc] != zero));
+            let u_first = u_cols.len();
+            u_cols.extend(cols[k + 1..].iter().copied().filter(|&cc| a[p * n + cc] != zero));
             let inv = pivot.inv();
-            for r in 0..n {
-                if done[r] || a[r * n + c] == zero {
-                    continue;
-                }
+            for &r in &l_rows[first..] {
                 let m = a[r * n + c] * inv;
                 a[r * n + c] = m;
-                for &cc in nz.iter() {
+                for &cc in &u_cols[u_first..] {
                     let u = a[p * n + cc];
                     a[r * n + cc] -= m * u;
                 }
             }
         }
+        l_start.push(l_rows.len());
+        u_start.push(u_cols.len());
         if max_pivot == 0.0 || !min_pivot.is_finite() || !max_pivot.is_finite() {
             0.0
         } else {
@@ -123,24 +167,26 @@ impl Lu {
     /// Solve A x = b in place (b becomes x), with the factors of `factorize`.
     pub fn solve(&self, b: &mut [C64], scratch: &mut [C64]) {
         let n = self.n;
-        let (a, perm, cols) = (&self.a, &self.perm, &self.cols);
-        // L y = P b, y indexed by step
+        let a = &self.a;
+        // L y = P b, column by column: y_k = b[perm[k]] once every earlier step has
+        // subtracted its multiple from it
+        scratch[..n].copy_from_slice(&b[..n]);
         for k in 0..n {
-            let row = &a[perm[k] * n..(perm[k] + 1) * n];
-            let mut s = b[perm[k]];
-            for j in 0..k {
-                s -= row[cols[j]] * scratch[j];
+            let (p, c) = (self.perm[k], self.cols[k]);
+            let yk = scratch[p];
+            for &r in &self.l_rows[self.l_start[k]..self.l_start[k + 1]] {
+                scratch[r] -= a[r * n + c] * yk;
             }
-            scratch[k] = s;
         }
         // U x = y, x indexed by column
         for k in (0..n).rev() {
-            let row = &a[perm[k] * n..(perm[k] + 1) * n];
-            let mut s = scratch[k];
-            for &c in &cols[k + 1..] {
+            let p = self.perm[k];
+            let row = &a[p * n..(p + 1) * n];
+            let mut s = scratch[p];
+            for &c in &self.u_cols[self.u_start[k]..self.u_start[k + 1]] {
                 s -= row[c] * b[c];
             }
-            b[cols[k]] = s / row[cols[k]];
+            b[self.cols[k]] = s / row[self.cols[k]];
         }
     }
 }

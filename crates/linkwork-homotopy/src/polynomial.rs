@@ -273,6 +273,10 @@ impl Compiled {
         mut df: Option<&mut [C64]>,
         pow: &mut [C64],
     ) {
+        if let (Some((dc, fr)), Some(d)) = (rate.as_mut(), df.as_deref_mut()) {
+            self.eval_tracking(z, coeffs, dc, fr, f, d, pow);
+            return;
+        }
         let offsets = &self.offsets;
         for (v, &m) in self.max_exp.iter().enumerate() {
             let mut acc = C64::new(1.0, 0.0);
@@ -316,6 +320,95 @@ impl Compiled {
             if let Some((_, fr)) = rate.as_mut() {
                 fr[eq] = along;
             }
+        }
+    }
+}
+
+impl Compiled {
+    fn powers(&self, z: &[C64], pow: &mut [C64]) {
+        for (v, &m) in self.max_exp.iter().enumerate() {
+            let o = self.offsets[v];
+            let mut acc = C64::new(1.0, 0.0);
+            pow[o] = acc;
+            for k in 1..=m as usize {
+                acc *= z[v];
+                pow[o + k] = acc;
+            }
+        }
+    }
+
+    /// `eval_with` with everything asked for, as the tracker does at every step:
+    /// monomials of up to three factors unrolled, each factor's partial derivative from
+    /// the others' product (a factor of exponent 1 differentiates to 1).
+    #[allow(clippy::too_many_arguments)]
+    fn eval_tracking(
+        &self,
+        z: &[C64],
+        coeffs: &[C64],
+        dc: &[C64],
+        fr: &mut [C64],
+        f: &mut [C64],
+        d: &mut [C64],
+        pow: &mut [C64],
+    ) {
+        self.powers(z, pow);
+        d.fill(C64::default());
+        let n_z = self.n_z;
+        // z_v^e and its derivative e z_v^(e-1)
+        let factor = |(v, e): (usize, u32)| -> (usize, C64, C64) {
+            let o = self.offsets[v] + e as usize;
+            let de = if e == 1 { C64::new(1.0, 0.0) } else { pow[o - 1] * e as f64 };
+            (v, pow[o], de)
+        };
+        for eq in 0..self.n_eqs {
+            let row = &mut d[eq * n_z..(eq + 1) * n_z];
+            let mut value = C64::default();
+            let mut along = C64::default();
+            for t in self.starts[eq]..self.starts[eq + 1] {
+                let fs = &self.factors[self.factor_starts[t]..self.factor_starts[t + 1]];
+                let c = coeffs[t];
+                let monomial = match *fs {
+                    [] => C64::new(1.0, 0.0),
+                    [a] => {
+                        let (va, ma, da) = factor(a);
+                        row[va] += c * da;
+                        ma
+                    }
+                    [a, b] => {
+                        let ((va, ma, da), (vb, mb, db)) = (factor(a), factor(b));
+                        row[va] += c * da * mb;
+                        row[vb] += c * db * ma;
+                        ma * mb
+                    }
+                    [a, b, e] => {
+                        let ((va, ma, da), (vb, mb, db), (ve, me, de)) = (factor(a), factor(b), factor(e));
+                        let (cab, cme) = (c * ma * mb, c * me);
+                        row[va] += cme * da * mb;
+                        row[vb] += cme * db * ma;
+                        row[ve] += cab * de;
+                        ma * mb * me
+                    }
+                    _ => {
+                        let mut m = C64::new(1.0, 0.0);
+                        for (k, &(v, e)) in fs.iter().enumerate() {
+                            let (_, mv, dv) = factor((v, e));
+                            m *= mv;
+                            let mut g = c * dv;
+                            for (j, &w) in fs.iter().enumerate() {
+                                if j != k {
+                                    g *= factor(w).1;
+                                }
+                            }
+                            row[v] += g;
+                        }
+                        m
+                    }
+                };
+                value += c * monomial;
+                along += dc[t] * monomial;
+            }
+            f[eq] = value;
+            fr[eq] = along;
         }
     }
 }
@@ -390,6 +483,43 @@ mod tests {
                 assert!((fd - df[eq * 3 + v]).norm() < 1e-8, "eq {eq} var {v}");
             }
         }
+    }
+
+    #[test]
+    fn the_trackers_unrolled_evaluation_is_the_general_one() {
+        // monomials of 0 to 5 factors, exponents 1 to 3, in 5 unknowns
+        let mut rng = crate::random::Rng::new(3);
+        let mut polys = Vec::new();
+        for _ in 0..4 {
+            let terms = (0..9)
+                .map(|t| {
+                    let mut exps = [0u32; 5];
+                    for _ in 0..t % 6 {
+                        let v = (rng.uniform() * 5.0) as usize % 5;
+                        exps[v] = (exps[v] + 1 + (rng.uniform() * 2.0) as u32).min(3);
+                    }
+                    Term::new(rng.complex_normal(), &exps)
+                })
+                .collect();
+            polys.push(Polynomial::new(terms));
+        }
+        let compiled = Compiled::new(&polys, 5);
+        let n_terms = compiled.n_terms();
+        let coeffs: Vec<C64> = (0..n_terms).map(|_| rng.complex_normal()).collect();
+        let dc: Vec<C64> = (0..n_terms).map(|_| rng.complex_normal()).collect();
+        let z: Vec<C64> = (0..5).map(|_| rng.complex_normal()).collect();
+        let mut pow = vec![C64::default(); compiled.pow_len];
+        let (mut f1, mut fr, mut d1) =
+            (vec![C64::default(); 4], vec![C64::default(); 4], vec![C64::default(); 20]);
+        compiled.eval_with(&z, &coeffs, Some((&dc, &mut fr)), &mut f1, Some(&mut d1), &mut pow);
+        let (mut f2, mut d2, mut along) =
+            (vec![C64::default(); 4], vec![C64::default(); 20], vec![C64::default(); 4]);
+        compiled.eval_with(&z, &coeffs, None, &mut f2, Some(&mut d2), &mut pow);
+        // the rate is f with the coefficients dc
+        compiled.eval_with(&z, &dc, None, &mut along, None, &mut pow);
+        let close =
+            |a: &[C64], b: &[C64]| a.iter().zip(b).all(|(u, v)| (u - v).norm() <= 1e-12 * (1.0 + v.norm()));
+        assert!(close(&f1, &f2) && close(&d1, &d2) && close(&fr, &along));
     }
 
     #[test]

@@ -374,12 +374,24 @@ fn certify(
         return Ok(root);
     }
     let mut test = affine.alpha(&x);
+    if !test.certified {
+        // an ill-conditioned root: carry it in double-double
+        let (refined, xr) = affine.alpha_refined(&x);
+        if refined.certified {
+            x = xr;
+            test = AlphaTest { condition: test.condition, ..refined };
+        }
+    }
     if let (false, Some((proj, patch))) = (test.certified, patch) {
         // far from the origin the affine gamma bound grows like |x|^(D-1): certify on
-        // the projective patch, where the root has coordinates of order one
+        // the projective patch, where the root has coordinates of order one (radius and
+        // beta are then in the patch's coordinates)
         let mut y = proj.from_affine(&x);
         if patch.newton(&mut y, 8) {
-            let on_patch = patch.alpha(&y);
+            let mut on_patch = patch.alpha(&y);
+            if !on_patch.certified {
+                (on_patch, y) = patch.alpha_refined(&y);
+            }
             if on_patch.certified {
                 x = proj.to_affine(&y).0;
                 test = AlphaTest { condition: test.condition, ..on_patch };
@@ -414,7 +426,11 @@ fn certify_real(affine: &Affine, x: &[C64], path: usize) -> Option<Root> {
     }
     let mut xr: Vec<C64> = x.iter().map(|v| C64::new(v.re, 0.0)).collect();
     affine.newton(&mut xr, 12);
-    let test = affine.alpha(&xr);
+    let mut test = affine.alpha(&xr);
+    if !test.certified {
+        // Newton in double-double keeps a real point real
+        (test, xr) = affine.alpha_refined(&xr);
+    }
     if !test.certified || xr.iter().any(|v| v.im != 0.0) {
         return None;
     }

@@ -82,20 +82,17 @@ pub(crate) fn synth_dyads<'py>(
             ("timed", true) => {
                 path::timed_dyads(&pairs(&poses_or_points), &angles_a).map(|s| (s.dyads.clone(), Some(s)))
             }
-            ("timed", false) => {
-                path::timed_dyads_by_resultant(&pairs(&poses_or_points), &angles_a)
-                    .map(|s| (s.dyads.clone(), Some(s)))
-            }
+            ("timed", false) => path::timed_dyads_by_resultant(&pairs(&poses_or_points), &angles_a)
+                .map(|s| (s.dyads.clone(), Some(s))),
             ("chain1", true) => sixbar::dyad_1(&pairs(&poses_or_points), q, &angles_a, &angles_b)
                 .map(|s| (s.dyads.clone(), Some(s))),
             ("chain2", true) => sixbar::dyad_2(&pairs(&poses_or_points), &angles_a, &angles_b)
                 .map(|s| (s.dyads.clone(), Some(s))),
             ("chain1", false) | ("chain2", false) => {
-                sixbar::dyads_by_resultant(&pairs(&poses_or_points), q, &angles_a, &angles_b)
-                    .map(|[a, b]| {
-                        let s = if problem == "chain1" { a } else { b };
-                        (s.dyads.clone(), Some(s))
-                    })
+                sixbar::dyads_by_resultant(&pairs(&poses_or_points), q, &angles_a, &angles_b).map(|[a, b]| {
+                    let s = if problem == "chain1" { a } else { b };
+                    (s.dyads.clone(), Some(s))
+                })
             }
             _ => Err(SynthesisError::Degenerate(format!("unknown problem {problem:?}"))),
         })
@@ -165,12 +162,20 @@ pub(crate) fn synth_start_set() -> (usize, usize, usize) {
 
 /// Alt's nine-point problem: every class of four-bars through the points (flat 9 x 2),
 /// by parameter homotopy from the shipped start set; the real four-bars with their
-/// coupler rotations.
+/// coupler rotations. `hatted` (flat 9 x 2, each pair a complex number) replaces the
+/// points' conjugates: a complex instance, whose roots are counted but none is a
+/// four-bar.
 #[pyfunction]
-pub(crate) fn synth_alt<'py>(py: Python<'py>, points: Vec<f64>) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (points, hatted=None))]
+pub(crate) fn synth_alt<'py>(
+    py: Python<'py>,
+    points: Vec<f64>,
+    hatted: Option<Vec<f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
     use linkwork::synthesis::alt;
     use num_complex::Complex64 as C64;
-    if points.len() != 18 || points.iter().any(|v| !v.is_finite()) {
+    let bad = |v: &[f64]| v.len() != 18 || v.iter().any(|x| !x.is_finite());
+    if bad(&points) || hatted.as_deref().is_some_and(bad) {
         return Err(err(SynthesisError::Count {
             problem: "Alt's nine-point path synthesis",
             got: points.len() / 2,
@@ -186,8 +191,18 @@ pub(crate) fn synth_alt<'py>(py: Python<'py>, points: Vec<f64>) -> PyResult<Boun
         }
     }
     let started = std::time::Instant::now();
-    let out =
-        py.detach(|| guard("solving Alt's nine-point problem", || alt::four_bars(&pts, alt::shipped())))?;
+    let out = py.detach(|| {
+        guard("solving Alt's nine-point problem", || match &hatted {
+            None => alt::four_bars(&pts, alt::shipped()),
+            Some(h) => {
+                let hat: [C64; 9] = std::array::from_fn(|k| C64::new(h[2 * k], h[2 * k + 1]));
+                let p1: Vec<C64> =
+                    (1..9).map(|j| pts[j] - pts[0]).chain((1..9).map(|j| hat[j] - hat[0])).collect();
+                let solutions = alt::solve_params(&p1, alt::shipped());
+                alt::AltResult { solutions, physical_classes: 0, four_bars: vec![] }
+            }
+        })
+    })?;
     let seconds = started.elapsed().as_secs_f64();
     let d = PyDict::new(py);
     let s = &out.solutions;

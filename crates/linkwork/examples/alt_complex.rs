@@ -2,6 +2,7 @@
 //! of the 1442 shipped classes end at finite, certified roots, and how fast.
 //!
 //! Run: cargo run --release -p linkwork --example alt_complex -- [seed ...]
+//! (ALT_START=file: another start set than the shipped one)
 
 use linkwork::synthesis::alt;
 use linkwork_homotopy::random::Rng;
@@ -10,7 +11,10 @@ use linkwork_homotopy::{solve_parameter, Options, C64};
 fn main() {
     let seeds: Vec<u64> = std::env::args().skip(1).filter_map(|s| s.parse().ok()).collect();
     let seeds = if seeds.is_empty() { vec![1, 2, 3] } else { seeds };
-    let start = alt::shipped();
+    let other = std::env::var("ALT_START")
+        .ok()
+        .map(|path| alt::decode(&std::fs::read(path).expect("read the start set")).expect("a start set"));
+    let start = other.as_ref().unwrap_or_else(|| alt::shipped());
     let starts: Vec<Vec<C64>> = start.classes.iter().filter_map(|v| alt::complete(v, &start.p0)).collect();
     for seed in seeds {
         let mut rng = Rng::new(seed);
@@ -20,7 +24,7 @@ fn main() {
         let elapsed = t.elapsed().as_secs_f64();
         let certified = s.roots.iter().filter(|r| r.certified).count();
         println!(
-            "seed {seed}: {:.2} s, {} paths ({:.0} paths/s), {} finite roots ({} certified), {} failed, {} at infinity, {} singular, {} duplicates, {:.0} steps + {:.0} rejected per path",
+            "seed {seed}: {:.2} s, {} paths ({:.0} paths/s), {} finite roots ({} certified), {} failed, {} at infinity, {} singular, {} duplicates, pairwise distinct {}, {:.0} steps + {:.0} rejected per path",
             elapsed,
             s.paths,
             s.paths as f64 / elapsed,
@@ -30,6 +34,7 @@ fn main() {
             s.at_infinity,
             s.singular.len(),
             s.duplicates,
+            s.distinct,
             s.steps as f64 / s.paths as f64,
             s.rejected as f64 / s.paths as f64,
         );

@@ -20,7 +20,7 @@ use std::sync::OnceLock;
 
 use linkwork_homotopy::random::Rng;
 use linkwork_homotopy::{
-    solve_parameter, track_parameter, Affine, Options, Polynomial, Solutions, System, C64,
+    solve_parameter, track_parameter, Affine, AlphaTest, Options, Polynomial, Root, Solutions, System, C64,
 };
 
 pub const N_VARS: usize = 24;
@@ -133,7 +133,8 @@ pub fn orbit(v8: &[C64; 8]) -> Vec<[C64; 8]> {
 /// Classes found so far, looked up by a rounded key of each orbit member.
 struct Classes {
     reps: Vec<[C64; 8]>,
-    index: HashMap<[i64; 4], Vec<[C64; 8]>>,
+    /// orbit members by rounded key, with their class
+    index: HashMap<[i64; 4], Vec<([C64; 8], usize)>>,
 }
 
 impl Classes {
@@ -143,29 +144,34 @@ impl Classes {
         [q(v[0].re), q(v[0].im), q(v[2].re), q(v[2].im)]
     }
 
-    fn contains(&self, v: &[C64; 8]) -> bool {
+    /// The class (index into `reps`) whose orbit holds v.
+    fn find(&self, v: &[C64; 8]) -> Option<usize> {
         let k = Self::key(v);
         let scale = v.iter().map(|z| z.norm()).fold(1.0, f64::max);
         for dx in -1..=1 {
             for dy in -1..=1 {
                 let kk = [k[0] + dx, k[1] + dy, k[2], k[3]];
                 if let Some(list) = self.index.get(&kk) {
-                    if list.iter().any(|w| w.iter().zip(v).all(|(p, q)| (p - q).norm() < 1e-7 * scale)) {
-                        return true;
+                    let hit = list
+                        .iter()
+                        .find(|(w, _)| w.iter().zip(v).all(|(p, q)| (p - q).norm() < 1e-7 * scale));
+                    if let Some((_, class)) = hit {
+                        return Some(*class);
                     }
                 }
             }
         }
-        false
+        None
     }
 
     fn insert(&mut self, v: &[C64; 8]) -> bool {
-        if self.contains(v) {
+        if self.find(v).is_some() {
             return false;
         }
+        let class = self.reps.len();
         for w in orbit(v) {
             if w.iter().all(|z| z.re.is_finite() && z.im.is_finite()) {
-                self.index.entry(Self::key(&w)).or_default().push(w);
+                self.index.entry(Self::key(&w)).or_default().push((w, class));
             }
         }
         self.reps.push(*v);
@@ -281,6 +287,39 @@ pub fn monodromy_from(
     StartSet { p0, classes: classes.reps }
 }
 
+/// The start set carried to other generic parameters p1 (parameter homotopy from `set`),
+/// one certified root per class kept; classes lost on the way are left for
+/// `monodromy_from` at p1. A start set is only as good as its worst-conditioned root:
+/// a root near another (p0 near the discriminant) makes its path fail at once.
+pub fn reanchor(set: &StartSet, p1: &[C64]) -> StartSet {
+    let starts: Vec<Vec<C64>> = set.classes.iter().filter_map(|v| complete(v, &set.p0)).collect();
+    let sol = solve_parameter(family(), &set.p0, &starts, p1, &Options::default()).expect("parameter count");
+    let mut classes = Classes { reps: Vec::new(), index: HashMap::new() };
+    for root in sol.roots.iter().filter(|r| r.certified) {
+        classes.insert(&head(&root.x));
+    }
+    StartSet { p0: p1.to_vec(), classes: classes.reps }
+}
+
+/// How many of a start set's roots are certified (in double, or refined in
+/// double-double), the worst alpha in double (above ALPHA0: double alone does not
+/// certify that root) and the worst condition number.
+pub fn start_quality(set: &StartSet) -> (usize, f64, f64) {
+    let affine = Affine::new(family().specialize(&set.p0).expect("parameter count"));
+    let mut certified = 0;
+    let (mut alpha, mut condition) = (0.0f64, 0.0f64);
+    for v in set.classes.iter().filter_map(|v| complete(v, &set.p0)) {
+        let mut test = affine.alpha(&v);
+        if !test.certified {
+            test = AlphaTest { alpha: test.alpha, ..affine.alpha_refined(&v).0 };
+        }
+        certified += test.certified as usize;
+        alpha = alpha.max(test.alpha);
+        condition = condition.max(test.condition);
+    }
+    (certified, alpha, condition)
+}
+
 const MAGIC: &[u8; 8] = b"LWALT\x00\x00\x01";
 
 /// The start set as bytes: magic, p0 (16 complex), count (u64), count x 8 complex; f64
@@ -332,9 +371,68 @@ pub fn shipped() -> &'static StartSet {
 
 /// All classes of four-bars through nine points, by parameter homotopy from a start set.
 pub fn solve_points(points: &[C64; 9], start: &StartSet) -> Solutions {
-    let p1 = params(points);
+    solve_params(&params(points), start)
+}
+
+/// All classes at any parameters p1 = (d_1..d_8, d^_1..d^_8): a complex instance when d^
+/// is not the conjugate of d (then no root is a physical four-bar).
+///
+/// Every class has exactly one path, so two roots in one orbit (a path that jumped to a
+/// cognate or the swap of another class's root, which the homotopy alone cannot see)
+/// send both paths round again, four times more carefully; `distinct` then also says
+/// that the roots lie in pairwise different orbits.
+pub fn solve_params(p1: &[C64], start: &StartSet) -> Solutions {
     let starts: Vec<Vec<C64>> = start.classes.iter().filter_map(|v| complete(v, &start.p0)).collect();
-    solve_parameter(family(), &start.p0, &starts, &p1, &Options::default()).expect("parameter count")
+    let mut sol = solve_parameter(family(), &start.p0, &starts, p1, &options()).expect("parameter count");
+    let met = same_orbit(&sol);
+    if !met.is_empty() {
+        let mut careful = options();
+        careful.track.max_correction /= 4.0;
+        careful.track.max_step /= 4.0;
+        careful.track.initial_step /= 4.0;
+        let from: Vec<Vec<C64>> = met.iter().map(|&k| starts[k].clone()).collect();
+        let again = solve_parameter(family(), &start.p0, &from, p1, &careful).expect("parameter count");
+        sol.roots.retain(|r| !met.contains(&r.path));
+        sol.roots.extend(again.roots.into_iter().map(|r| Root { path: met[r.path], ..r }));
+        sol.roots.sort_by_key(|r| r.path);
+        sol.at_infinity += again.at_infinity;
+        sol.failed += again.failed;
+        sol.singular.extend(again.singular);
+        sol.duplicates += again.duplicates;
+        sol.steps += again.steps;
+        sol.rejected += again.rejected;
+    }
+    sol.distinct = sol.distinct && same_orbit(&sol).is_empty();
+    sol
+}
+
+/// Every class of a generic instance is finite, but some are four-bars 10^5 times the
+/// points' spread: the endgame judges a path at infinity only below 3e-5 of its size.
+fn options() -> Options {
+    Options { infinity: 1e-12, ..Options::default() }
+}
+
+/// Paths (start indices) whose root lies in the orbit of another path's root.
+fn same_orbit(sol: &Solutions) -> Vec<usize> {
+    let mut classes = Classes { reps: Vec::new(), index: HashMap::new() };
+    let mut owner: Vec<usize> = Vec::new();
+    let mut met = Vec::new();
+    for r in &sol.roots {
+        let v = head(&r.x);
+        match classes.find(&v) {
+            Some(c) => {
+                met.push(owner[c]);
+                met.push(r.path);
+            }
+            None => {
+                classes.insert(&v);
+                owner.push(r.path);
+            }
+        }
+    }
+    met.sort_unstable();
+    met.dedup();
+    met
 }
 
 /// A root is physical (a real four-bar) when each hatted unknown is the conjugate of its
@@ -445,7 +543,8 @@ mod shipped_tests {
     use super::*;
 
     /// The shipped start set: 1442 classes, each a root of the family at p0 (g, g^ by the
-    /// 2 x 2 solves), pairwise in distinct classes.
+    /// 2 x 2 solves), pairwise in distinct classes, every one alpha-certified (the paths
+    /// an instance tracks start on roots, not near them).
     #[test]
     fn the_shipped_start_set_is_complete_and_solves_the_system() {
         let set = shipped();
@@ -458,5 +557,6 @@ mod shipped_tests {
             assert!(backward < 1e-10, "{backward}");
             assert!(classes.insert(v8), "two start roots in one class");
         }
+        assert_eq!(start_quality(set).0, CLASSES);
     }
 }

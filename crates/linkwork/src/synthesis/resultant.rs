@@ -64,7 +64,9 @@ fn idft(v: &[C64; SAMPLES]) -> Vec<C64> {
     let unit: [C64; SAMPLES] =
         std::array::from_fn(|k| C64::from_polar(1.0, -std::f64::consts::TAU * k as f64 / SAMPLES as f64));
     (0..SAMPLES)
-        .map(|m| v.iter().enumerate().map(|(k, vk)| vk * unit[(k * m) % SAMPLES]).sum::<C64>() / SAMPLES as f64)
+        .map(|m| {
+            v.iter().enumerate().map(|(k, vk)| vk * unit[(k * m) % SAMPLES]).sum::<C64>() / SAMPLES as f64
+        })
         .collect()
 }
 
@@ -128,7 +130,7 @@ fn candidates(rows: &[DyadRow; 4]) -> Vec<Vec<C64>> {
             let [[a3, b3, c3], [a4, b4, c4]] = quadratics(rows, z);
             // the root of C_3 (a quadratic in w) on which C_4 is smallest
             let w = quadratic_roots(a3, b3, c3).into_iter().flatten().min_by(|p, q| {
-                    let f = |w: &C64| (a4 * w * w + b4 * w + c4).norm() / (1.0 + w.norm_sqr());
+                let f = |w: &C64| (a4 * w * w + b4 * w + c4).norm() / (1.0 + w.norm_sqr());
                 f(p).total_cmp(&f(q))
             })?;
             let [u, v] = least_squares_y(rows, z, w)?;
