@@ -2,9 +2,10 @@
 
 Five-pose Burmester problems made from random generating four-bars (so the answer is
 known): how many of the generator's two dyads each tool recovers (within 1e-6 of the
-problem's size), how many real dyads and linkages it reports, and the time per problem.
-Then Alt's nine-point problem on a random complex-looking instance and on published
-instances: paths, failures, classes, real four-bars, time.
+problem's size), how many real dyads and linkages it reports, and the time per problem;
+linkwork both ways (homotopy and elimination, every root certified either way). Then
+Alt's nine-point problem on random real points, on published instances and on a random
+complex instance: paths, failures, classes, real four-bars, time.
 
     python benches/synthesis.py            # print
     python benches/synthesis.py --write    # also the section in docs/performance.md
@@ -25,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+import linkwork
 from linkwork import synthesis as S
 
 try:
@@ -81,6 +83,7 @@ def burmester_side_by_side(n: int, seed: int) -> dict[str, dict[str, float]]:
     rng = np.random.default_rng(seed)
     rows: dict[str, dict[str, float]] = {}
     lw = {"found": 0, "real": 0, "designs": 0, "time": 0.0, "error": 0.0}
+    el = {"found": 0, "real": 0, "designs": 0, "time": 0.0, "error": 0.0}
     pl = {"found": 0, "real": 0, "designs": 0, "time": 0.0, "error": 0.0}
     for _ in range(n):
         poses, truth = generator(rng)
@@ -92,7 +95,16 @@ def burmester_side_by_side(n: int, seed: int) -> dict[str, dict[str, float]]:
         lw["found"] += recovered(pairs, truth, 1e-6 * size)
         lw["real"] += len(pairs)
         lw["error"] = max(lw["error"], max((d.residual for d in sols.real), default=0.0))
-        lw["designs"] += sum(1 for d in S.motion(poses).designs if d.defects.ok)
+        designs = sum(1 for d in S.motion(poses).designs if d.defects.ok)
+        lw["designs"] += designs
+        t0 = time.perf_counter()
+        sols = S.dyads("burmester", poses=poses, method="resultant")
+        el["time"] += time.perf_counter() - t0
+        pairs = [(complex(*d.ground), complex(*d.moving)) for d in sols.real]
+        el["found"] += recovered(pairs, truth, 1e-6 * size)
+        el["real"] += len(pairs)
+        el["error"] = max(el["error"], max((d.residual for d in sols.real), default=0.0))
+        el["designs"] += designs  # the same dyads, so the same screened designs
         if pylinkage is not None:
             pposes = [PS.Pose(float(x), float(y), float(a)) for x, y, a in poses]
             t0 = time.perf_counter()
@@ -117,7 +129,8 @@ def burmester_side_by_side(n: int, seed: int) -> dict[str, dict[str, float]]:
                     abs(complex(x, y) + (m - p1) * np.exp(1j * (a - poses[0, 2])) - g) for x, y, a in poses
                 ]
                 pl["error"] = max(pl["error"], float(np.ptp(lens)))
-    rows["linkwork"] = lw
+    rows["linkwork (homotopy)"] = lw
+    rows["linkwork (elimination)"] = el
     rows["pylinkage"] = pl if pylinkage is not None else {}
     return rows
 
@@ -135,13 +148,22 @@ WMS3 = [
 ]  # fmt: skip
 
 
-def alt_runs() -> list[tuple[str, S.NinePointResult]]:
+def alt_runs() -> list[tuple[str, dict[str, float]]]:
     rng = np.random.default_rng(7)
     random_points = rng.uniform(-1, 1, (9, 2))
-    out = []
+    out: list[tuple[str, dict[str, float]]] = []
     for name, pts in (("random points", random_points), ("HC.jl example", HCJL), ("WMS Problem 3", WMS3)):
-        out.append((name, S.nine_points(np.array(pts), screen=False)))
+        r = S.nine_points(np.array(pts), screen=False)
+        out.append((name, {k: getattr(r, k) for k in FIELDS} | {"real": r.physical_classes}))
+    # complex parameters: the points' conjugates replaced by independent complex numbers
+    rng = np.random.default_rng(5)
+    pts, hat = rng.normal(size=(9, 2)), rng.normal(size=(9, 2))
+    raw = linkwork._core.synth_alt(pts.ravel().tolist(), hat.ravel().tolist())
+    out.append(("random complex", {k: raw["roots" if k == "classes" else k] for k in FIELDS} | {"real": "-"}))
     return out
+
+
+FIELDS = ("paths", "seconds", "failed", "at_infinity", "singular", "classes", "certified", "distinct")
 
 
 def table(n: int, seed: int) -> str:
@@ -178,13 +200,15 @@ def table(n: int, seed: int) -> str:
         "",
         "**Alt's nine-point problem** (parameter homotopy from the 1442 shipped classes):",
         "",
-        "| instance | paths | time | failed | at infinity | classes (certified) | real four-bars |",
-        "|---|---|---|---|---|---|---|",
+        "| instance | paths | time | failed | at infinity | singular | classes (certified) "
+        "| in distinct orbits | real four-bars |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for name, r in alt_runs():
         lines.append(
-            f"| {name} | {r.paths} | {r.seconds:.2f} s ({r.paths / r.seconds:.0f} paths/s) | {r.failed} | "
-            f"{r.at_infinity} | {r.classes} ({r.certified}) | {r.physical_classes} |"
+            f"| {name} | {r['paths']} | {r['seconds']:.2f} s ({r['paths'] / r['seconds']:.0f} paths/s) "
+            f"| {r['failed']} | {r['at_infinity']} | {r['singular']} | {r['classes']} ({r['certified']}) "
+            f"| {'yes' if r['distinct'] else 'no'} | {r['real']} |"
         )
     return "\n".join(lines)
 

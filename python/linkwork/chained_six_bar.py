@@ -217,7 +217,7 @@ def report() -> str:
         lines.append(
             f"  {name}: {len(s)} roots ({len(s.real)} real), {s.paths} paths, {s.at_infinity} at infinity, "
             f"{s.failed} failed, all certified: {all(d.certified for d in s)}; "
-            f"elimination finds {len(r.real)} real"
+            f"elimination finds {len(r)} ({len(r.real)} real)"
         )
         for d in s.real:
             lines.append(

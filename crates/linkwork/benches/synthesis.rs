@@ -1,10 +1,9 @@
 //! Synthesis benchmarks (criterion): one exact problem, all roots, certified.
 //!
-//! - `burmester`: five-pose Burmester dyads by parameter homotopy (5 paths, alpha test
-//!   on every root) and by the elimination (resultant.rs), on the generator of
-//!   tests/synthesis.rs.
+//! - `burmester`: five-pose Burmester dyads by parameter homotopy (5 paths) and by the
+//!   elimination (resultant.rs), on the generator of tests/synthesis.rs; either way every
+//!   root is polished and alpha-certified.
 //! - `timed`: the five-point timed path dyad, both ways.
-//! - `katsura5`: linkwork-homotopy alone, 32 total-degree paths in 6 unknowns.
 //!
 //! Run: cargo bench -p linkwork --bench synthesis
 

@@ -6,7 +6,7 @@
 
 use linkwork::synthesis::alt;
 use linkwork_homotopy::random::Rng;
-use linkwork_homotopy::{solve_parameter, Options, C64};
+use linkwork_homotopy::C64;
 
 fn main() {
     let seeds: Vec<u64> = std::env::args().skip(1).filter_map(|s| s.parse().ok()).collect();
@@ -15,16 +15,15 @@ fn main() {
         .ok()
         .map(|path| alt::decode(&std::fs::read(path).expect("read the start set")).expect("a start set"));
     let start = other.as_ref().unwrap_or_else(|| alt::shipped());
-    let starts: Vec<Vec<C64>> = start.classes.iter().filter_map(|v| alt::complete(v, &start.p0)).collect();
     for seed in seeds {
         let mut rng = Rng::new(seed);
         let p1: Vec<C64> = (0..alt::N_PARAMS).map(|_| rng.complex_normal()).collect();
         let t = std::time::Instant::now();
-        let s = solve_parameter(alt::family(), &start.p0, &starts, &p1, &Options::default()).unwrap();
+        let s = alt::solve_params(&p1, start);
         let elapsed = t.elapsed().as_secs_f64();
         let certified = s.roots.iter().filter(|r| r.certified).count();
         println!(
-            "seed {seed}: {:.2} s, {} paths ({:.0} paths/s), {} finite roots ({} certified), {} failed, {} at infinity, {} singular, {} duplicates, pairwise distinct {}, {:.0} steps + {:.0} rejected per path",
+            "seed {seed}: {:.2} s, {} paths ({:.0} paths/s), {} finite roots ({} certified), {} failed, {} at infinity, {} singular, {} duplicates, in distinct orbits {}, {:.0} steps + {:.0} rejected per path",
             elapsed,
             s.paths,
             s.paths as f64 / elapsed,
