@@ -217,7 +217,7 @@ def test_chained_six_bar_from_the_source_document() -> None:
     assert np.abs(tq.total - tq.virtual_work).max() < 1e-9 * np.abs(tq.total).max()
 
 
-@pytest.mark.parametrize("name", ["motion", "path", "chained_six_bar"])
+@pytest.mark.parametrize("name", ["motion", "path", "path_least_squares", "chained_six_bar"])
 def test_cli_synth_writes_designs_report_and_figure(name: str, tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     from pathlib import Path
 
@@ -315,3 +315,29 @@ def test_alt_random_complex_instance_every_class_finite_and_certified() -> None:
     assert r["paths"] == r["roots"] == r["certified"] == 1442 and r["distinct"]
     assert r["failed"] == r["at_infinity"] == r["singular"] == 0
     assert r["max_residual"] < 1e-12 and r["physical_classes"] == 0
+
+
+def test_least_squares_path_through_nine_timed_points() -> None:
+    phis = np.linspace(0.2, 2.6, 9)
+    pts = poses(phis)[:, :2]
+    a1, b1, _, _ = at(phis[0])
+    # exact points: the generator's crank and follower are zero-residual minima
+    r = S.path_least_squares(pts, phis - phis[0], length_range=(0.5, 10.0))
+    crank = has(r.dyads[0].dyads, O2, a1, 1e-8)  # type: ignore[index]
+    assert crank is not None and crank.residual < 1e-10
+    gen = [d for d in r.designs if abs(complex(*d.o2) - O2) < 1e-8 and abs(complex(*d.o4) - O4) < 1e-8]
+    assert len(gen) == 1 and gen[0].defects.ok
+    assert abs(complex(*gen[0].b) - b1) < 1e-8
+    # noisy points (1e-5): a defect-free design near the generator with residuals at the
+    # noise level; the pivots move about 1000 times the noise (the fit's condition number
+    # is about 400 here: timing fixes the crank less firmly than poses fix a body)
+    rng = np.random.default_rng(1)
+    r = S.path_least_squares(pts + rng.normal(0, 1e-5, (9, 2)), phis - phis[0], min_transmission=30.0)
+    best = min(r.designs, key=lambda d: abs(complex(*d.o2) - O2) + abs(complex(*d.o4) - O4))
+    assert abs(complex(*best.o2) - O2) < 2e-2 and abs(complex(*best.o4) - O4) < 2e-2
+    assert max(d.residual for d in best.dyads) < 1e-4 and best.defects.ok
+    assert all(d.defects.worst_transmission >= 30.0 for d in r.designs)
+    with pytest.raises(SynthesisError, match="more than 5 points"):
+        S.path_least_squares(pts[:5], phis[:5])
+    with pytest.raises(SynthesisError, match="input angles"):
+        S.path_least_squares(pts, phis[:8])

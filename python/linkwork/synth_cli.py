@@ -5,9 +5,11 @@ Problem file (TOML; docs/synthesis.md)::
 
     problem = "motion"        # motion | path | function | chained-six-bar
     angles = "deg"            # units of every angle in the file: "deg" or "rad" (default)
-    poses = [[x, y, angle], ...]          # motion: 2 to 5 poses
+    poses = [[x, y, angle], ...]          # motion: 2 to 5 poses (more: least squares)
     moving = [[x, y], [x, y]]             # motion, 2 or 3 poses: chosen moving pivots
-    points = [[x, y], ...]                # path: 5 points
+    points = [[x, y], ...]                # path: 5 points (more: least squares)
+    length_range = [lo, hi]               # least squares: bounds on the fitted lengths
+    min_transmission = 30.0               # least squares: designs kept (deg)
     input_angles = [...]                  # path: crank rotations; function: input angles
     output = [...]                        # function: output angles or slider positions
     kind = "four_bar"                     # function: four_bar | slider_crank
@@ -51,6 +53,19 @@ def _angle_column(a: Any, unit: str) -> np.ndarray:
     return np.radians(np.asarray(a, dtype=float)) if unit == "deg" else np.asarray(a, dtype=float)
 
 
+def _least_squares_options(problem: dict[str, Any]) -> dict[str, Any]:
+    """length_range = [lo, hi] and min_transmission (deg) of a least-squares problem."""
+    out: dict[str, Any] = {}
+    if "length_range" in problem:
+        lr = problem["length_range"]
+        if not (isinstance(lr, list) and len(lr) == 2):
+            raise S.SynthesisError("length_range must be [lo, hi]")
+        out["length_range"] = (float(lr[0]), float(lr[1]))
+    if "min_transmission" in problem:
+        out["min_transmission"] = float(problem["min_transmission"])
+    return out
+
+
 def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
     """(report, designs with .model(), precision points to draw) of one problem."""
     kind = problem.get("problem")
@@ -61,13 +76,21 @@ def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
         poses = np.array(_need(problem, "poses", kind), dtype=float)
         if poses.ndim != 2 or poses.shape[1] != 3:
             raise S.SynthesisError("poses must be rows of [x, y, angle]")
-        result = S.motion(
-            poses, moving=problem.get("moving"), ground=problem.get("ground_pivots"), angles=unit
-        )
+        if len(poses) > 5:
+            result = S.motion_least_squares(poses, angles=unit, **_least_squares_options(problem))
+        else:
+            result = S.motion(
+                poses, moving=problem.get("moving"), ground=problem.get("ground_pivots"), angles=unit
+            )
         return result.report(), result.designs, poses[:, :2]
     if kind == "path":
         points = np.array(_need(problem, "points", kind), dtype=float)
-        result = S.path(points, _need(problem, "input_angles", kind), angles=unit)
+        input_angles = _need(problem, "input_angles", kind)
+        if len(points) > 5:
+            options = _least_squares_options(problem)
+            result = S.path_least_squares(points, input_angles, angles=unit, **options)
+        else:
+            result = S.path(points, input_angles, angles=unit)
         return result.report(), result.designs, points
     if kind == "function":
         phi = _angle_column(_need(problem, "input_angles", kind), unit)
