@@ -19,6 +19,7 @@ __all__ = [
     "screw_meet",
     "screw_normalize",
     "mobility",
+    "structure",
     "linkages",
     "assembly_modes",
     "motion_limits",
@@ -71,6 +72,7 @@ def mobility(
     q_guess: npt.NDArray[np.float64] | None = None,
     assemble: bool = True,
 ) -> dict[str, Any]: ...
+def structure(model: Model) -> dict[str, Any]: ...
 def motion_limits(
     model: Model,
     driver: str,

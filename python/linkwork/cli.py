@@ -193,7 +193,8 @@ def plot(args: argparse.Namespace) -> int:
 
 
 def check(args: argparse.Namespace) -> int:
-    """Counts bodies, rows and degrees of freedom, finds redundant rows, each driver's
+    """Counts bodies, rows and degrees of freedom, finds redundant rows, the structure
+    (groups solved together, in order: inputs, Assur dyads, triads), each driver's
     limits of motion, the four-bar loops and slider-cranks (Grashof type, closed-form
     limits, circuit) and the assembly modes, without sweeping; exit status 1 if the model
     has a problem."""
@@ -204,6 +205,8 @@ def check(args: argparse.Namespace) -> int:
     except LinkworkError as e:
         raise _Failed(f"{args.model}: cannot assemble at t = {args.t}: {e}") from None
     print(mob.report())
+    # the groups of coordinates solved together, in solving order (from Phi_q's pattern)
+    print(model.structure().report(limit=MAX_LISTED))
     problem = mob.redundant or mob.dof_driven > 0
     drivers = [c[0] for c in model.constraints if c[1] == "driver"]
     # each search sweeps the whole model over a turn: a few drivers of a large model

@@ -15,6 +15,7 @@ from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
 from .results import Results, State, Statics
+from .structure import Structure
 
 __all__ = ["Model", "sweep_batch"]
 
@@ -144,6 +145,20 @@ class Model:
         """
         t, g = _args.number(t, "t"), self._guess(q_guess)
         return Mobility.from_raw(_core.mobility(self._core, t, g, _args.flag(assemble, "assemble")))
+
+    def structure(self) -> Structure:
+        """The mechanism's structure, from the pattern of Phi_q alone: the groups of
+        coordinates that must be solved together, in an order where each needs only the
+        earlier ones (block-triangular form), named as the textbooks do ("input",
+        "one body", "dyad RRR" / "RRP" / "RPR" / "PRP" / "RPP", "triad", "group"); rows no
+        coordinate is left for (structurally redundant) and coordinates no row
+        determines.
+
+        >>> from linkwork import examples
+        >>> [g.kind for g in examples.four_bar().compile().structure().groups]
+        ['input', 'dyad RRR']
+        """
+        return Structure.from_raw(_core.structure(self._core))
 
     def linkages(self, t: float = 0.0, q_guess: Sequence[float] | np.ndarray | None = None) -> list[Linkage]:
         """The four-bar loops and slider-cranks of the mechanism (found from its pins and

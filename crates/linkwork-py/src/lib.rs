@@ -690,6 +690,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write_model, m)?)?;
     m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;
     m.add_function(wrap_pyfunction!(mobility::mobility, m)?)?;
+    m.add_function(wrap_pyfunction!(mobility::structure, m)?)?;
     m.add_function(wrap_pyfunction!(linkages::linkages, m)?)?;
     m.add_function(wrap_pyfunction!(linkages::assembly_modes, m)?)?;
     laws::register(m)?;

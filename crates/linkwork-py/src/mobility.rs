@@ -44,3 +44,43 @@ pub(crate) fn mobility<'py>(
     d.set_item("explanation", mob.explanation)?;
     Ok(d)
 }
+
+/// The mechanism's structure from Phi_q's pattern: groups of coordinates solved together,
+/// in solving order, each with its kind, bodies, constraints (names) and coordinates
+/// (column names); the structurally redundant rows (as constraint names) and the
+/// coordinates no row determines.
+#[pyfunction]
+pub(crate) fn structure<'py>(py: Python<'py>, model: PyRef<'py, PyModel>) -> PyResult<Bound<'py, PyDict>> {
+    use linkwork::analysis::structure::structure as engine_structure;
+    let m = std::sync::Arc::clone(&model.model);
+    let s = py.detach(|| guard("finding the mechanism's structure", || engine_structure(&m)))?;
+    let constraint_of = |row: usize| {
+        m.constraints
+            .iter()
+            .find(|c| (c.row0..c.row0 + c.n_rows).contains(&row))
+            .map(|c| c.name.clone())
+            .unwrap_or_default()
+    };
+    let groups = pyo3::types::PyList::empty(py);
+    for g in &s.groups {
+        let d = PyDict::new(py);
+        d.set_item("kind", &g.kind)?;
+        d.set_item("bodies", g.bodies.iter().map(|&b| m.body_names[b].clone()).collect::<Vec<_>>())?;
+        d.set_item(
+            "constraints",
+            g.constraints.iter().map(|&k| m.constraints[k].name.clone()).collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "types",
+            g.constraints.iter().map(|&k| m.constraints[k].kind.label()).collect::<Vec<_>>(),
+        )?;
+        d.set_item("coordinates", g.coords.iter().map(|&c| m.columns[c].clone()).collect::<Vec<_>>())?;
+        d.set_item("rows", g.rows.clone())?;
+        groups.append(d)?;
+    }
+    let d = PyDict::new(py);
+    d.set_item("groups", groups)?;
+    d.set_item("redundant", s.redundant_rows.iter().map(|&r| constraint_of(r)).collect::<Vec<_>>())?;
+    d.set_item("free", s.free_coords.iter().map(|&c| m.columns[c].clone()).collect::<Vec<_>>())?;
+    Ok(d)
+}

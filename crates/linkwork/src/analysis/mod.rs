@@ -7,3 +7,4 @@ pub mod limits;
 pub mod linkages;
 pub mod mobility;
 pub mod modes;
+pub mod structure;

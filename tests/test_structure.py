@@ -1,0 +1,121 @@
+"""Structure: the groups of coordinates solved together, in solving order, from Phi_q's
+pattern (block-triangular form), named as the textbooks do."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import linkwork as lw
+from linkwork import examples
+
+
+def kinds(mech: lw.Mechanism) -> list[tuple[str, tuple[str, ...]]]:
+    return [(g.kind, g.bodies) for g in mech.compile().structure().groups]
+
+
+def test_textbook_mechanisms_decompose_into_an_input_and_assur_dyads() -> None:
+    assert kinds(examples.four_bar()) == [("input", ("crank",)), ("dyad RRR", ("coupler", "rocker"))]
+    assert [k for k, _ in kinds(examples.slider_crank())] == ["input", "dyad RRP"]
+    for six in (examples.six_bar_watt(), examples.six_bar_stephenson()):
+        assert [k for k, _ in kinds(six)] == ["input", "dyad RRR", "dyad RRR"]
+
+
+def test_every_row_and_coordinate_lands_in_exactly_one_group_in_dependency_order() -> None:
+    mech = examples.six_bar_stephenson()
+    model = mech.compile()
+    s = model.structure()
+    coords = [c for g in s.groups for c in g.coordinates]
+    assert sorted(coords) == sorted(model.columns) and not s.redundant and not s.free
+    # a group's constraints touch only bodies of this group or of earlier ones
+    known: set[str] = set()
+    desc = mech.to_dict()
+    bodies_of = {j["name"]: {j["body_a"], j["body_b"]} - {"ground"} for j in desc["joints"]}
+    bodies_of |= {d["name"]: {d["body"]} for d in desc["drivers"]}
+    for g in s.groups:
+        known |= set(g.bodies)
+        for name in g.constraints:
+            assert bodies_of[name] <= known, (g, name)
+
+
+def triad_six_bar() -> lw.Mechanism:
+    """A class-III six-bar: a crank, and a ternary link T held by three binary links, one
+    to the crank's end and two to the ground: T and its three links (four bodies, six
+    pins) can only be placed together."""
+    m = lw.Mechanism("triad")
+    o1, a = (0.0, 0.0), (0.1, 0.05)
+    t1, t2, t3 = (0.35, 0.25), (0.55, 0.2), (0.45, 0.4)
+    o2, o3 = (0.7, -0.05), (0.8, 0.55)
+    crank = m.link("crank", o1, a)
+    b1 = m.link("b1", a, t1)
+    tern = m.body("ternary", origin=t1)
+    b2 = m.link("b2", t2, o2)
+    b3 = m.link("b3", t3, o3)
+    m.revolute(m.ground, crank, at=o1, name="O1")
+    m.revolute(crank, b1, at=a, name="A")
+    m.revolute(b1, tern, at=t1, name="T1")
+    m.revolute(tern, b2, at=t2, name="T2")
+    m.revolute(b2, m.ground, at=o2, name="O2")
+    m.revolute(tern, b3, at=t3, name="T3")
+    m.revolute(b3, m.ground, at=o3, name="O3")
+    m.drive_angle(crank, lw.Linear(math.atan2(a[1], a[0]), 1.0), name="crank_angle")
+    return m
+
+
+def test_a_class_three_mechanism_is_an_input_and_a_triad() -> None:
+    assert kinds(triad_six_bar()) == [("input", ("crank",)), ("triad", ("b1", "ternary", "b2", "b3"))]
+    # and it sweeps: the structure is read from the model the engine solves
+    res = triad_six_bar().compile().sweep(np.linspace(0, 0.5, 6), derivatives=0)
+    assert np.all(np.isfinite(res.q))
+
+
+def test_redundant_rows_and_undriven_freedoms_are_named() -> None:
+    # a parallelogram with a third crank: structurally a triad (a ternary coupler held
+    # by three links to the ground), rigid by its pattern, so the driver's row is
+    # structurally redundant; only the special geometry lets it move (mobility's rank)
+    m = lw.Mechanism("parallelogram")
+    crank = m.link("crank", (0, 0), (0, 1))
+    rocker = m.link("rocker", (2, 0), (2, 1))
+    cpl = m.link("coupler", (0, 1), (2, 1))
+    extra = m.link("extra", (1, 0), (1, 1))
+    m.revolute(m.ground, crank, at=(0, 0), name="O2")
+    m.revolute(crank, cpl, at=(0, 1), name="A")
+    m.revolute(cpl, rocker, at=(2, 1), name="B")
+    m.revolute(rocker, m.ground, at=(2, 0), name="O4")
+    m.revolute(m.ground, extra, at=(1, 0), name="E0")
+    m.revolute(extra, cpl, at=(1, 1), name="E1")
+    m.drive_angle(crank, lw.Linear(math.pi / 2, 1.0), name="turn")
+    model = m.compile(redundant="solve")
+    s = model.structure()
+    assert [g.kind for g in s.groups] == ["triad"] and s.redundant == ("turn",) and s.free == ()
+    assert model.mobility().dof == 1
+    # square but structurally singular: a link pinned at both ends (one row too many)
+    # beside a link pinned at one end and not driven (its angle free)
+    m = lw.Mechanism("square but singular")
+    a = m.link("a", (0, 0), (1, 0))
+    b = m.link("b", (2, 0), (3, 0))
+    m.revolute(m.ground, a, at=(0, 0), name="O")
+    m.revolute(m.ground, a, at=(1, 0), name="O_far")
+    m.revolute(m.ground, b, at=(2, 0), name="P")
+    s = m.compile(redundant="solve").structure()
+    assert s.redundant == ("O_far",) and s.free == ("b.theta",)
+    assert [g.kind for g in s.groups] == ["one body", "one body"]
+
+
+def test_check_prints_the_structure(capsys) -> None:  # type: ignore[no-untyped-def]
+    from pathlib import Path
+
+    from linkwork.cli import main
+
+    path = Path(__file__).parent.parent / "examples" / "six_bar_watt.toml"
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "3 groups in solving order (1 input, 2 dyad RRR)" in out
+    assert "2. dyad RRR: coupler, rocker by A (revolute), B (revolute), O4 (revolute)" in out
+
+
+def test_a_chain_of_loops_is_an_input_and_one_dyad_per_loop() -> None:
+    s = examples.chain(1000).compile().structure()
+    # loop k + 1's crank is tied to loop k's rocker by a relative-angle driver: an input
+    assert s.counts() == {"input": 1000, "dyad RRR": 1000}
