@@ -136,6 +136,25 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
                 f"| {threads} | {e['ns'] / 1e6:.2f} | {e['ns'] / e['elements'] / 1e3:.3f} | "
                 f"{batch[1]['ns'] / e['ns'] if 1 in batch else float('nan'):.2f}x |"
             )
+    floor = {(f, p): e for (g, f, p), e in found.items() if g == "floor"}
+    if floor:
+        lines += [
+            "",
+            "The floor: a hand-written closed-form loop that computes and stores what the sweep stores "
+            "(every body's x, y, theta and, for p+v+a, their derivatives), against the engine's default "
+            "path, us per step:",
+            "",
+            "| mechanism | computes | engine (fixed-sequence LU) | closed-form loop | engine / floor |",
+            "|---|---|---:|---:|---:|",
+        ]
+        for mech in ("four_bar", "slider_crank"):
+            for what, label in (("pva", "p+v+a"), ("p", "p")):
+                engine = us_per_step(found.get((mech, "refactor", what)))
+                closed = us_per_step(floor.get((mech, what)))
+                if closed is None:
+                    continue
+                ratio = cell(engine / closed if engine else None, 2)
+                lines.append(f"| {mech} | {label} | {cell(engine)} | {cell(closed)} | {ratio} |")
     return "\n".join(lines)
 
 

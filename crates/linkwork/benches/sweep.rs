@@ -3,7 +3,8 @@
 //! - `four_bar`, `slider_crank`, `six_bar_stephenson`: positions + velocities +
 //!   accelerations with each linear solver (refactor: linkwork's sparse LU with a fixed
 //!   pivot sequence, the default; small: linkwork's own dense LU; dense: faer's dense LU;
-//!   sparse: faer's sparse LU), and the four-bar's positions only.
+//!   sparse: faer's sparse LU), and the four-bar's (and, default LU only, the
+//!   slider-crank's) positions only.
 //! - `chain`: K four-bar loops in series (3K bodies, stacked on the same pivots, tie angle
 //!   `CHAIN_OFFSET`), K = 1, 10, 100, 1000; the sparse LUs at every K, the dense paths up
 //!   to K = 10 (90 coordinates).
@@ -11,6 +12,10 @@
 //!   the four-bar's and the 100-loop chain's Phi_q at a solved configuration, by
 //!   `sparse_lu` replaying its program and by `small_lu`.
 //! - `batch`: 8 four-bar designs on 1 and 2 threads (`sweep_batch`).
+//! - `floor`: the four-bar and the slider-crank by a hand-written closed-form loop that
+//!   computes and stores what the engine's sweep stores (every body's x, y, theta and,
+//!   for "pva", their first and second derivatives, row-major per step): the floor a
+//!   structure-aware engine is measured against.
 //!
 //! Every sweep steps at h = one crank revolution / 100,000 (as `benches/compare.py`), so
 //! the Newton work per step is the same at every K. Run:
@@ -95,6 +100,9 @@ fn mechanisms(c: &mut Criterion) {
     for linear in KINDS {
         bench_sweep(c, "four_bar", BenchmarkId::new(kind_name(linear), "p"), desc, linear, STEPS, 0);
     }
+    // the slider-crank's positions, for the closed-form floor's table
+    let refactor = BenchmarkId::new(kind_name(LinearKind::Refactor), "p");
+    bench_sweep(c, "slider_crank", refactor, &cases[1].1, LinearKind::Refactor, STEPS, 0);
 }
 
 fn chains(c: &mut Criterion) {
@@ -190,12 +198,115 @@ fn batch(c: &mut Criterion) {
     g.finish();
 }
 
+/// The closed-form floor: per step, the crank angle from its law, the loop's angles, rates
+/// and accelerations (tests/common's closed forms), the body frames' poses and their
+/// derivatives, stored row-major into preallocated q, qd, qdd (n_steps x 9).
+fn floor(c: &mut Criterion) {
+    const STEPS: usize = 10_000;
+    const OMEGA: f64 = 5.0;
+    let times = times(STEPS);
+    let mut g = c.benchmark_group("floor");
+    g.throughput(Throughput::Elements(STEPS as u64));
+    for derivatives in [2u8, 0] {
+        let id = if derivatives == 2 { "pva" } else { "p" };
+        let fb = textbook();
+        g.bench_function(BenchmarkId::new("four_bar", id), |b| {
+            let (mut q, mut qd, mut qdd) = (vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS]);
+            b.iter(|| {
+                for (k, &t) in black_box(&times).iter().enumerate() {
+                    let th2 = OMEGA * t;
+                    let ([th3, th4], [w3, w4], [a3, a4]) = four_bar_closed(&fb, th2, OMEGA, 0.0);
+                    let (s2, c2) = th2.sin_cos();
+                    let row = 9 * k;
+                    q[row..row + 9].copy_from_slice(&[
+                        0.0,
+                        0.0,
+                        th2,
+                        fb.r2 * c2,
+                        fb.r2 * s2,
+                        th3,
+                        fb.r1,
+                        0.0,
+                        th4,
+                    ]);
+                    if derivatives == 2 {
+                        let (v, a) = (fb.r2 * OMEGA, -fb.r2 * OMEGA * OMEGA);
+                        qd[row..row + 9].copy_from_slice(&[
+                            0.0,
+                            0.0,
+                            OMEGA,
+                            -v * s2,
+                            v * c2,
+                            w3,
+                            0.0,
+                            0.0,
+                            w4,
+                        ]);
+                        qdd[row..row + 9].copy_from_slice(&[0.0, 0.0, 0.0, a * c2, a * s2, a3, 0.0, 0.0, a4]);
+                    }
+                }
+                black_box((q[9 * STEPS - 1], qd[9 * STEPS - 1], qdd[9 * STEPS - 1]))
+            })
+        });
+        let sc = SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 };
+        g.bench_function(BenchmarkId::new("slider_crank", id), |b| {
+            let (mut q, mut qd, mut qdd) = (vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS]);
+            b.iter(|| {
+                for (k, &t) in black_box(&times).iter().enumerate() {
+                    let th2 = OMEGA * t;
+                    let ([th3, x], [w3, v], [a3, acc]) = slider_crank_closed(&sc, th2, OMEGA, 0.0);
+                    let (s2, c2) = th2.sin_cos();
+                    let row = 9 * k;
+                    q[row..row + 9].copy_from_slice(&[
+                        0.0,
+                        0.0,
+                        th2,
+                        sc.r2 * c2,
+                        sc.r2 * s2,
+                        th3,
+                        x,
+                        sc.e,
+                        0.0,
+                    ]);
+                    if derivatives == 2 {
+                        let (u, a) = (sc.r2 * OMEGA, -sc.r2 * OMEGA * OMEGA);
+                        qd[row..row + 9].copy_from_slice(&[
+                            0.0,
+                            0.0,
+                            OMEGA,
+                            -u * s2,
+                            u * c2,
+                            w3,
+                            v,
+                            0.0,
+                            0.0,
+                        ]);
+                        qdd[row..row + 9].copy_from_slice(&[
+                            0.0,
+                            0.0,
+                            0.0,
+                            a * c2,
+                            a * s2,
+                            a3,
+                            acc,
+                            0.0,
+                            0.0,
+                        ]);
+                    }
+                }
+                black_box((q[9 * STEPS - 1], qd[9 * STEPS - 1], qdd[9 * STEPS - 1]))
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = sweep_benches;
     config = Criterion::default()
         .sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
-    targets = mechanisms, chains, lu, batch
+    targets = mechanisms, chains, lu, batch, floor
 }
 criterion_main!(sweep_benches);
