@@ -379,28 +379,53 @@ pub fn solve_points(points: &[C64; 9], start: &StartSet) -> Solutions {
 ///
 /// Every class has exactly one path, so two roots in one orbit (a path that jumped to a
 /// cognate or the swap of another class's root, which the homotopy alone cannot see)
-/// send both paths round again, four times more carefully; `distinct` then also says
-/// that the roots lie in pairwise different orbits.
+/// send both paths round again: four times more carefully, then (twice at most) round a
+/// random complex midpoint; `distinct` then also says that the roots lie in pairwise
+/// different orbits.
 pub fn solve_params(p1: &[C64], start: &StartSet) -> Solutions {
     let starts: Vec<Vec<C64>> = start.classes.iter().filter_map(|v| complete(v, &start.p0)).collect();
     let mut sol = solve_parameter(family(), &start.p0, &starts, p1, &options()).expect("parameter count");
-    let met = same_orbit(&sol);
-    if !met.is_empty() {
-        let mut careful = options();
-        careful.track.max_correction /= 4.0;
-        careful.track.max_step /= 4.0;
-        careful.track.initial_step /= 4.0;
+    let mut rng = Rng::new(0xa17_0de7);
+    for round in 0..3 {
+        let met = same_orbit(&sol);
+        if met.is_empty() {
+            break;
+        }
         let from: Vec<Vec<C64>> = met.iter().map(|&k| starts[k].clone()).collect();
-        let again = solve_parameter(family(), &start.p0, &from, p1, &careful).expect("parameter count");
-        sol.roots.retain(|r| !met.contains(&r.path));
-        sol.roots.extend(again.roots.into_iter().map(|r| Root { path: met[r.path], ..r }));
-        sol.roots.sort_by_key(|r| r.path);
-        sol.at_infinity += again.at_infinity;
-        sol.failed += again.failed;
-        sol.singular.extend(again.singular);
-        sol.duplicates += again.duplicates;
-        sol.steps += again.steps;
-        sol.rejected += again.rejected;
+        let again = if round == 0 {
+            let mut careful = options();
+            careful.track.max_correction /= 4.0;
+            careful.track.max_step /= 4.0;
+            careful.track.initial_step /= 4.0;
+            solve_parameter(family(), &start.p0, &from, p1, &careful).expect("parameter count")
+        } else {
+            // round a random complex midpoint: another path between the same ends
+            let size = (p1.iter().map(|z| z.norm_sqr()).sum::<f64>() / p1.len() as f64).sqrt();
+            let pm: Vec<C64> = p1.iter().map(|z| z + rng.complex_normal() * size).collect();
+            let mids = track_parameter(family(), &start.p0, &from, &pm, &options()).expect("parameter count");
+            let kept: Vec<usize> = (0..mids.len()).filter(|&i| mids[i].is_some()).collect();
+            let mids: Vec<Vec<C64>> = mids.into_iter().flatten().collect();
+            let mut s = solve_parameter(family(), &pm, &mids, p1, &options()).expect("parameter count");
+            s.roots.iter_mut().for_each(|r| r.path = kept[r.path]);
+            s
+        };
+        // keep the new endpoints only if they leave fewer roots sharing an orbit (the
+        // path that was right may jump on its second way)
+        let mut candidate = sol.clone();
+        candidate.roots.retain(|r| !met.contains(&r.path));
+        candidate.roots.extend(again.roots.into_iter().map(|r| Root { path: met[r.path], ..r }));
+        candidate.roots.sort_by_key(|r| r.path);
+        candidate.steps += again.steps;
+        candidate.rejected += again.rejected;
+        if same_orbit(&candidate).len() < met.len() {
+            candidate.at_infinity += again.at_infinity;
+            candidate.failed += again.failed;
+            candidate.singular.extend(again.singular);
+            sol = candidate;
+        } else {
+            sol.steps = candidate.steps;
+            sol.rejected = candidate.rejected;
+        }
     }
     sol.distinct = sol.distinct && same_orbit(&sol).is_empty();
     sol
