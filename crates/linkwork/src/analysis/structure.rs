@@ -56,12 +56,16 @@ fn columns(model: &Model, k: usize) -> Vec<usize> {
 }
 
 /// Maximum matching rows -> columns by augmenting paths (iterative, so that a chain of
-/// thousands of loops does not exhaust the stack), after a greedy start.
+/// thousands of loops does not exhaust the stack), after a greedy start that serves the
+/// rows with the fewest columns first (a driver, a pin to the ground), so that few rows
+/// are left to augment along long paths.
 fn matching(n_cols: usize, adj: &[&[usize]]) -> (Vec<Option<usize>>, Vec<Option<usize>>) {
     let n_rows = adj.len();
     let mut row_of: Vec<Option<usize>> = vec![None; n_cols];
     let mut col_of: Vec<Option<usize>> = vec![None; n_rows];
-    for r in 0..n_rows {
+    let mut order: Vec<usize> = (0..n_rows).collect();
+    order.sort_by_key(|&r| adj[r].len());
+    for r in order {
         if let Some(&c) = adj[r].iter().find(|&&c| row_of[c].is_none()) {
             row_of[c] = Some(r);
             col_of[r] = Some(c);
