@@ -341,3 +341,8 @@ def test_least_squares_path_through_nine_timed_points() -> None:
         S.path_least_squares(pts[:5], phis[:5])
     with pytest.raises(SynthesisError, match="input angles"):
         S.path_least_squares(pts, phis[:8])
+    # degenerate input: a named error with the reason, not an empty answer
+    with pytest.raises(SynthesisError, match="no input dyad.*coincide"):
+        S.path_least_squares(np.zeros((7, 2)), np.linspace(0, 1, 7))
+    with pytest.raises(SynthesisError, match="no dyad.*coincide"):
+        S.motion_least_squares(np.zeros((7, 3)))

@@ -914,10 +914,12 @@ def _motion_dyads(p: np.ndarray, lo: float, hi: float, subsets: int, seed: int) 
         return np.abs(pts + (m - pts[0]) * rot - g) - r
 
     found: list[Dyad] = []
+    reason = "no five-pose subset has a real Burmester dyad"
     for idx in _subsets(n, subsets, seed):
         try:
             exact = dyads("burmester", poses=p[idx])
-        except SynthesisError:
+        except SynthesisError as e:
+            reason = f"the subset of poses {', '.join(str(i + 1) for i in idx)}, numbered 1 to 5 in it: {e}"
             continue
         for d in exact.real:
             # the exact dyad's moving pivot is given at the subset's first pose
@@ -927,6 +929,8 @@ def _motion_dyads(p: np.ndarray, lo: float, hi: float, subsets: int, seed: int) 
             r0 = float(np.median(np.abs(pts + (m1 - pts[0]) * rot - g)))
             z0 = np.array([g.real, g.imag, m1.real, m1.imag, r0])
             _add_new(found, _fit_dyad(residual, z0, lo, hi, size), size)
+    if not found:
+        raise SynthesisError(f"no dyad to start the least squares from ({reason})")
     return found
 
 
@@ -1019,10 +1023,12 @@ def path_least_squares(
         return np.abs(pc - crank_pins(z)) - z[4]
 
     inputs: list[Dyad] = []
+    reason = "no five-point subset has a real timed dyad"
     for idx in _subsets(n, subsets, seed):
         try:
             exact = dyads("timed", points=pts[idx], input_angles=a[idx] - a[idx[0]])
-        except SynthesisError:
+        except SynthesisError as e:
+            reason = f"the subset of points {', '.join(str(i + 1) for i in idx)}, numbered 1 to 5 in it: {e}"
             continue
         for d in exact.real:
             # the exact dyad's crank pin is given at the subset's first point
@@ -1031,6 +1037,8 @@ def path_least_squares(
             z0 = np.array([g.real, g.imag, a1.real, a1.imag, 0.0])
             z0[4] = float(np.median(np.abs(pc - crank_pins(z0))))
             _add_new(inputs, _fit_dyad(residual, z0, lo, hi, size), size)
+    if not inputs:
+        raise SynthesisError(f"no input dyad to start the least squares from ({reason})")
     designs: list[FourBarDesign] = []
     followers: list[DyadSolutions] = []
     for d in inputs:
