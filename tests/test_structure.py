@@ -71,9 +71,9 @@ def test_a_class_three_mechanism_is_an_input_and_a_triad() -> None:
 
 
 def test_redundant_rows_and_undriven_freedoms_are_named() -> None:
-    # a parallelogram with a third crank: structurally a triad (a ternary coupler held
-    # by three links to the ground), rigid by its pattern, so the driver's row is
-    # structurally redundant; only the special geometry lets it move (mobility's rank)
+    # a parallelogram with a third crank: by its pattern the driven parallelogram places
+    # the coupler, and the third crank, pinned to the ground and to the coupler, has one
+    # row too many; only the special geometry lets it move (mobility's rank)
     m = lw.Mechanism("parallelogram")
     crank = m.link("crank", (0, 0), (0, 1))
     rocker = m.link("rocker", (2, 0), (2, 1))
@@ -88,7 +88,8 @@ def test_redundant_rows_and_undriven_freedoms_are_named() -> None:
     m.drive_angle(crank, lw.Linear(math.pi / 2, 1.0), name="turn")
     model = m.compile(redundant="solve")
     s = model.structure()
-    assert [g.kind for g in s.groups] == ["triad"] and s.redundant == ("turn",) and s.free == ()
+    assert [g.kind for g in s.groups] == ["input", "dyad RRR", "one body"]
+    assert s.redundant == ("E1",) and s.free == ()
     assert model.mobility().dof == 1
     # square but structurally singular: a link pinned at both ends (one row too many)
     # beside a link pinned at one end and not driven (its angle free)

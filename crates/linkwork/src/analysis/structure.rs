@@ -7,8 +7,8 @@
 //! its driver), one body (pinned and slotted, geared...), Assur dyads RRR, RRP, RPR, PRP
 //! and RPP (two bodies, three lower pairs, the joints to known bodies outside), triads
 //! (a ternary link and three binary links, six lower pairs), and larger groups. The
-//! structure is generic: special geometry (a parallelogram) can move where the pattern
-//! says rigid, which `mobility` (the rank of Phi_q) tells. Rows left unmatched are
+//! structure is generic: special geometry (a parallelogram with a third crank) can move
+//! where the pattern says over-determined, which `mobility` (the rank of Phi_q) tells. Rows left unmatched are
 //! structurally redundant; coordinates left unmatched are freedoms no driver takes up.
 //!
 //! The pattern is the engine's own (each side's three columns and the joint's extra
