@@ -901,6 +901,15 @@ def _same_dyad(a: Dyad, b: Dyad, tol: float) -> bool:
     return bool(np.allclose(a.ground, b.ground, atol=tol) and np.allclose(a.moving, b.moving, atol=tol))
 
 
+def _screened(paired: list[FourBarDesign], size: float, min_transmission: float) -> list[FourBarDesign]:
+    """Least-squares designs screened by the engine with the tolerance their fit allows
+    (a design meets its positions only as well as its dyads fit them), those whose
+    transmission angle comes closer than ``min_transmission`` to 0 or 180 deg dropped."""
+    for d in paired:
+        d.tolerance = 10.0 * max(x.residual for x in d.dyads) + POSITION_TOLERANCE * size
+    return [d for d in paired if d.defects.worst_transmission >= min_transmission]
+
+
 def _motion_dyads(p: np.ndarray, lo: float, hi: float, subsets: int, seed: int) -> list[Dyad]:
     """Least-squares dyads guiding a body through poses p (n x 3, n > 5), started from
     the real Burmester dyads of five-pose subsets."""
@@ -967,11 +976,7 @@ def motion_least_squares(
     size = float(np.ptp(p[:, :2])) or 1.0
     found = _motion_dyads(p, lo, hi, subsets, seed)
     sols = DyadSolutions(found, "least squares")
-    paired = _pair_designs(found, p[:, :2], p[:, 2] - p[0, 2], None)
-    for d in paired:
-        # a least-squares design meets its poses only as well as its dyads fit them
-        d.tolerance = 10.0 * max(x.residual for x in d.dyads) + POSITION_TOLERANCE * size
-    designs = [d for d in paired if d.defects.worst_transmission >= min_transmission]
+    designs = _screened(_pair_designs(found, p[:, :2], p[:, 2] - p[0, 2], None), size, min_transmission)
     designs.sort(key=_merit)
     return Synthesis(f"motion generation, {n} poses (least squares)", sols, designs)
 
@@ -1047,10 +1052,7 @@ def path_least_squares(
         found = _motion_dyads(np.column_stack([pts, theta]), lo, hi, subsets, seed)
         others = [b for b in found if not _same_dyad(b, d, 1e-5 * size)]
         followers.append(DyadSolutions(found, "least squares"))
-        for design in _pair_designs(others, pts, theta, a, first=d):
-            design.tolerance = 10.0 * max(x.residual for x in design.dyads) + POSITION_TOLERANCE * size
-            if design.defects.worst_transmission >= min_transmission:
-                designs.append(design)
+        designs += _screened(_pair_designs(others, pts, theta, a, first=d), size, min_transmission)
     designs.sort(key=_merit)
     return Synthesis(
         f"path generation with prescribed timing, {n} points (least squares)",

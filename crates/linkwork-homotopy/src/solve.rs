@@ -90,6 +90,12 @@ pub fn solve(system: &System, groups: Option<Groups>, opts: &Options) -> Result<
     Ok(collect(&hom.proj, Affine::new(system.clone()), ends, opts))
 }
 
+/// The parameter homotopy along the straight segment p0 -> p1, on the patch of `seed`.
+fn straight(family: &System, p0: &[C64], p1: &[C64], seed: u64) -> Result<ParameterHomotopy, SystemError> {
+    let groups = Groups::total_degree(family.n_vars);
+    ParameterHomotopy::new(family, groups, p0.to_vec(), p1.to_vec(), &mut Rng::new(seed))
+}
+
 /// All roots at parameters p1 by parameter homotopy from the roots `starts` (affine) of
 /// the same family at generic complex parameters p0.
 pub fn solve_parameter(
@@ -99,14 +105,7 @@ pub fn solve_parameter(
     p1: &[C64],
     opts: &Options,
 ) -> Result<Solutions, SystemError> {
-    let mut rng = Rng::new(opts.seed);
-    let hom = ParameterHomotopy::new(
-        family,
-        Groups::total_degree(family.n_vars),
-        p0.to_vec(),
-        p1.to_vec(),
-        &mut rng,
-    )?;
+    let hom = straight(family, p0, p1, opts.seed)?;
     let lifted: Vec<Vec<C64>> = starts.iter().map(|x| hom.proj.from_affine(x)).collect();
     let mut ends = track_all(&hom, &hom.proj, &lifted, opts);
     // a path that failed on the straight line may have passed near the discriminant:
@@ -129,20 +128,8 @@ pub fn solve_parameter(
             .map(|(a, b)| (a + b) / 2.0 + detour_rng.complex_normal() * size * 0.5)
             .collect();
         // same seed: the same patch as `hom`, so endpoints read the same way
-        let first = ParameterHomotopy::new(
-            family,
-            Groups::total_degree(family.n_vars),
-            p0.to_vec(),
-            pm.clone(),
-            &mut Rng::new(opts.seed),
-        )?;
-        let second = ParameterHomotopy::new(
-            family,
-            Groups::total_degree(family.n_vars),
-            pm,
-            p1.to_vec(),
-            &mut Rng::new(opts.seed),
-        )?;
+        let first = straight(family, p0, &pm, opts.seed)?;
+        let second = straight(family, &pm, p1, opts.seed)?;
         let from: Vec<Vec<C64>> = lost.iter().map(|&k| lifted[k].clone()).collect();
         let middle = track_all(&first, &first.proj, &from, opts);
         for (&k, mid) in lost.iter().zip(middle) {
@@ -233,14 +220,7 @@ pub fn track_parameter(
     p1: &[C64],
     opts: &Options,
 ) -> Result<Vec<Option<Vec<C64>>>, SystemError> {
-    let mut rng = Rng::new(opts.seed);
-    let hom = ParameterHomotopy::new(
-        family,
-        Groups::total_degree(family.n_vars),
-        p0.to_vec(),
-        p1.to_vec(),
-        &mut rng,
-    )?;
+    let hom = straight(family, p0, p1, opts.seed)?;
     let lifted: Vec<Vec<C64>> = starts.iter().map(|x| hom.proj.from_affine(x)).collect();
     let ends = track_all(&hom, &hom.proj, &lifted, opts);
     Ok(ends
