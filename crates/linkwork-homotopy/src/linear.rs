@@ -19,8 +19,9 @@ pub struct Lu {
     cols: Vec<usize>,
     /// Rows not yet pivoted.
     active: Vec<usize>,
+    /// Nonzeros of each row of the first matrix factorized (the pivot choice prefers
+    /// sparse rows).
     row_nnz: Vec<usize>,
-    col_nnz: Vec<usize>,
     /// Whether `cols` and `row_nnz` hold the structure's order yet.
     ordered: bool,
     /// Rows eliminated at step k: l_rows[l_start[k]..l_start[k + 1]].
@@ -48,7 +49,6 @@ impl Lu {
             cols: (0..n).collect(),
             active: Vec::with_capacity(n),
             row_nnz: vec![0; n],
-            col_nnz: vec![0; n],
             ordered: false,
             l_rows: Vec::with_capacity(n * n),
             l_start: Vec::with_capacity(n + 1),
@@ -63,9 +63,9 @@ impl Lu {
     fn order(&mut self) {
         let n = self.n;
         let zero = C64::default();
-        let (row_nnz, col_nnz) = (&mut self.row_nnz[..], &mut self.col_nnz[..]);
+        let row_nnz = &mut self.row_nnz[..];
+        let mut col_nnz = vec![0; n];
         row_nnz.fill(0);
-        col_nnz.fill(0);
         for (r, row) in self.a.chunks_exact(n).enumerate() {
             for (c, v) in row.iter().enumerate() {
                 let nz = (*v != zero) as usize;
