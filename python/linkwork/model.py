@@ -34,6 +34,10 @@ class Model:
     motion). Positions, velocities and accelerations are then still unique; the
     reactions of the joints in ``indeterminate`` are not (the minimum-norm set is given),
     and ``det_sign`` is not defined (reported as +1).
+    ``solver``: "auto" (default) solves a sweep's steps group by group where the
+    mechanism's structure allows (closed-form dyads, small Newton blocks; ``structure()``
+    shows how), the general sparse Newton otherwise and at every step near a singular
+    configuration; "general" always the general path.
     ``python_laws``: name -> function for the description's ``{"type": "python"}`` laws
     (a `Mechanism` passes its own).
     """
@@ -63,6 +67,14 @@ class Model:
     columns = property(lambda self: self._columns, doc="Names of the coordinates (do not modify).")
     body_names = property(lambda self: self._body_names, doc="Names of the moving bodies (do not modify).")
     linear = property(lambda self: self._core.linear, doc="'dense' or 'sparse' LU.")
+    solver = property(
+        lambda self: self._core.solver,
+        doc="'structured' (the groups one after another) or 'general' (one sparse system).",
+    )
+    fallback = property(
+        lambda self: self._core.fallback,
+        doc="Why the general path solves the whole model (None when it is structured).",
+    )
     length_scale = property(lambda self: self._core.length_scale, doc="L: lengths are measured in L.")
     q_start = property(lambda self: self._core.q_start, doc="The starting configuration as described.")
     indeterminate = property(
@@ -357,6 +369,7 @@ def _options(options: dict[str, Any]) -> dict[str, Any]:
         "dense_max": lambda v, n: _args.optional_integer(v, n, 0),
         "linear": lambda v, n: _args.choice(v, n, LINEAR),
         "redundant": lambda v, n: _args.choice(v, n, ("error", "solve")),
+        "solver": lambda v, n: _args.choice(v, n, ("auto", "general")),
         "python_laws": lambda v, n: v if v is None else dict(_args.mapping(v, n)),
     }
     unknown = sorted(set(options) - set(checks))

@@ -352,7 +352,7 @@ impl PyModel {
     #[new]
     #[pyo3(signature = (description_json, *, tol_residual=None, tol_step=None, max_iter=None,
                         max_iter_assembly=None, singular_tol=None, linear="auto", dense_max=None,
-                        redundant="error", python_laws=None))]
+                        redundant="error", solver="auto", python_laws=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         description_json: &str,
@@ -364,8 +364,18 @@ impl PyModel {
         linear: &str,
         dense_max: Option<usize>,
         redundant: &str,
+        solver: &str,
         python_laws: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let solver = match solver {
+            "auto" => linkwork::SolverKind::Auto,
+            "general" => linkwork::SolverKind::General,
+            other => {
+                return Err(InputError::new_err(format!(
+                    "solver must be \"auto\" or \"general\", not {other:?}"
+                )))
+            }
+        };
         let redundant = match redundant {
             "error" => OnRedundant::Error,
             "solve" => OnRedundant::Solve,
@@ -385,6 +395,7 @@ impl PyModel {
             linear: parse_linear(linear)?,
             dense_max: dense_max.unwrap_or(d.dense_max),
             redundant,
+            solver,
         };
         let mut desc = guard("reading a description", || Description::from_json(description_json))?
             .map_err(model_err)?;
@@ -427,6 +438,20 @@ impl PyModel {
     #[getter]
     fn length_scale(&self) -> f64 {
         self.model.length_scale
+    }
+    /// "structured" (the groups one after another) or "general" (one sparse system).
+    #[getter]
+    fn solver(&self) -> &'static str {
+        if self.model.plan.is_ok() {
+            "structured"
+        } else {
+            "general"
+        }
+    }
+    /// Why the general path solves the whole model (None when it is structured).
+    #[getter]
+    fn fallback(&self) -> Option<String> {
+        self.model.plan.as_ref().err().cloned()
     }
     #[getter]
     fn linear(&self) -> &'static str {

@@ -61,10 +61,14 @@ pub(crate) fn structure<'py>(py: Python<'py>, model: PyRef<'py, PyModel>) -> PyR
             .map(|c| c.name.clone())
             .unwrap_or_default()
     };
+    let plan = m.plan.as_ref().ok();
     let groups = pyo3::types::PyList::empty(py);
-    for g in &s.groups {
+    for (i, g) in s.groups.iter().enumerate() {
         let d = PyDict::new(py);
         d.set_item("kind", &g.kind)?;
+        // the plan's blocks are the structure's groups, in the same order
+        let method = plan.and_then(|p| p.blocks.get(i)).map(|b| b.describe());
+        d.set_item("method", method.unwrap_or_else(|| "general path".into()))?;
         d.set_item("bodies", g.bodies.iter().map(|&b| m.body_names[b].clone()).collect::<Vec<_>>())?;
         d.set_item(
             "constraints",
@@ -82,5 +86,6 @@ pub(crate) fn structure<'py>(py: Python<'py>, model: PyRef<'py, PyModel>) -> PyR
     d.set_item("groups", groups)?;
     d.set_item("redundant", s.redundant_rows.iter().map(|&r| constraint_of(r)).collect::<Vec<_>>())?;
     d.set_item("free", s.free_coords.iter().map(|&c| m.columns[c].clone()).collect::<Vec<_>>())?;
+    d.set_item("fallback", m.plan.as_ref().err().cloned())?;
     Ok(d)
 }

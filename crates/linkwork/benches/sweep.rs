@@ -27,7 +27,9 @@ mod common;
 
 use common::*;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
-use linkwork::{sweep, sweep_batch, Data, Description, LinearKind, Model, Options, Request, SweepOutput};
+use linkwork::{
+    sweep, sweep_batch, Data, Description, LinearKind, Model, Options, Request, SolverKind, SweepOutput,
+};
 use std::f64::consts::PI;
 use std::hint::black_box;
 use std::time::Duration;
@@ -66,11 +68,28 @@ fn bench_sweep(
     steps: usize,
     derivatives: u8,
 ) {
+    bench_solver(c, group, id, desc, linear, SolverKind::General, steps, derivatives)
+}
+
+/// `bench_sweep` with the solver chosen: `Auto` is the structure-aware path (the groups
+/// one after another), `General` the whole model as one sparse system with `linear`.
+#[allow(clippy::too_many_arguments)]
+fn bench_solver(
+    c: &mut Criterion,
+    group: &str,
+    id: BenchmarkId,
+    desc: &Description,
+    linear: LinearKind,
+    solver: SolverKind,
+    steps: usize,
+    derivatives: u8,
+) {
     let times = times(steps);
     let mut g = c.benchmark_group(group);
     g.throughput(Throughput::Elements(steps as u64));
     g.bench_function(id, |b| {
-        let model = Model::with_options(desc.clone(), Options { linear, ..Options::default() }).unwrap();
+        let model =
+            Model::with_options(desc.clone(), Options { linear, solver, ..Options::default() }).unwrap();
         let mut out = SweepOutput::with_derivatives(&model, &times, derivatives);
         b.iter_batched_ref(
             || Data::new(&model),
@@ -91,9 +110,14 @@ fn mechanisms(c: &mut Criterion) {
         ("slider_crank", slider_crank(&SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 }, 0.0, 5.0)),
         ("six_bar_stephenson", six_bar_stephenson(0.0, 5.0)),
     ];
+    let auto = LinearKind::Auto;
     for (name, desc) in &cases {
         for linear in KINDS {
             bench_sweep(c, name, BenchmarkId::new(kind_name(linear), "pva"), desc, linear, STEPS, 2);
+        }
+        for (what, d) in [("pva", 2), ("p", 0)] {
+            let id = BenchmarkId::new("structured", what);
+            bench_solver(c, name, id, desc, auto, SolverKind::Auto, STEPS, d);
         }
     }
     let desc = &cases[0].1;
@@ -115,6 +139,8 @@ fn chains(c: &mut Criterion) {
             }
             bench_sweep(c, "chain", BenchmarkId::new(kind_name(linear), loops), &desc, linear, steps, 2);
         }
+        let id = BenchmarkId::new("structured", loops);
+        bench_solver(c, "chain", id, &desc, LinearKind::Auto, SolverKind::Auto, steps, 2);
     }
 }
 

@@ -35,7 +35,7 @@ pub(crate) fn update_frames(data: &mut Data) {
 /// cos and sin of `theta`: turned from `base` (theta0, cos theta0, sin theta0) when
 /// theta is within `SMALL_TURN` of theta0, else in full, and then `base` becomes theta's.
 #[inline(always)]
-fn turned(theta: f64, base: &mut [f64; 3]) -> (f64, f64) {
+pub(crate) fn turned(theta: f64, base: &mut [f64; 3]) -> (f64, f64) {
     let [theta0, c0, s0] = *base;
     let d = theta - theta0;
     if d.abs() < SMALL_TURN {

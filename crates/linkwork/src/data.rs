@@ -51,6 +51,8 @@ pub struct Data {
     pub(crate) velocity_of: Option<(u64, f64)>,
     /// n_coords: 1 / the model's column scales (multiplying is cheaper than dividing)
     pub(crate) inv_col_scale: Vec<f64>,
+    /// the structure-aware solver's state: branch signs, closeness, Newton blocks
+    pub(crate) blocks: crate::blocks::Work,
 }
 
 impl Data {
@@ -93,6 +95,7 @@ impl Data {
             with_velocity: false,
             nu_rhs: vec![0.0; model.n_rows],
             velocity_of: None,
+            blocks: crate::blocks::Work::new(model.plan.as_ref().ok(), model.n_coords),
         }
     }
 }

@@ -54,6 +54,18 @@ pub struct Options {
     /// Redundant joint rows (dependent at the described configuration): refuse the model,
     /// or solve with all rows in the least-squares sense.
     pub redundant: OnRedundant,
+    /// Which solver the sweep's steps take: `Auto` solves the mechanism's groups one after
+    /// another (closed-form dyads, small Newton blocks; `blocks`) where its structure
+    /// allows, the general sparse Newton otherwise; `General` always the general one.
+    pub solver: SolverKind,
+}
+
+/// See `Options::solver`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverKind {
+    #[default]
+    Auto,
+    General,
 }
 
 /// What compiling does with redundant joint rows (a third parallel crank, a doubled pin).
@@ -82,6 +94,7 @@ impl Default for Options {
             linear: LinearKind::Auto,
             dense_max: 48,
             redundant: OnRedundant::Error,
+            solver: SolverKind::Auto,
         }
     }
 }
@@ -169,6 +182,9 @@ pub struct Model {
     pub gravity: [f64; 2],
     /// applied loads
     pub loads: Vec<LoadEntry>,
+    /// the groups solved one after another by the sweep, or why the general path solves
+    /// the whole model (`blocks::Plan::new`)
+    pub plan: crate::blocks::PlanResult,
 }
 
 fn finite2(p: [f64; 2]) -> bool {
@@ -779,7 +795,7 @@ impl Model {
             time_domain = (time_domain.0.max(t0), time_domain.1.min(t1));
         }
 
-        Ok(Model {
+        let mut model = Model {
             name: desc.name.clone(),
             body_names: desc.bodies.iter().map(|b| b.name.clone()).collect(),
             columns,
@@ -799,7 +815,10 @@ impl Model {
             gravity: desc.gravity,
             loads,
             description,
-        })
+            plan: Err(String::new()),
+        };
+        model.plan = crate::blocks::Plan::new(&model);
+        Ok(model)
     }
 
     /// Which linear algebra the model uses.

@@ -3,15 +3,18 @@
 //! allocated once, before the loop; a failure at step k keeps steps 0..k.
 
 use crate::acceleration::solve_acceleration;
+use crate::blocks::{self, Block};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
 use crate::joints::Constraint;
 use crate::model::Model;
 use crate::position::solve_position;
+use crate::position::PositionInfo;
 use crate::stepping::hermite::continues;
 use crate::stepping::predict::{predict, Predictor};
 use crate::stepping::singular::Event;
+use crate::stepping::tracking::JUMP_RATIO;
 use crate::stepping::tracking::{is_jump, OnSingular, Tracker, JUMP_FLOOR, JUMP_FLOOR_RATES};
 use crate::velocity::solve_velocity;
 
@@ -291,6 +294,11 @@ fn sweep_steps(
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<(), SolveError> {
     let req = out.request;
+    // the structure-aware cheap path, where the model has a plan
+    let plan = model.plan.as_ref().ok();
+    let has_newton = plan.is_some_and(|p| p.blocks.iter().any(|b| matches!(b, Block::Newton(_))));
+    // the pivot ratio (closeness to singular on the structured path) of the last step
+    let mut ratio_prev = f64::INFINITY;
     // worst diagnostics since the last kept row
     let (mut iterations, mut residual, mut pivot_ratio) = (0u32, 0.0f64, f64::INFINITY);
     for (k, &t) in times.iter().enumerate() {
@@ -301,13 +309,16 @@ fn sweep_steps(
         let mut poll = || progress_every == 0 || progress(k);
         // whether q, qd and qdd at t are all set (by the careful path or its interpolant)
         let mut rates_set = false;
+        // whether the plan's groups solved this step (positions and the rates asked for)
+        let mut by_blocks = false;
         let info = if k == 0 {
             solve_position(model, data, t, k, true)?
         } else {
             tracker.q_prev.copy_from_slice(&data.q);
             // rates next to a singular configuration are unreliable: predict from positions
+            let last_ratio = if plan.is_some() { ratio_prev } else { data.pivots.ratio };
             let predictor = match req.derivatives {
-                _ if data.pivots.ratio < NEAR_SINGULAR => Predictor::Quadratic,
+                _ if last_ratio < NEAR_SINGULAR => Predictor::Quadratic,
                 2 => Predictor::Jerk,
                 1 => Predictor::Acceleration,
                 _ => Predictor::Cubic,
@@ -327,27 +338,49 @@ fn sweep_steps(
                     Predictor::Jerk | Predictor::Acceleration => JUMP_FLOOR_RATES,
                     Predictor::Quadratic | Predictor::Cubic => JUMP_FLOOR,
                 };
-                match solve_position(model, data, t, k, false) {
-                    // the cheap path: on the predicted branch, well conditioned, no crossing
-                    Ok(info)
-                        if !is_jump(&info, motion, floor)
-                            && info.pivot_ratio >= NEAR_SINGULAR
-                            && info.det_sign * tracker.det_prev >= 0.0 =>
-                    {
-                        info
+                // the structure-aware cheap path: the groups solved in order, on the branch
+                // of each, none near singular; any doubt, and the general cheap path decides
+                let mut structured = None;
+                if let Some(plan) = plan {
+                    data.blocks.q_pred.copy_from_slice(&data.q);
+                    match blocks::step(model, plan, data, t, req.derivatives, t - times[k - 1]) {
+                        Ok(s) if !(has_newton && s.correction > JUMP_RATIO * motion.max(floor)) => {
+                            by_blocks = true;
+                            structured = Some(PositionInfo {
+                                iterations: s.iterations,
+                                residual: s.residual,
+                                pivot_ratio: s.closeness,
+                                det_sign: s.det_sign,
+                                correction: s.correction,
+                            });
+                        }
+                        _ => data.q.copy_from_slice(&data.blocks.q_pred),
                     }
-                    Err(e @ SolveError::NonFinite { .. }) => return Err(e),
-                    _ => {
-                        rates_set = true;
-                        tracker.careful(model, data, times[k - 1], t, k, &mut poll)?
-                    }
+                }
+                match structured {
+                    Some(info) => info,
+                    None => match solve_position(model, data, t, k, false) {
+                        // the cheap path: on the predicted branch, well conditioned, no crossing
+                        Ok(info)
+                            if !is_jump(&info, motion, floor)
+                                && info.pivot_ratio >= NEAR_SINGULAR
+                                && info.det_sign * tracker.det_prev >= 0.0 =>
+                        {
+                            info
+                        }
+                        Err(e @ SolveError::NonFinite { .. }) => return Err(e),
+                        _ => {
+                            rates_set = true;
+                            tracker.careful(model, data, times[k - 1], t, k, &mut poll)?
+                        }
+                    },
                 }
             }
         };
-        if req.derivatives >= 1 && !rates_set {
+        if req.derivatives >= 1 && !rates_set && !by_blocks {
             solve_velocity(model, data, t, k)?;
         }
-        if req.derivatives >= 2 && !rates_set {
+        if req.derivatives >= 2 && !rates_set && !by_blocks {
             solve_acceleration(model, data, t, k)?;
         }
         // the cheap path's step checked backwards from its own rates: next to a change
@@ -360,6 +393,7 @@ fn sweep_steps(
                 info
             } else {
                 rates_set = true;
+                by_blocks = false;
                 tracker.careful(model, data, times[k - 1], t, k, &mut poll)?
             }
         } else {
@@ -368,6 +402,16 @@ fn sweep_steps(
         if !rates_set || k == 0 {
             tracker.det_prev = info.det_sign;
         }
+        if let Some(plan) = plan {
+            if !by_blocks {
+                // solved by the general path (the start, the careful path): the branches
+                // and det sign the plan continues from
+                let rates = rates_set || req.derivatives >= 1;
+                let h = (k > 0).then(|| t - times[k - 1]);
+                blocks::resync(model, plan, data, t, info.det_sign, rates, h);
+            }
+        }
+        ratio_prev = info.pivot_ratio;
         if k == 0 {
             tracker.start(&info, data);
         } else if req.locks {
@@ -378,6 +422,10 @@ fn sweep_steps(
         pivot_ratio = pivot_ratio.min(info.pivot_ratio);
         if k % req.every == 0 {
             if req.forces {
+                if by_blocks {
+                    // the transpose solves need Phi_q factored at q
+                    factor_at(model, data, t, k)?;
+                }
                 solve_forces(model, data, t, k)?;
             }
             let row = k / req.every;
@@ -389,6 +437,25 @@ fn sweep_steps(
             out.n_done = row + 1;
             (iterations, residual, pivot_ratio) = (0, 0.0, f64::INFINITY);
         }
+    }
+    Ok(())
+}
+
+/// Phi_q assembled and factored at data.q (after a structured step, for the stages that
+/// need the whole factorization: inverse dynamics).
+fn factor_at(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
+    crate::assembly::position(model, data, t);
+    let pivots = data.factor.factor(&model.symbolic, &data.jac);
+    data.pivots = pivots;
+    if pivots.ratio.is_nan() || pivots.ratio < model.options.singular_tol {
+        let (coordinate, constraints) = model.describe_coordinate(pivots.column);
+        return Err(SolveError::Singular {
+            step,
+            time: t,
+            pivot_ratio: pivots.ratio,
+            coordinate,
+            constraints,
+        });
     }
     Ok(())
 }

@@ -7,4 +7,5 @@ pub mod limits;
 pub mod linkages;
 pub mod mobility;
 pub mod modes;
-pub mod structure;
+/// the decomposition lives below the solver (`crate::structure`), which plans with it
+pub use crate::structure;

@@ -90,6 +90,9 @@ impl ExternalLaw {
             Err(why) => {
                 let why = format!("python law '{}' failed at t = {t}: {why}", self.name);
                 FAILURE.with(|f| *f.borrow_mut() = Some((self.name.clone(), t, why)));
+                // kept too: a step that tries another method at the same time (the general
+                // path after the structured one) does not call the function again
+                self.last.set(t, [f64::NAN; 3]);
                 [f64::NAN; 3]
             }
         }
