@@ -243,12 +243,21 @@ def four_bar_section(steps: int, ref_steps: int, repeats: int, notes: list[str])
     def cold(_: Any = None) -> None:
         cold_outputs()
 
+    general = mech.compile(solver="general")
+    how = "the groups in closed form" if auto.solver == "structured" else f"{auto.linear} LU"
     for d in derivs:
         tasks.append(Task(f"auto{d}", lambda _, d=d: engine_sweep(auto, t, d), cold))
         meta[f"auto{d}"] = (
-            f"**linkwork** `sweep` (auto: {auto.linear} LU)",
+            f"**linkwork** `sweep` (auto: {how})",
             d,
             {"engine": True, "kind": "auto"},
+        )
+        # the whole model as one sparse system, as every model was solved before the plan
+        tasks.append(Task(f"general{d}", lambda _, d=d: engine_sweep(general, t, d), cold))
+        meta[f"general{d}"] = (
+            f"linkwork `sweep` (general path: {general.linear} LU)",
+            d,
+            {"engine": True, "kind": "general"},
         )
     if warm:
         for d in (2, 0) if HAS_DERIVATIVES else (2,):
@@ -876,7 +885,7 @@ def targets_table(
             lw2["residual"] <= 1e-12,
             f"by {lw2['residual'] / 1e-12:.1f}x",
         )
-    ratio_line("positions only no slower than pylinkage-numba `step_fast`", pl0, lw0, 1.0, "positions only")
+    ratio_line("positions only >= 2x faster than pylinkage-numba `step_fast`", pl0, lw0, 2.0, "positions only")
     per = {r["name"]: r["us"] / r["coords"] for r in mechs}
     for name in ("slider_crank", "six_bar_stephenson"):
         ratio = per[name] / per["four_bar"]

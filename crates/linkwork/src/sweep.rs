@@ -297,6 +297,8 @@ fn sweep_steps(
     // the structure-aware cheap path, where the model has a plan
     let plan = model.plan.as_ref().ok();
     let has_newton = plan.is_some_and(|p| p.blocks.iter().any(|b| matches!(b, Block::Newton(_))));
+    // every group in closed form: tried before any prediction, which only a miss needs
+    let closed_only = plan.is_some() && !has_newton;
     // the pivot ratio (closeness to singular on the structured path) of the last step
     let mut ratio_prev = f64::INFINITY;
     // worst diagnostics since the last kept row
@@ -315,65 +317,76 @@ fn sweep_steps(
             solve_position(model, data, t, k, true)?
         } else {
             tracker.q_prev.copy_from_slice(&data.q);
-            // rates next to a singular configuration are unreliable: predict from positions
-            let last_ratio = if plan.is_some() { ratio_prev } else { data.pivots.ratio };
-            let predictor = match req.derivatives {
-                _ if last_ratio < NEAR_SINGULAR => Predictor::Quadratic,
-                2 => Predictor::Jerk,
-                1 => Predictor::Acceleration,
-                _ => Predictor::Cubic,
+            let fast = match plan {
+                Some(plan) if closed_only && !tracker.spanning() => {
+                    closed_step(model, plan, data, times, k, req.derivatives, &tracker.q_prev)
+                }
+                _ => None,
             };
-            predict(data, times, k, predictor);
-            if let Some(info) = tracker.spanned(model, data, t, k, &mut poll)? {
-                rates_set = true;
+            if let Some(info) = fast {
+                by_blocks = true;
                 info
             } else {
-                let motion = data
-                    .q
-                    .iter()
-                    .zip(&tracker.q_prev)
-                    .zip(&data.inv_col_scale)
-                    .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() * s));
-                let floor = match predictor {
-                    Predictor::Jerk | Predictor::Acceleration => JUMP_FLOOR_RATES,
-                    Predictor::Quadratic | Predictor::Cubic => JUMP_FLOOR,
+                // rates next to a singular configuration are unreliable: predict from positions
+                let last_ratio = if plan.is_some() { ratio_prev } else { data.pivots.ratio };
+                let predictor = match req.derivatives {
+                    _ if last_ratio < NEAR_SINGULAR => Predictor::Quadratic,
+                    2 => Predictor::Jerk,
+                    1 => Predictor::Acceleration,
+                    _ => Predictor::Cubic,
                 };
-                // the structure-aware cheap path: the groups solved in order, on the branch
-                // of each, none near singular; any doubt, and the general cheap path decides
-                let mut structured = None;
-                if let Some(plan) = plan {
-                    data.blocks.q_pred.copy_from_slice(&data.q);
-                    match blocks::step(model, plan, data, t, req.derivatives, t - times[k - 1]) {
-                        Ok(s) if !(has_newton && s.correction > JUMP_RATIO * motion.max(floor)) => {
-                            by_blocks = true;
-                            structured = Some(PositionInfo {
-                                iterations: s.iterations,
-                                residual: s.residual,
-                                pivot_ratio: s.closeness,
-                                det_sign: s.det_sign,
-                                correction: s.correction,
-                            });
+                predict(data, times, k, predictor);
+                if let Some(info) = tracker.spanned(model, data, t, k, &mut poll)? {
+                    rates_set = true;
+                    info
+                } else {
+                    let motion = data
+                        .q
+                        .iter()
+                        .zip(&tracker.q_prev)
+                        .zip(&data.inv_col_scale)
+                        .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() * s));
+                    let floor = match predictor {
+                        Predictor::Jerk | Predictor::Acceleration => JUMP_FLOOR_RATES,
+                        Predictor::Quadratic | Predictor::Cubic => JUMP_FLOOR,
+                    };
+                    // the structure-aware cheap path: the groups solved in order, on the branch
+                    // of each, none near singular; any doubt, and the general cheap path decides
+                    let mut structured = None;
+                    if let Some(plan) = plan.filter(|_| !closed_only) {
+                        data.blocks.q_pred.copy_from_slice(&data.q);
+                        match blocks::step(model, plan, data, t, req.derivatives, t - times[k - 1]) {
+                            Ok(s) if !(has_newton && s.correction > JUMP_RATIO * motion.max(floor)) => {
+                                by_blocks = true;
+                                structured = Some(PositionInfo {
+                                    iterations: s.iterations,
+                                    residual: s.residual,
+                                    pivot_ratio: s.closeness,
+                                    det_sign: s.det_sign,
+                                    correction: s.correction,
+                                });
+                            }
+                            _ => data.q.copy_from_slice(&data.blocks.q_pred),
                         }
-                        _ => data.q.copy_from_slice(&data.blocks.q_pred),
                     }
-                }
-                match structured {
-                    Some(info) => info,
-                    None => match solve_position(model, data, t, k, false) {
-                        // the cheap path: on the predicted branch, well conditioned, no crossing
-                        Ok(info)
-                            if !is_jump(&info, motion, floor)
-                                && info.pivot_ratio >= NEAR_SINGULAR
-                                && info.det_sign * tracker.det_prev >= 0.0 =>
-                        {
-                            info
-                        }
-                        Err(e @ SolveError::NonFinite { .. }) => return Err(e),
-                        _ => {
-                            rates_set = true;
-                            tracker.careful(model, data, times[k - 1], t, k, &mut poll)?
-                        }
-                    },
+                    match structured {
+                        Some(info) => info,
+                        None => match solve_position(model, data, t, k, false) {
+                            // the cheap path: on the predicted branch, well conditioned, no crossing
+                            Ok(info)
+                                if !is_jump(&info, motion, floor)
+                                    && info.pivot_ratio >= NEAR_SINGULAR
+                                    && info.det_sign * tracker.det_prev >= 0.0 =>
+                            {
+                                info
+                            }
+                            Err(e @ SolveError::NonFinite { .. }) => return Err(e),
+                            _ => {
+                                rates_set = true;
+                                tracker.careful(model, data, times[k - 1], t, k, &mut poll)?
+                            }
+                        },
+                    }
                 }
             }
         };
@@ -386,7 +399,9 @@ fn sweep_steps(
         // the cheap path's step checked backwards from its own rates: next to a change
         // point, Newton from a good prediction may still land on the other branch, which
         // passes close there with other rates
-        let info = if k > 0 && !rates_set && req.derivatives >= 1 {
+        // (a closed-form group keeps its branch by its sign, and its closeness trend
+        // catches a crossing: the check is for the Newton solves)
+        let info = if k > 0 && !rates_set && req.derivatives >= 1 && !(by_blocks && closed_only) {
             let qdd = (req.derivatives >= 2).then_some(&data.qdd[..]);
             let h = t - times[k - 1];
             if continues(model, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
@@ -439,6 +454,54 @@ fn sweep_steps(
         }
     }
     Ok(())
+}
+
+/// Step k by a plan whose groups are all closed forms, before any prediction (they need
+/// none): on success the predictor's history moves on as `predict` would have moved it;
+/// on a miss q, qd, qdd of step k-1 are put back for the prediction and the general path.
+fn closed_step(
+    model: &Model,
+    plan: &blocks::Plan,
+    data: &mut Data,
+    times: &[f64],
+    k: usize,
+    derivatives: u8,
+    q_prev: &[f64],
+) -> Option<PositionInfo> {
+    let rates = derivatives >= 1;
+    if rates {
+        data.blocks.qd_prev.copy_from_slice(&data.qd);
+        data.blocks.qdd_prev.copy_from_slice(&data.qdd);
+    }
+    let (t, h) = (times[k], times[k] - times[k - 1]);
+    match blocks::step(model, plan, data, t, derivatives, h) {
+        Ok(s) => {
+            if rates {
+                std::mem::swap(&mut data.hist_qd, &mut data.blocks.qd_prev);
+                std::mem::swap(&mut data.hist_qdd, &mut data.blocks.qdd_prev);
+            } else {
+                data.hist_qd.copy_from_slice(&data.qd);
+                data.hist_qdd.copy_from_slice(&data.qdd);
+            }
+            data.hist_q.rotate_right(1);
+            data.hist_q[0].copy_from_slice(q_prev);
+            Some(PositionInfo {
+                iterations: s.iterations,
+                residual: s.residual,
+                pivot_ratio: s.closeness,
+                det_sign: s.det_sign,
+                correction: s.correction,
+            })
+        }
+        Err(_) => {
+            data.q.copy_from_slice(q_prev);
+            if rates {
+                data.qd.copy_from_slice(&data.blocks.qd_prev);
+                data.qdd.copy_from_slice(&data.blocks.qdd_prev);
+            }
+            None
+        }
+    }
 }
 
 /// Phi_q assembled and factored at data.q (after a structured step, for the stages that

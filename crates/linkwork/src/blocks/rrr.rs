@@ -22,6 +22,7 @@ pub(crate) struct Link {
     pub u_middle: [f64; 2],
     /// |u_middle - u_outer| and that direction in the body's frame
     pub length: f64,
+    pub inv_length: f64,
     pub dir: [f64; 2],
 }
 
@@ -42,6 +43,7 @@ impl Link {
             u_outer,
             u_middle,
             length,
+            inv_length: 1.0 / length,
             dir: [d[0] / length, d[1] / length],
         })
     }
@@ -51,9 +53,9 @@ impl Link {
     /// from the body's last one. Returns the pin residual (middle pin against b).
     #[inline(always)]
     pub fn place(&self, data: &mut Data, a: [f64; 2], b: [f64; 2]) -> f64 {
+        // |b - a| is the length to round-off (b is on its circle): no square root
         let w = sub(b, a);
-        let n = w[0].hypot(w[1]);
-        let w = [w[0] / n, w[1] / n];
+        let w = [w[0] * self.inv_length, w[1] * self.inv_length];
         // the rotation taking dir to w
         let c = self.dir[0] * w[0] + self.dir[1] * w[1];
         let s = self.dir[0] * w[1] - self.dir[1] * w[0];

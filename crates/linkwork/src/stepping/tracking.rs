@@ -305,6 +305,12 @@ impl Tracker {
         }
     }
 
+    /// Whether the careful path has stepped past the sweep's next times (they come from
+    /// its interpolant or its states).
+    pub(crate) fn spanning(&self) -> bool {
+        self.span.is_some()
+    }
+
     /// After step 0: remember its det sign and output rates.
     pub fn start(&mut self, info: &PositionInfo, data: &Data) {
         self.det_prev = info.det_sign;
