@@ -885,7 +885,9 @@ def targets_table(
             lw2["residual"] <= 1e-12,
             f"by {lw2['residual'] / 1e-12:.1f}x",
         )
-    ratio_line("positions only >= 2x faster than pylinkage-numba `step_fast`", pl0, lw0, 2.0, "positions only")
+    ratio_line(
+        "positions only >= 2x faster than pylinkage-numba `step_fast`", pl0, lw0, 2.0, "positions only"
+    )
     per = {r["name"]: r["us"] / r["coords"] for r in mechs}
     for name in ("slider_crank", "six_bar_stephenson"):
         ratio = per[name] / per["four_bar"]

@@ -7,6 +7,7 @@ cd "$(dirname "$0")/.."
 echo "== rustfmt";  cargo fmt --all -- --check
 echo "== clippy";   cargo clippy --workspace --all-targets --quiet -- -D warnings
 echo "== cargo test"; cargo test -p linkwork -p linkwork-homotopy --quiet
-echo "== ruff";     ruff check python tests benches examples && ruff format --check python tests benches examples
+echo "== ruff";     ruff check python tests benches examples
+ruff format --check python tests benches examples
 echo "== stubtest"; python -m mypy.stubtest linkwork._core
 echo "== pytest";   python -m pytest -q

@@ -54,9 +54,7 @@ class Structure:
             )
             for g in raw["groups"]
         )
-        return cls(
-            groups, tuple(dict.fromkeys(raw["redundant"])), tuple(raw["free"]), raw.get("fallback")
-        )
+        return cls(groups, tuple(dict.fromkeys(raw["redundant"])), tuple(raw["free"]), raw.get("fallback"))
 
     def counts(self) -> dict[str, int]:
         """How many groups of each kind."""

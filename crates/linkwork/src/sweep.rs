@@ -297,8 +297,18 @@ fn sweep_steps(
     // the structure-aware cheap path, where the model has a plan
     let plan = model.plan.as_ref().ok();
     let has_newton = plan.is_some_and(|p| p.blocks.iter().any(|b| matches!(b, Block::Newton(_))));
-    // every group in closed form: tried before any prediction, which only a miss needs
-    let closed_only = plan.is_some() && !has_newton;
+    // every group in closed form, with rates (whose two-way check below guards the
+    // branch): tried before any prediction, which only a miss needs. Positions only, the
+    // prediction is the guard, as on the general path.
+    let fast_closed = plan.is_some() && !has_newton && req.derivatives >= 1;
+    // the largest scaled difference between the structured solution and the prediction
+    let deviation = |data: &Data| {
+        data.q
+            .iter()
+            .zip(&data.blocks.q_pred)
+            .zip(&data.inv_col_scale)
+            .fold(0.0f64, |m, ((q, p), s)| m.max((q - p).abs() * s))
+    };
     // the pivot ratio (closeness to singular on the structured path) of the last step
     let mut ratio_prev = f64::INFINITY;
     // worst diagnostics since the last kept row
@@ -318,7 +328,7 @@ fn sweep_steps(
         } else {
             tracker.q_prev.copy_from_slice(&data.q);
             let fast = match plan {
-                Some(plan) if closed_only && !tracker.spanning() => {
+                Some(plan) if fast_closed && !tracker.spanning() => {
                     closed_step(model, plan, data, times, k, req.derivatives, &tracker.q_prev)
                 }
                 _ => None,
@@ -353,10 +363,11 @@ fn sweep_steps(
                     // the structure-aware cheap path: the groups solved in order, on the branch
                     // of each, none near singular; any doubt, and the general cheap path decides
                     let mut structured = None;
-                    if let Some(plan) = plan.filter(|_| !closed_only) {
+                    if let Some(plan) = plan.filter(|_| !fast_closed) {
                         data.blocks.q_pred.copy_from_slice(&data.q);
                         match blocks::step(model, plan, data, t, req.derivatives, t - times[k - 1]) {
-                            Ok(s) if !(has_newton && s.correction > JUMP_RATIO * motion.max(floor)) => {
+                            // as the general path's jump check: the solution against the prediction
+                            Ok(s) if deviation(data) <= JUMP_RATIO * motion.max(floor) => {
                                 by_blocks = true;
                                 structured = Some(PositionInfo {
                                     iterations: s.iterations,
@@ -399,9 +410,9 @@ fn sweep_steps(
         // the cheap path's step checked backwards from its own rates: next to a change
         // point, Newton from a good prediction may still land on the other branch, which
         // passes close there with other rates
-        // (a closed-form group keeps its branch by its sign, and its closeness trend
-        // catches a crossing: the check is for the Newton solves)
-        let info = if k > 0 && !rates_set && req.derivatives >= 1 && !(by_blocks && closed_only) {
+        // (the structured path's too: on a coarse grid a dyad's closeness can pass through
+        // zero between two steps without its trend showing it)
+        let info = if k > 0 && !rates_set && req.derivatives >= 1 {
             let qdd = (req.derivatives >= 2).then_some(&data.qdd[..]);
             let h = t - times[k - 1];
             if continues(model, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
