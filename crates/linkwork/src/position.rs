@@ -31,6 +31,30 @@ pub struct PositionInfo {
     pub correction: f64,
 }
 
+/// Factors the Phi_q in data.jac (kept in data.factor, its pivots in data.pivots); a
+/// singular one is an error naming the coordinate of the smallest pivot.
+pub(crate) fn factor(
+    model: &Model,
+    data: &mut Data,
+    t: f64,
+    step: usize,
+) -> Result<crate::linear::Pivots, SolveError> {
+    let pivots = data.factor.factor(&model.symbolic, &data.jac);
+    data.pivots = pivots;
+    // a NaN ratio counts as singular too
+    if pivots.ratio.is_nan() || pivots.ratio < model.options.singular_tol {
+        let (coordinate, constraints) = model.describe_coordinate(pivots.column);
+        return Err(SolveError::Singular {
+            step,
+            time: t,
+            pivot_ratio: pivots.ratio,
+            coordinate,
+            constraints,
+        });
+    }
+    Ok(pivots)
+}
+
 /// Solves Phi(q, t) = 0 starting from data.q; writes data.q, data.phi, the factors.
 ///
 /// `step` is the sweep step (for error messages); `assembly` allows more iterations and
@@ -53,19 +77,7 @@ pub fn solve_position(
             let e = crate::velocity::non_finite_row(model, &data.phi, t, step, "the residual");
             return Err(e.unwrap_or(SolveError::NonFinite { step, time: t, what: "the residual".into() }));
         }
-        let pivots = data.factor.factor(&model.symbolic, &data.jac);
-        data.pivots = pivots;
-        // a NaN ratio counts as singular too
-        if pivots.ratio.is_nan() || pivots.ratio < opts.singular_tol {
-            let (coordinate, constraints) = model.describe_coordinate(pivots.column);
-            return Err(SolveError::Singular {
-                step,
-                time: t,
-                pivot_ratio: pivots.ratio,
-                coordinate,
-                constraints,
-            });
-        }
+        let pivots = factor(model, data, t, step)?;
         for (r, p) in data.rhs.iter_mut().zip(&data.phi) {
             *r = -p;
         }

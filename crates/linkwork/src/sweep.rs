@@ -519,19 +519,7 @@ fn closed_step(
 /// need the whole factorization: inverse dynamics).
 fn factor_at(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
     crate::assembly::position(model, data, t);
-    let pivots = data.factor.factor(&model.symbolic, &data.jac);
-    data.pivots = pivots;
-    if pivots.ratio.is_nan() || pivots.ratio < model.options.singular_tol {
-        let (coordinate, constraints) = model.describe_coordinate(pivots.column);
-        return Err(SolveError::Singular {
-            step,
-            time: t,
-            pivot_ratio: pivots.ratio,
-            coordinate,
-            constraints,
-        });
-    }
-    Ok(())
+    crate::position::factor(model, data, t, step).map(|_| ())
 }
 
 /// Memory available for new allocations (Linux: MemAvailable of /proc/meminfo), or None
