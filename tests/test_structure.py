@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 import linkwork as lw
 from linkwork import examples
@@ -120,3 +121,22 @@ def test_a_chain_of_loops_is_an_input_and_one_dyad_per_loop() -> None:
     s = examples.chain(1000).compile().structure()
     # loop k + 1's crank is tied to loop k's rocker by a relative-angle driver: an input
     assert s.counts() == {"input": 1000, "dyad RRR": 1000}
+
+
+def test_each_group_says_how_a_sweep_solves_it_and_general_is_a_choice() -> None:
+    model = examples.slider_crank().compile()
+    assert model.solver == "structured" and model.fallback is None
+    s = model.structure()
+    assert [g.method.split(":")[0] for g in s.groups] == ["closed form", "closed form"]
+    assert "circle meets the slide's line" in s.groups[1].method
+    assert "solver                  structured" in s.report()
+    general = examples.slider_crank().compile(solver="general")
+    assert general.solver == "general"
+    assert general.fallback is not None and "general path was asked for" in general.fallback
+    assert "solver                  general" in general.structure().report()
+    # both give the same sweep
+    t = np.linspace(0.0, 1.0, 201)
+    a, b = model.sweep(t), general.sweep(t)
+    assert np.abs(a.q - b.q).max() < 1e-12 and np.abs(a.qdd - b.qdd).max() < 1e-9 * np.abs(b.qdd).max()
+    with pytest.raises(lw.InputError, match="solver"):
+        examples.slider_crank().compile(solver="closed")

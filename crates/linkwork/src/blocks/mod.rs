@@ -244,7 +244,6 @@ pub(crate) fn continued(raw: f64, near: f64) -> f64 {
 
 /// Writes a body's pose and rates into q, qd, qdd and its frame.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn set_body(data: &mut Data, b: usize, r: [f64; 2], theta: f64, c: f64, s: f64) {
     data.q[3 * b] = r[0];
     data.q[3 * b + 1] = r[1];

@@ -125,7 +125,8 @@ impl Rrp {
             let rab = sub(b, a);
             let pab = perp(rab);
             // B moving with the known body, plus the slide u along dir
-            let vk = k.point_velocity(sub_frame(&k, b));
+            let rk = sub(b, k.r);
+            let vk = [k.rd[0] - k.thetad * rk[1], k.rd[1] + k.thetad * rk[0]];
             let va = k1.point_velocity(self.link.u_known);
             // w pab - u dir = vk - va
             let det = dir[0] * pab[1] - dir[1] * pab[0];
@@ -186,12 +187,4 @@ impl Rrp {
         };
         (sign, along.abs() / self.link.length, rate)
     }
-}
-
-/// The world point p in k's frame (so that k.point_velocity gives the velocity of the
-/// point of k's body that is at p).
-#[inline(always)]
-fn sub_frame(k: &Frame, p: [f64; 2]) -> [f64; 2] {
-    let d = sub(p, k.r);
-    [k.c * d[0] + k.s * d[1], -k.s * d[0] + k.c * d[1]]
 }
