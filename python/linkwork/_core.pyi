@@ -156,6 +156,8 @@ class Model:
         every: int = 1,
         on_singular: str = "continue",
         locks: bool = False,
+        coords: list[int] | None = None,
+        points: list[tuple[int, float, float]] | None = None,
     ) -> tuple[dict[str, Any], BaseException | None]: ...
     def statics(
         self, t: float, q_guess: npt.NDArray[np.float64] | None = None

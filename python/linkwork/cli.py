@@ -2,7 +2,8 @@
 
     linkwork demo [four_bar|slider_crank|...] [--steps N] [--revolutions R] [--out DIR]
     linkwork run MODEL [--t0 T0] [--t1 T1] [--steps N] [--every K] [--format csv|npz|parquet]
-                       [--forces] [--plot] [--outputs NAME,...] [--paths NAME,...]
+                       [--keep NAME,...] [--derivatives 0|1|2] [--forces] [--plot]
+                       [--outputs NAME,...] [--paths NAME,...]
                        [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
     linkwork plot MODEL [--t0 T0] [--t1 T1] [--steps N] [--outputs NAME,...] [--paths NAME,...]
                         [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
@@ -115,12 +116,26 @@ def _check_figures(args: argparse.Namespace, model: Model) -> None:
 
 
 def _sweep(
-    args: argparse.Namespace, model: Model, forces: bool = False, every: int = 1
+    args: argparse.Namespace,
+    model: Model,
+    forces: bool = False,
+    every: int = 1,
+    keep: list[str] | None = None,
+    derivatives: int = 2,
 ) -> tuple[Results, int]:
-    """Sweeps from t0 to t1; a failed sweep gives its good steps and status 1."""
+    """Sweeps from t0 to t1, keeping ``keep`` (None: as the model says); a failed sweep
+    gives its good steps and status 1."""
     times = np.linspace(args.t0, args.t1, args.steps)
     try:
-        return model.sweep(times, progress=sys.stderr.isatty(), forces=forces, every=every), 0
+        results = model.sweep(
+            times,
+            progress=sys.stderr.isatty(),
+            forces=forces,
+            every=every,
+            outputs=keep,
+            derivatives=derivatives,
+        )
+        return results, 0
     except KeyboardInterrupt as e:
         # Ctrl-C: the steps done are kept and written, and the exit status says so
         partial = getattr(e, "partial", None)
@@ -161,11 +176,32 @@ def _figures(args: argparse.Namespace, results: Results, plots: bool) -> list[st
     return written
 
 
+def _kept(args: argparse.Namespace, model: Model) -> list[str] | None:
+    """What `run` keeps: --keep, else the model's outputs; every coordinate where the
+    figures or the forces need them all."""
+    if args.plot or args.animate or args.forces:
+        if args.keep:
+            problem = "--keep keeps only some coordinates; --plot, --animate and --forces need them all"
+            raise _Failed(problem, status=2)
+        return list(model.columns)
+    if args.keep:
+        try:
+            model._outputs(args.keep, LinkworkError)
+        except LinkworkError as e:
+            raise _Failed(f"{args.model}: --keep: {e}", status=2) from None
+    return args.keep
+
+
 def run(args: argparse.Namespace) -> int:
     model = _load(args.model)
     _check_figures(args, model)
+    keep = _kept(args, model)
+    if args.derivatives < 2 and (args.forces or args.plot or args.animate):
+        raise _Failed("--plot, --animate and --forces need --derivatives 2", 2)
     print(f"{model!r}")
-    results, status = _sweep(args, model, forces=args.forces, every=args.every)
+    results, status = _sweep(
+        args, model, forces=args.forces, every=args.every, keep=keep, derivatives=args.derivatives
+    )
     print(results.summary())
     os.makedirs(args.out, exist_ok=True)
     written = [f"{_stem(args)}.{args.format}"]
@@ -186,7 +222,7 @@ def plot(args: argparse.Namespace) -> int:
     model = _load(args.model)
     _check_figures(args, model)
     print(f"{model!r}")
-    results, status = _sweep(args, model)
+    results, status = _sweep(args, model, keep=list(model.columns))
     os.makedirs(args.out, exist_ok=True)
     print("wrote " + ", ".join(_figures(args, results, plots=True)))
     return status
@@ -334,9 +370,11 @@ def _parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParse
         help="sweep a model file; write its results (CSV, NPZ or Parquet), with --plot PNGs",
         description="""Sweeps a model file from t0 to t1, prints a summary (range of every coordinate,
 worst residual, Newton iterations, smallest pivot ratio, located events) and writes:
-  DIR/MODEL.csv|.npz|.parquet  time, every coordinate, its rate (_d) and acceleration (_dd),
-                               iterations, residual, pivot_ratio; units in the CSV headers,
-                               in an array 'units' (NPZ) or in each field's metadata (Parquet)
+  DIR/MODEL.csv|.npz|.parquet  time, every coordinate (or what --keep or the model's outputs
+                               keep: coordinates, point paths P.x, P.y), its rate (_d) and
+                               acceleration (_dd), iterations, residual, pivot_ratio; units in
+                               the CSV headers, in an array 'units' (NPZ) or in each field's
+                               metadata (Parquet)
   DIR/MODEL_forces.csv         with --forces: driver efforts (and parts), power, joint reactions
   DIR/MODEL.png                with --plot: outputs over time (value, rate, acceleration)
   DIR/MODEL_paths.png          with --plot: paths of points over the mechanism at t0
@@ -357,6 +395,20 @@ A sweep that fails at step k writes its k good steps and exits with status 1."""
         choices=FORMATS,
         default="csv",
         help="results file: csv (default), npz (NumPy) or parquet (needs pyarrow)",
+    )
+    r.add_argument(
+        "--keep",
+        type=_names,
+        metavar="NAME,...",
+        help="keep only these, comma-separated: bodies, columns (rocker.theta), named points, joints "
+        "(their paths); default: the model's outputs, else every coordinate",
+    )
+    r.add_argument(
+        "--derivatives",
+        type=int,
+        choices=(0, 1, 2),
+        default=2,
+        help="0: positions only; 1: and velocities; 2 (default): and accelerations",
     )
     r.add_argument("--forces", action="store_true", help="inverse dynamics: driver efforts, joint reactions")
     r.add_argument("--plot", action="store_true", help="also write the PNGs of outputs and paths")

@@ -95,6 +95,9 @@ class Mechanism:
         #: the units the numbers are written in, e.g. ``{"length": "mm", "angle": "deg"}``;
         #: None for metres and radians (see docs/model-format.md)
         self.units: dict[str, str] | None = None
+        #: what a sweep keeps unless told otherwise (`Model.sweep`'s ``outputs``: bodies,
+        #: columns, named points, joints); None keeps every coordinate
+        self.outputs: list[str] | None = None
         # (file, {(kind, name): line}) of a mechanism read from a file, for compile errors
         self._source: tuple[str, dict[tuple[str, str], int]] | None = None
 
@@ -619,6 +622,8 @@ class Mechanism:
         desc: dict[str, Any] = {"name": self.name}
         if self.units:
             desc["units"] = dict(self.units)
+        if self.outputs:
+            desc["outputs"] = list(self.outputs)
         return desc | {
             "bodies": [dict(b) for b in self._bodies],
             "joints": [dict(j) for j in self._joints],
@@ -649,6 +654,11 @@ class Mechanism:
         m.gravity = g
         units = desc.get("units")
         m.units = dict(units) if units else None
+        outputs = desc.get("outputs")
+        if outputs is not None:
+            if isinstance(outputs, str) or not all(isinstance(o, str) for o in outputs):
+                raise InputError(f"outputs must be a list of names, not {outputs!r}")
+            m.outputs = list(outputs) or None
         return m
 
     # -- model files --------------------------------------------------------------------

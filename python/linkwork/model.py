@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
@@ -56,6 +57,9 @@ class Model:
         self._columns: list[str] = list(self._core.columns)
         self._body_names: list[str] = list(self._core.body_names)
         self._column_index = {c: i for i, c in enumerate(self._columns)}
+        # what a sweep keeps unless told otherwise: the description's outputs, or everything
+        said = desc.get("outputs")
+        self._default_outputs = self._outputs(said, ModelError) if said else None
 
     name = property(lambda self: self._core.name, doc="The mechanism's name.")
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
@@ -210,6 +214,51 @@ class Model:
         )
         return AssemblyModes(modes, int(tried), int(converged))
 
+    def _outputs(self, outputs: Any, error: type[Exception]) -> Kept:
+        """What ``outputs`` asks a sweep to keep; ``error`` names what does not exist."""
+        from .drawing import Geometry
+
+        if isinstance(outputs, (str, tuple)):
+            outputs = [outputs]
+        items = _args.each(outputs, "outputs", lambda item, name: item)
+        coords: list[int] = []
+        points: dict[str, tuple[int, float, float]] = {}
+        named = {p: (b, ux, uy) for p, b, ux, uy in self._core.points}
+        geometry: Geometry | None = None
+        for item in items:
+            if isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str):
+                body, local = item
+                index = -1 if body == "ground" else self._body_index(body, error)
+                u = [float(x) for x in _args.vector(local, f"the point of {body!r}", 2)]
+                points[f"{body}({u[0]:g}, {u[1]:g})"] = (index, u[0], u[1])
+            elif not isinstance(item, str):
+                raise error(f"an output is a name or (body, (u_x, u_y)), not {item!r}")
+            elif item in self._column_index:
+                coords.append(self._column_index[item])
+            elif item in self._body_names:
+                j = 3 * self._body_names.index(item)
+                coords += [j, j + 1, j + 2]
+            elif item in named:
+                points[item] = named[item]
+            else:
+                geometry = geometry or Geometry.from_model(self)
+                k = geometry.traceable.get(item)
+                if k is None:
+                    raise error(
+                        f"no output named {item!r}; an output is a body ({', '.join(self._body_names)}), "
+                        f"a column ({', '.join(self._columns)}), or a point, joint or driver with a point "
+                        f"({', '.join(geometry.traceable) or 'none'})"
+                    )
+                anchor = geometry.anchors[k]
+                index = -1 if anchor.body == "ground" else self._body_names.index(anchor.body)
+                points[item] = (index, float(anchor.local[0]), float(anchor.local[1]))
+        return Kept(list(dict.fromkeys(coords)), list(points.values()), list(points))
+
+    def _body_index(self, body: str, error: type[Exception]) -> int:
+        if body not in self._body_names:
+            raise error(f"no body named {body!r}; bodies: {', '.join(self._body_names)} (or 'ground')")
+        return self._body_names.index(body)
+
     def _guess(self, q_guess: Any) -> np.ndarray | None:
         return _args.optional_vector(q_guess, "q_guess", self.n_coords)
 
@@ -258,6 +307,7 @@ class Model:
         on_singular: str = "continue",
         locks: bool = False,
         branch: str | dict[str, str] | None = None,
+        outputs: Sequence[Any] | None = None,
     ) -> Results:
         """Solves position, velocity and acceleration at every time (strictly monotone),
         each step predicted from the previous one. The GIL is released meanwhile.
@@ -282,6 +332,12 @@ class Model:
         events found so far. ``branch``: start on the assembly mode it names instead of
         the one nearest ``q_guess``: "open" or "crossed" (every recognised four-bar loop or
         slider-crank), or {linkage name: circuit}; see `assembly_modes` and `linkages`.
+        ``outputs``: keep only these (default: the model's ``outputs``, else every
+        coordinate): a body's name (its x, y, theta), a column ("rocker.theta"), a named
+        point, joint or driver (its world path: ``results.points[name]``), or
+        (body, (u_x, u_y)) for any body point. What is not kept is neither stored nor
+        allocated; the diagnostics and events are always kept. With ``derivatives=0``, one
+        coupler point's path costs a fraction of the full sweep.
         """
         t = _args.times(times)
         forces, locks = _args.flag(forces, "forces"), _args.flag(locks, "locks")
@@ -298,12 +354,26 @@ class Model:
         check = max(1, min(16384, 1_000_000 // max(1, self.n_coords)))
         if callback is not None:
             check = min(check, max(1024, len(t) // 100))
-        raw, error = self._core.sweep(t, g, callback, check, forces, derivatives, every, on_singular, locks)
-        results = Results(self, raw)
+        kept = self._default_outputs if outputs is None else self._outputs(outputs, InputError)
+        coords, points = (None, None) if kept is None else (kept.coords, kept.points)
+        raw, error = self._core.sweep(
+            t, g, callback, check, forces, derivatives, every, on_singular, locks, coords, points
+        )
+        results = Results(self, raw, kept)
         if error is not None:
             error.partial = results
             raise error
         return results
+
+
+@dataclass(frozen=True)
+class Kept:
+    """What a sweep keeps: model columns (indices, in order), body points (body index, -1
+    for the ground; u_x, u_y) and the points' names."""
+
+    coords: list[int]
+    points: list[tuple[int, float, float]]
+    point_names: list[str]
 
 
 def sweep_batch(

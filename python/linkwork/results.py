@@ -16,7 +16,7 @@ import numpy as np
 from .events import Event
 
 if TYPE_CHECKING:
-    from .model import Model
+    from .model import Kept, Model
 
 __all__ = ["Results", "State", "Statics", "BodyMotion", "PointMotion", "Reaction", "Energy"]
 
@@ -85,10 +85,35 @@ class _Kinematics:
     q: np.ndarray
     qd: np.ndarray | None
     qdd: np.ndarray | None
+    # model column -> column of q, where a sweep kept only some (``outputs``)
+    _kept: dict[int, int] | None = None
+    #: the points a sweep kept (``outputs``), by name
+    points: dict[str, PointMotion] = {}
+    _kept_points: dict[tuple[int, float, float], PointMotion] = {}
 
     @property
     def columns(self) -> list[str]:
         return self.model.columns
+
+    def _col(self, j: int) -> int:
+        """The column of q holding the model's column j."""
+        if self._kept is None:
+            return j
+        k = self._kept.get(j)
+        if k is None:
+            raise KeyError(
+                f"{self.model.columns[j]} was not kept by this sweep: it kept "
+                f"{', '.join(self.columns) or 'no'} coordinates (sweep(..., outputs=[...]) says what to keep)"
+            )
+        return k
+
+    def _all_columns(self, what: str) -> None:
+        """Refuses ``what`` where the sweep kept only some coordinates."""
+        if self._kept is not None and len(self._kept) < len(self.model.columns):
+            raise ValueError(
+                f"{what} needs every coordinate, and this sweep kept only some (outputs=...): "
+                "sweep without outputs for it"
+            )
 
     def _body_index(self, body: str) -> int:
         try:
@@ -99,16 +124,20 @@ class _Kinematics:
     def body(self, name: str) -> BodyMotion:
         """x, y, theta of a body and their first and second derivatives."""
         j = 3 * self._body_index(name)
+        cs = [self._col(j), self._col(j + 1), self._col(j + 2)]
 
         def cols(a: np.ndarray | None) -> list[np.ndarray | None]:
-            return [None] * 3 if a is None else [a[..., j], a[..., j + 1], a[..., j + 2]]
+            return [None] * 3 if a is None else [a[..., c] for c in cs]
 
         x, y, th = cols(self.q)
         assert x is not None and y is not None and th is not None
         return BodyMotion(x, y, th, *cols(self.qd), *cols(self.qdd))
 
     def point(self, name: str) -> PointMotion:
-        """Kinematics of a named point (``Mechanism.point``)."""
+        """Kinematics of a named point (``Mechanism.point``), or of a point, joint or
+        driver a sweep kept (``outputs``)."""
+        if name in self.points:
+            return self.points[name]
         for pname, body, ux, uy in self.model._core.points:
             if pname == name:
                 return self._point(body, (ux, uy))
@@ -127,8 +156,8 @@ class _Kinematics:
         output stops (a toggle position), 0 where the input does."""
         if self.qd is None:
             raise ValueError("the mechanical advantage needs velocities (derivatives >= 1)")
-        w_in = self.qd[..., 3 * self._body_index(input_body) + 2]
-        w_out = self.qd[..., 3 * self._body_index(output_body) + 2]
+        w_in = self.qd[..., self._col(3 * self._body_index(input_body) + 2)]
+        w_out = self.qd[..., self._col(3 * self._body_index(output_body) + 2)]
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.abs(w_in / w_out)
 
@@ -137,6 +166,7 @@ class _Kinematics:
         (by name, as `Model.linkages` gives it; default: the only one): four-bar, the
         angle between coupler and rocker in [0, pi]; slider-crank, between the rod and
         the slide's normal in [0, pi/2]. Best at pi/2; near 0 (or pi) the output locks."""
+        self._all_columns("the transmission angle")
         # the linkages as found at the first state (their geometry does not change)
         t0 = float(np.ravel(getattr(self, "times", getattr(self, "t", 0.0)))[0])
         found = self.model.linkages(t=t0, q_guess=np.reshape(self.q, (-1, self.q.shape[-1]))[0])
@@ -166,7 +196,7 @@ class _Kinematics:
         r = table[..., k, :]
         point = self._point(body_b, (ux, uy)).position
         if body_b >= 0:
-            th = self.q[..., 3 * body_b + 2]
+            th = self.q[..., self._col(3 * body_b + 2)]
             c, s = np.cos(th), np.sin(th)
         else:
             c, s = np.ones_like(r[..., 0]), np.zeros_like(r[..., 0])
@@ -174,23 +204,26 @@ class _Kinematics:
         return Reaction(r[..., :2], local, r[..., 2], point, r[..., 3])
 
     def _point(self, body: int, u: tuple[float, float]) -> PointMotion:
+        kept = self._kept_points.get((body, float(u[0]), float(u[1])))
+        if kept is not None:
+            return kept
         if body < 0:  # a point of the ground
             shape = self.q.shape[:-1] + (2,)
             return PointMotion(np.broadcast_to(np.asarray(u), shape).copy(), np.zeros(shape), np.zeros(shape))
-        j = 3 * body
-        th = self.q[..., j + 2]
+        x, y, t = self._col(3 * body), self._col(3 * body + 1), self._col(3 * body + 2)
+        th = self.q[..., t]
         c, s = np.cos(th), np.sin(th)
         au = np.stack([c * u[0] - s * u[1], s * u[0] + c * u[1]], axis=-1)  # A u
         bu = np.stack([-au[..., 1], au[..., 0]], axis=-1)  # B u = A u turned +90 deg
-        r = self.q[..., j : j + 2] + au
+        r = self.q[..., [x, y]] + au
         if self.qd is None:
             return PointMotion(r, None, None)
-        w = self.qd[..., j + 2]
-        v = self.qd[..., j : j + 2] + bu * w[..., None]
+        w = self.qd[..., t]
+        v = self.qd[..., [x, y]] + bu * w[..., None]
         if self.qdd is None:
             return PointMotion(r, v, None)
-        al = self.qdd[..., j + 2]
-        a = self.qdd[..., j : j + 2] + bu * al[..., None] - au * (w * w)[..., None]
+        al = self.qdd[..., t]
+        a = self.qdd[..., [x, y]] + bu * al[..., None] - au * (w * w)[..., None]
         return PointMotion(r, v, a)
 
 
@@ -246,8 +279,17 @@ class Results(_Kinematics):
     (smallest over largest LU pivot of the scaled Phi_q: near 0 means near singular).
     """
 
-    def __init__(self, model: Model, raw: dict[str, np.ndarray]) -> None:
+    def __init__(self, model: Model, raw: dict[str, Any], kept: Kept | None = None) -> None:
         self.model = model
+        if kept is not None:
+            self._kept = {j: k for k, j in enumerate(kept.coords)}
+            self._columns = [model.columns[j] for j in kept.coords]
+            rows = [raw.get(k) for k in ("points", "points_d", "points_dd")]
+            self.points = {
+                name: PointMotion(*(None if a is None else a[:, i] for a in rows))
+                for i, name in enumerate(kept.point_names)
+            }
+            self._kept_points = {p: self.points[n] for p, n in zip(kept.points, kept.point_names)}
         self.times: np.ndarray = raw["times"]
         self.q: np.ndarray = raw["q"]
         self.qd: np.ndarray | None = raw["qd"]  # None with derivatives=0
@@ -264,6 +306,11 @@ class Results(_Kinematics):
         self.reactions: np.ndarray | None = raw.get("reactions")  # (n_steps, n_constraints, 4)
         self.load_power: np.ndarray | None = raw.get("load_power")  # (n_steps,)
         self._parts = {p: raw.get("lambda_" + p) for p in ("inertia", "gravity", "loads")}
+
+    @property
+    def columns(self) -> list[str]:
+        """The coordinates kept: every one of the model's unless the sweep said (``outputs``)."""
+        return getattr(self, "_columns", self.model.columns)
 
     def _forces(self) -> np.ndarray:
         if self.reactions is None:
@@ -307,6 +354,7 @@ class Results(_Kinematics):
         """Kinetic and gravitational energy from the kinematics, the power of drivers and
         loads from the inverse dynamics, and their balance (zero up to rounding)."""
         table = self._forces()
+        self._all_columns("the energy balance")
         assert self.load_power is not None
         g = np.asarray(self.model._core.gravity)
         kinetic = np.zeros(self.n_steps)
@@ -316,7 +364,7 @@ class Results(_Kinematics):
         for i, (mass, inertia, cx, cy) in enumerate(self.model._core.inertias):
             c = self._point(i, (cx, cy))
             assert self.qd is not None and self.qdd is not None  # forces imply derivatives=2
-            w, a = self.qd[:, 3 * i + 2], self.qdd[:, 3 * i + 2]
+            w, a = self.qd[:, self._col(3 * i + 2)], self.qdd[:, self._col(3 * i + 2)]
             kinetic += 0.5 * mass * np.sum(c.velocity**2, axis=1) + 0.5 * inertia * w * w
             kinetic_rate += mass * np.sum(c.velocity * c.acceleration, axis=1) + inertia * w * a
             gravity -= mass * c.position @ g
@@ -439,6 +487,12 @@ class Results(_Kinematics):
         for k, c in enumerate(self.columns):
             q = self.q[:, k]
             lines.append(f"  {c:<22}{q.min():>13.6g}{q.max():>13.6g}{peak(self.qd, k)}{peak(self.qdd, k)}")
+        for name, p in self.points.items():
+            for i, a in enumerate("xy"):
+                r, v, acc = (x if x is None else x[:, i : i + 1] for x in (p.position, p.velocity, p.acceleration))
+                assert r is not None
+                c = f"{name}.{a}"
+                lines.append(f"  {c:<22}{r.min():>13.6g}{r.max():>13.6g}{peak(v, 0)}{peak(acc, 0)}")
         worst = int(np.argmin(self.pivot_ratio))
         lines += [
             f"  worst scaled residual   {self.residual.max():.2e}",
@@ -465,32 +519,40 @@ class Results(_Kinematics):
             base = column.removesuffix(suffix)
             if base != column and base in index:
                 return self.units(base) + per
+        point, _, axis = column.rpartition(".")
+        if column not in index and point in self.points and axis in ("x", "y"):
+            return str(self.model.units["length"])
         if column not in index:
             raise KeyError(f"no column {column!r}; the coordinates are {', '.join(self.columns)}")
         return "rad" if column.endswith((".theta", ".s")) else self.model.units["length"]
 
     def table(self) -> tuple[list[str], list[str], np.ndarray]:
         """Every output as one table: column names, their units and the data (n_steps x
-        n_columns). Columns: ``time``, every coordinate, its rate (``<column>_d``) and
-        acceleration (``<column>_dd``) where solved, then the diagnostics ``iterations``,
-        ``residual`` and ``pivot_ratio`` (unit ""). The CSV, NPZ and Parquet writers share it.
+        n_columns). Columns: ``time``, every coordinate kept and the kept points' ``<point>.x``
+        and ``.y``, their rates (``<column>_d``) and accelerations (``<column>_dd``) where
+        solved, then the diagnostics ``iterations``, ``residual`` and ``pivot_ratio`` (unit
+        ""). The CSV, NPZ and Parquet writers share it.
         """
-        names, parts = ["time"] + list(self.columns), [self.times, self.q]
-        if self.qd is not None:
-            names += [f"{c}_d" for c in self.columns]
-            parts.append(self.qd)
-        if self.qdd is not None:
-            names += [f"{c}_dd" for c in self.columns]
-            parts.append(self.qdd)
+        # a unit per coordinate, then the kept points' x and y (in the length unit)
+        columns = list(self.columns) + [f"{p}.{a}" for p in self.points for a in "xy"]
+        base = [self.units(c) for c in self.columns] + [self.model.units["length"]] * 2 * len(self.points)
+        n = len(self.times)
+
+        def with_points(a: np.ndarray | None, i: int) -> np.ndarray | None:
+            ps = [getattr(p, ("position", "velocity", "acceleration")[i]) for p in self.points.values()]
+            if a is None or any(p is None for p in ps):
+                return None
+            return np.column_stack([a] + [p.reshape(n, 2) for p in ps])
+
+        q, qd, qdd = (with_points(a, i) for i, a in enumerate((self.q, self.qd, self.qdd)))
+        assert q is not None
+        names, units, parts = ["time"] + columns, ["s"] + base, [self.times, q]
+        for a, suffix, per in ((qd, "_d", "/s"), (qdd, "_dd", "/s^2")):
+            if a is not None:
+                names += [f"{c}{suffix}" for c in columns]
+                units += [u + per for u in base]
+                parts.append(a)
         names += ["iterations", "residual", "pivot_ratio"]
-        # one unit per coordinate, then its rate's and acceleration's (not looked up per
-        # column: that was quadratic in the model's size)
-        base = {c: self.units(c) for c in self.columns}
-        units = ["s"] + [base[c] for c in self.columns]
-        if self.qd is not None:
-            units += [base[c] + "/s" for c in self.columns]
-        if self.qdd is not None:
-            units += [base[c] + "/s^2" for c in self.columns]
         units += ["", "", ""]
         return names, units, np.column_stack(parts + [self.iterations, self.residual, self.pivot_ratio])
 

@@ -79,7 +79,7 @@ fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
         SolveError::NonFinite { time, .. } => (NonFiniteError::new_err(msg), Some(*time)),
         SolveError::Times { .. } => (InputError::new_err(msg), None),
         SolveError::OutOfRange { time, .. } => (InputError::new_err(msg), Some(*time)),
-        SolveError::TooLarge { .. } => (InputError::new_err(msg), None),
+        SolveError::TooLarge { .. } | SolveError::Outputs { .. } => (InputError::new_err(msg), None),
         SolveError::Cancelled { .. } => (CancelledError::new_err(msg), None),
         SolveError::Event { time, .. } => (SingularError::new_err(msg), Some(*time)),
     };
@@ -227,15 +227,50 @@ fn parse_request(
     Ok(linkwork::Request { derivatives, forces, every, on_singular, locks })
 }
 
+/// The coordinates (None: all) and body points ((body index, -1 the ground; u_x, u_y))
+/// a sweep keeps.
+fn parse_outputs(
+    coords: Option<Vec<usize>>,
+    points: Option<Vec<(i64, f64, f64)>>,
+) -> PyResult<linkwork::Outputs> {
+    let points = points
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(b, ux, uy)| {
+            let body = match b {
+                -1 => None,
+                b if b >= 0 => Some(b as usize),
+                b => {
+                    return Err(InputError::new_err(format!(
+                        "a point's body index must be -1 or more, not {b}"
+                    )))
+                }
+            };
+            Ok((body, [ux, uy]))
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(linkwork::Outputs { coords, points })
+}
+
 /// A sweep's outputs as a dict of NumPy arrays (moved, not copied); qd and qdd are None
 /// when not solved, the inverse dynamics arrays absent when not asked for.
 fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, PyDict>> {
-    let (n, m) = (out.n_done, out.n_coords);
+    let (n, m, np) = (out.n_done, out.n_kept, out.n_points);
     let d = PyDict::new(py);
     d.set_item("q", rows_to_array(py, out.q, n, m))?;
     let derivatives = out.request.derivatives;
     d.set_item("qd", (derivatives >= 1).then(|| rows_to_array(py, out.qd, n, m)))?;
     d.set_item("qdd", (derivatives >= 2).then(|| rows_to_array(py, out.qdd, n, m)))?;
+    if np > 0 {
+        let points = |v: Vec<f64>| {
+            numpy::ndarray::Array3::from_shape_vec((n, np, 2), v)
+                .expect("n x points x 2 buffer")
+                .into_pyarray(py)
+        };
+        d.set_item("points", points(out.points))?;
+        d.set_item("points_d", (derivatives >= 1).then(|| points(out.points_d)))?;
+        d.set_item("points_dd", (derivatives >= 2).then(|| points(out.points_dd)))?;
+    }
     d.set_item("iterations", out.iterations.into_pyarray(py))?;
     d.set_item("residual", out.residual.into_pyarray(py))?;
     d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
@@ -286,7 +321,7 @@ fn sweep_batch<'py>(
     // every model's outputs are kept until all are returned: refused up front if they
     // cannot all fit
     let (bytes, what) = refs.iter().fold((0usize, String::new()), |(b, _), m| {
-        let (mb, what) = SweepOutput::bytes(m, times.len(), request);
+        let (mb, what) = SweepOutput::bytes(m, times.len(), request, &linkwork::Outputs::all());
         (b.saturating_add(mb), what)
     });
     let available = linkwork::available_memory();
@@ -533,7 +568,7 @@ impl PyModel {
     /// `progress(done, total)` is called every `progress_every` steps (0: never);
     /// Ctrl-C is noticed at the same points.
     #[pyo3(signature = (times, q_guess=None, progress=None, progress_every=16384, forces=false, derivatives=2,
-                        every=1, on_singular="continue", locks=false))]
+                        every=1, on_singular="continue", locks=false, coords=None, points=None))]
     #[allow(clippy::too_many_arguments)]
     fn sweep<'py>(
         &self,
@@ -547,8 +582,11 @@ impl PyModel {
         every: usize,
         on_singular: &str,
         locks: bool,
+        coords: Option<Vec<usize>>,
+        points: Option<Vec<(i64, f64, f64)>>,
     ) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
         let request = parse_request(derivatives, forces, every, on_singular, locks)?;
+        let outputs = parse_outputs(coords, points)?;
         let model = Arc::clone(&self.model);
         let times = times.as_slice()?;
         let mut data = Data::new(&model);
@@ -561,8 +599,9 @@ impl PyModel {
             }
             (None, _) => model.q_start.clone(),
         };
-        let mut out = SweepOutput::try_with_request(&model, times, request, linkwork::available_memory())
-            .map_err(|e| solve_err(py, &e))?;
+        let mut out =
+            SweepOutput::try_with_outputs(&model, times, request, outputs, linkwork::available_memory())
+                .map_err(|e| solve_err(py, &e))?;
         let total = times.len();
         laws::clear(&self.failures);
         let (result, interrupt) = py.detach(|| {

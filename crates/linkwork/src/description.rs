@@ -36,6 +36,10 @@ pub struct Description {
     /// applied forces, torques, springs and dampers, for inverse dynamics
     #[serde(default, deserialize_with = "wire::loads")]
     pub loads: Vec<LoadDesc>,
+    /// what a sweep keeps unless told otherwise (bodies, columns, points, joints); empty:
+    /// every coordinate. Names are resolved where sweeps are asked for (the Python package).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub outputs: Vec<String>,
 }
 
 /// A moving body and its approximate starting pose (world origin and angle).

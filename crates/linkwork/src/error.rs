@@ -106,13 +106,17 @@ pub enum SolveError {
     OutOfRange { driver: String, time: f64, start: f64, end: f64 },
     /// The outputs asked for would not fit in memory: refused before the sweep starts.
     #[error(
-        "the sweep's outputs need {:.3} GB ({steps} steps x {n_coords} coordinates{what}) and {}; \
-         ask for less: derivatives=0 or 1, forces=False, every=k to keep every k-th step, or \
-         sweep the times in chunks (writing each to a file)",
+        "the sweep's outputs need {:.3} GB ({steps} steps x {n_coords} values{what}) and {}; \
+         ask for less: outputs=[...] to keep only some bodies, coordinates or points, \
+         derivatives=0 or 1, forces=False, every=k to keep every k-th step, or sweep the times \
+         in chunks (writing each to a file)",
         *bytes as f64 / 1e9,
         match available { Some(a) => format!("{:.3} GB are available", *a as f64 / 1e9), None => "could not be allocated".into() }
     )]
     TooLarge { bytes: usize, available: Option<usize>, steps: usize, n_coords: usize, what: String },
+    /// The outputs asked for name a coordinate or body the model does not have.
+    #[error("outputs: {problem}")]
+    Outputs { problem: String },
 }
 
 impl SolveError {
@@ -126,7 +130,7 @@ impl SolveError {
             | SolveError::NonFinite { step, .. }
             | SolveError::Times { step, .. }
             | SolveError::Cancelled { step } => Some(*step),
-            SolveError::OutOfRange { .. } | SolveError::TooLarge { .. } => None,
+            SolveError::OutOfRange { .. } | SolveError::TooLarge { .. } | SolveError::Outputs { .. } => None,
         }
     }
 }

@@ -27,7 +27,7 @@ pub const FORMAT_VERSION: i64 = 1;
 pub const NO_FILE: &str = "model description";
 
 /// The keys of the `model` header table.
-const MODEL_KEYS: [&str; 4] = ["name", "version", "units", "gravity"];
+const MODEL_KEYS: [&str; 5] = ["name", "version", "units", "gravity", "outputs"];
 
 /// The element lists, in file order, with the kind errors call their elements.
 const GROUPS: [(&str, &str); 5] =
@@ -390,14 +390,17 @@ fn flatten(root: Node) -> Result<Node, DeError> {
         }
         let node = e.node;
         let Value::Table(inner) = node.value else {
-            let message =
-                format!("the model header is a table (name, version, units, gravity), not {}", node.kind());
+            let message = format!(
+                "the model header is a table (name, version, units, gravity, outputs), not {}",
+                node.kind()
+            );
             return Err(DeError { message, span: Some(node.span), path: Some(node.path) });
         };
         for m in inner {
             if !MODEL_KEYS.contains(&m.key.as_str()) {
                 let message = format!(
-                    "unknown field `{}` in the model header, expected one of `name`, `version`, `units`, `gravity`",
+                    "unknown field `{}` in the model header, expected one of `name`, `version`, `units`, `gravity`, \
+                     `outputs`",
                     m.key
                 );
                 return Err(DeError { message, span: Some(m.key_span), path: Some(m.node.path) });
@@ -802,8 +805,10 @@ fn file_form(flat: &Node) -> Node {
             ]),
         )),
     }
-    if let Some(e) = flat.get("gravity") {
-        header.push(e.clone());
+    for key in ["gravity", "outputs"] {
+        if let Some(e) = flat.get(key) {
+            header.push(e.clone());
+        }
     }
     let mut out = vec![entry("model", Value::Table(header))];
     // empty lists are left out (absent means empty), in JSON as in TOML, which cannot

@@ -48,7 +48,7 @@ pub use model::{Model, Options, SolverKind};
 pub use motion::{ExternalFn, ExternalLaw, MotionLaw};
 pub use position::{solve_position, PositionInfo};
 pub use sweep::{
-    available_memory, check_times, drawing_time, solve, solve_along, sweep, Request, SweepOutput,
+    available_memory, check_times, drawing_time, solve, solve_along, sweep, Outputs, Request, SweepOutput,
 };
 pub use units::Units;
 pub use velocity::solve_velocity;

@@ -47,7 +47,46 @@ impl Default for Request {
     }
 }
 
-/// Results of a sweep: row-major (n_steps x n_coords) arrays and per-step diagnostics,
+/// Which coordinates and body points a sweep keeps; the default keeps every coordinate
+/// and no point. What is not kept is neither stored nor allocated.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Outputs {
+    /// the columns of q (and qd, qdd) kept, in this order; None: all of them
+    pub coords: Option<Vec<usize>>,
+    /// body points (the body, None for the ground; the point in its frame) whose world
+    /// position, and velocity and acceleration as the request's derivatives say, are kept
+    pub points: Vec<(Option<usize>, [f64; 2])>,
+}
+
+impl Outputs {
+    /// Every coordinate, no point: what a sweep keeps unless told otherwise.
+    pub fn all() -> Outputs {
+        Outputs::default()
+    }
+
+    /// Columns per row of q: the kept coordinates.
+    pub fn n_kept(&self, model: &Model) -> usize {
+        self.coords.as_ref().map_or(model.n_coords, Vec::len)
+    }
+
+    /// Refuses a coordinate or body that the model does not have.
+    pub fn check(&self, model: &Model) -> Result<(), SolveError> {
+        let bad = |problem: String| Err(SolveError::Outputs { problem });
+        if let Some(c) = self.coords.as_ref().and_then(|c| c.iter().find(|&&c| c >= model.n_coords)) {
+            return bad(format!("coordinate {c} does not exist (the model has {})", model.n_coords));
+        }
+        if let Some((b, _)) = self
+            .points
+            .iter()
+            .find(|(b, u)| b.is_some_and(|b| b >= model.n_bodies) || !u.iter().all(|x| x.is_finite()))
+        {
+            return bad(format!("point on body {b:?}: no such body, or a coordinate that is not finite"));
+        }
+        Ok(())
+    }
+}
+
+/// Results of a sweep: row-major (n_steps x n_kept) arrays and per-step diagnostics,
 /// n_steps being the steps kept. Only the first `n_done` rows are results; the rest were
 /// never reached.
 #[derive(Debug, Clone, Default)]
@@ -55,6 +94,10 @@ pub struct SweepOutput {
     /// rows kept: ceil(times / every)
     pub n_steps: usize,
     pub n_coords: usize,
+    /// columns of q, qd, qdd: the coordinates `outputs` keeps (n_coords by default)
+    pub n_kept: usize,
+    /// body points kept (`outputs.points`)
+    pub n_points: usize,
     pub n_rows: usize,
     pub n_constraints: usize,
     /// rows completed
@@ -62,10 +105,17 @@ pub struct SweepOutput {
     pub request: Request,
     /// n_steps
     pub times: Vec<f64>,
-    /// n_steps x n_coords (qd, qdd empty when not solved)
+    /// what is kept of the coordinates and which body points
+    pub outputs: Outputs,
+    /// n_steps x n_kept (qd, qdd empty when not solved)
     pub q: Vec<f64>,
     pub qd: Vec<f64>,
     pub qdd: Vec<f64>,
+    /// n_steps x n_points x 2: the points' world positions, velocities, accelerations
+    /// (empty when not solved)
+    pub points: Vec<f64>,
+    pub points_d: Vec<f64>,
+    pub points_dd: Vec<f64>,
     /// n_steps: Newton iterations (factorizations) of each step
     pub iterations: Vec<u32>,
     /// n_steps: scaled residual inf-norm at each step's last Newton evaluation
@@ -103,27 +153,40 @@ impl SweepOutput {
         SweepOutput::with_request(model, times, Request { forces: true, ..Request::default() })
     }
 
-    /// Preallocates what `request` asks for.
+    /// Preallocates what `request` asks for, every coordinate kept.
     pub fn with_request(model: &Model, times: &[f64], request: Request) -> SweepOutput {
+        SweepOutput::with_outputs(model, times, request, Outputs::all())
+    }
+
+    /// Preallocates what `request` asks for, of the coordinates and points in `outputs`
+    /// (checked by `Outputs::check`).
+    pub fn with_outputs(model: &Model, times: &[f64], request: Request, outputs: Outputs) -> SweepOutput {
         let every = request.every.max(1);
         let forces = request.forces;
         let d = if forces { 2 } else { request.derivatives.min(2) };
         let d = if request.locks { d.max(1) } else { d };
         let request = Request { derivatives: d, forces, every, ..request };
         let n = times.len().div_ceil(every);
-        let (m, r, nc) = (model.n_coords, model.n_rows, model.constraints.len());
+        let (r, nc) = (model.n_rows, model.constraints.len());
+        let (m, np) = (outputs.n_kept(model), outputs.points.len());
         let sized = |on: bool, len: usize| if on { vec![0.0; len] } else { Vec::new() };
         SweepOutput {
             n_steps: n,
-            n_coords: m,
+            n_coords: model.n_coords,
+            n_kept: m,
+            n_points: np,
             n_rows: r,
             n_constraints: nc,
             n_done: 0,
             request,
             times: times.iter().step_by(every).copied().collect(),
+            outputs,
             q: vec![0.0; n * m],
             qd: sized(d >= 1, n * m),
             qdd: sized(d >= 2, n * m),
+            points: vec![0.0; n * np * 2],
+            points_d: sized(d >= 1, n * np * 2),
+            points_dd: sized(d >= 2, n * np * 2),
             iterations: vec![0; n],
             residual: vec![0.0; n],
             pivot_ratio: vec![0.0; n],
@@ -138,11 +201,13 @@ impl SweepOutput {
 
     /// The bytes the outputs of a sweep of `n_times` times would take (as `with_request`
     /// allocates them), and what they hold, for the refusal message.
-    pub fn bytes(model: &Model, n_times: usize, request: Request) -> (usize, String) {
+    pub fn bytes(model: &Model, n_times: usize, request: Request, outputs: &Outputs) -> (usize, String) {
         let probe = SweepOutput::with_request(model, &[], request);
         let req = probe.request;
         let n = n_times.div_ceil(req.every.max(1));
-        let (m, r, nc) = (model.n_coords, model.n_rows, model.constraints.len());
+        let (r, nc) = (model.n_rows, model.constraints.len());
+        // per step, each derivative solved: the kept coordinates and the points' x, y
+        let m = outputs.n_kept(model) + 2 * outputs.points.len();
         let f = std::mem::size_of::<f64>();
         let mut per_step = (3 * f + std::mem::size_of::<u32>() + f) + m * f; // diagnostics, times, q
         let mut what = vec!["q"];
@@ -169,12 +234,25 @@ impl SweepOutput {
         request: Request,
         available: Option<usize>,
     ) -> Result<SweepOutput, SolveError> {
-        let (bytes, what) = SweepOutput::bytes(model, times.len(), request);
+        SweepOutput::try_with_outputs(model, times, request, Outputs::all(), available)
+    }
+
+    /// `with_outputs`, checking `outputs` and refusing (instead of aborting the process)
+    /// outputs that cannot be allocated or that exceed `available` bytes.
+    pub fn try_with_outputs(
+        model: &Model,
+        times: &[f64],
+        request: Request,
+        outputs: Outputs,
+        available: Option<usize>,
+    ) -> Result<SweepOutput, SolveError> {
+        outputs.check(model)?;
+        let (bytes, what) = SweepOutput::bytes(model, times.len(), request, &outputs);
         let too_large = || SolveError::TooLarge {
             bytes,
             available,
             steps: times.len().div_ceil(request.every.max(1)),
-            n_coords: model.n_coords,
+            n_coords: outputs.n_kept(model) + 2 * outputs.points.len(),
             what: what.clone(),
         };
         if available.is_some_and(|a| bytes > a) {
@@ -184,17 +262,20 @@ impl SweepOutput {
         let mut probe: Vec<u8> = Vec::new();
         probe.try_reserve_exact(bytes).map_err(|_| too_large())?;
         drop(probe);
-        Ok(SweepOutput::with_request(model, times, request))
+        Ok(SweepOutput::with_outputs(model, times, request, outputs))
     }
 
     /// Drops the rows that were never reached.
     pub fn truncate(&mut self) {
-        let (k, m) = (self.n_done, self.n_coords);
+        let (k, m, p) = (self.n_done, self.n_kept, 2 * self.n_points);
         self.n_steps = k;
         self.times.truncate(k);
         self.q.truncate(k * m);
         self.qd.truncate(k * m);
         self.qdd.truncate(k * m);
+        self.points.truncate(k * p);
+        self.points_d.truncate(k * p);
+        self.points_dd.truncate(k * p);
         self.iterations.truncate(k);
         self.residual.truncate(k);
         self.pivot_ratio.truncate(k);
@@ -207,16 +288,39 @@ impl SweepOutput {
         self.det_sign.truncate(k);
     }
 
-    /// Stores the state in `data` as row `row`.
-    fn store(&mut self, model: &Model, data: &Data, t: f64, row: usize) {
-        let m = self.n_coords;
+    /// Stores the state in `data` as row `row`. `frames_set`: data.frames hold the
+    /// poses (and, as solved, the rates) of data.q, as a structured step leaves them.
+    fn store(&mut self, model: &Model, data: &Data, t: f64, row: usize, frames_set: bool) {
+        let d = self.request.derivatives;
+        let m = self.n_kept;
         let cells = row * m..(row + 1) * m;
-        self.q[cells.clone()].copy_from_slice(&data.q);
-        if self.request.derivatives >= 1 {
-            self.qd[cells.clone()].copy_from_slice(&data.qd);
+        match &self.outputs.coords {
+            None => {
+                self.q[cells.clone()].copy_from_slice(&data.q);
+                if d >= 1 {
+                    self.qd[cells.clone()].copy_from_slice(&data.qd);
+                }
+                if d >= 2 {
+                    self.qdd[cells].copy_from_slice(&data.qdd);
+                }
+            }
+            Some(coords) => {
+                let gather = |to: &mut [f64], from: &[f64]| {
+                    for (o, &c) in to.iter_mut().zip(coords) {
+                        *o = from[c];
+                    }
+                };
+                gather(&mut self.q[cells.clone()], &data.q);
+                if d >= 1 {
+                    gather(&mut self.qd[cells.clone()], &data.qd);
+                }
+                if d >= 2 {
+                    gather(&mut self.qdd[cells], &data.qdd);
+                }
+            }
         }
-        if self.request.derivatives >= 2 {
-            self.qdd[cells].copy_from_slice(&data.qdd);
+        if self.n_points > 0 {
+            self.store_points(data, row, frames_set);
         }
         if self.request.forces {
             let r = self.n_rows;
@@ -227,6 +331,44 @@ impl SweepOutput {
             let w = REACTION_COLUMNS * self.n_constraints;
             reactions(model, data, t, &mut self.reactions[row * w..(row + 1) * w]);
             self.load_power[row] = load_power(data);
+        }
+    }
+
+    /// The kept points' world position R + A u, velocity Rd + thetad B u and
+    /// acceleration Rdd + thetadd B u - thetad^2 A u, as row `row`.
+    fn store_points(&mut self, data: &Data, row: usize, frames_set: bool) {
+        let d = self.request.derivatives;
+        let cells = row * 2 * self.n_points;
+        for (i, &(body, u)) in self.outputs.points.iter().enumerate() {
+            let at = cells + 2 * i;
+            let Some(b) = body else {
+                self.points[at..at + 2].copy_from_slice(&u);
+                for rates in [&mut self.points_d, &mut self.points_dd].into_iter().take(d as usize) {
+                    rates[at..at + 2].fill(0.0);
+                }
+                continue;
+            };
+            let (q, qd, qdd) = (&data.q[3 * b..3 * b + 3], &data.qd, &data.qdd);
+            // a structured step set cos, sin from the pins; else from theta
+            let (c, s) = if frames_set {
+                (data.frames[b].c, data.frames[b].s)
+            } else {
+                let (s, c) = q[2].sin_cos();
+                (c, s)
+            };
+            let au = [c * u[0] - s * u[1], s * u[0] + c * u[1]];
+            self.points[at] = q[0] + au[0];
+            self.points[at + 1] = q[1] + au[1];
+            if d >= 1 {
+                let w = qd[3 * b + 2];
+                self.points_d[at] = qd[3 * b] - w * au[1];
+                self.points_d[at + 1] = qd[3 * b + 1] + w * au[0];
+                if d >= 2 {
+                    let al = qdd[3 * b + 2];
+                    self.points_dd[at] = qdd[3 * b] - al * au[1] - w * w * au[0];
+                    self.points_dd[at + 1] = qdd[3 * b + 1] + al * au[0] - w * w * au[1];
+                }
+            }
         }
     }
 }
@@ -455,7 +597,7 @@ fn sweep_steps(
                 solve_forces(model, data, t, k)?;
             }
             let row = k / req.every;
-            out.store(model, data, t, row);
+            out.store(model, data, t, row, by_blocks);
             out.iterations[row] = iterations;
             out.residual[row] = residual;
             out.pivot_ratio[row] = pivot_ratio;

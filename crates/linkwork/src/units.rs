@@ -103,7 +103,7 @@ impl Units {
 /// variant (no `..`, no `_`): a new field or type with an angle cannot be forgotten here.
 pub fn internal(desc: &Description) -> Description {
     let k = desc.units.angle.to_radians();
-    let Description { name, units, bodies, joints, drivers, points, gravity, loads } = desc;
+    let Description { name, units, bodies, joints, drivers, points, gravity, loads, outputs } = desc;
     let bodies = bodies
         .iter()
         .map(|b| {
@@ -333,6 +333,7 @@ pub fn internal(desc: &Description) -> Description {
         points,
         gravity: *gravity,
         loads,
+        outputs: outputs.clone(),
     }
 }
 
@@ -394,6 +395,7 @@ mod tests {
                 free_angle: 45.0,
                 damping: 3.0,
             }],
+            outputs: Vec::new(),
         }
     }
 

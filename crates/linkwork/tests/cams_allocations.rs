@@ -61,6 +61,7 @@ fn three_followers() -> Description {
         points: vec![],
         gravity: [0.0, 0.0],
         loads: vec![],
+        outputs: Vec::new(),
     }
 }
 

@@ -85,6 +85,7 @@ pub fn four_bar(m: &FourBar, th2: f64, omega: f64) -> Description {
         points: vec![],
         gravity: [0.0, 0.0],
         loads: vec![],
+        outputs: Vec::new(),
     }
 }
 
@@ -133,6 +134,7 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
         points: vec![],
         gravity: [0.0, 0.0],
         loads: vec![],
+        outputs: Vec::new(),
     }
 }
 
@@ -187,6 +189,7 @@ pub fn six_bar_stephenson(th2: f64, omega: f64) -> Description {
         points: vec![],
         gravity: [0.0, 0.0],
         loads: vec![],
+        outputs: Vec::new(),
     }
 }
 
@@ -208,6 +211,7 @@ pub fn chain(m: &FourBar, loops: usize, th2: f64, omega: f64, offset: f64, spaci
         points: vec![],
         gravity: [0.0, 0.0],
         loads: vec![],
+        outputs: Vec::new(),
     };
     let mut input = th2;
     for k in 1..=loops {
@@ -323,5 +327,6 @@ pub fn translating_cam(
         points: vec![],
         gravity: [0.0, 0.0],
         loads: vec![],
+        outputs: Vec::new(),
     }
 }
