@@ -489,7 +489,8 @@ class Results(_Kinematics):
             lines.append(f"  {c:<22}{q.min():>13.6g}{q.max():>13.6g}{peak(self.qd, k)}{peak(self.qdd, k)}")
         for name, p in self.points.items():
             for i, a in enumerate("xy"):
-                r, v, acc = (x if x is None else x[:, i : i + 1] for x in (p.position, p.velocity, p.acceleration))
+                motion = (p.position, p.velocity, p.acceleration)
+                r, v, acc = (x if x is None else x[:, i : i + 1] for x in motion)
                 assert r is not None
                 c = f"{name}.{a}"
                 lines.append(f"  {c:<22}{r.min():>13.6g}{r.max():>13.6g}{peak(v, 0)}{peak(acc, 0)}")
