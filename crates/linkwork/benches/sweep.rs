@@ -12,6 +12,8 @@
 //!   the four-bar's and the 100-loop chain's Phi_q at a solved configuration, by
 //!   `sparse_lu` replaying its program and by `small_lu`.
 //! - `batch`: 8 four-bar designs on 1 and 2 threads (`sweep_batch`).
+//! - `.../structured/point_path`: one coupler point's path only (positions, no
+//!   coordinates kept), against `.../structured/pva`, the full output.
 //! - `floor`: the four-bar and the slider-crank by a hand-written closed-form loop that
 //!   computes and stores what the engine's sweep stores (every body's x, y, theta and,
 //!   for "pva", their first and second derivatives, row-major per step): the floor a
@@ -28,7 +30,8 @@ mod common;
 use common::*;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
 use linkwork::{
-    sweep, sweep_batch, Data, Description, LinearKind, Model, Options, Request, SolverKind, SweepOutput,
+    sweep, sweep_batch, Data, Description, LinearKind, Model, Options, Outputs, Request, SolverKind,
+    SweepOutput,
 };
 use std::f64::consts::PI;
 use std::hint::black_box;
@@ -84,18 +87,35 @@ fn bench_solver(
     steps: usize,
     derivatives: u8,
 ) {
+    bench_outputs(c, group, id, desc, linear, solver, steps, derivatives, Outputs::all())
+}
+
+/// `bench_solver` keeping only `outputs`.
+#[allow(clippy::too_many_arguments)]
+fn bench_outputs(
+    c: &mut Criterion,
+    group: &str,
+    id: BenchmarkId,
+    desc: &Description,
+    linear: LinearKind,
+    solver: SolverKind,
+    steps: usize,
+    derivatives: u8,
+    outputs: Outputs,
+) {
     let times = times(steps);
     let mut g = c.benchmark_group(group);
     g.throughput(Throughput::Elements(steps as u64));
     g.bench_function(id, |b| {
         let model =
             Model::with_options(desc.clone(), Options { linear, solver, ..Options::default() }).unwrap();
-        let mut out = SweepOutput::with_derivatives(&model, &times, derivatives);
+        let request = Request { derivatives, ..Request::default() };
+        let mut out = SweepOutput::with_outputs(&model, &times, request, outputs.clone());
         b.iter_batched_ref(
             || Data::new(&model),
             |data| {
                 sweep(&model, data, black_box(&times), &mut out, 0, &mut |_| true).unwrap();
-                black_box(out.q[out.q.len() - 1])
+                black_box((out.q.last().copied(), out.points.last().copied()))
             },
             BatchSize::LargeInput,
         )
@@ -119,6 +139,10 @@ fn mechanisms(c: &mut Criterion) {
             let id = BenchmarkId::new("structured", what);
             bench_solver(c, name, id, desc, auto, SolverKind::Auto, STEPS, d);
         }
+        // one coupler point's path and nothing else (the coupler is body 1 in each)
+        let path = Outputs { coords: Some(Vec::new()), points: vec![(Some(1), [0.05, 0.04])] };
+        let id = BenchmarkId::new("structured", "point_path");
+        bench_outputs(c, name, id, desc, auto, SolverKind::Auto, STEPS, 0, path);
     }
     let desc = &cases[0].1;
     for linear in KINDS {

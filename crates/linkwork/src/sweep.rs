@@ -419,7 +419,7 @@ pub fn sweep(
     let req = out.request;
     out.n_done = 0;
     out.events.clear();
-    data.with_velocity = req.derivatives >= 1;
+    data.with_velocity = solved_derivatives(model, &req) >= 1;
     let mut tracker = Tracker::new(model, req.on_singular, req.locks);
     let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress);
     out.events = std::mem::take(&mut tracker.events);
@@ -438,11 +438,12 @@ fn sweep_steps(
     let req = out.request;
     // the structure-aware cheap path, where the model has a plan
     let plan = model.plan.as_ref().ok();
+    let solved = solved_derivatives(model, &req);
     let has_newton = plan.is_some_and(|p| p.blocks.iter().any(|b| matches!(b, Block::Newton(_))));
     // every group in closed form, with rates (whose two-way check below guards the
     // branch): tried before any prediction, which only a miss needs. Positions only, the
     // prediction is the guard, as on the general path.
-    let fast_closed = plan.is_some() && !has_newton && req.derivatives >= 1;
+    let fast_closed = plan.is_some() && !has_newton && solved >= 1;
     // the largest scaled difference between the structured solution and the prediction
     let deviation = |data: &Data| {
         data.q
@@ -471,7 +472,7 @@ fn sweep_steps(
             tracker.q_prev.copy_from_slice(&data.q);
             let fast = match plan {
                 Some(plan) if fast_closed && !tracker.spanning() => {
-                    closed_step(model, plan, data, times, k, req.derivatives, &tracker.q_prev)
+                    closed_step(model, plan, data, times, k, solved, &tracker.q_prev)
                 }
                 _ => None,
             };
@@ -481,7 +482,7 @@ fn sweep_steps(
             } else {
                 // rates next to a singular configuration are unreliable: predict from positions
                 let last_ratio = if plan.is_some() { ratio_prev } else { data.pivots.ratio };
-                let predictor = match req.derivatives {
+                let predictor = match solved {
                     _ if last_ratio < NEAR_SINGULAR => Predictor::Quadratic,
                     2 => Predictor::Jerk,
                     1 => Predictor::Acceleration,
@@ -507,7 +508,7 @@ fn sweep_steps(
                     let mut structured = None;
                     if let Some(plan) = plan.filter(|_| !fast_closed) {
                         data.blocks.q_pred.copy_from_slice(&data.q);
-                        match blocks::step(model, plan, data, t, req.derivatives, t - times[k - 1]) {
+                        match blocks::step(model, plan, data, t, solved, t - times[k - 1]) {
                             // as the general path's jump check: the solution against the prediction
                             Ok(s) if deviation(data) <= JUMP_RATIO * motion.max(floor) => {
                                 by_blocks = true;
@@ -543,10 +544,10 @@ fn sweep_steps(
                 }
             }
         };
-        if req.derivatives >= 1 && !rates_set && !by_blocks {
+        if solved >= 1 && !rates_set && !by_blocks {
             solve_velocity(model, data, t, k)?;
         }
-        if req.derivatives >= 2 && !rates_set && !by_blocks {
+        if solved >= 2 && !rates_set && !by_blocks {
             solve_acceleration(model, data, t, k)?;
         }
         // the cheap path's step checked backwards from its own rates: next to a change
@@ -554,8 +555,8 @@ fn sweep_steps(
         // passes close there with other rates
         // (the structured path's too: on a coarse grid a dyad's closeness can pass through
         // zero between two steps without its trend showing it)
-        let info = if k > 0 && !rates_set && req.derivatives >= 1 {
-            let qdd = (req.derivatives >= 2).then_some(&data.qdd[..]);
+        let info = if k > 0 && !rates_set && solved >= 1 {
+            let qdd = (solved >= 2).then_some(&data.qdd[..]);
             let h = t - times[k - 1];
             if continues(model, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
                 info
@@ -574,7 +575,7 @@ fn sweep_steps(
             if !by_blocks {
                 // solved by the general path (the start, the careful path): the branches
                 // and det sign the plan continues from
-                let rates = rates_set || req.derivatives >= 1;
+                let rates = rates_set || solved >= 1;
                 let h = (k > 0).then(|| t - times[k - 1]);
                 blocks::resync(model, plan, data, t, info.det_sign, rates, h);
             }
@@ -607,6 +608,24 @@ fn sweep_steps(
         }
     }
     Ok(())
+}
+
+/// The derivatives a sweep solves: those asked for, and velocities where the model has a
+/// plan with a dyad. A dyad keeps the sign of its branch, so a step across its singular
+/// configuration lands on the mirror image with the same det sign; on a coarse grid the
+/// prediction cannot tell (positions on a grid of three steps over two turns of a
+/// parallelogram did flip), the two-way check with rates does. Velocities cost a 2 x 2
+/// solve per dyad and are not stored unless asked for.
+fn solved_derivatives(model: &Model, req: &Request) -> u8 {
+    let dyads = model
+        .plan
+        .as_ref()
+        .is_ok_and(|p| p.blocks.iter().any(|b| matches!(b, Block::Rrr(_) | Block::Rrp(_))));
+    if dyads {
+        req.derivatives.max(1)
+    } else {
+        req.derivatives
+    }
 }
 
 /// Step k by a plan whose groups are all closed forms, before any prediction (they need

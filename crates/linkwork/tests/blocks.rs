@@ -91,6 +91,8 @@ fn every_example_agrees_on_both_paths() {
         let forces = model.inertias.iter().any(|i| i.mass > 0.0);
         let req = Request { forces, ..Request::default() };
         let closed = both_ways(&name, &desc, &times, req);
+        // positions only: the structured steps' jump check on the dyads' middle pins
+        both_ways(&name, &desc, &times, Request { derivatives: 0, ..Request::default() });
         if model.plan.is_ok() {
             structured += 1;
         }
@@ -129,6 +131,9 @@ fn random_four_bars_and_slider_cranks_agree_on_both_paths() {
         };
         let closed = both_ways(&format!("case {case}"), &desc, &times, Request::default());
         assert_eq!(closed, times.len() - 1, "case {case}: every step after the start by the closed forms");
+        let positions = Request { derivatives: 0, ..Request::default() };
+        let closed = both_ways(&format!("case {case}, positions"), &desc, &times, positions);
+        assert_eq!(closed, times.len() - 1, "case {case}: positions only, by the closed forms too");
     }
 }
 

@@ -142,22 +142,23 @@ impl Rrr {
         let (r1, r2) = (self.l1.length, self.l2.length);
         let d = sub(c, a);
         let dd = dot(d, d);
-        let dist = dd.sqrt();
-        if dist.is_nan() || dist <= 0.0 {
+        if dd.is_nan() || dd <= 0.0 {
             return Err(Miss::NoAssembly);
         }
-        let along = (dd + r1 * r1 - r2 * r2) / (2.0 * dist);
-        let h2 = r1 * r1 - along * along;
+        // B = A + along d + sign height perp(d), along and height in units of |d|: one
+        // division and one square root in the chain (not |d| first, then each over it)
+        let inv_dd = 1.0 / dd;
+        let along = 0.5 * (dd + r1 * r1 - r2 * r2) * inv_dd;
+        let h2 = r1 * r1 * inv_dd - along * along;
         if h2.is_nan() || h2 < 0.0 {
             return Err(Miss::NoAssembly);
         }
-        let h = h2.sqrt();
-        let e = [d[0] / dist, d[1] / dist];
-        let b = [a[0] + along * e[0] - sign * h * e[1], a[1] + along * e[1] + sign * h * e[0]];
+        let height = sign * h2.sqrt();
+        let b = [a[0] + along * d[0] - height * d[1], a[1] + along * d[1] + height * d[0]];
         let res1 = self.l1.place(data, a, b);
         let res2 = self.l2.place(data, c, b);
-        // |sin| of the angle at B: cross(B - A, B - C) = sign h dist
-        let closeness = h * dist / (r1 * r2);
+        // |sin| of the angle at B: |cross(B - A, B - C)| = |height| |d|^2
+        let closeness = height.abs() * dd * self.l1.inv_length * self.l2.inv_length;
         if derivatives >= 1 {
             let (rab, rcb) = (sub(b, a), sub(b, c));
             let (pab, pcb) = (perp(rab), perp(rcb));
