@@ -140,3 +140,56 @@ def test_each_group_says_how_a_sweep_solves_it_and_general_is_a_choice() -> None
     assert np.abs(a.q - b.q).max() < 1e-12 and np.abs(a.qdd - b.qdd).max() < 1e-9 * np.abs(b.qdd).max()
     with pytest.raises(lw.InputError, match="solver"):
         examples.slider_crank().compile(solver="closed")
+
+
+def _offset_rpr(ground: float, crank: float, offset: float, theta0: float) -> lw.Mechanism:
+    """An inverted slider-crank whose slide line passes `offset` beside both pins, the
+    block and rocker frames turned apart (the prismatic's theta0 not 0): the general RPR."""
+    a = (crank * math.cos(theta0), crank * math.sin(theta0))
+    phi = math.atan2(a[1], a[0] - ground)
+    n = (-math.sin(phi), math.cos(phi))
+    q = (a[0] + offset * n[0], a[1] + offset * n[1])
+    m = lw.Mechanism("offset inverted slider-crank")
+    crank_b = m.body("crank", (0.0, 0.0), theta0)
+    rocker_b = m.body("rocker", (ground, 0.0), phi + 0.4)
+    block_b = m.body("block", a, phi - 0.2)
+    m.revolute(m.ground, crank_b, (0.0, 0.0), name="O2")
+    m.revolute(crank_b, block_b, a, name="A")
+    m.revolute(m.ground, rocker_b, (ground, 0.0), name="O4")
+    # the line through q along O4 -> A: offset from A, and from O4 by the same amount
+    m.prismatic(rocker_b, block_b, q, (math.cos(phi), math.sin(phi)), name="S")
+    m.drive_angle(crank_b, lw.Linear(theta0, 5.0), name="crank_angle")
+    return m
+
+
+@pytest.mark.parametrize(
+    "mechanism",
+    [
+        examples.inverted_slider_crank(),
+        examples.inverted_slider_crank(ground=0.12, crank=0.10, theta0=2.0),
+        _offset_rpr(0.30, 0.10, 0.03, 0.7),
+        _offset_rpr(0.25, 0.12, -0.05, -2.5),
+    ],
+    ids=["textbook", "short ground", "offset", "offset, negative"],
+)
+def test_an_rpr_dyad_in_closed_form_is_the_general_path(mechanism: lw.Mechanism) -> None:
+    model = mechanism.compile()
+    groups = model.structure().groups
+    assert [(g.kind, g.method.split(":")[0]) for g in groups] == [
+        ("input", "closed form"),
+        ("dyad RPR", "closed form"),
+    ]
+    t = np.linspace(0.0, 2.0 * math.pi / 5.0 * 2, 1601)  # two crank turns
+    a, b = model.sweep(t), mechanism.compile(solver="general").sweep(t)
+    assert (a.iterations[1:] == 0).all(), "every step after the start by the closed form"
+    # both to round-off over the step's conditioning (as crates/linkwork/tests/blocks.rs)
+    for x, y, tol in ((a.q, b.q, 1e-12), (a.qd, b.qd, 1e-11), (a.qdd, b.qdd, 1e-10)):
+        assert np.abs(x - y).max() <= tol * np.abs(y).max()
+    assert np.array_equal(a.det_sign, b.det_sign) and len(a.events) == len(b.events)
+    # the textbook inverted slider-crank: the rocker points from O4 at A
+    if mechanism.name == "inverted slider-crank":
+        ground = model.q_start[3]  # the rocker's pivot x
+        crank = math.hypot(*model.q_start[6:8])  # the block's frame sits on A
+        th = a.body("crank").theta
+        phi = np.arctan2(crank * np.sin(th), crank * np.cos(th) - ground)
+        assert np.abs(np.angle(np.exp(1j * (a.body("rocker").theta - phi)))).max() < 1e-12

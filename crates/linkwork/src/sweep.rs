@@ -620,7 +620,7 @@ fn solved_derivatives(model: &Model, req: &Request) -> u8 {
     let dyads = model
         .plan
         .as_ref()
-        .is_ok_and(|p| p.blocks.iter().any(|b| matches!(b, Block::Rrr(_) | Block::Rrp(_))));
+        .is_ok_and(|p| p.blocks.iter().any(|b| matches!(b, Block::Rrr(_) | Block::Rrp(_) | Block::Rpr(_))));
     if dyads {
         req.derivatives.max(1)
     } else {

@@ -16,6 +16,7 @@
 
 pub mod crank;
 pub mod newton;
+pub mod rpr;
 pub mod rrp;
 pub mod rrr;
 
@@ -26,6 +27,7 @@ use crate::structure::{structure, Group, Structure};
 
 pub use crank::Crank;
 pub use newton::{NewtonBlock, NewtonWork};
+pub use rpr::Rpr;
 pub use rrp::Rrp;
 pub use rrr::Rrr;
 
@@ -39,6 +41,7 @@ pub enum Block {
     Crank(Crank),
     Rrr(Rrr),
     Rrp(Rrp),
+    Rpr(Rpr),
     Newton(NewtonBlock),
 }
 
@@ -63,6 +66,9 @@ impl Block {
                               from the pins"
                     .into()
             }
+            Block::Rpr(_) => "closed form: the line's direction where its offset from the other pin is \
+                              met; poses formed from the pins and that angle"
+                .into(),
             Block::Newton(b) => format!("Newton on its own {n} x {n} block", n = b.n),
         }
     }
@@ -131,6 +137,7 @@ fn closed_form(model: &Model, g: &Group) -> Option<Block> {
         "input" => Crank::new(model, g).map(Block::Crank),
         "dyad RRR" => Rrr::new(model, g).map(Block::Rrr),
         "dyad RRP" => Rrp::new(model, g).map(Block::Rrp),
+        "dyad RPR" => Rpr::new(model, g).map(Block::Rpr),
         _ => None,
     }
 }
@@ -289,6 +296,7 @@ pub fn step(
             Block::Crank(b) => b.solve(model, data, t, derivatives)?,
             Block::Rrr(b) => b.solve(data, sign, derivatives)?,
             Block::Rrp(b) => b.solve(data, sign, derivatives)?,
+            Block::Rpr(b) => b.solve(data, sign, derivatives)?,
             Block::Newton(b) => {
                 let mut work = std::mem::take(&mut data.blocks.newton[newton_index]);
                 let r = b.solve(model, data, &mut work, t, derivatives);
@@ -345,6 +353,7 @@ pub fn resync(
         let (sign, closeness, rate) = match block {
             Block::Rrr(b) => b.branch(data, rates),
             Block::Rrp(b) => b.branch(data, rates),
+            Block::Rpr(b) => b.branch(data, rates),
             Block::Crank(_) => (1.0, 1.0, 0.0),
             Block::Newton(b) => {
                 // its det sign is a factor of det Phi_q: factor the block at the solved q
