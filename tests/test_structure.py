@@ -193,3 +193,34 @@ def test_an_rpr_dyad_in_closed_form_is_the_general_path(mechanism: lw.Mechanism)
         th = a.body("crank").theta
         phi = np.arctan2(crank * np.sin(th), crank * np.cos(th) - ground)
         assert np.abs(np.angle(np.exp(1j * (a.body("rocker").theta - phi)))).max() < 1e-12
+
+
+def test_bodies_fixed_by_an_angle_row_and_a_pin_are_substitutions() -> None:
+    # a four-bar carrying: a plate welded to the coupler, a car hung on the coupler and
+    # kept level, a wheel on the ground whose angle a linear coupling ties to the rocker's
+    mech = examples.four_bar()
+    s = mech.compile().q_start
+    coupler_at = (float(s[3]) + 0.05, float(s[4]) + 0.02)
+    plate = mech.body("plate", coupler_at, 0.3)
+    mech.fixed("coupler", plate, name="weld")
+    car = mech.body("car", coupler_at, 0.0)
+    mech.revolute("coupler", car, coupler_at, name="hanger")
+    mech.fixed_orientation(mech.ground, car, name="level")
+    wheel = mech.body("wheel", (0.5, 0.3), 0.1)
+    mech.revolute(mech.ground, wheel, (0.5, 0.3), name="axle")
+    mech.linear_coupling("rocker", wheel, {"theta": 2.0}, {"theta": 1.0}, name="tie")
+    model = mech.compile()
+    methods = {g.bodies: g.method for g in model.structure().groups}
+    for body in ("plate", "car", "wheel"):
+        assert methods[(body,)].startswith("closed form: its angle from one affine angle row"), methods
+    t = np.linspace(0.0, 2.0 * math.pi / 5.0, 801)
+    a, b = model.sweep(t, forces=False), mech.compile(solver="general").sweep(t)
+    assert (a.iterations[1:] == 0).all()
+    for x, y, tol in ((a.q, b.q, 1e-12), (a.qd, b.qd, 1e-11), (a.qdd, b.qdd, 1e-10)):
+        assert np.abs(x - y).max() <= tol * np.abs(y).max()
+    # what each substitution says, exactly
+    assert np.abs(a.body("car").theta).max() == 0.0
+    np.testing.assert_allclose(a.body("plate").theta - a.body("coupler").theta, 0.3 - float(s[5]), atol=1e-15)
+    tie = 2.0 * a.body("rocker").theta + a.body("wheel").theta
+    np.testing.assert_allclose(tie, tie[0], atol=1e-14)
+    np.testing.assert_allclose(2.0 * a.body("rocker").thetadd + a.body("wheel").thetadd, 0.0, atol=1e-12)

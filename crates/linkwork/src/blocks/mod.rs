@@ -19,6 +19,7 @@ pub mod newton;
 pub mod rpr;
 pub mod rrp;
 pub mod rrr;
+pub mod subst;
 
 use crate::data::Data;
 use crate::joints::Frame;
@@ -30,6 +31,7 @@ pub use newton::{NewtonBlock, NewtonWork};
 pub use rpr::Rpr;
 pub use rrp::Rrp;
 pub use rrr::Rrr;
+pub use subst::Subst;
 
 /// Newton blocks larger than this send the whole model to the general path: a dense
 /// block's LU costs n^3, where the general path's sparse LU of the same rows is cheaper.
@@ -42,6 +44,7 @@ pub enum Block {
     Rrr(Rrr),
     Rrp(Rrp),
     Rpr(Rpr),
+    Subst(Subst),
     Newton(NewtonBlock),
 }
 
@@ -68,6 +71,9 @@ impl Block {
             }
             Block::Rpr(_) => "closed form: the line's direction where its offset from the other pin is \
                               met; poses formed from the pins and that angle"
+                .into(),
+            Block::Subst(_) => "closed form: its angle from one affine angle row (a substitution), x, y \
+                                from its pin"
                 .into(),
             Block::Newton(b) => format!("Newton on its own {n} x {n} block", n = b.n),
         }
@@ -138,6 +144,7 @@ fn closed_form(model: &Model, g: &Group) -> Option<Block> {
         "dyad RRR" => Rrr::new(model, g).map(Block::Rrr),
         "dyad RRP" => Rrp::new(model, g).map(Block::Rrp),
         "dyad RPR" => Rpr::new(model, g).map(Block::Rpr),
+        "one body" => Subst::new(model, g).map(Block::Subst),
         _ => None,
     }
 }
@@ -297,6 +304,7 @@ pub fn step(
             Block::Rrr(b) => b.solve(data, sign, derivatives)?,
             Block::Rrp(b) => b.solve(data, sign, derivatives)?,
             Block::Rpr(b) => b.solve(data, sign, derivatives)?,
+            Block::Subst(b) => b.solve(model, data, t, derivatives)?,
             Block::Newton(b) => {
                 let mut work = std::mem::take(&mut data.blocks.newton[newton_index]);
                 let r = b.solve(model, data, &mut work, t, derivatives);
@@ -354,7 +362,7 @@ pub fn resync(
             Block::Rrr(b) => b.branch(data, rates),
             Block::Rrp(b) => b.branch(data, rates),
             Block::Rpr(b) => b.branch(data, rates),
-            Block::Crank(_) => (1.0, 1.0, 0.0),
+            Block::Crank(_) | Block::Subst(_) => (1.0, 1.0, 0.0),
             Block::Newton(b) => {
                 // its det sign is a factor of det Phi_q: factor the block at the solved q
                 let work = &mut data.blocks.newton[newton_index];
