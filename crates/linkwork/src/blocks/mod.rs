@@ -72,8 +72,8 @@ impl Block {
             Block::Rpr(_) => "closed form: the line's direction where its offset from the other pin is \
                               met; poses formed from the pins and that angle"
                 .into(),
-            Block::Subst(_) => "closed form: its angle from one affine angle row (a substitution), x, y \
-                                from its pin"
+            Block::Subst(_) => "closed form: its angle from one affine angle row, then x, y from two rows \
+                                affine in them (substitutions)"
                 .into(),
             Block::Newton(b) => format!("Newton on its own {n} x {n} block", n = b.n),
         }
@@ -140,11 +140,14 @@ fn closed_form(model: &Model, g: &Group) -> Option<Block> {
         return None; // own coordinates (curve parameters), or a body split between groups
     }
     match g.kind.as_str() {
-        "input" => Crank::new(model, g).map(Block::Crank),
+        "input" => Crank::new(model, g).map(Block::Crank).or_else(|| Subst::new(model, g).map(Block::Subst)),
         "dyad RRR" => Rrr::new(model, g).map(Block::Rrr),
         "dyad RRP" => Rrp::new(model, g).map(Block::Rrp),
         "dyad RPR" => Rpr::new(model, g).map(Block::Rpr),
-        "one body" => Subst::new(model, g).map(Block::Subst),
+        "one body" => Subst::new(model, g)
+            .map(Block::Subst)
+            .or_else(|| Rpr::slot(model, g).map(Block::Rpr))
+            .or_else(|| Rrr::rod(model, g).map(Block::Rrr)),
         _ => None,
     }
 }

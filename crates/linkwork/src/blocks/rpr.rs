@@ -6,6 +6,9 @@
 //! a constant of the dyad: v is D turned by the angle whose sine is -k/|D| (two
 //! directions, one per branch: the sign of v . D). Velocities and accelerations: that row
 //! differentiated, one unknown rate shared by both bodies.
+//!
+//! The same with the slider massless: a pinned body whose slot (a point-on-line joint's
+//! line) runs through a known point P_S, the lever of a quick-return.
 
 use super::{body_qdd, continued, point_acc, set_acc, set_body, set_rates, side, Miss};
 use crate::data::Data;
@@ -56,7 +59,10 @@ impl Pin {
 #[derive(Debug, Clone)]
 pub struct Rpr {
     line: Pin,
-    slider: Pin,
+    /// P_S: the known side and the point in its frame
+    point: (Option<usize>, [f64; 2]),
+    /// the slider (its pin to P_S), None for a point-on-line joint's point
+    slider: Option<Pin>,
     /// the prismatic's axis in L's frame, theta0 and its cos, sin
     e_a: [f64; 2],
     theta0: f64,
@@ -106,14 +112,40 @@ impl Rpr {
         let d = sub(p.u_b, slider.u_body);
         let w = sub([c0 * d[0] - s0 * d[1], s0 * d[0] + c0 * d[1]], sub(p.u_a, line.u_body));
         let k = cross(p.e_a, w);
-        Some(Rpr { line, slider, e_a: p.e_a, theta0: p.theta0, c0, s0, k })
+        let point = (slider.known, slider.u_known);
+        Some(Rpr { line, point, slider: Some(slider), e_a: p.e_a, theta0: p.theta0, c0, s0, k })
+    }
+
+    /// A pinned body whose slot runs through a known point: a "one body" group of a
+    /// revolute to a known body and a point-on-line joint whose line is in the body.
+    pub fn slot(model: &Model, g: &Group) -> Option<Rpr> {
+        if g.bodies.len() != 1 || g.constraints.len() != 2 {
+            return None;
+        }
+        let body = g.bodies[0];
+        let (mut pin, mut slot) = (None, None);
+        for &k in &g.constraints {
+            let c = &model.constraints[k];
+            match &c.kind {
+                ConstraintKind::Revolute(_) => pin = Pin::new(model, body, k),
+                // the line in the body (side b), the point on the known side a
+                ConstraintKind::PointOnLine(j) if c.body_b == Some(body) && c.body_a != Some(body) => {
+                    slot = Some((c.body_a, j.clone()))
+                }
+                _ => return None,
+            }
+        }
+        let (line, (known, j)) = (pin?, slot?);
+        // n . (K - r_b(u_b)) - offset = 0, r_b(u_b) = P_L + A (u_b - u_L), n = A perp(e_b)
+        let k = -cross(j.e_b, sub(j.u_b, line.u_body)) - j.offset;
+        Some(Rpr { line, point: (known, j.u_a), slider: None, e_a: j.e_b, theta0: 0.0, c0: 1.0, s0: 0.0, k })
     }
 
     /// Both bodies on the branch `sign` (of v . D); returns (closeness, residual).
     #[inline]
     pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
         let (kl, pl) = self.line.outer(data);
-        let (ks, ps) = self.slider.outer(data);
+        let (ks, ps) = self.point(data);
         let d = sub(ps, pl);
         let dd = dot(d, d);
         let m2 = dd - self.k * self.k;
@@ -127,29 +159,43 @@ impl Rpr {
         // the rotation taking e_a to v: body L's angle
         let (c, s) = (dot(self.e_a, v), cross(self.e_a, v));
         let theta = continued(s.atan2(c), data.q[3 * self.line.body + 2]);
-        let (cs, ss) = (c * self.c0 - s * self.s0, s * self.c0 + c * self.s0);
         set_body(data, self.line.body, self.line.origin(pl, c, s), theta, c, s);
-        set_body(data, self.slider.body, self.slider.origin(ps, cs, ss), theta + self.theta0, cs, ss);
+        if let Some(slider) = &self.slider {
+            let (cs, ss) = (c * self.c0 - s * self.s0, s * self.c0 + c * self.s0);
+            set_body(data, slider.body, slider.origin(ps, cs, ss), theta + self.theta0, cs, ss);
+        }
         // the line's offset row at the solution
         let residual = (cross(v, d) + self.k).abs();
         let closeness = m.abs() * inv_dd.sqrt();
         if derivatives >= 1 {
-            let (vl, vs) = (kl.point_velocity(self.line.u_known), ks.point_velocity(self.slider.u_known));
+            let (vl, vs) = (kl.point_velocity(self.line.u_known), ks.point_velocity(self.point.1));
             let d_dot = sub(vs, vl);
             let along = dot(v, d);
             let w = cross(v, d_dot) / along;
             self.rates(data, &self.line, pl, vl, w);
-            self.rates(data, &self.slider, ps, vs, w);
+            if let Some(slider) = &self.slider {
+                self.rates(data, slider, ps, vs, w);
+            }
             if derivatives >= 2 {
                 let al = point_acc(&kl, body_qdd(data, self.line.known), sub(pl, kl.r));
-                let as_ = point_acc(&ks, body_qdd(data, self.slider.known), sub(ps, ks.r));
+                let as_ = point_acc(&ks, body_qdd(data, self.point.0), sub(ps, ks.r));
                 let d_ddot = sub(as_, al);
                 let alpha = (cross(v, d_ddot) - 2.0 * w * dot(v, d_dot) + w * w * self.k) / along;
                 self.accelerations(data, &self.line, pl, al, w, alpha);
-                self.accelerations(data, &self.slider, ps, as_, w, alpha);
+                if let Some(slider) = &self.slider {
+                    self.accelerations(data, slider, ps, as_, w, alpha);
+                }
             }
         }
         Ok((closeness, residual))
+    }
+
+    /// P_S's known frame and world position.
+    #[inline(always)]
+    fn point(&self, data: &Data) -> (Frame, [f64; 2]) {
+        let k = side(data, self.point.0);
+        let p = k.point(self.point.1);
+        (k, p)
     }
 
     /// A body's origin velocity from its pin's (at p, velocity vp) and the shared rate.
@@ -176,7 +222,7 @@ impl Rpr {
     /// in data (frames current).
     pub fn branch(&self, data: &Data, rates: bool) -> (f64, f64, f64) {
         let (kl, pl) = self.line.outer(data);
-        let (ks, ps) = self.slider.outer(data);
+        let (ks, ps) = self.point(data);
         let d = sub(ps, pl);
         let v = data.frames[self.line.body].rot(self.e_a);
         let along = dot(v, d);
@@ -186,7 +232,7 @@ impl Rpr {
         let rate = if rates {
             // d/dt (v . D / |D|), v turning at the body's rate
             let w = data.frames[self.line.body].thetad;
-            let d_dot = sub(ks.point_velocity(self.slider.u_known), kl.point_velocity(self.line.u_known));
+            let d_dot = sub(ks.point_velocity(self.point.1), kl.point_velocity(self.line.u_known));
             let along_dot = w * dot(perp(v), d) + dot(v, d_dot);
             sign * (along_dot / norm - along * dot(d, d_dot) / (norm * norm * norm))
         } else {

@@ -94,6 +94,8 @@ pub(crate) fn link(model: &Model, body: usize, outer: usize, u_middle: [f64; 2])
 pub struct Rrr {
     l1: Link,
     l2: Link,
+    /// l2 is a distance joint (a massless tie rod from its known end), not a body
+    rod: bool,
 }
 
 impl Rrr {
@@ -131,7 +133,35 @@ impl Rrr {
         }
         let l1 = link(model, b1, outer[0], u_mid(b1))?;
         let l2 = link(model, b2, outer[1], u_mid(b2))?;
-        Some(Rrr { l1, l2 })
+        Some(Rrr { l1, l2, rod: false })
+    }
+
+    /// A pinned body tied to a known body by a distance joint (a steering knuckle's tie
+    /// rod): the dyad with the rod as its second link, a "one body" group.
+    pub fn rod(model: &Model, g: &Group) -> Option<Rrr> {
+        if g.bodies.len() != 1 || g.constraints.len() != 2 {
+            return None;
+        }
+        let body = g.bodies[0];
+        let (mut pin, mut rod) = (None, None);
+        for &k in &g.constraints {
+            let c = &model.constraints[k];
+            match &c.kind {
+                ConstraintKind::Revolute(_) => pin = Some(k),
+                ConstraintKind::Distance(j) if c.body_b == Some(body) && c.body_a != Some(body) => {
+                    rod = Some((c.body_a, j.u_a, j.u_b, j.length))
+                }
+                ConstraintKind::Distance(j) if c.body_a == Some(body) && c.body_b != Some(body) => {
+                    rod = Some((c.body_b, j.u_b, j.u_a, j.length))
+                }
+                _ => return None,
+            }
+        }
+        let (pin, (known, u_known, u_end, length)) = (pin?, rod?);
+        let l1 = link(model, body, pin, u_end)?;
+        // the rod as a link from its known end, its far end at distance `length` along x
+        let l2 = Link::new(body, known, u_known, [0.0, 0.0], [length, 0.0])?;
+        Some(Rrr { l1, l2, rod: true })
     }
 
     /// B on the branch `sign`; returns (closeness, residual) or the miss.
@@ -156,7 +186,7 @@ impl Rrr {
         let height = sign * h2.sqrt();
         let b = [a[0] + along * d[0] - height * d[1], a[1] + along * d[1] + height * d[0]];
         let res1 = self.l1.place(data, a, b);
-        let res2 = self.l2.place(data, c, b);
+        let res2 = if self.rod { 0.0 } else { self.l2.place(data, c, b) };
         // |sin| of the angle at B: |cross(B - A, B - C)| = |height| |d|^2
         let closeness = height.abs() * dd * self.l1.inv_length * self.l2.inv_length;
         if derivatives >= 1 {
@@ -170,7 +200,9 @@ impl Rrr {
             let w1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) / det;
             let w2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
             rates(data, &self.l1, a, va, w1);
-            rates(data, &self.l2, c, vc, w2);
+            if !self.rod {
+                rates(data, &self.l2, c, vc, w2);
+            }
             if derivatives >= 2 {
                 let aa = point_acc(&k1, body_qdd(data, self.l1.known), sub(a, k1.r));
                 let ac = point_acc(&k2, body_qdd(data, self.l2.known), sub(c, k2.r));
@@ -181,7 +213,9 @@ impl Rrr {
                 let a1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) / det;
                 let a2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
                 accelerations(data, &self.l1, a, aa, w1, a1);
-                accelerations(data, &self.l2, c, ac, w2, a2);
+                if !self.rod {
+                    accelerations(data, &self.l2, c, ac, w2, a2);
+                }
             }
         }
         Ok((closeness, res1.max(res2)))
