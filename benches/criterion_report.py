@@ -88,6 +88,21 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
                 + " | ".join(ratios)
                 + " |"
             )
+    mechanisms = ("four_bar", "slider_crank", "six_bar_stephenson")
+    paths = [g for g in mechanisms if (g, "structured", "point_path") in found]
+    if paths:
+        lines += [
+            "",
+            "One coupler point's path only (`outputs`: that point, positions; nothing else stored) against "
+            "the full output (every coordinate, p+v+a), structured path, us per step:",
+            "",
+            "| mechanism | full output | one point's path | full / path |",
+            "|---|---:|---:|---:|",
+        ]
+        for g in paths:
+            full, path = (us_per_step(found.get((g, "structured", w))) for w in ("pva", "point_path"))
+            ratio = cell(full / path if full and path else None, 2)
+            lines.append(f"| {g} | {cell(full)} | {cell(path)} | {ratio} |")
     chains = sorted({int(p) for g, _, p in found if g == "chain"})
     if chains:
         lines += [
