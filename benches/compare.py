@@ -432,7 +432,7 @@ def mechanisms_section(steps: int, repeats: int) -> list[dict[str, Any]]:
             {
                 "name": name,
                 "coords": model.n_coords,
-                "linear": model.linear,
+                "linear": "structured" if model.solver == "structured" else model.linear,
                 "us": secs / steps * 1e6,
                 "err": err,
                 "against": against,
@@ -450,7 +450,7 @@ def mechanisms_table(rows: list[dict[str, Any]], steps: int) -> str:
         "(position, velocity, acceleration), against the closed form where there is one, else "
         "against linkwork.reference on every n-th step.",
         "",
-        "| mechanism | coordinates | LU | us per step | us per coordinate | per coordinate / four-bar's "
+        "| mechanism | coordinates | solver | us per step | us per coordinate | per coordinate / four-bar's "
         "| Newton iterations | rel. error q | qd | qdd | against |",
         "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
@@ -570,7 +570,8 @@ def scaling_section(loops_list: list[int], budget: float, repeats: int, mem_step
                 "loops": loops,
                 "bodies": 3 * loops,
                 "coords": model.n_coords,
-                "linear": model.linear,
+                # the solver the steps took: the groups in order, or the general path's LU
+                "linear": "structured" if model.solver == "structured" else model.linear,
                 "nnz": mem["nnz"],
                 "steps": steps,
                 "us": secs / steps * 1e6,
@@ -600,7 +601,7 @@ def scaling_table(section: dict[str, Any]) -> str:
     rows = section["rows"]
     reset = all(r["mem"]["reset"] for r in rows)
     lines = [
-        "| loops K | bodies | coordinates | LU | nnz(Phi_q) | steps | us per step | us per body per step "
+        "| loops K | bodies | coordinates | solver | nnz(Phi_q) | steps | us per step | us per body per step "
         "| Newton iterations | min pivot ratio | compile [s] | last rocker's max omega [rad/s] "
         "| max error theta [rad] | omega [rad/s] | alpha [rad/s^2] "
         f"| peak RSS growth, {section['mem_steps']} steps [MB] | of which outputs [MB] "
