@@ -60,6 +60,19 @@ class Model:
         self._body_names: list[str] = list(self._core.body_names)
         self._column_index = {c: i for i, c in enumerate(self._columns)}
 
+    @classmethod
+    def _checked(cls, desc: dict[str, Any], options: dict[str, Any]) -> Model:
+        """The model of a description already known finite and options already checked
+        (design studies build thousands): the same model as ``Model(desc, **options)``."""
+        self = cls.__new__(cls)
+        self.description = desc
+        self._options, self._python_laws = dict(options), {}
+        self._core = _core.Model(json.dumps(desc), python_laws=None, **options)
+        self._columns = list(self._core.columns)
+        self._body_names = list(self._core.body_names)
+        self._column_index = {c: i for i, c in enumerate(self._columns)}
+        return self
+
     name = property(lambda self: self._core.name, doc="The mechanism's name.")
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
     n_coords = property(
