@@ -15,7 +15,9 @@ from .designs import Designs, Interval, Normal, Uniform, grid, latin_hypercube, 
 from .outputs import NAMES as OUTPUTS
 from .outputs import Output
 from .parameters import KINDS, Parameter, apply, parameter, parameters
+from .report import atlas_figure, study_report, tolerance_report
 from .run import Job, Study, StudyResult, run_chunk
+from .tolerance import Linear, ToleranceResult, central_differences, propagate, tolerance_study
 
 __all__ = [
     "KINDS",
@@ -23,19 +25,27 @@ __all__ = [
     "Designs",
     "Interval",
     "Job",
+    "Linear",
     "Normal",
     "Output",
     "Parameter",
     "Study",
     "StudyResult",
+    "ToleranceResult",
     "Uniform",
     "apply",
+    "atlas_figure",
+    "central_differences",
     "grid",
     "latin_hypercube",
     "listed",
     "open_dataset",
     "parameter",
     "parameters",
+    "propagate",
     "run_chunk",
     "sample",
+    "study_report",
+    "tolerance_report",
+    "tolerance_study",
 ]

@@ -392,27 +392,27 @@ def _redraw(
 
     _, angle_unit = _units(desc)
     to_rad = math.pi / 180.0 if angle_unit == "deg" else 1.0
-    # the closing mechanism: each moved pin held by two perpendicular slots of its body
-    # through the new place (the other body keeps its pin where it was)
+    # the closing mechanism: each moved pin held by two perpendicular slots, its place in
+    # body_a (new or as drawn) on lines of body_b through its place there
     temp = _copy(desc)
-    moved_joints = {joint for joint, _ in moves}
-    if len(moved_joints) != len(moves):
-        joint = next(j for j in moved_joints if sum(1 for k in moves if k[0] == j) > 1)
-        raise ParameterError(f"pin {joint!r} is moved in both its bodies; move it in one")
-    temp["joints"] = [j for j in temp["joints"] if j["name"] not in moved_joints]
-    for (joint, body), xy in moves.items():
+    places: dict[str, tuple[list[float], list[float]]] = {}
+    for joint, _ in moves:
         j = _joint(desc, joint)
-        other = j["body_b"] if j["body_a"] == body else j["body_a"]
+        at = list(map(float, j["at"]))
+        places[joint] = (moves.get((joint, j["body_a"]), at), moves.get((joint, j["body_b"]), at))
+    temp["joints"] = [j for j in temp["joints"] if j["name"] not in places]
+    for joint, (place_a, place_b) in places.items():
+        j = _joint(desc, joint)
         for k, axis in enumerate(([1.0, 0.0], [0.0, 1.0])):
             temp["joints"].append(
                 {
                     "type": "point_on_line",
                     "name": f"{joint}~{k}",
-                    "body_a": other,
-                    "body_b": body,
-                    "at": list(j["at"]),
+                    "body_a": j["body_a"],
+                    "body_b": j["body_b"],
+                    "at": list(place_a),
                     "axis": axis,
-                    "through": list(xy),
+                    "through": list(place_b),
                     "offset": 0.0,
                 }
             )
@@ -443,10 +443,10 @@ def _redraw(
             b["com"] = carry(b["name"], b["com"], "p")
         x, y, theta = new[b["name"]]
         b["x"], b["y"], b["theta"] = x, y, theta / to_rad
-    # a moved pin goes where its other body carries it (its own body's place for it is new)
-    for (joint, body), _ in moves.items():
+    # a moved pin is where body_a carries its (new) place; body_b's meets it there
+    for joint, (place_a, place_b) in places.items():
         j = _joint(out, joint)
-        src = _joint(desc, joint)
-        other = j["body_b"] if j["body_a"] == body else j["body_a"]
-        j["at"] = carry(other, src["at"], "p")
+        j["at"] = (
+            carry(j["body_a"], place_a, "p") if j["body_a"] != "ground" else carry(j["body_b"], place_b, "p")
+        )
     return out

@@ -66,7 +66,9 @@ def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = No
     from ..model import Model, sweep_batch
 
     begin = time.perf_counter()
-    k, n_steps = len(values), len(job.times)
+    # arrays that came through pickle may be read-only views of a misaligned buffer
+    times = np.array(job.times, dtype=np.float64)
+    k, n_steps = len(values), len(times)
     figures = {o.key: o.empty(k, n_steps) for o in job.outputs}
     errors = [""] * k
     models: list[Any] = []
@@ -80,7 +82,7 @@ def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = No
             errors[i] = f"{type(e).__name__}: {e}"
     swept = sweep_batch(
         models,
-        job.times,
+        times,
         threads=threads,
         derivatives=job.derivatives,
         forces=job.forces,
