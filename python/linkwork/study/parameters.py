@@ -40,7 +40,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ..errors import ParameterError
+from ..errors import ParameterError, SolveError
 
 __all__ = ["Parameter", "parameter", "parameters", "apply", "KINDS"]
 
@@ -417,7 +417,13 @@ def _redraw(
                 }
             )
     model = Model._checked(temp, options)
-    q = model.solve(0.0).q
+    try:
+        q = model.solve(0.0).q
+    except SolveError as e:
+        # the same kind of error, said of the varied mechanism (not of the closing one)
+        moved = ", ".join(f"{j} in {b} to ({xy[0]:.6g}, {xy[1]:.6g})" for (j, b), xy in moves.items())
+        text = str(e).split(";")[0]
+        raise type(e)(f"the mechanism with pin {moved} does not close: {text}") from None
     col = model._column_index
     old = {b["name"]: (b["x"], b["y"], b["theta"] * to_rad) for b in desc["bodies"]}
     new = {b: tuple(float(q[col[f"{b}.{c}"]]) for c in ("x", "y", "theta")) for b in old}
