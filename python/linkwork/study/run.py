@@ -320,18 +320,20 @@ def _run_local(
 
 
 def _client(scheduler: Any) -> tuple[Any, Any]:
-    """(client, cluster to close or None) for a scheduler argument."""
+    """(client, what to close afterwards: [] for the caller's client) for a scheduler."""
     distributed = requires("distributed")
     if isinstance(scheduler, distributed.Client):
-        return scheduler, None
+        return scheduler, []
     if scheduler == "local":
         cluster = distributed.LocalCluster(
             n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=True, dashboard_address=None
         )
-        return distributed.Client(cluster), cluster
+        client = distributed.Client(cluster)
+        return client, [client, cluster]
     if isinstance(scheduler, str) and scheduler:
         try:
-            return distributed.Client(scheduler, timeout="20s"), None
+            client = distributed.Client(scheduler, timeout="20s", set_as_default=False)
+            return client, [client]
         except OSError as e:
             raise StudyError(f"cannot reach the Dask scheduler at {scheduler!r}: {e}") from None
     raise StudyError(
@@ -344,7 +346,7 @@ def _run_dask(
     job: Job, values: np.ndarray, chunk: int, scheduler: Any, progress: Any, timeout: float | None
 ) -> tuple[list[dict[str, Any]], str]:
     distributed = requires("distributed")
-    client, cluster = _client(scheduler)
+    client, owned = _client(scheduler)
     try:
         where = f"dask {client.scheduler.address}" if client.scheduler else "dask"
         futures = [
@@ -353,21 +355,32 @@ def _run_dask(
         ]
         bar = _Bar(len(values), progress, "designs")
         by_start: dict[int, dict[str, Any]] = {}
+        deadline = None if timeout is None else time.monotonic() + timeout
+        pending = set(futures)
         try:
-            for _, part in distributed.as_completed(futures, with_results=True, timeout=timeout):
-                if part["start"] in by_start:  # a chunk is counted once, whatever happened to its worker
-                    continue
-                by_start[part["start"]] = part
-                bar.add(len(part["error"]))
-        except distributed.TimeoutError:
-            raise StudyError(f"the cluster did not finish within {timeout} s") from None
+            while pending:
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    raise StudyError(f"the cluster did not finish within {timeout} s")
+                try:
+                    done, pending = distributed.wait(pending, timeout=left, return_when="FIRST_COMPLETED")
+                except distributed.TimeoutError:
+                    raise StudyError(f"the cluster did not finish within {timeout} s") from None
+                # gathered on the client's own loop: a result lost with its worker is
+                # recomputed there (the scheduler reschedules it), then gathered again
+                for part in client.gather(list(done)):
+                    if part["start"] in by_start:  # a chunk is counted once, whatever befell its worker
+                        continue
+                    by_start[part["start"]] = part
+                    bar.add(len(part["error"]))
         finally:
             bar.close()
+            for future in pending:
+                future.cancel()
         return [by_start[s] for s in sorted(by_start)], where
     finally:
-        if cluster is not None:
-            client.close()
-            cluster.close()
+        for thing in owned:
+            thing.close()
 
 
 @dataclass
