@@ -344,3 +344,69 @@ def test_tolerance_report_files(tmp_path):
     names = sorted(os.path.basename(p) for p in paths)
     assert names == ["fb.md", "fb_angle_rocker_error.png", "fb_contributions.png", "fb_path_P_envelope.png"]
     assert "central differences" in open(paths[0]).read()
+
+
+# -- the command line ------------------------------------------------------------------
+
+STUDIES = os.path.join(os.path.dirname(__file__), "..", "examples", "studies")
+
+
+def test_cli_atlas_study_writes_dataset_and_report(tmp_path, capsys):
+    from linkwork.cli import main
+
+    assert main(["study", os.path.join(STUDIES, "four_bar_atlas.toml"), "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "36 designs (grid): 35 swept, 1 failed" in out
+    ds = S.open_dataset(str(tmp_path / "four_bar_atlas.nc"))
+    assert ds.sizes["design"] == 36 and ds.length_crank.attrs["units"] == "mm"
+    assert ds.path_P.attrs["units"] == "mm"
+    assert (tmp_path / "four_bar_atlas_path_P_atlas.png").stat().st_size > 0
+    assert "## Failed designs" in (tmp_path / "four_bar_atlas.md").read_text()
+
+
+def test_cli_tolerance_study_as_parquet(tmp_path, capsys):
+    from linkwork.cli import main
+
+    path = tmp_path / "tol.toml"
+    text = open(os.path.join(STUDIES, "four_bar_tolerance.toml")).read()
+    text = text.replace(
+        'model = "../four_bar.toml"', f'model = "{os.path.abspath(STUDIES)}/../four_bar.toml"'
+    )
+    path.write_text(text.replace("n = 2000", "n = 60").replace("steps = 1000", "steps = 200"))
+    assert main(["study", str(path), "--out", str(tmp_path), "--format", "parquet", "--chunk", "16"]) == 0
+    out = capsys.readouterr().out
+    assert "60 samples (seed 1), 60 swept, 0 failed" in out and "central differences" in out
+    ds = S.open_dataset(str(tmp_path / "tol.parquet"))
+    assert ds.sizes["design"] == 60 and ds.pivot_O4_x.attrs["units"] == "mm"
+    assert {"tol.md", "tol_contributions.png"} <= set(os.listdir(tmp_path))
+
+
+HEAD = '[study]\nmodel = "M"\nt1 = 1.0\noutputs = ["path P"]\n'
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ('[study]\nmodel = "x.toml"\n', "needs 't1'"),
+        ('[study]\nmodel = "M"\nt1 = 1.0\noutputs = ["path P"]\n', "give one of [grid]"),
+        ('[study]\nmodel = "M"\nt1 = 1.0\noutputs = ["path P"]\n[grid]\n"length crnk" = [1.0]\n', "no body"),
+        (
+            '[study]\nmodel = "M"\nt1 = 1.0\noutputs = ["path Q"]\n[grid]\n"length crank" = [1.0]\n',
+            "no point",
+        ),
+        (
+            HEAD + '[tolerances.parameters]\n"length crank" = 0\n',
+            "half",
+        ),
+        ('[stduy]\nmodel = "M"\n', "unknown section [stduy]"),
+    ],
+)
+def test_cli_bad_study_files_are_named(tmp_path, capsys, text, message):
+    from linkwork.cli import main
+
+    model = os.path.abspath(os.path.join(STUDIES, "..", "four_bar.toml"))
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace('"M"', f'"{model}"'))
+    assert main(["study", str(path), "--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert message in err and str(path) in err
