@@ -14,7 +14,7 @@ from .dataset import open_dataset
 from .designs import Designs, Interval, Normal, Uniform, grid, latin_hypercube, listed, sample
 from .outputs import NAMES as OUTPUTS
 from .outputs import Output
-from .parameters import KINDS, Parameter, apply, parameter, parameters
+from .parameters import KINDS, Parameter, apply, apply_many, parameter, parameters
 from .report import atlas_figure, study_report, tolerance_report
 from .run import Job, Study, StudyResult, run_chunk
 from .tolerance import Linear, ToleranceResult, central_differences, propagate, tolerance_study
@@ -34,6 +34,7 @@ __all__ = [
     "ToleranceResult",
     "Uniform",
     "apply",
+    "apply_many",
     "atlas_figure",
     "central_differences",
     "grid",

@@ -36,11 +36,14 @@ from __future__ import annotations
 import json
 import math
 import numbers
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ..errors import ParameterError, SolveError
+import numpy as np
+
+from ..errors import ParameterError
 
 __all__ = ["Parameter", "parameter", "parameters", "apply", "KINDS"]
 
@@ -313,30 +316,81 @@ def apply(description: Any, values: Mapping[Any, Any], **options: Any) -> dict[s
     desc = _description(description)
     if not isinstance(values, Mapping):
         raise ParameterError(f"values are a dict {{parameter: value}}, not {type(values).__name__}")
-    out = _copy(desc)
-    moves: dict[tuple[str, str], list[float]] = {}
-    for key, value in values.items():
-        p = parameter(desc, key)
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(float(value)):
-            raise ParameterError(f"parameter {p.name!r}: the value must be a finite number, not {value!r}")
-        v = float(value)
-        if p.kind == "path":
-            _set(out, p.path, v)
-            continue
-        j = _item(desc, "joints", p.joint, "joint", p.name)
-        target = moves.setdefault((p.joint, p.body), list(map(float, j["at"])))
-        if p.kind == "pin":
-            target[p.axis] = v
-        else:
-            if v <= 0.0:
-                raise ParameterError(f"parameter {p.name!r}: a length must be > 0, not {v}")
-            a = _item(desc, "joints", p.anchor, "joint", p.name)["at"]
-            scale = v / p.nominal
-            target[0] = a[0] + (j["at"][0] - a[0]) * scale
-            target[1] = a[1] + (j["at"][1] - a[1]) * scale
-    moves = {k: xy for k, xy in moves.items() if xy != list(map(float, _joint(desc, k[0])["at"]))}
-    if moves:
-        out = _redraw(out, moves, options)
+    params = [parameter(desc, key) for key in values]
+    row = [_value(p, v) for p, v in zip(params, values.values())]
+    (out,) = apply_many(desc, params, [row], **options)
+    if isinstance(out, Exception):
+        raise out
+    return out
+
+
+def _value(p: Parameter, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(float(value)):
+        raise ParameterError(f"parameter {p.name!r}: the value must be a finite number, not {value!r}")
+    v = float(value)
+    if p.kind == "length" and v <= 0.0:
+        raise ParameterError(f"parameter {p.name!r}: a length must be > 0, not {v}")
+    return v
+
+
+# paths whose numbers do not change how the mechanism closes: designs varying only these
+# and pins share one closing model
+_NOT_CLOSING = ("points", "loads", "gravity")
+
+
+def apply_many(
+    description: Any, params: Sequence[Parameter], rows: Any, **options: Any
+) -> list[dict[str, Any] | Exception]:
+    """`apply` for many designs of the same parameters (``rows``: one value per parameter
+    each): a description per design, or the `LinkworkError` that design raises (a value
+    out of range, a mechanism that does not close). The designs' redraws share one
+    closing model, each solved from the drawing at its own time, so a design's
+    description does not depend on the others."""
+    from ..errors import LinkworkError
+
+    desc = _description(description)
+    params = [parameter(desc, p) for p in params]
+    out: list[dict[str, Any] | Exception] = []
+    moves_of: list[dict[tuple[str, str], list[float]]] = []
+    for row in rows:
+        try:
+            values = [_value(p, v) for p, v in zip(params, row)]
+            varied = _copy(desc)
+            moves: dict[tuple[str, str], list[float]] = {}
+            for p, v in zip(params, values):
+                if p.kind == "path":
+                    _set(varied, p.path, v)
+                    continue
+                j = _joint(desc, p.joint)
+                target = moves.setdefault((p.joint, p.body), list(map(float, j["at"])))
+                if p.kind == "pin":
+                    target[p.axis] = v
+                else:
+                    a = _joint(desc, p.anchor)["at"]
+                    scale = v / p.nominal
+                    target[0] = a[0] + (j["at"][0] - a[0]) * scale
+                    target[1] = a[1] + (j["at"][1] - a[1]) * scale
+            moves = {k: xy for k, xy in moves.items() if xy != list(map(float, _joint(desc, k[0])["at"]))}
+            out.append(varied)
+            moves_of.append(moves)
+        except LinkworkError as e:
+            out.append(e)
+            moves_of.append({})
+    todo = [i for i, m in enumerate(moves_of) if m and not isinstance(out[i], Exception)]
+    if not todo:
+        return out
+    shared = all(
+        p.kind != "path"
+        or p.path[0] in _NOT_CLOSING
+        or (p.path[0] == "bodies" and p.path[2] in ("mass", "inertia", "com"))
+        for p in params
+    )
+    groups = [todo] if shared else [[i] for i in todo]
+    for group in groups:
+        base = desc if shared else out[group[0]]
+        closed = _close(base, [moves_of[i] for i in group], options)  # type: ignore[arg-type]
+        for i, poses in zip(group, closed):
+            out[i] = poses if isinstance(poses, Exception) else _rewrite(out[i], poses, moves_of[i])  # type: ignore[arg-type]
     return out
 
 
@@ -383,50 +437,96 @@ _FEATURES: dict[str, dict[str, tuple[tuple[str, str, str], ...]]] = {
 }
 
 
-def _redraw(
-    desc: dict[str, Any], moves: dict[tuple[str, str], list[float]], options: Mapping[str, Any]
-) -> dict[str, Any]:
-    """The description redrawn with each (pin, body) of ``moves`` at its new world point of
-    the drawing, every other local vector kept."""
+def _close(
+    desc: dict[str, Any], moves: list[dict[tuple[str, str], list[float]]], options: Mapping[str, Any]
+) -> list[dict[str, tuple[float, float, float]] | Exception]:
+    """The closed configuration (each body's new x, y, theta) of each design, its pins
+    moved as ``moves`` say, every other local vector kept, the drivers at their values at
+    the start: one closing model for all of them. Each moved pin is cut; on each side that
+    moves, two sliders along the world axes of the drawing (fixed in that side's body)
+    carry it, their slides driven to the design's offset at the design's time (a spline
+    through the designs, exact at its knots), and the two sides are pinned again."""
+    from ..errors import LinkworkError
     from ..model import Model
+    from ..motion import Spline
 
-    _, angle_unit = _units(desc)
-    to_rad = math.pi / 180.0 if angle_unit == "deg" else 1.0
-    # the closing mechanism: each moved pin held by two perpendicular slots, its place in
-    # body_a (new or as drawn) on lines of body_b through its place there
+    sides = sorted({key for m in moves for key in m})
     temp = _copy(desc)
-    places: dict[str, tuple[list[float], list[float]]] = {}
-    for joint, _ in moves:
+    # the mechanism's own drivers held at their values at the start
+    for d in temp.get("drivers", []):
+        value = float(_law_at(d["law"], 0.0))
+        d["law"] = {"type": "constant", "value": value}
+    cut = {joint for joint, _ in sides}
+    temp["joints"] = [j for j in temp["joints"] if j["name"] not in cut]
+    n = len(moves)
+    knots = list(map(float, range(max(n, 2))))
+    carrier: dict[tuple[str, str], str] = {}
+    for joint, body in sides:
         j = _joint(desc, joint)
         at = list(map(float, j["at"]))
-        places[joint] = (moves.get((joint, j["body_a"]), at), moves.get((joint, j["body_b"]), at))
-    temp["joints"] = [j for j in temp["joints"] if j["name"] not in places]
-    for joint, (place_a, place_b) in places.items():
-        j = _joint(desc, joint)
+        last = body
         for k, axis in enumerate(([1.0, 0.0], [0.0, 1.0])):
-            temp["joints"].append(
-                {
-                    "type": "point_on_line",
-                    "name": f"{joint}~{k}",
-                    "body_a": j["body_a"],
-                    "body_b": j["body_b"],
-                    "at": list(place_a),
-                    "axis": axis,
-                    "through": list(place_b),
-                    "offset": 0.0,
-                }
-            )
-    model = Model._checked(temp, options)
-    try:
-        q = model.solve(0.0).q
-    except SolveError as e:
-        # the same kind of error, said of the varied mechanism (not of the closing one)
-        moved = ", ".join(f"{j} in {b} to ({xy[0]:.6g}, {xy[1]:.6g})" for (j, b), xy in moves.items())
-        text = str(e).split(";")[0]
-        raise type(e)(f"the mechanism with pin {moved} does not close: {text}") from None
+            helper = f"{joint}~{body}~{k}"
+            temp["bodies"].append({"name": helper, "x": at[0], "y": at[1], "theta": 0.0})
+            slider = {"type": "prismatic", "name": f"{helper}~p", "body_a": last, "body_b": helper}
+            temp["joints"].append({**slider, "at": at, "axis": axis})
+            offsets = [m[(joint, body)][k] - at[k] if (joint, body) in m else 0.0 for m in moves]
+            offsets += offsets[-1:] * (len(knots) - n)
+            law = Spline(knots, offsets)
+            if not np.array_equal(law.evaluate(knots)[:, 0], np.asarray(offsets)):
+                raise ParameterError("internal: a spline that misses its knots")  # pragma: no cover
+            drive = {"type": "translation", "name": f"{helper}~d", "joint": f"{helper}~p"}
+            temp["drivers"].append({**drive, "law": law.to_dict()})
+            last = helper
+        carrier[(joint, body)] = last
+    for joint in cut:
+        j = _joint(desc, joint)
+        a = carrier.get((joint, j["body_a"]), j["body_a"])
+        b = carrier.get((joint, j["body_b"]), j["body_b"])
+        temp["joints"].append(
+            {"type": "revolute", "name": joint, "body_a": a, "body_b": b, "at": list(j["at"])}
+        )
+    model = Model._checked(temp, dict(options))
+    q0 = np.asarray(model.q_start, dtype=np.float64)
     col = model._column_index
+    names = [b["name"] for b in desc["bodies"]]
+    out: list[dict[str, tuple[float, float, float]] | Exception] = []
+    for k, m in enumerate(moves):
+        try:
+            q = model.solve(float(k), q_guess=q0).q
+        except LinkworkError as e:
+            # the same kind of error, said of the varied mechanism (not of the closing one)
+            moved = ", ".join(f"{jn} in {b} to ({xy[0]:.6g}, {xy[1]:.6g})" for (jn, b), xy in m.items())
+            # the closing model's time is the design's place in its batch: not said
+            text = re.sub(r"\s*(at )?\(?t = [-+0-9.e]+\)?", "", str(e).split(";")[0])
+            out.append(type(e)(f"the mechanism with pin {moved} does not close: {text}"))
+            continue
+        out.append(
+            {
+                b: (float(q[col[f"{b}.x"]]), float(q[col[f"{b}.y"]]), float(q[col[f"{b}.theta"]]))
+                for b in names
+            }
+        )
+    return out
+
+
+def _law_at(law: Mapping[str, Any], t: float) -> float:
+    """A law's value at ``t`` as the description writes it (its own units)."""
+    from .. import _core
+
+    return float(_core.evaluate_law(json.dumps(law), np.asarray([t]), None)[0][0])
+
+
+def _rewrite(
+    desc: dict[str, Any],
+    new: Mapping[str, tuple[float, float, float]],
+    moves: Mapping[tuple[str, str], list[float]],
+) -> dict[str, Any]:
+    """The description redrawn at the closed configuration ``new`` (every body's x, y,
+    theta; angles in radians), each moved pin where its new places meet. Changed in place."""
+    _, angle_unit = _units(desc)
+    to_rad = math.pi / 180.0 if angle_unit == "deg" else 1.0
     old = {b["name"]: (b["x"], b["y"], b["theta"] * to_rad) for b in desc["bodies"]}
-    new = {b: tuple(float(q[col[f"{b}.{c}"]]) for c in ("x", "y", "theta")) for b in old}
 
     def carry(body: str, xy: Sequence[float], kind: str) -> list[float]:
         if body == "ground" or body not in old:
@@ -438,21 +538,25 @@ def _redraw(
         rx, ry = c * dx - s * dy, s * dx + c * dy
         return [x1 + rx, y1 + ry] if kind == "p" else [rx, ry]
 
-    out = _copy(desc)
+    places = {}
+    for joint, _ in moves:
+        j = _joint(desc, joint)
+        at = list(map(float, j["at"]))
+        places[joint] = (moves.get((joint, j["body_a"]), at), moves.get((joint, j["body_b"]), at))
     for group, table in _FEATURES.items():
-        for item in out.get(group, []):
+        for item in desc.get(group, []):
             for field, side, kind in table.get(item.get("type", ""), ()):
                 if field in item and item[field] is not None:
                     item[field] = carry(item[side], item[field], kind)
-    for b in out["bodies"]:
+    for b in desc["bodies"]:
         if b.get("com") is not None:
             b["com"] = carry(b["name"], b["com"], "p")
         x, y, theta = new[b["name"]]
         b["x"], b["y"], b["theta"] = x, y, theta / to_rad
     # a moved pin is where body_a carries its (new) place; body_b's meets it there
     for joint, (place_a, place_b) in places.items():
-        j = _joint(out, joint)
+        j = _joint(desc, joint)
         j["at"] = (
             carry(j["body_a"], place_a, "p") if j["body_a"] != "ground" else carry(j["body_b"], place_b, "p")
         )
-    return out
+    return desc

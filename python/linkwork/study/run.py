@@ -23,7 +23,7 @@ from .. import _args
 from ..errors import LinkworkError, StudyError
 from .designs import Designs, listed
 from .outputs import Output, outputs
-from .parameters import Parameter, _description, apply, parameters
+from .parameters import Parameter, _description, apply_many, parameters
 
 __all__ = ["Study", "StudyResult", "Job", "run_chunk", "requires"]
 
@@ -62,7 +62,8 @@ class Job:
 def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = None) -> dict[str, Any]:
     """Designs ``start .. start + len(values)`` of a study: each built (`apply`), compiled,
     swept (`sweep_batch` on ``threads``) and reduced to the job's outputs. Returns
-    {"start", "figures": {key: (k, ...) array}, "error": [message or ""], "seconds"}."""
+    {"start", "figures": {key: (k, ...) array}, "error": [message or ""], "seconds",
+    "phases": {"build", "sweep", "reduce"} seconds}."""
     from ..model import Model, sweep_batch
 
     begin = time.perf_counter()
@@ -73,13 +74,16 @@ def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = No
     errors = [""] * k
     models: list[Any] = []
     slots: list[int] = []
-    for i, row in enumerate(values):
+    descriptions = apply_many(job.description, job.parameters, values, **job.options)
+    for i, desc in enumerate(descriptions):
         try:
-            desc = apply(job.description, dict(zip(job.parameters, map(float, row))), **job.options)
+            if isinstance(desc, Exception):
+                raise desc
             models.append(Model._checked(desc, job.options))
             slots.append(i)
         except LinkworkError as e:
             errors[i] = f"{type(e).__name__}: {e}"
+    built = time.perf_counter()
     swept = sweep_batch(
         models,
         times,
@@ -89,6 +93,7 @@ def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = No
         errors="return",
         on_singular=job.on_singular,
     )
+    done_sweeping = time.perf_counter()
     for i, model, res in zip(slots, models, swept):
         if isinstance(res, Exception):
             errors[i] = f"{type(res).__name__}: {res}"
@@ -100,7 +105,10 @@ def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = No
             errors[i] = f"{type(e).__name__}: {e}"
             for o in job.outputs:
                 figures[o.key][i] = o.empty(1, n_steps)[0]
-    return {"start": start, "figures": figures, "error": errors, "seconds": time.perf_counter() - begin}
+    end = time.perf_counter()
+    # where the time went: building the designs' models, sweeping, reducing
+    phases = {"build": built - begin, "sweep": done_sweeping - built, "reduce": end - done_sweeping}
+    return {"start": start, "figures": figures, "error": errors, "seconds": end - begin, "phases": phases}
 
 
 def _worker_task(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
@@ -390,8 +398,9 @@ class StudyResult:
     ``designs`` (the `Designs`), ``figures`` {key: (n_designs, ...) array}, ``errors``
     (n_designs,) strings ("" where the design swept; else its error, e.g. "AssemblyError:
     ..."), ``outputs``, ``parameters``, ``times``, ``units`` of every figure and parameter,
-    ``tasks`` [(first design, designs, seconds)], ``chunk``, ``where`` it ran and
-    ``seconds`` in all. ``dataset`` is the labelled xarray Dataset; `save` writes NetCDF
+    ``tasks`` [(first design, designs, seconds)], ``chunk``, ``where`` it ran,
+    ``seconds`` in all and ``phases``: the tasks' seconds building the designs' models,
+    sweeping and reducing, summed. ``dataset`` is the labelled xarray Dataset; `save` writes NetCDF
     or Parquet.
     """
 
@@ -408,6 +417,7 @@ class StudyResult:
     where: str
     seconds: float
     derivatives: int = 0
+    phases: dict[str, float] = field(default_factory=dict)
 
     @classmethod
     def _assemble(
@@ -442,6 +452,7 @@ class StudyResult:
             where,
             seconds,
             job.derivatives,
+            {k: sum(p["phases"][k] for p in parts) for k in ("build", "sweep", "reduce")},
         )
 
     def __len__(self) -> int:

@@ -58,7 +58,7 @@ def propagate(
 
     >>> S = np.ones((3, 2, 1))                  # two parameters, each moving the output 1:1
     >>> lin = propagate(S, [0.1, 0.2], [0.1, 0.1])
-    >>> lin.worst[0, 0], round(lin.rss[0, 0], 12), lin.share[0, :, 0].tolist()
+    >>> float(lin.worst[0, 0]), round(float(lin.rss[0, 0]), 12), lin.share[0, :, 0].tolist()
     (0.30000000000000004, 0.141421356237, [0.5, 0.5])
     """
     s = np.asarray(sensitivities, dtype=np.float64)
