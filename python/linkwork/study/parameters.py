@@ -36,6 +36,7 @@ from __future__ import annotations
 import json
 import math
 import numbers
+import pickle
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -395,8 +396,8 @@ def apply_many(
 
 
 def _copy(desc: Mapping[str, Any]) -> dict[str, Any]:
-    """A deep copy of a description (plain JSON data: the JSON round trip is the fastest)."""
-    return json.loads(json.dumps(desc))
+    """A deep copy of a description (plain data: a pickle round trip is the fastest)."""
+    return pickle.loads(pickle.dumps(desc, -1))
 
 
 def _joint(desc: Mapping[str, Any], name: str) -> dict[str, Any]:

@@ -60,22 +60,23 @@ class Job:
 
 
 def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = None) -> dict[str, Any]:
-    """Designs ``start .. start + len(values)`` of a study: each built (`apply`), compiled,
-    swept (`sweep_batch` on ``threads``) and reduced to the job's outputs. Returns
-    {"start", "figures": {key: (k, ...) array}, "error": [message or ""], "seconds",
-    "phases": {"build", "sweep", "reduce"} seconds}."""
-    from ..model import Model, sweep_batch
+    """Designs ``start .. start + len(values)`` of a study: each built (`apply_many`),
+    compiled, swept (`sweep_batch` on ``threads``) and reduced to the job's outputs.
+    Returns {"start", "figures": {key: (k, ...) array}, "error": [message or ""],
+    "seconds", "phases": {"build", "sweep", "reduce"} seconds}."""
+    built = _build(job, start, values)
+    return _reduce(job, built, _sweep(job, built, threads))
+
+
+def _build(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
+    """The chunk's designs built and compiled (a failure is that design's error)."""
+    from ..model import Model
 
     begin = time.perf_counter()
-    # arrays that came through pickle may be read-only views of a misaligned buffer
-    times = np.array(job.times, dtype=np.float64)
-    k, n_steps = len(values), len(times)
-    figures = {o.key: o.empty(k, n_steps) for o in job.outputs}
-    errors = [""] * k
+    errors = [""] * len(values)
     models: list[Any] = []
     slots: list[int] = []
-    descriptions = apply_many(job.description, job.parameters, values, **job.options)
-    for i, desc in enumerate(descriptions):
+    for i, desc in enumerate(apply_many(job.description, job.parameters, values, **job.options)):
         try:
             if isinstance(desc, Exception):
                 raise desc
@@ -83,9 +84,26 @@ def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = No
             slots.append(i)
         except LinkworkError as e:
             errors[i] = f"{type(e).__name__}: {e}"
-    built = time.perf_counter()
+    build = time.perf_counter() - begin
+    return {
+        "start": start,
+        "n": len(values),
+        "models": models,
+        "slots": slots,
+        "errors": errors,
+        "build": build,
+    }
+
+
+def _sweep(job: Job, built: dict[str, Any], threads: int | None) -> tuple[list[Any], float]:
+    """The built models swept on the engine's threads (the GIL released meanwhile)."""
+    from ..model import sweep_batch
+
+    begin = time.perf_counter()
+    # arrays that came through pickle may be read-only views of a misaligned buffer
+    times = np.array(job.times, dtype=np.float64)
     swept = sweep_batch(
-        models,
+        built["models"],
         times,
         threads=threads,
         derivatives=job.derivatives,
@@ -93,8 +111,16 @@ def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = No
         errors="return",
         on_singular=job.on_singular,
     )
-    done_sweeping = time.perf_counter()
-    for i, model, res in zip(slots, models, swept):
+    return swept, time.perf_counter() - begin
+
+
+def _reduce(job: Job, built: dict[str, Any], swept: tuple[list[Any], float]) -> dict[str, Any]:
+    """Each sweep reduced to the job's outputs; failures as the designs' errors."""
+    begin = time.perf_counter()
+    n_steps = len(job.times)
+    figures = {o.key: o.empty(built["n"], n_steps) for o in job.outputs}
+    errors = built["errors"]
+    for i, model, res in zip(built["slots"], built["models"], swept[0]):
         if isinstance(res, Exception):
             errors[i] = f"{type(res).__name__}: {res}"
             continue
@@ -105,10 +131,16 @@ def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = No
             errors[i] = f"{type(e).__name__}: {e}"
             for o in job.outputs:
                 figures[o.key][i] = o.empty(1, n_steps)[0]
-    end = time.perf_counter()
     # where the time went: building the designs' models, sweeping, reducing
-    phases = {"build": built - begin, "sweep": done_sweeping - built, "reduce": end - done_sweeping}
-    return {"start": start, "figures": figures, "error": errors, "seconds": end - begin, "phases": phases}
+    phases = {"build": built["build"], "sweep": swept[1], "reduce": time.perf_counter() - begin}
+    seconds = sum(phases.values())
+    return {
+        "start": built["start"],
+        "figures": figures,
+        "error": errors,
+        "seconds": seconds,
+        "phases": phases,
+    }
 
 
 def _worker_task(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
@@ -248,12 +280,13 @@ def _outputs_of(model: Any, names: Sequence[Any]) -> list[Output]:
 
 
 def _default_chunk(n: int, workers: int, cluster: bool) -> int:
-    """Designs per task. In-process, chunks only pace the progress bar and bound memory
-    (the engine's threads share each chunk): 1024. On a cluster, big enough that a task
-    (~0.3-1 ms a design) dwarfs the scheduler's few ms per task, small enough that every
-    worker gets several (load balance, and little to redo when a worker is lost)."""
+    """Designs per task. In-process, the next chunk is built while the engine's threads
+    sweep one: 256 (small enough to overlap well and pace the progress bar). On a
+    cluster, big enough that a task (~0.3-1 ms a design) dwarfs the scheduler's few ms per
+    task, small enough that every worker gets several (load balance, and little to redo
+    when a worker is lost)."""
     if not cluster:
-        return 1024
+        return 256
     return int(max(64, min(1024, math.ceil(n / (4 * max(1, workers))))))
 
 
@@ -316,12 +349,24 @@ def _chunks(n: int, chunk: int) -> list[tuple[int, int]]:
 def _run_local(
     job: Job, values: np.ndarray, chunk: int, threads: int | None, progress: Any
 ) -> list[dict[str, Any]]:
+    """In-process: while the engine's threads sweep one chunk (the GIL released), this
+    thread builds the next and reduces the last; the results are those of `run_chunk`."""
+    from concurrent.futures import ThreadPoolExecutor
+
     bar = _Bar(len(values), progress, "designs")
     parts = []
     try:
-        for s, e in _chunks(len(values), chunk):
-            parts.append(run_chunk(job, s, values[s:e], threads))
-            bar.add(e - s)
+        with ThreadPoolExecutor(1) as sweeper:
+            pending: Any = None
+            for s, e in _chunks(len(values), chunk):
+                built = _build(job, s, values[s:e])
+                if pending is not None:
+                    parts.append(_reduce(job, pending[0], pending[1].result()))
+                    bar.add(pending[0]["n"])
+                pending = (built, sweeper.submit(_sweep, job, built, threads))
+            if pending is not None:
+                parts.append(_reduce(job, pending[0], pending[1].result()))
+                bar.add(pending[0]["n"])
     finally:
         bar.close()
     return parts
