@@ -83,6 +83,7 @@ def save(res: StudyResult, path: str) -> str:
     path = os.fspath(path)
     if path.endswith(".nc"):
         requires("h5netcdf")
+        requires("h5py")
         ds = to_xarray(res)
         ds.to_netcdf(path, engine="h5netcdf")
         return path
@@ -126,6 +127,7 @@ def open_dataset(path: str) -> Any:
     xr = requires("xarray")
     if path.endswith(".nc"):
         requires("h5netcdf")
+        requires("h5py")
         return xr.load_dataset(path, engine="h5netcdf")
     if path.endswith(".parquet"):
         pq = requires("pyarrow.parquet")
