@@ -411,3 +411,26 @@ def test_cli_bad_study_files_are_named(tmp_path, capsys, text, message):
     assert main(["study", str(path), "--out", str(tmp_path)]) == 1
     err = capsys.readouterr().err
     assert message in err and str(path) in err
+
+
+def test_missing_packages_and_bad_schedulers_are_named():
+    from linkwork.study.run import requires
+
+    with pytest.raises(lw.StudyError, match=r"pip install 'linkwork\[studies\]'"):
+        requires("a_package_that_is_not_there")
+    study = lw.Study(lw.examples.four_bar(), [0.0, 0.1], ["angle rocker"])
+    with pytest.raises(lw.StudyError, match="scheduler must be"):
+        study.run(S.grid({"length crank": [0.2]}), scheduler=42)
+    with pytest.raises(lw.StudyError, match="progress must be"):
+        study.run(S.grid({"length crank": [0.2]}), progress="yes")
+
+
+def test_progress_counts_every_design():
+    study = lw.Study(lw.examples.four_bar(), np.linspace(0.0, TURN, 20), ["angle rocker"])
+    seen = []
+    study.run(
+        S.grid({"length crank": np.linspace(0.19, 0.21, 7)}),
+        chunk=3,
+        progress=lambda d, t: seen.append((d, t)),
+    )
+    assert seen == [(3, 7), (6, 7), (7, 7)]
