@@ -17,7 +17,7 @@ from .outputs import Output
 from .parameters import KINDS, Parameter, apply, apply_many, parameter, parameters
 from .report import atlas_figure, study_report, tolerance_report
 from .run import Job, Study, StudyResult, run_chunk
-from .tolerance import Linear, ToleranceResult, central_differences, propagate, tolerance_study
+from .tolerance import Linear, ToleranceResult, central_differences, components, propagate, tolerance_study
 
 __all__ = [
     "KINDS",
@@ -37,6 +37,7 @@ __all__ = [
     "apply_many",
     "atlas_figure",
     "central_differences",
+    "components",
     "grid",
     "latin_hypercube",
     "listed",

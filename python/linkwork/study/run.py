@@ -406,6 +406,10 @@ def _run_dask(
             client.submit(_worker_task, job, s, values[s:e], pure=False, retries=0)
             for s, e in _chunks(len(values), chunk)
         ]
+        if progress is True and "ipykernel" in sys.modules:
+            # in a notebook on a cluster: Dask's own progress widget (the tasks, live)
+            distributed.progress(futures, notebook=True)
+            progress = False
         bar = _Bar(len(values), progress, "designs")
         by_start: dict[int, dict[str, Any]] = {}
         deadline = None if timeout is None else time.monotonic() + timeout
