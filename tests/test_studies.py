@@ -434,3 +434,24 @@ def test_progress_counts_every_design():
         progress=lambda d, t: seen.append((d, t)),
     )
     assert seen == [(3, 7), (6, 7), (7, 7)]
+
+
+def test_peak_effort_and_other_reductions_against_a_direct_sweep():
+    m = lw.examples.four_bar()
+    for body, mass in (("crank", 0.8), ("coupler", 1.4), ("rocker", 1.0)):
+        m.set_mass(body, mass, inertia=0.01 * mass)
+    m.set_gravity((0.0, -9.81))
+    times = np.linspace(0.0, TURN, 200)
+    outputs = ["peak_effort crank_angle", "pivot_min", "coordinate rocker.theta", "events"]
+    study = lw.Study(m, times, outputs)
+    assert study.derivatives == 2 and study.forces
+    res = study.run(S.grid({"mass coupler": [1.4, 2.0]}))
+    assert res.dataset.peak_effort_crank_angle.attrs["units"] == "N m"
+    for i, mass in enumerate((1.4, 2.0)):
+        direct = lw.Model(S.apply(m, {"mass coupler": mass})).sweep(times, forces=True)
+        assert res.figures["peak_effort_crank_angle"][i] == np.max(np.abs(direct.effort("crank_angle")))
+        assert res.figures["pivot_min"][i] == np.min(direct.pivot_ratio)
+        assert np.array_equal(res.figures["q_rocker_theta"][i], direct.body("rocker").theta)
+    assert res.figures["peak_effort_crank_angle"][1] > res.figures["peak_effort_crank_angle"][0]
+    with pytest.raises(lw.StudyError, match="the drivers are crank_angle"):
+        lw.Study(m, times, ["peak_effort D1"])
