@@ -455,3 +455,20 @@ def test_peak_effort_and_other_reductions_against_a_direct_sweep():
     assert res.figures["peak_effort_crank_angle"][1] > res.figures["peak_effort_crank_angle"][0]
     with pytest.raises(lw.StudyError, match="the drivers are crank_angle"):
         lw.Study(m, times, ["peak_effort D1"])
+
+
+def test_a_design_is_redrawn_the_same_whatever_shares_its_batch():
+    # a batch where the crank keeps its length everywhere and one where it does not: the
+    # closing model carries every pin the parameters can move, so each design's redraw is
+    # its own (found on a change-point design, where Newton's last digits follow the model)
+    desc = lw.Mechanism.load(
+        os.path.join(os.path.dirname(__file__), "..", "examples", "four_bar.toml")
+    ).to_dict()
+    params = S.parameters(desc, ["length crank", "length rocker"])
+    designs = S.grid({"length crank": [60.0, 200.0], "length rocker": [200.0, 360.0, 400.0]}).values
+    together = S.apply_many(desc, params, designs)
+    for i, row in enumerate(designs):
+        alone = S.apply_many(desc, params, [row])[0]
+        assert alone == together[i], i
+        assert S.apply(desc, dict(zip(["length crank", "length rocker"], row))) == together[i]
+    assert S.apply_many(desc, params, designs[3:]) == together[3:]

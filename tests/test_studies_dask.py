@@ -111,3 +111,18 @@ def test_tolerance_study_on_the_cluster(client):
     there = st.tolerance(tolerances, n=100, seed=4, scheduler=client, chunk=25, timeout=120)
     assert np.array_equal(here.deviations, there.deviations)
     assert np.array_equal(here.linear.rss, there.linear.rss)
+
+
+def test_cli_study_on_the_cluster(client, tmp_path, capsys):
+    from linkwork.cli import main
+
+    folder = os.path.join(os.path.dirname(__file__), "..", "examples", "studies")
+    args = ["study", os.path.join(folder, "four_bar_atlas.toml"), "--out", str(tmp_path)]
+    assert main([*args, "--scheduler", client.scheduler.address, "--chunk", "5"]) == 0
+    there = capsys.readouterr().out
+    assert f"on {client.scheduler.address}" in there and "8 tasks of up to 5 designs" in there
+    remote = S.open_dataset(str(tmp_path / "four_bar_atlas.nc"))
+    assert main([*args]) == 0
+    local = S.open_dataset(str(tmp_path / "four_bar_atlas.nc"))
+    assert np.array_equal(remote.path_P.values, local.path_P.values, equal_nan=True)
+    assert remote.error.values.tolist() == local.error.values.tolist()

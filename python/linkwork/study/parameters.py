@@ -387,9 +387,12 @@ def apply_many(
         for p in params
     )
     groups = [todo] if shared else [[i] for i in todo]
+    # the closing model carries every pin the parameters can move, whether a design moves it
+    # or not: its structure, so each design's redraw, does not depend on the other designs
+    sides = sorted({(p.joint, p.body) for p in params if p.kind != "path"})
     for group in groups:
         base = desc if shared else out[group[0]]
-        closed = _close(base, [moves_of[i] for i in group], options)  # type: ignore[arg-type]
+        closed = _close(base, sides, [moves_of[i] for i in group], options)  # type: ignore[arg-type]
         for i, poses in zip(group, closed):
             out[i] = poses if isinstance(poses, Exception) else _rewrite(out[i], poses, moves_of[i])  # type: ignore[arg-type]
     return out
@@ -439,7 +442,10 @@ _FEATURES: dict[str, dict[str, tuple[tuple[str, str, str], ...]]] = {
 
 
 def _close(
-    desc: dict[str, Any], moves: list[dict[tuple[str, str], list[float]]], options: Mapping[str, Any]
+    desc: dict[str, Any],
+    sides: list[tuple[str, str]],
+    moves: list[dict[tuple[str, str], list[float]]],
+    options: Mapping[str, Any],
 ) -> list[dict[str, tuple[float, float, float]] | Exception]:
     """The closed configuration (each body's new x, y, theta) of each design, its pins
     moved as ``moves`` say, every other local vector kept, the drivers at their values at
@@ -451,7 +457,6 @@ def _close(
     from ..model import Model
     from ..motion import Spline
 
-    sides = sorted({key for m in moves for key in m})
     temp = _copy(desc)
     # the mechanism's own drivers held at their values at the start
     for d in temp.get("drivers", []):
