@@ -472,3 +472,13 @@ def test_a_design_is_redrawn_the_same_whatever_shares_its_batch():
         assert alone == together[i], i
         assert S.apply(desc, dict(zip(["length crank", "length rocker"], row))) == together[i]
     assert S.apply_many(desc, params, designs[3:]) == together[3:]
+
+
+def test_a_slider_crank_keeps_its_rod_and_offset():
+    desc = lw.examples.slider_crank().to_dict()
+    before = lw.Model(desc).linkages()[0].lengths
+    varied = S.apply(desc, {"length crank": before["crank"] * 1.1})
+    after = lw.Model(varied).linkages()[0].lengths
+    assert after["crank"] == pytest.approx(before["crank"] * 1.1, rel=1e-12)
+    assert after["rod"] == pytest.approx(before["rod"], rel=1e-12)
+    assert after["offset"] == pytest.approx(before["offset"], abs=1e-12 * before["rod"])
