@@ -145,11 +145,11 @@ def tolerance_report(tol: ToleranceResult, directory: str, stem: str = "toleranc
     md = os.path.join(directory, f"{stem}.md")
     with open(md, "w", encoding="utf-8") as f:
         f.write(f"# Tolerance study of {tol.nominal.model_name}\n\n")
-        f.write(f"{tol.n} samples (seed {tol.seed}): {tol.n - tol.n_failed} swept, {tol.n_failed} failed ")
-        f.write("(did not assemble or their sweep failed; listed below).\n\n")
-        f.write("| parameter | tolerance |\n|---|---|\n")
-        for name, t in tol.tolerances.items():
-            f.write(f"| {name} | {t} |\n")
+        f.write(f"{tol.n} samples (seed {tol.seed}): {tol.n - tol.n_failed} swept, {tol.n_failed} failed")
+        f.write(" (did not assemble or their sweep failed; listed below).\n\n" if tol.n_failed else ".\n\n")
+        f.write("| parameter | nominal | unit | tolerance (deviation from nominal) |\n|---|---|---|---|\n")
+        for p, (name, t) in zip(tol.nominal.parameters, tol.tolerances.items()):
+            f.write(f"| {name} | {p.nominal:.6g} | {p.unit} | {t} |\n")
         method = lin.method if lin is not None else "none"
         f.write(f"\nFirst order from sensitivities by **{method}**. Largest over the cycle:\n\n")
         f.write(
