@@ -4,7 +4,7 @@ Build a `Mechanism` (bodies, joints at world points, drivers with motion laws), 
 it into a `Model`, then ``model.solve(t)`` or ``model.sweep(times)``.
 """
 
-from . import closed_form, curves, examples, reference, screw
+from . import closed_form, curves, examples, reference, screw, study
 from .errors import (
     AssemblyError,
     CancelledError,
@@ -16,9 +16,12 @@ from .errors import (
     LinkworkWarning,
     ModelError,
     NonFiniteError,
+    ParameterError,
+    PortabilityError,
     ScrewError,
     SingularError,
     SolveError,
+    StudyError,
 )
 from .mechanism import GROUND, Body, Mechanism
 from .model import Model, sweep_batch
@@ -38,6 +41,7 @@ from .motion import (
     Spline,
 )
 from .results import BodyMotion, PointMotion, Results, State
+from .study import Study, StudyResult
 
 __version__ = "0.1.0"
 
@@ -64,6 +68,8 @@ __all__ = [
     "Model",
     "ModelError",
     "NonFiniteError",
+    "ParameterError",
+    "PortabilityError",
     "Periodic",
     "PointMotion",
     "Polynomial",
@@ -74,12 +80,16 @@ __all__ = [
     "SingularError",
     "Sequence",
     "SolveError",
+    "StudyError",
     "Spline",
     "State",
+    "Study",
+    "StudyResult",
     "closed_form",
     "curves",
     "sweep_batch",
     "examples",
     "reference",
     "screw",
+    "study",
 ]

@@ -8,6 +8,7 @@
     linkwork plot MODEL [--t0 T0] [--t1 T1] [--steps N] [--outputs NAME,...] [--paths NAME,...]
                         [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
     linkwork check MODEL [--t T]
+    linkwork study STUDY [--scheduler ADDRESS|local] [--chunk N] [--format nc|parquet] [--out DIR]
 
 ``demo`` sweeps a built-in mechanism: it prints a summary (range of every coordinate, worst
 residual, Newton iterations, closest approach to a singular configuration, events, speed)
@@ -22,6 +23,9 @@ DIR/<model>_paths.png (paths of points over the mechanism at t0), ``--animate FI
 mechanism moving. ``plot`` sweeps and writes the figures only.
 
 ``check`` reports degrees of freedom, redundant joints and each driver's limits of motion.
+
+``study`` runs a study file (a design space or a tolerance study; docs/studies.md)
+in-process or on a Dask cluster and writes its dataset and a report with figures.
 
 Exit status: 0 done; 1 the model file cannot be read or compiled, the sweep failed (the
 good steps are written first) or the model has a problem (check); 2 bad usage.
@@ -456,12 +460,40 @@ Exit status 1 if no design results.""",
     s.add_argument(
         "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
     )
-    return parser, {"demo": d, "run": r, "plot": p, "check": c, "synth": s}
+    st = sub.add_parser(
+        "study",
+        formatter_class=fmt,
+        help="a design study or tolerance study from a study file: dataset and report",
+        description="""Reads a study file (TOML: the model, times, outputs, and a [grid],
+[latin_hypercube], [designs] or [tolerances] section; docs/studies.md), sweeps every
+design in-process on all cores or on a Dask cluster (--scheduler), and writes:
+  DIR/STUDY.nc|.parquet     the dataset: a row per design, its parameters, the figures
+                            asked for and its error if it failed; units with every column
+  DIR/STUDY.md + PNGs       the report: an atlas of coupler curves and the figures against
+                            the parameters, or (tolerances) the path envelopes, the
+                            histogram of output errors, Monte Carlo beside first order and
+                            which parameter contributes most
+Designs that fail are listed, not dropped; exit status 1 when every design failed.""",
+    )
+    st.add_argument("study", help="study file (TOML)")
+    st.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="a Dask scheduler address (tcp://host:8786), or 'local' for a local cluster of one "
+        "process per core (default: in-process, the engine's threads)",
+    )
+    st.add_argument("--chunk", type=_positive_int, default=None, metavar="N", help="designs per task")
+    st.add_argument("--format", choices=("nc", "parquet"), default="nc", help="dataset file (default nc)")
+    st.add_argument(
+        "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
+    )
+    return parser, {"demo": d, "run": r, "plot": p, "check": c, "synth": s, "study": st}
 
 
 def _usage_problem(args: argparse.Namespace) -> str | None:
     """What is wrong with the arguments before any model is read, or None."""
-    if args.command in ("check", "synth"):
+    if args.command in ("check", "synth", "study"):
         return None
     if args.steps < 2:
         return "--steps must be at least 2"
@@ -483,13 +515,26 @@ def _synth(args: argparse.Namespace) -> int:
     return synth(args)
 
 
+def _study(args: argparse.Namespace) -> int:
+    from .study.cli import study
+
+    return study(args)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser, commands = _parser()
     args = parser.parse_args(argv)
     problem = _usage_problem(args)
     if problem:
         commands[args.command].error(problem)  # exits with status 2
-    do: dict[str, Any] = {"demo": demo, "run": run, "plot": plot, "check": check, "synth": _synth}
+    do: dict[str, Any] = {
+        "demo": demo,
+        "run": run,
+        "plot": plot,
+        "check": check,
+        "synth": _synth,
+        "study": _study,
+    }
     try:
         return int(do[args.command](args))
     except LinkworkError as e:  # a synthesis problem that is not well posed

@@ -10,6 +10,11 @@
     │                       or collinear joints, parallel lines, a redundant arm; also a ValueError
     ├── SynthesisError      a synthesis problem that is not well posed (point count, coincident
     │                       or collinear points); also a ValueError
+    ├── ParameterError      a design parameter that names nothing in the model (the message
+    │                       lists what exists); also a ValueError
+    ├── StudyError          a design study that cannot be run as asked (a bad study file,
+    │   │                   an unknown output, a missing optional package); also a ValueError
+    │   └── PortabilityError    a model that cannot travel to another process (Python laws)
     └── SolveError          a solve could not be completed at some time step
         ├── AssemblyError       no configuration found at the first time
         ├── ConvergenceError    Newton-Raphson did not converge at a later step
@@ -35,6 +40,9 @@ __all__ = [
     "InputError",
     "ScrewError",
     "SynthesisError",
+    "ParameterError",
+    "StudyError",
+    "PortabilityError",
     "SolveError",
     "AssemblyError",
     "ConvergenceError",
@@ -80,6 +88,21 @@ class SynthesisError(LinkworkError, ValueError):
     """A synthesis problem without a well-posed answer: the wrong number of precision
     points for an exact method, coincident or collinear points, non-finite input; the
     message names the points at fault."""
+
+
+class ParameterError(LinkworkError, ValueError):
+    """A design parameter that is not one: an unknown kind, body, joint, driver or field,
+    or a value that is not a finite number; the message names it and lists what exists."""
+
+
+class StudyError(LinkworkError, ValueError):
+    """A design study that cannot be run as asked: a bad study file or design space, an
+    unknown output, a missing optional package (the message gives the pip command)."""
+
+
+class PortabilityError(StudyError):
+    """A model that cannot travel to another process: its Python laws are functions of this
+    interpreter, not data (use an expression, spline or other built-in law instead)."""
 
 
 class SolveError(LinkworkError):

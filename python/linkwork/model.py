@@ -52,6 +52,9 @@ class Model:
         self.description: dict[str, Any] = desc
         # the functions of PythonLaw laws travel beside the JSON (a dict may pass them too)
         python_laws = {**getattr(mechanism, "python_laws", {}), **(options.pop("python_laws", None) or {})}
+        # kept to rebuild the model elsewhere (pickling: the description plus its options)
+        self._options: dict[str, Any] = options
+        self._python_laws = python_laws
         self._core = _core.Model(json.dumps(desc), python_laws=python_laws or None, **options)
         # immutable: asked once (each ask builds a new list in the engine; results ask per column)
         self._columns: list[str] = list(self._core.columns)
@@ -60,6 +63,19 @@ class Model:
         # what a sweep keeps unless told otherwise: the description's outputs, or everything
         said = desc.get("outputs")
         self._default_outputs = self._outputs(said, ModelError) if said else None
+
+    @classmethod
+    def _checked(cls, desc: dict[str, Any], options: dict[str, Any]) -> Model:
+        """The model of a description already known finite and options already checked
+        (design studies build thousands): the same model as ``Model(desc, **options)``."""
+        self = cls.__new__(cls)
+        self.description = desc
+        self._options, self._python_laws = dict(options), {}
+        self._core = _core.Model(json.dumps(desc), python_laws=None, **options)
+        self._columns = list(self._core.columns)
+        self._body_names = list(self._core.body_names)
+        self._column_index = {c: i for i, c in enumerate(self._columns)}
+        return self
 
     name = property(lambda self: self._core.name, doc="The mechanism's name.")
     n_bodies = property(lambda self: self._core.n_bodies, doc="Moving bodies.")
@@ -107,6 +123,26 @@ class Model:
 
     def __repr__(self) -> str:
         return repr(self._core)
+
+    @property
+    def options(self) -> dict[str, Any]:
+        """The compile options the model was built with (a copy)."""
+        return dict(self._options)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """A model pickles as its description and options (the engine's compiled form is
+        rebuilt on the other side, identically). A model with Python laws cannot travel:
+        `PortabilityError` names them."""
+        if self._python_laws:
+            from .errors import PortabilityError
+
+            names = ", ".join(sorted(self._python_laws))
+            raise PortabilityError(
+                f"model {self.name!r} cannot be pickled or sent to another process: its Python laws "
+                f"({names}) are functions of this interpreter, not data; describe them with a built-in "
+                "law (expression, spline, polynomial, ...) instead"
+            )
+        return (_rebuild, (self.description, self._options))
 
     def solve(
         self,
@@ -422,6 +458,11 @@ def sweep_batch(
             raise error
         out.append(error)
     return out
+
+
+def _rebuild(description: dict[str, Any], options: dict[str, Any]) -> Model:
+    """The model of a description and options (unpickling)."""
+    return Model(description, **options)
 
 
 ON_SINGULAR = ("continue", "stop", "switch")

@@ -1,0 +1,53 @@
+"""Design studies: design parameters named in a model's description, design spaces
+(grids, Latin hypercubes, lists), tolerance analysis (Monte Carlo and first-order), each
+design swept and reduced where it runs, in-process on all cores or on a Dask cluster.
+
+- `parameters`: naming a number of the model, `apply` to make the varied model;
+- `designs`: grids, Latin hypercubes, listed designs, tolerances and their samples;
+- `outputs`: the figures kept of each design (reductions of its sweep);
+- `run`: `Study`, the three scales, `StudyResult`;
+- `dataset`: the labelled dataset (xarray, pandas), NetCDF and Parquet with units;
+- `tolerance`: Monte Carlo and first-order tolerance analysis; `report`: its report.
+"""
+
+from .dataset import open_dataset
+from .designs import Designs, Interval, Normal, Uniform, grid, latin_hypercube, listed, sample
+from .outputs import NAMES as OUTPUTS
+from .outputs import Output
+from .parameters import KINDS, Parameter, apply, apply_many, parameter, parameters
+from .report import atlas_figure, study_report, tolerance_report
+from .run import Job, Study, StudyResult, run_chunk
+from .tolerance import Linear, ToleranceResult, central_differences, components, propagate, tolerance_study
+
+__all__ = [
+    "KINDS",
+    "OUTPUTS",
+    "Designs",
+    "Interval",
+    "Job",
+    "Linear",
+    "Normal",
+    "Output",
+    "Parameter",
+    "Study",
+    "StudyResult",
+    "ToleranceResult",
+    "Uniform",
+    "apply",
+    "apply_many",
+    "atlas_figure",
+    "central_differences",
+    "components",
+    "grid",
+    "latin_hypercube",
+    "listed",
+    "open_dataset",
+    "parameter",
+    "parameters",
+    "propagate",
+    "run_chunk",
+    "sample",
+    "study_report",
+    "tolerance_report",
+    "tolerance_study",
+]

@@ -1,0 +1,550 @@
+"""One study, three scales: the same designs swept in-process on every core (the
+engine's threads, `sweep_batch`), on a local Dask cluster, or on a Dask cluster anywhere
+(a scheduler address). Designs are cut into chunks; a chunk is one task: it builds its
+designs' models from the model's description, sweeps them in Rust on the worker's
+threads (no GIL) and reduces each sweep to the figures asked for, so only they travel
+back. A design that fails keeps its error in the results; a chunk lost with its worker
+is run again by the scheduler and counted once (results are placed by design index).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .. import _args
+from ..errors import LinkworkError, StudyError
+from .designs import Designs, listed
+from .outputs import Output, outputs
+from .parameters import Parameter, _description, apply_many, parameters
+
+__all__ = ["Study", "StudyResult", "Job", "run_chunk", "requires"]
+
+
+def requires(module: str, extra: str = "studies") -> Any:
+    """Imports an optional dependency, or raises `StudyError` with the pip command."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        package = {"distributed": "dask[distributed]", "h5netcdf": "h5netcdf"}.get(
+            module, module.split(".")[0]
+        )
+        raise StudyError(
+            f"this needs {package}, which is not installed: pip install 'linkwork[{extra}]' "
+            f"(or pip install '{package}')"
+        ) from None
+
+
+@dataclass(frozen=True)
+class Job:
+    """Everything a task needs, as plain data (it pickles): the model's description and
+    compile options, the parameters, the outputs, the times and the sweep's options."""
+
+    description: dict[str, Any]
+    options: dict[str, Any]
+    parameters: tuple[Parameter, ...]
+    outputs: tuple[Output, ...]
+    times: np.ndarray = field(repr=False)
+    derivatives: int
+    forces: bool
+    on_singular: str
+
+
+def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = None) -> dict[str, Any]:
+    """Designs ``start .. start + len(values)`` of a study: each built (`apply_many`),
+    compiled, swept (`sweep_batch` on ``threads``) and reduced to the job's outputs.
+    Returns {"start", "figures": {key: (k, ...) array}, "error": [message or ""],
+    "seconds", "phases": {"build", "sweep", "reduce"} seconds}."""
+    built = _build(job, start, values)
+    return _reduce(job, built, _sweep(job, built, threads))
+
+
+def _build(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
+    """The chunk's designs built and compiled (a failure is that design's error)."""
+    from ..model import Model
+
+    begin = time.perf_counter()
+    errors = [""] * len(values)
+    models: list[Any] = []
+    slots: list[int] = []
+    for i, desc in enumerate(apply_many(job.description, job.parameters, values, **job.options)):
+        try:
+            if isinstance(desc, Exception):
+                raise desc
+            models.append(Model._checked(desc, job.options))
+            slots.append(i)
+        except LinkworkError as e:
+            errors[i] = f"{type(e).__name__}: {e}"
+    build = time.perf_counter() - begin
+    return {
+        "start": start,
+        "n": len(values),
+        "models": models,
+        "slots": slots,
+        "errors": errors,
+        "build": build,
+    }
+
+
+def _sweep(job: Job, built: dict[str, Any], threads: int | None) -> tuple[list[Any], float]:
+    """The built models swept on the engine's threads (the GIL released meanwhile)."""
+    from ..model import sweep_batch
+
+    begin = time.perf_counter()
+    # arrays that came through pickle may be read-only views of a misaligned buffer
+    times = np.array(job.times, dtype=np.float64)
+    swept = sweep_batch(
+        built["models"],
+        times,
+        threads=threads,
+        derivatives=job.derivatives,
+        forces=job.forces,
+        errors="return",
+        on_singular=job.on_singular,
+    )
+    return swept, time.perf_counter() - begin
+
+
+def _reduce(job: Job, built: dict[str, Any], swept: tuple[list[Any], float]) -> dict[str, Any]:
+    """Each sweep reduced to the job's outputs; failures as the designs' errors."""
+    begin = time.perf_counter()
+    n_steps = len(job.times)
+    figures = {o.key: o.empty(built["n"], n_steps) for o in job.outputs}
+    errors = built["errors"]
+    for i, model, res in zip(built["slots"], built["models"], swept[0]):
+        if isinstance(res, Exception):
+            errors[i] = f"{type(res).__name__}: {res}"
+            continue
+        try:
+            for o in job.outputs:
+                figures[o.key][i] = o.compute(model, res)
+        except (LinkworkError, ValueError, KeyError) as e:
+            errors[i] = f"{type(e).__name__}: {e}"
+            for o in job.outputs:
+                figures[o.key][i] = o.empty(1, n_steps)[0]
+    # where the time went: building the designs' models, sweeping, reducing
+    phases = {"build": built["build"], "sweep": swept[1], "reduce": time.perf_counter() - begin}
+    seconds = sum(phases.values())
+    return {
+        "start": built["start"],
+        "figures": figures,
+        "error": errors,
+        "seconds": seconds,
+        "phases": phases,
+    }
+
+
+def _worker_task(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
+    """A chunk on a Dask worker, on as many engine threads as the worker has."""
+    from distributed import get_worker
+
+    try:
+        threads = get_worker().state.nthreads
+    except (ValueError, AttributeError):
+        threads = None
+    out = run_chunk(job, start, values, threads)
+    out["worker"] = os.getpid()
+    return out
+
+
+class Study:
+    """A design study of one model: the times every design is swept over and the figures
+    kept of each (see `linkwork.study.outputs`).
+
+    ``model``: a `Model` (its options are kept), a `Mechanism` or a description dict.
+    ``derivatives``: what the sweeps solve (default: the least the outputs need: 0, or 2
+    when an output needs forces). ``options``: compile options for every design (as for
+    `Model`), when ``model`` is not already compiled.
+
+    >>> import numpy as np, linkwork as lw
+    >>> times = np.linspace(0, 1.2566370614359172, 201)     # one crank turn
+    >>> study = lw.Study(lw.examples.four_bar(), times, ["transmission_min"])
+    >>> res = study.run(lw.study.grid({"length crank": [0.19, 0.2, 0.21]}))
+    >>> np.round(np.degrees(res.figures["transmission_min"]), 2).tolist()
+    [24.38, 21.79, 19.07]
+    """
+
+    def __init__(
+        self,
+        model: Any,
+        times: Any,
+        outputs: Sequence[Any] = ("events",),
+        derivatives: int | None = None,
+        on_singular: str = "continue",
+        **options: Any,
+    ) -> None:
+        from ..model import ON_SINGULAR, Model, _options
+
+        if isinstance(model, Model):
+            if options:
+                raise StudyError("give compile options with a Mechanism or description, not a compiled Model")
+            if model._python_laws:
+                model.__reduce__()  # raises PortabilityError, naming the laws
+            self.model = model
+        else:
+            options = _options(options)
+            if options.get("python_laws"):
+                raise StudyError("a study's designs are rebuilt from data: Python laws cannot be used")
+            if hasattr(model, "python_laws") and model.python_laws:
+                Model(model, **options).__reduce__()
+            self.model = Model(_description(model), **options)
+        self.times = _args.times(times)
+        if len(self.times) < 1:
+            raise StudyError("a study needs at least one time")
+        self.outputs = tuple(_outputs_of(self.model, outputs))
+        self.forces = any(o.forces for o in self.outputs)
+        if derivatives is None:
+            derivatives = 2 if self.forces else 0
+        self.derivatives = _args.integer(derivatives, "derivatives", 0, 2)
+        if self.forces and self.derivatives != 2:
+            raise StudyError("peak_effort needs accelerations: derivatives=2")
+        self.on_singular = _args.choice(on_singular, "on_singular", ON_SINGULAR)
+
+    @property
+    def description(self) -> dict[str, Any]:
+        return self.model.description
+
+    def nominal(self, names: Sequence[str]) -> dict[str, float]:
+        """The nominal value of each parameter (its value in the model)."""
+        return {p.name: p.nominal for p in parameters(self.description, names)}
+
+    def job(self, names: Sequence[str]) -> Job:
+        return Job(
+            self.description,
+            self.model.options,
+            tuple(parameters(self.description, names)),
+            self.outputs,
+            self.times,
+            self.derivatives,
+            self.forces,
+            self.on_singular,
+        )
+
+    def run(
+        self,
+        designs: Any,
+        scheduler: Any = None,
+        chunk: int | None = None,
+        threads: int | None = None,
+        progress: Any = False,
+        timeout: float | None = None,
+    ) -> StudyResult:
+        """Sweeps every design and keeps its figures: a `StudyResult` (``.dataset``).
+
+        ``designs``: `Designs` (`grid`, `latin_hypercube`, `sample`), a list of
+        {parameter: value} or {parameter: values}. ``scheduler``: None (in-process, the
+        engine's threads), "local" (a local Dask cluster of processes, one per core, for
+        this call), a scheduler address ("tcp://host:8786") or a `distributed.Client`.
+        ``chunk``: designs per task (default: see docs/studies.md). ``threads``:
+        in-process, the engine threads (default one per core). ``progress``: True for a
+        progress bar (tqdm where installed, in notebooks too), or a callable(done, total)
+        counting designs. ``timeout``: seconds to wait for a cluster's results.
+        """
+        designs = listed(designs) if not isinstance(designs, Designs) else designs
+        job = self.job(designs.names)
+        n = len(designs)
+        if chunk is not None:
+            chunk = _args.integer(chunk, "chunk", 1)
+        threads = _args.optional_integer(threads, "threads", 0)
+        begin = time.perf_counter()
+        if scheduler is None:
+            chunk = chunk or _default_chunk(n, threads or os.cpu_count() or 1, cluster=False)
+            parts = _run_local(job, designs.values, chunk, threads, progress)
+            where = "in-process"
+        else:
+            chunk = chunk or _default_chunk(n, _cluster_threads(scheduler), cluster=True)
+            parts, where = _run_dask(job, designs.values, chunk, scheduler, progress, timeout)
+        elapsed = time.perf_counter() - begin
+        return StudyResult._assemble(self, designs, job, parts, chunk, where, elapsed)
+
+    def tolerance(
+        self, tolerances: Mapping[str, Any], n: int = 1000, seed: int | None = 0, **run: Any
+    ) -> Any:
+        """A tolerance study: see `linkwork.study.tolerance_study`."""
+        from .tolerance import tolerance_study
+
+        return tolerance_study(self, tolerances, n=n, seed=seed, **run)
+
+
+def _outputs_of(model: Any, names: Sequence[Any]) -> list[Output]:
+    return outputs(model, names)
+
+
+def _default_chunk(n: int, workers: int, cluster: bool) -> int:
+    """Designs per task. In-process, the next chunk is built while the engine's threads
+    sweep one: 256 (small enough to overlap well and pace the progress bar). On a
+    cluster, big enough that a task (~0.3-1 ms a design) dwarfs the scheduler's few ms per
+    task, small enough that every worker gets several (load balance, and little to redo
+    when a worker is lost)."""
+    if not cluster:
+        return 256
+    return int(max(64, min(1024, math.ceil(n / (4 * max(1, workers))))))
+
+
+def _cluster_threads(scheduler: Any) -> int:
+    if isinstance(scheduler, str) and scheduler == "local":
+        return os.cpu_count() or 1
+    client = scheduler if hasattr(scheduler, "nthreads") else None
+    if client is not None:
+        try:
+            return max(1, sum(client.nthreads().values()))
+        except Exception:  # noqa: BLE001 - an unreachable scheduler is reported by the run
+            return 1
+    return 4
+
+
+class _Bar:
+    """Counts designs done: tqdm (notebook-aware) where installed, else a line on stderr."""
+
+    def __init__(self, total: int, progress: Any, label: str) -> None:
+        self.total, self.done, self.callback, self.bar = total, 0, None, None
+        if callable(progress):
+            self.callback = progress
+        elif progress is True:
+            try:
+                from tqdm.auto import tqdm
+
+                self.bar = tqdm(total=total, desc=label, unit="design")
+            except ImportError:
+                self.callback = _text_bar(label)
+        elif progress not in (False, None):
+            raise StudyError(f"progress must be True, False or a function f(done, total), not {progress!r}")
+
+    def add(self, k: int) -> None:
+        self.done += k
+        if self.bar is not None:
+            self.bar.update(k)
+        if self.callback is not None:
+            self.callback(self.done, self.total)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _text_bar(label: str) -> Any:
+    def show(done: int, total: int) -> None:
+        width = 30
+        filled = width * done // max(total, 1)
+        end = "\n" if done >= total else ""
+        sys.stderr.write(f"\r  {label} [{'#' * filled}{'.' * (width - filled)}] {done}/{total}{end}")
+        sys.stderr.flush()
+
+    return show
+
+
+def _chunks(n: int, chunk: int) -> list[tuple[int, int]]:
+    return [(s, min(n, s + chunk)) for s in range(0, n, chunk)]
+
+
+def _run_local(
+    job: Job, values: np.ndarray, chunk: int, threads: int | None, progress: Any
+) -> list[dict[str, Any]]:
+    """In-process: while the engine's threads sweep one chunk (the GIL released), this
+    thread builds the next and reduces the last; the results are those of `run_chunk`."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    bar = _Bar(len(values), progress, "designs")
+    parts = []
+    try:
+        with ThreadPoolExecutor(1) as sweeper:
+            pending: Any = None
+            for s, e in _chunks(len(values), chunk):
+                built = _build(job, s, values[s:e])
+                if pending is not None:
+                    parts.append(_reduce(job, pending[0], pending[1].result()))
+                    bar.add(pending[0]["n"])
+                pending = (built, sweeper.submit(_sweep, job, built, threads))
+            if pending is not None:
+                parts.append(_reduce(job, pending[0], pending[1].result()))
+                bar.add(pending[0]["n"])
+    finally:
+        bar.close()
+    return parts
+
+
+def _client(scheduler: Any) -> tuple[Any, Any]:
+    """(client, what to close afterwards: [] for the caller's client) for a scheduler."""
+    distributed = requires("distributed")
+    if isinstance(scheduler, distributed.Client):
+        return scheduler, []
+    if scheduler == "local":
+        cluster = distributed.LocalCluster(
+            n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=True, dashboard_address=None
+        )
+        client = distributed.Client(cluster)
+        return client, [client, cluster]
+    if isinstance(scheduler, str) and scheduler:
+        try:
+            client = distributed.Client(scheduler, timeout="20s", set_as_default=False)
+            return client, [client]
+        except OSError as e:
+            raise StudyError(f"cannot reach the Dask scheduler at {scheduler!r}: {e}") from None
+    raise StudyError(
+        f"scheduler must be None (in-process), 'local', a scheduler address or a distributed.Client, "
+        f"not {scheduler!r}"
+    )
+
+
+def _run_dask(
+    job: Job, values: np.ndarray, chunk: int, scheduler: Any, progress: Any, timeout: float | None
+) -> tuple[list[dict[str, Any]], str]:
+    distributed = requires("distributed")
+    client, owned = _client(scheduler)
+    try:
+        where = f"dask {client.scheduler.address}" if client.scheduler else "dask"
+        futures = [
+            client.submit(_worker_task, job, s, values[s:e], pure=False, retries=0)
+            for s, e in _chunks(len(values), chunk)
+        ]
+        if progress is True and "ipykernel" in sys.modules:
+            # in a notebook on a cluster: Dask's own progress widget (the tasks, live)
+            distributed.progress(futures, notebook=True)
+            progress = False
+        bar = _Bar(len(values), progress, "designs")
+        by_start: dict[int, dict[str, Any]] = {}
+        deadline = None if timeout is None else time.monotonic() + timeout
+        pending = set(futures)
+        try:
+            while pending:
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    raise StudyError(f"the cluster did not finish within {timeout} s")
+                try:
+                    done, pending = distributed.wait(pending, timeout=left, return_when="FIRST_COMPLETED")
+                except distributed.TimeoutError:
+                    raise StudyError(f"the cluster did not finish within {timeout} s") from None
+                # gathered on the client's own loop: a result lost with its worker is
+                # recomputed there (the scheduler reschedules it), then gathered again
+                for part in client.gather(list(done)):
+                    if part["start"] in by_start:  # a chunk is counted once, whatever befell its worker
+                        continue
+                    by_start[part["start"]] = part
+                    bar.add(len(part["error"]))
+        finally:
+            bar.close()
+            for future in pending:
+                future.cancel()
+        return [by_start[s] for s in sorted(by_start)], where
+    finally:
+        for thing in owned:
+            thing.close()
+
+
+@dataclass
+class StudyResult:
+    """The figures of every design of a study.
+
+    ``designs`` (the `Designs`), ``figures`` {key: (n_designs, ...) array}, ``errors``
+    (n_designs,) strings ("" where the design swept; else its error, e.g. "AssemblyError:
+    ..."), ``outputs``, ``parameters``, ``times``, ``units`` of every figure and parameter,
+    ``tasks`` [(first design, designs, seconds)], ``chunk``, ``where`` it ran,
+    ``seconds`` in all and ``phases``: the tasks' seconds building the designs' models,
+    sweeping and reducing, summed. ``dataset`` is the labelled xarray Dataset; `save` writes NetCDF
+    or Parquet.
+    """
+
+    designs: Designs
+    figures: dict[str, np.ndarray]
+    errors: np.ndarray
+    outputs: tuple[Output, ...]
+    parameters: tuple[Parameter, ...]
+    times: np.ndarray
+    model_name: str
+    model_units: dict[str, str]
+    tasks: list[tuple[int, int, float]]
+    chunk: int
+    where: str
+    seconds: float
+    derivatives: int = 0
+    phases: dict[str, float] = field(default_factory=dict)
+
+    @classmethod
+    def _assemble(
+        cls,
+        study: Study,
+        designs: Designs,
+        job: Job,
+        parts: list[dict[str, Any]],
+        chunk: int,
+        where: str,
+        seconds: float,
+    ) -> StudyResult:
+        n = len(designs)
+        starts = [p["start"] for p in parts]
+        covered = sum(len(p["error"]) for p in parts)
+        if covered != n or len(set(starts)) != len(starts):
+            raise StudyError(f"internal: the chunks cover {covered} designs of {n}")  # pragma: no cover
+        figures = {o.key: np.concatenate([p["figures"][o.key] for p in parts]) for o in job.outputs}
+        errors = np.asarray([e for p in parts for e in p["error"]], dtype=object)
+        tasks = [(p["start"], len(p["error"]), float(p["seconds"])) for p in parts]
+        return cls(
+            designs,
+            figures,
+            errors,
+            job.outputs,
+            job.parameters,
+            job.times,
+            study.model.name,
+            study.model.units,
+            tasks,
+            chunk,
+            where,
+            seconds,
+            job.derivatives,
+            {k: sum(p["phases"][k] for p in parts) for k in ("build", "sweep", "reduce")},
+        )
+
+    def __len__(self) -> int:
+        return len(self.designs)
+
+    @property
+    def ok(self) -> np.ndarray:
+        """(n_designs,) True where the design swept."""
+        return np.asarray([e == "" for e in self.errors], dtype=bool)
+
+    @property
+    def n_failed(self) -> int:
+        return int(np.count_nonzero(~self.ok))
+
+    def failures(self) -> list[tuple[int, dict[str, float], str]]:
+        """(index, design, error) of every design that failed."""
+        return [(int(i), self.designs.design(int(i)), str(self.errors[i])) for i in np.flatnonzero(~self.ok)]
+
+    def __repr__(self) -> str:
+        return (
+            f"<StudyResult of {self.model_name!r}: {len(self)} designs ({self.designs.kind}), "
+            f"{self.n_failed} failed, {', '.join(o.name for o in self.outputs)}; {self.where}, "
+            f"{self.seconds:.3g} s>"
+        )
+
+    @property
+    def dataset(self) -> Any:
+        """The labelled dataset (xarray): dimension ``design`` (with every parameter's
+        values as a coordinate), ``step`` (coordinate ``time``) and ``xy``; a variable per
+        output and ``error``; units as attributes."""
+        from .dataset import to_xarray
+
+        return to_xarray(self)
+
+    def to_pandas(self) -> Any:
+        """One row per design: the parameters, every scalar figure and ``error``."""
+        from .dataset import to_pandas
+
+        return to_pandas(self)
+
+    def save(self, path: str) -> str:
+        """Writes the dataset: ``.nc`` NetCDF (every figure), ``.parquet`` (a row per
+        design; per-step figures as fixed-size lists), units in both. Returns the path."""
+        from .dataset import save
+
+        return save(self, path)
