@@ -255,7 +255,7 @@ fn parse_outputs(
 /// A sweep's outputs as a dict of NumPy arrays (moved, not copied); qd and qdd are None
 /// when not solved, the inverse dynamics arrays absent when not asked for.
 fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, PyDict>> {
-    let (n, m, np) = (out.n_done, out.n_kept, out.n_points);
+    let (n, m, np) = (out.n_done, out.n_kept, out.outputs.points.len());
     let d = PyDict::new(py);
     d.set_item("q", rows_to_array(py, out.q, n, m))?;
     let derivatives = out.request.derivatives;

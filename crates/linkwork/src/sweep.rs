@@ -96,8 +96,6 @@ pub struct SweepOutput {
     pub n_coords: usize,
     /// columns of q, qd, qdd: the coordinates `outputs` keeps (n_coords by default)
     pub n_kept: usize,
-    /// body points kept (`outputs.points`)
-    pub n_points: usize,
     pub n_rows: usize,
     pub n_constraints: usize,
     /// rows completed
@@ -111,7 +109,7 @@ pub struct SweepOutput {
     pub q: Vec<f64>,
     pub qd: Vec<f64>,
     pub qdd: Vec<f64>,
-    /// n_steps x n_points x 2: the points' world positions, velocities, accelerations
+    /// n_steps x outputs.points.len() x 2: the points' world positions, velocities, accelerations
     /// (empty when not solved)
     pub points: Vec<f64>,
     pub points_d: Vec<f64>,
@@ -174,7 +172,6 @@ impl SweepOutput {
             n_steps: n,
             n_coords: model.n_coords,
             n_kept: m,
-            n_points: np,
             n_rows: r,
             n_constraints: nc,
             n_done: 0,
@@ -267,7 +264,7 @@ impl SweepOutput {
 
     /// Drops the rows that were never reached.
     pub fn truncate(&mut self) {
-        let (k, m, p) = (self.n_done, self.n_kept, 2 * self.n_points);
+        let (k, m, p) = (self.n_done, self.n_kept, 2 * self.outputs.points.len());
         self.n_steps = k;
         self.times.truncate(k);
         self.q.truncate(k * m);
@@ -319,7 +316,7 @@ impl SweepOutput {
                 }
             }
         }
-        if self.n_points > 0 {
+        if !self.outputs.points.is_empty() {
             self.store_points(data, row, frames_set);
         }
         if self.request.forces {
@@ -338,7 +335,7 @@ impl SweepOutput {
     /// acceleration Rdd + thetadd B u - thetad^2 A u, as row `row`.
     fn store_points(&mut self, data: &Data, row: usize, frames_set: bool) {
         let d = self.request.derivatives;
-        let cells = row * 2 * self.n_points;
+        let cells = row * 2 * self.outputs.points.len();
         for (i, &(body, u)) in self.outputs.points.iter().enumerate() {
             let at = cells + 2 * i;
             let Some(b) = body else {
