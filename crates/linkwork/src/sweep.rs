@@ -637,22 +637,19 @@ fn closed_step(
     derivatives: u8,
     q_prev: &[f64],
 ) -> Option<PositionInfo> {
-    // the rates of step k-1 become the history by a swap, not a copy: the groups write
-    // every coordinate's rates (and accelerations) afresh
-    let (rates, accelerations) = (derivatives >= 1, derivatives >= 2);
+    let rates = derivatives >= 1;
     if rates {
-        std::mem::swap(&mut data.qd, &mut data.hist_qd);
-    }
-    if accelerations {
-        std::mem::swap(&mut data.qdd, &mut data.hist_qdd);
+        data.blocks.qd_prev.copy_from_slice(&data.qd);
+        data.blocks.qdd_prev.copy_from_slice(&data.qdd);
     }
     let (t, h) = (times[k], times[k] - times[k - 1]);
     match blocks::step(model, plan, data, t, derivatives, h) {
         Ok(s) => {
-            if !rates {
+            if rates {
+                std::mem::swap(&mut data.hist_qd, &mut data.blocks.qd_prev);
+                std::mem::swap(&mut data.hist_qdd, &mut data.blocks.qdd_prev);
+            } else {
                 data.hist_qd.copy_from_slice(&data.qd);
-            }
-            if !accelerations {
                 data.hist_qdd.copy_from_slice(&data.qdd);
             }
             data.hist_q.rotate_right(1);
@@ -668,10 +665,8 @@ fn closed_step(
         Err(_) => {
             data.q.copy_from_slice(q_prev);
             if rates {
-                std::mem::swap(&mut data.qd, &mut data.hist_qd);
-            }
-            if accelerations {
-                std::mem::swap(&mut data.qdd, &mut data.hist_qdd);
+                data.qd.copy_from_slice(&data.blocks.qd_prev);
+                data.qdd.copy_from_slice(&data.blocks.qdd_prev);
             }
             None
         }

@@ -169,6 +169,10 @@ pub struct Work {
     pub det_factor: f64,
     /// n_coords: the sweep's predicted q, restored when a structured step misses
     pub q_pred: Vec<f64>,
+    /// n_coords each: qd, qdd of the previous step, while a closed-form step is tried
+    /// (restored on a miss; the predictor's history on success)
+    pub qd_prev: Vec<f64>,
+    pub qdd_prev: Vec<f64>,
 }
 
 impl Work {
@@ -181,6 +185,8 @@ impl Work {
             newton: plan.newton_sizes.iter().map(|&n| NewtonWork::new(n)).collect(),
             det_factor: 1.0,
             q_pred: vec![0.0; n_coords],
+            qd_prev: vec![0.0; n_coords],
+            qdd_prev: vec![0.0; n_coords],
         }
     }
 }
