@@ -607,19 +607,20 @@ fn sweep_steps(
     Ok(())
 }
 
-/// The derivatives a sweep solves: those asked for, and velocities where the model has a
-/// plan with a dyad. A dyad keeps the sign of its branch, so a step across its singular
-/// configuration lands on the mirror image with the same det sign; on a coarse grid the
-/// prediction cannot tell (positions on a grid of three steps over two turns of a
-/// parallelogram did flip), the two-way check with rates does. Velocities cost a 2 x 2
-/// solve per dyad and are not stored unless asked for.
+/// The derivatives a sweep solves: those asked for, and velocities and accelerations where
+/// the model has a plan with a dyad. A dyad keeps the sign of its branch, so a step across
+/// its singular configuration lands on the mirror image with the same det sign; on a
+/// coarse grid the prediction cannot tell (positions on a grid of three steps over two
+/// turns of a parallelogram did flip), nor can the two-way check from velocities alone (at
+/// five steps a turn); the two-way check with accelerations does. They cost two 2 x 2
+/// solves per dyad and are not stored unless asked for.
 fn solved_derivatives(model: &Model, req: &Request) -> u8 {
     let dyads = model
         .plan
         .as_ref()
         .is_ok_and(|p| p.blocks.iter().any(|b| matches!(b, Block::Rrr(_) | Block::Rrp(_) | Block::Rpr(_))));
     if dyads {
-        req.derivatives.max(1)
+        2
     } else {
         req.derivatives
     }
