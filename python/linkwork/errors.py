@@ -10,6 +10,8 @@
     │                       or collinear joints, parallel lines, a redundant arm; also a ValueError
     ├── SynthesisError      a synthesis problem that is not well posed (point count, coincident
     │                       or collinear points); also a ValueError
+    ├── DependencyError     an optional package a call needs is not installed (the message
+    │                       gives the pip command); also an ImportError
     └── SolveError          a solve could not be completed at some time step
         ├── AssemblyError       no configuration found at the first time
         ├── ConvergenceError    Newton-Raphson did not converge at a later step
@@ -35,6 +37,7 @@ __all__ = [
     "InputError",
     "ScrewError",
     "SynthesisError",
+    "DependencyError",
     "SolveError",
     "AssemblyError",
     "ConvergenceError",
@@ -80,6 +83,11 @@ class SynthesisError(LinkworkError, ValueError):
     """A synthesis problem without a well-posed answer: the wrong number of precision
     points for an exact method, coincident or collinear points, non-finite input; the
     message names the points at fault."""
+
+
+class DependencyError(LinkworkError, ImportError):
+    """An optional package is missing (pandas, pyarrow, ezdxf, ...); the message names
+    what needs it and the pip command that installs it."""
 
 
 class SolveError(LinkworkError):

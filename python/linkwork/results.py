@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from . import _args
 from .events import Event
 
 if TYPE_CHECKING:
@@ -452,10 +453,11 @@ class Results(_Kinematics):
 
     def units(self, column: str) -> str:
         """The unit of a column of `table`: the model's length unit ("m" or "mm") for x
-        and y, "rad" for theta (whatever angle unit the description was written in) and
-        for a curve parameter ``<joint>.s`` (an angle-like parameter of period 2 pi), over
-        "s" or "s^2" for a rate ``<column>_d`` or an acceleration ``<column>_dd``; "s" for
-        ``time``, "" for the diagnostics. An unknown column is a KeyError naming it."""
+        and y (of a body or of a named point: ``P.x``), "rad" for theta (whatever angle
+        unit the description was written in) and for a curve parameter ``<joint>.s`` (an
+        angle-like parameter of period 2 pi), over "s" or "s^2" for a rate ``<column>_d``
+        or an acceleration ``<column>_dd``; "s" for ``time``, "" for the diagnostics. An
+        unknown column is a KeyError naming it."""
         if column == "time":
             return "s"
         if column in ("iterations", "residual", "pivot_ratio"):
@@ -463,41 +465,63 @@ class Results(_Kinematics):
         index = self.model._column_index
         for suffix, per in (("_dd", "/s^2"), ("_d", "/s")):
             base = column.removesuffix(suffix)
-            if base != column and base in index:
+            if base != column and (base in index or base in self._point_columns()):
                 return self.units(base) + per
+        if column in self._point_columns():
+            return self.model.units["length"]
         if column not in index:
             raise KeyError(f"no column {column!r}; the coordinates are {', '.join(self.columns)}")
         return "rad" if column.endswith((".theta", ".s")) else self.model.units["length"]
 
-    def table(self) -> tuple[list[str], list[str], np.ndarray]:
+    def _point_names(self) -> list[str]:
+        """The named points whose columns ``P.x``, ``P.y`` do not clash with a coordinate."""
+        index = self.model._column_index
+        return [
+            p[0] for p in self.model._core.points if f"{p[0]}.x" not in index and f"{p[0]}.y" not in index
+        ]
+
+    def _point_columns(self) -> list[str]:
+        return [f"{name}.{axis}" for name in self._point_names() for axis in "xy"]
+
+    def table(self, points: bool = False) -> tuple[list[str], list[str], np.ndarray]:
         """Every output as one table: column names, their units and the data (n_steps x
-        n_columns). Columns: ``time``, every coordinate, its rate (``<column>_d``) and
-        acceleration (``<column>_dd``) where solved, then the diagnostics ``iterations``,
-        ``residual`` and ``pivot_ratio`` (unit ""). The CSV, NPZ and Parquet writers share it.
+        n_columns). Columns: ``time``, every coordinate (with ``points``, then x and y of
+        every named point: ``P.x``, ``P.y``), their rates (``<column>_d``) and
+        accelerations (``<column>_dd``) where solved, then the diagnostics
+        ``iterations``, ``residual`` and ``pivot_ratio`` (unit ""). The CSV, NPZ, Parquet
+        and DataFrame writers share it.
         """
-        names, parts = ["time"] + list(self.columns), [self.times, self.q]
-        if self.qd is not None:
-            names += [f"{c}_d" for c in self.columns]
-            parts.append(self.qd)
-        if self.qdd is not None:
-            names += [f"{c}_dd" for c in self.columns]
-            parts.append(self.qdd)
-        names += ["iterations", "residual", "pivot_ratio"]
+        columns = list(self.columns)
         # one unit per coordinate, then its rate's and acceleration's (not looked up per
         # column: that was quadratic in the model's size)
         base = {c: self.units(c) for c in self.columns}
-        units = ["s"] + [base[c] for c in self.columns]
+        q, qd, qdd = [self.q], [self.qd], [self.qdd]
+        if points:
+            length = self.model.units["length"]
+            for name in self._point_names():
+                p = self.point(name)
+                columns += [f"{name}.x", f"{name}.y"]
+                base.update({f"{name}.x": length, f"{name}.y": length})
+                q.append(p.position)
+                qd.append(p.velocity)
+                qdd.append(p.acceleration)
+        names, units, parts = ["time"] + columns, ["s"] + [base[c] for c in columns], [self.times] + q
         if self.qd is not None:
-            units += [base[c] + "/s" for c in self.columns]
+            names += [f"{c}_d" for c in columns]
+            units += [base[c] + "/s" for c in columns]
+            parts += [a for a in qd if a is not None]
         if self.qdd is not None:
-            units += [base[c] + "/s^2" for c in self.columns]
+            names += [f"{c}_dd" for c in columns]
+            units += [base[c] + "/s^2" for c in columns]
+            parts += [a for a in qdd if a is not None]
+        names += ["iterations", "residual", "pivot_ratio"]
         units += ["", "", ""]
         return names, units, np.column_stack(parts + [self.iterations, self.residual, self.pivot_ratio])
 
-    def to_csv(self, path: str) -> None:
-        """Writes t, every coordinate with its derivatives, and the diagnostics; each
-        header names its unit."""
-        names, units, data = self.table()
+    def to_csv(self, path: str, points: bool = False) -> None:
+        """Writes t, every coordinate with its derivatives (with ``points``, the named
+        points' too), and the diagnostics; each header names its unit."""
+        names, units, data = self.table(points=points)
         names[0] = "t"  # the CSV's time column has always been "t [s]"
         header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
         with open(path, "w", newline="") as f:
@@ -505,28 +529,63 @@ class Results(_Kinematics):
             w.writerow(header)
             w.writerows(data.tolist())
 
-    def to_npz(self, path: str) -> None:
+    def to_npz(self, path: str, points: bool = False) -> None:
         """Writes a NumPy ``.npz``: one array per column of `table` (``time``, ``crank.x``,
         ``crank.x_d``, ..., ``pivot_ratio``), and ``columns`` and ``units``, the column
         names in order and their units (string arrays, loadable without pickle)."""
-        names, units, data = self.table()
+        names, units, data = self.table(points=points)
         arrays: dict[str, Any] = {name: np.ascontiguousarray(data[:, k]) for k, name in enumerate(names)}
         np.savez(path, **arrays, columns=np.array(names), units=np.array(units))
 
-    def to_parquet(self, path: str) -> None:
+    def to_parquet(self, path: str, points: bool = False) -> None:
         """Writes a Parquet file (needs pyarrow): the columns of `table`, each field's unit
         in its metadata (``unit``), the model's name in the schema's (``model``)."""
-        try:
-            import pyarrow as pa
-            import pyarrow.parquet as pq
-        except ImportError:
-            raise ImportError("writing Parquet needs pyarrow: pip install pyarrow") from None
-        names, units, data = self.table()
+        pa = _args.optional_module("pyarrow", "writing Parquet", "export")
+        pq = _args.optional_module("pyarrow.parquet", "writing Parquet", "export")
+        names, units, data = self.table(points=points)
         schema = pa.schema(
             [pa.field(n, pa.float64(), metadata={"unit": u}) for n, u in zip(names, units)],
             metadata={"model": self.model.name},
         )
         pq.write_table(pa.Table.from_arrays([data[:, k] for k in range(len(names))], schema=schema), path)
+
+    def to_dataframe(self, points: bool = False) -> Any:
+        """The columns of `table` as a pandas DataFrame (needs pandas): one row per step,
+        ``iterations`` as integers, every other column float64; ``df.attrs["units"]``
+        maps each column to its unit and ``df.attrs["model"]`` names the model.
+
+        >>> import numpy as np
+        >>> from linkwork import examples
+        >>> df = examples.four_bar().compile().sweep(np.linspace(0.0, 1.0, 5)).to_dataframe(points=True)
+        >>> df.shape, df.attrs["units"]["P.x_d"], df.attrs["units"]["rocker.theta_dd"]
+        ((5, 37), 'm/s', 'rad/s^2')
+        """
+        from .export import dataframe
+
+        return dataframe(self, points=_args.flag(points, "points"))
+
+    def to_svg(
+        self,
+        path: str | None = None,
+        t: float | None = None,
+        paths: Sequence[str] | None = None,
+        max_points: int = 5000,
+    ) -> str:
+        """The mechanism at time ``t`` (default: the first step) with the paths of points
+        over the sweep, as SVG in world coordinates (the model's length unit, y up, drawn
+        1:1); written to ``path`` if given, and returned. See `linkwork.export.svg`."""
+        from .export import svg
+
+        return svg(self, path, t=t, paths=paths, max_points=max_points)
+
+    def to_dxf(
+        self, path: str, t: float | None = None, paths: Sequence[str] | None = None, max_points: int = 5000
+    ) -> None:
+        """The mechanism at time ``t`` and the paths of points as a DXF drawing (needs
+        ezdxf), one layer per kind of thing. See `linkwork.export.dxf`."""
+        from .export import dxf
+
+        dxf(self, path, t=t, paths=paths, max_points=max_points)
 
     def plot(self, path: str, bodies: Sequence[str] | None = None, every: int = 1) -> None:
         """A PNG of every body's angle, angular velocity and acceleration over time, and
