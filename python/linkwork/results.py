@@ -578,6 +578,21 @@ class Results(_Kinematics):
 
         return svg(self, path, t=t, paths=paths, max_points=max_points)
 
+    def to_html(
+        self,
+        path: str | None = None,
+        outputs: Sequence[str] | None = None,
+        paths: Sequence[str] | None = None,
+        frames: int = 1000,
+    ) -> str:
+        """The interactive page of the sweep: one self-contained HTML file (no network
+        needed) with the mechanism drawn to scale, a slider over the steps, play and pause,
+        the paths of points, live values and plots of ``outputs``, and the events on the
+        timeline; written to ``path`` if given, and returned. See `linkwork.page`."""
+        from .page import page
+
+        return page(self, path, outputs=outputs, paths=paths, frames=frames)
+
     def to_dxf(
         self, path: str, t: float | None = None, paths: Sequence[str] | None = None, max_points: int = 5000
     ) -> None:
