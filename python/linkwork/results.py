@@ -593,6 +593,28 @@ class Results(_Kinematics):
 
         return page(self, path, outputs=outputs, paths=paths, frames=frames)
 
+    def draw(self, ax: Any = None, t: float | None = None, paths: Sequence[str] | None = None) -> Any:
+        """Draws the mechanism at time ``t`` of the sweep (default: the first step; a time
+        between steps is solved there) with the paths of ``paths`` (default: every named
+        point) on matplotlib axes ``ax`` (default: a new figure); returns the axes."""
+        from .notebook import draw_results
+
+        return draw_results(self, ax, t, paths)
+
+    def animate(self, frames: int = 60, fps: int = 20, mode: str = "jshtml") -> Any:
+        """The mechanism moving, as an animation a notebook plays inline (an `Animation`:
+        matplotlib's JavaScript player by default, ``mode="html5"`` for a video, which
+        needs ffmpeg); ``frames`` frames spread evenly over the sweep."""
+        from .notebook import animate
+
+        return animate(self, frames=frames, fps=fps, mode=mode)
+
+    def _repr_html_(self) -> str:
+        """What a notebook shows: a summary table and small plots."""
+        from .notebook import results_html
+
+        return results_html(self)
+
     def to_dxf(
         self, path: str, t: float | None = None, paths: Sequence[str] | None = None, max_points: int = 5000
     ) -> None:
