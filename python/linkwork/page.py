@@ -50,7 +50,9 @@ def _numbers(a: Any) -> Any:
     out = a.tolist()
     if np.all(np.isfinite(a)):
         return out
-    return np.where(np.isfinite(a), a, None).tolist()
+    cleaned = a.astype(object)
+    cleaned[~np.isfinite(a)] = None
+    return cleaned.tolist()
 
 
 def inputs(results: Results, geometry: Geometry, rows: np.ndarray) -> list[dict[str, Any]]:
