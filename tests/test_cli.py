@@ -200,6 +200,8 @@ def test_failed_sweep_with_every_keeps_the_kept_good_steps(tmp_path, capsys):
         ["plot", "M.json", "--frames", "0"],
         ["plot", "M.json", "--fps", "-3"],
         ["plot", "M.json", "--animate", "movie.avi"],
+        ["view", "M.json", "--frames", "1"],
+        ["run", "M.json", "--at", "noon"],
         ["frobnicate"],
     ],
 )
@@ -360,10 +362,12 @@ def test_check_of_a_bad_model_file_names_the_file(tmp_path, capsys, content):
 @pytest.mark.parametrize(
     "command, says",
     [
-        ([], ["run", "plot", "check", "demo", "CSV", "GIF", "Exit status"]),
+        ([], ["run", "plot", "view", "check", "demo", "CSV", "GIF", "SVG, DXF", "HTML", "Exit status"]),
         (["run"], ["MODEL.csv", ".npz", ".parquet", "MODEL_paths.png", "--every", "--animate", "status 1"]),
         (["plot"], ["MODEL.png", "MODEL_paths.png", "FILE.gif", "--outputs", "--paths", "--frames"]),
         (["check"], ["degrees of freedom", "writes nothing"]),
+        (["view"], ["MODEL.html", "FILE.html", "slider", "events", "without a network", "--frames"]),
+        (["run"], ["MODEL.svg", "MODEL.dxf", "--at", "--points"]),
         (["demo"], ["NAME.csv", "NAME.png"]),
     ],
 )
@@ -426,3 +430,64 @@ def test_ctrl_c_in_run_stops_cleanly_and_writes_the_steps_done(tmp_path):
     n = len(data["time"])
     assert 0 < n < 20000
     assert np.isfinite(data["crank1.theta"] if "crank1.theta" in data else data[data["columns"][1]]).all()
+
+
+# -- the interactive page and drawings --------------------------------------------------
+
+
+def test_view_writes_the_page_of_the_sweep(tmp_path, capsys):
+    model = save(lw.examples.slider_crank(), tmp_path / "sc.json")
+    args = ["view", model, "--t1", "1", "--steps", "101", "--frames", "51", "--outputs", "slider.x,rod"]
+    assert main(args + ["--out", str(tmp_path / "pages")]) == 0
+    assert (
+        "wrote " + str(tmp_path / "pages" / "sc.html") + " (51 frames of 101 steps, 0 events"
+        in capsys.readouterr().out
+    )
+    html = (tmp_path / "pages" / "sc.html").read_text(encoding="utf-8")
+    data = json.loads(html.split('type="application/json">', 1)[1].split("</script>", 1)[0])
+    res = lw.Mechanism.load(model).compile().sweep(np.linspace(0, 1, 101))
+    assert data["steps"] == list(range(0, 101, 2)) and data["times"] == res.times[::2].tolist()
+    assert [o["name"] for o in data["outputs"]] == ["slider.x", "rod.theta"]
+    assert data["outputs"][0]["value"] == res.body("slider").x[::2].tolist()
+    # --out FILE.html names the page itself
+    assert main(["view", model, "--steps", "11", "--out", str(tmp_path / "page.html")]) == 0
+    assert (tmp_path / "page.html").read_text(encoding="utf-8").startswith("<!DOCTYPE html>")
+
+
+def test_view_refuses_unknown_outputs_before_sweeping(tmp_path, capsys):
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    assert main(["view", model, "--outputs", "wheel", "--out", str(tmp_path)]) == 2
+    assert "no output named 'wheel'" in capsys.readouterr().err
+    assert not list(tmp_path.glob("*.html"))
+
+
+def test_run_writes_svg_dxf_and_points(tmp_path, capsys):
+    ezdxf = pytest.importorskip("ezdxf")
+    import xml.etree.ElementTree as ET
+
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    args = ["run", model, "--t1", "1", "--steps", "101", "--svg", "--dxf", "--at", "0.25", "--points"]
+    assert main(args + ["--out", str(tmp_path)]) == 0
+    assert "fb.svg" in capsys.readouterr().out
+    exact = lw.Mechanism.load(model).compile().solve(0.25)
+    coupler = np.array([exact.body("coupler").x, exact.body("coupler").y])  # pin A: the coupler's origin
+    root = ET.parse(tmp_path / "fb.svg").getroot()
+    (a,) = [c for c in root.iter("{http://www.w3.org/2000/svg}circle") if c.get("data-name") == "A"]
+    assert np.abs(np.array([float(a.get("cx")), float(a.get("cy"))]) - coupler).max() < 1e-9
+    pins = {
+        e.get_xdata("LINKWORK")[0].value: e
+        for e in ezdxf.readfile(tmp_path / "fb.dxf").query("CIRCLE[layer=='PINS']")
+    }
+    assert np.abs(np.array(pins["A"].dxf.center)[:2] - coupler).max() < 1e-9
+    header, table = read_csv(tmp_path / "fb.csv")
+    res = lw.Mechanism.load(model).compile().sweep(np.linspace(0, 1, 101))
+    assert np.array_equal(table[:, header.index("P.x [m]")], res.point("P").position[:, 0])
+    assert "P.y_dd [m/s^2]" in header
+
+
+def test_dxf_without_ezdxf_says_how_to_install_it(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "ezdxf", None)
+    model = save(lw.examples.four_bar(), tmp_path / "fb.json")
+    with pytest.raises(SystemExit) as e:
+        main(["plot", model, "--dxf", "--out", str(tmp_path)])
+    assert e.value.code == 2 and "pip install ezdxf" in capsys.readouterr().err

@@ -6,6 +6,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 
 def test_readme_python_example_runs():
@@ -17,3 +18,23 @@ def test_readme_python_example_runs():
     res = scope["res"]
     assert res.q.shape == (100_001, 9)
     assert np.all(np.isfinite(res.qdd)) and res.pivot_ratio.min() > 1e-3
+
+
+def test_designers_tour_examples_run(tmp_path, monkeypatch):
+    """docs/designers-tour.md's Python runs as written (its files written in a scratch folder)."""
+    pytest.importorskip("pandas")
+    pytest.importorskip("pyarrow")
+    pytest.importorskip("ezdxf")
+    root = Path(__file__).resolve().parent.parent
+    text = (root / "docs" / "designers-tour.md").read_text()
+    monkeypatch.chdir(tmp_path)
+    scope: dict = {}
+    for block in re.findall(r"```python\n(.*?)```", text, flags=re.S):
+        exec(compile(block.replace('"examples/', f'"{root}/examples/'), "designers-tour.md", "exec"), scope)
+    assert scope["df"].attrs["units"]["P.x_d"] == "mm/s"
+    assert {p.name for p in tmp_path.iterdir()} == {
+        "four_bar.svg",
+        "four_bar.dxf",
+        "four_bar.csv",
+        "four_bar.parquet",
+    }

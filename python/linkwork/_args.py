@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError
+from .errors import DependencyError, InputError
 
 
 def _show(value: Any) -> str:
@@ -111,3 +111,17 @@ def each(values: Any, name: str, check: Callable[[Any, str], Any]) -> list[Any]:
     if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
         raise InputError(f"{name} must be a list, not {_show(values)}")
     return [check(v, f"{name}[{i}]") for i, v in enumerate(values)]
+
+
+def optional_module(module: str, what: str, extra: str) -> Any:
+    """Imports an optional dependency, or raises `DependencyError` saying ``what`` needs
+    it and how to install it (the package, or linkwork's ``extra``)."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        package = module.partition(".")[0]
+        raise DependencyError(
+            f"{what} needs {package}: pip install {package} (or pip install 'linkwork[{extra}]')"
+        ) from None

@@ -7,6 +7,8 @@
                        [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
     linkwork plot MODEL [--t0 T0] [--t1 T1] [--steps N] [--outputs NAME,...] [--paths NAME,...]
                         [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
+    linkwork view MODEL [--t0 T0] [--t1 T1] [--steps N] [--outputs NAME,...] [--paths NAME,...]
+                        [--frames N] [--out DIR|FILE.html]
     linkwork check MODEL [--t T]
     linkwork study STUDY [--scheduler ADDRESS|local] [--chunk N] [--format nc|parquet] [--out DIR]
 
@@ -20,7 +22,9 @@ diagnostics, with units); ``--every K`` keeps steps 0, K, 2K, ... With ``--force
 the inverse dynamics (peak efforts and their parts, peak pin forces, the energy balance)
 and DIR/<model>_forces.csv. ``--plot`` writes DIR/<model>.png (outputs over time) and
 DIR/<model>_paths.png (paths of points over the mechanism at t0), ``--animate FILE`` the
-mechanism moving. ``plot`` sweeps and writes the figures only.
+mechanism moving, ``--svg`` / ``--dxf`` the mechanism at ``--at`` (default t0) with the
+paths of points as drawings. ``plot`` sweeps and writes the figures only. ``view`` sweeps
+and writes the interactive page (one self-contained HTML file).
 
 ``check`` reports degrees of freedom, redundant joints and each driver's limits of motion.
 
@@ -171,6 +175,11 @@ def _figures(args: argparse.Namespace, results: Results, plots: bool) -> list[st
         figures.plot_outputs(results, written[-1], args.outputs)
         written.append(_stem(args) + "_paths.png")
         figures.plot_paths(results, written[-1], args.paths)
+    for kind in ("svg", "dxf"):
+        if getattr(args, kind, False):
+            written.append(f"{_stem(args)}.{kind}")
+            at = args.t0 if args.at is None else args.at
+            getattr(results, f"to_{kind}")(written[-1], t=at, paths=args.paths)
     if args.animate:
         folder = os.path.dirname(args.animate)
         if folder:
@@ -209,7 +218,8 @@ def run(args: argparse.Namespace) -> int:
     print(results.summary())
     os.makedirs(args.out, exist_ok=True)
     written = [f"{_stem(args)}.{args.format}"]
-    {"csv": results.to_csv, "npz": results.to_npz, "parquet": results.to_parquet}[args.format](written[0])
+    writer = {"csv": results.to_csv, "npz": results.to_npz, "parquet": results.to_parquet}[args.format]
+    writer(written[0], points=args.points)
     if args.forces and results.reactions is not None:
         print(results.forces_summary())
         written.append(_stem(args) + "_forces.csv")
@@ -229,6 +239,26 @@ def plot(args: argparse.Namespace) -> int:
     results, status = _sweep(args, model, keep=list(model.columns))
     os.makedirs(args.out, exist_ok=True)
     print("wrote " + ", ".join(_figures(args, results, plots=True)))
+    return status
+
+
+def view(args: argparse.Namespace) -> int:
+    """Sweeps and writes the interactive page: DIR/MODEL.html, or FILE.html."""
+    model = _load(args.model)
+    _check_figures(args, model)
+    print(f"{model!r}")
+    results, status = _sweep(args, model)
+    if args.out.lower().endswith((".html", ".htm")):
+        path = args.out
+    else:
+        path = _stem(args) + ".html"
+    folder = os.path.dirname(path)
+    if folder:
+        os.makedirs(folder, exist_ok=True)
+    results.to_html(path, outputs=args.outputs, paths=args.paths, frames=args.frames)
+    n = min(args.frames, len(results))
+    events = len(results.events)
+    print(f"wrote {path} ({n} frames of {len(results)} steps, {events} events; open it in a browser)")
     return status
 
 
@@ -340,6 +370,15 @@ def _figure_arguments(p: argparse.ArgumentParser) -> None:
         help="animation frames, spread evenly over the sweep (default 120)",
     )
     p.add_argument(
+        "--svg", action="store_true", help="also write DIR/MODEL.svg: the mechanism at --at, paths"
+    )
+    p.add_argument(
+        "--dxf", action="store_true", help="also write DIR/MODEL.dxf: the same drawing as DXF (needs ezdxf)"
+    )
+    p.add_argument(
+        "--at", type=float, metavar="T", help="time of the mechanism in --svg and --dxf [s] (default t0)"
+    )
+    p.add_argument(
         "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
     )
 
@@ -349,7 +388,8 @@ def _parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParse
     parser = argparse.ArgumentParser(
         prog="linkwork",
         description="Planar mechanism kinematics: sweep a model file over time, write its "
-        "results (CSV, NPZ, Parquet), plots (PNG) and animations (GIF, MP4).",
+        "results (CSV, NPZ, Parquet), plots (PNG), animations (GIF, MP4), drawings (SVG, DXF) "
+        "and an interactive page (HTML).",
         epilog="Exit status: 0 done, 1 a model or sweep failed (good steps are written), 2 bad usage. "
         "See docs/cli.md.",
     )
@@ -384,6 +424,8 @@ worst residual, Newton iterations, smallest pivot ratio, located events) and wri
   DIR/MODEL_paths.png          with --plot: paths of points over the mechanism at t0
   DIR/MODEL_forces.png         with --plot --forces
   FILE.gif|FILE.mp4            with --animate FILE: the mechanism moving
+  DIR/MODEL.svg, DIR/MODEL.dxf with --svg, --dxf: the mechanism at --at (default t0) and
+                               the paths of points, in world coordinates (1:1)
 A sweep that fails at step k writes its k good steps and exits with status 1.""",
     )
     _sweep_arguments(r)
@@ -414,6 +456,9 @@ A sweep that fails at step k writes its k good steps and exits with status 1."""
         default=2,
         help="0: positions only; 1: and velocities; 2 (default): and accelerations",
     )
+    r.add_argument(
+        "--points", action="store_true", help="named points' x, y and their rates in the results file too"
+    )
     r.add_argument("--forces", action="store_true", help="inverse dynamics: driver efforts, joint reactions")
     r.add_argument("--plot", action="store_true", help="also write the PNGs of outputs and paths")
     _figure_arguments(r)
@@ -428,10 +473,40 @@ A sweep that fails at step k writes its k good steps and exits with status 1."""
   DIR/MODEL_paths.png  the paths of points in the plane (equal scales) over the
                        mechanism drawn at t0
   FILE.gif|FILE.mp4    with --animate FILE: the mechanism moving (640 x 480 pixels),
-                       axis limits fixed over the whole motion""",
+                       axis limits fixed over the whole motion
+  DIR/MODEL.svg|.dxf   with --svg, --dxf: the mechanism at --at (default t0) and the
+                       paths of points, in world coordinates (1:1)""",
     )
     _sweep_arguments(p)
     _figure_arguments(p)
+
+    v = sub.add_parser(
+        "view",
+        formatter_class=fmt,
+        help="sweep a model file; write the interactive page (one self-contained HTML file)",
+        description="""Sweeps a model file from t0 to t1 and writes one HTML file that opens in any
+browser without a network: the mechanism drawn to scale, a slider over the steps (time
+and the drivers' inputs), play and pause, the paths of points, live values of the
+outputs, plots linked to the slider, and the events (limits, bifurcations, locks, branch
+jumps, the closest approach to a singular configuration) marked on the timeline.
+  DIR/MODEL.html       or FILE.html if --out ends in .html""",
+    )
+    _sweep_arguments(v)
+    v.add_argument("--outputs", type=_names, metavar="NAME,...", help=_OUTPUTS_HELP)
+    v.add_argument("--paths", type=_names, metavar="NAME,...", help=_PATHS_HELP)
+    v.add_argument(
+        "--frames",
+        type=_positive_int,
+        default=1000,
+        metavar="N",
+        help="slider positions, spread evenly over the steps (default 1000; every step if fewer)",
+    )
+    v.add_argument(
+        "--out",
+        default="linkwork-out",
+        metavar="DIR|FILE.html",
+        help="output folder (default linkwork-out), or the page's file name if it ends in .html",
+    )
 
     c = sub.add_parser(
         "check",
@@ -488,7 +563,7 @@ Designs that fail are listed, not dropped; exit status 1 when every design faile
     st.add_argument(
         "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
     )
-    return parser, {"demo": d, "run": r, "plot": p, "check": c, "synth": s, "study": st}
+    return parser, {"demo": d, "run": r, "plot": p, "check": c, "synth": s, "study": st, "view": v}
 
 
 def _usage_problem(args: argparse.Namespace) -> str | None:
@@ -502,6 +577,13 @@ def _usage_problem(args: argparse.Namespace) -> str | None:
             import pyarrow  # noqa: F401
         except ImportError:
             return "--format parquet needs pyarrow: pip install pyarrow"
+    if getattr(args, "dxf", False):
+        try:
+            import ezdxf  # noqa: F401
+        except ImportError:
+            return "--dxf needs ezdxf: pip install ezdxf"
+    if getattr(args, "frames", 2) < 2 and args.command == "view":
+        return "--frames must be at least 2"
     if getattr(args, "animate", None):
         from .figures import movie_problem
 
@@ -534,6 +616,7 @@ def main(argv: list[str] | None = None) -> int:
         "check": check,
         "synth": _synth,
         "study": _study,
+        "view": view,
     }
     try:
         return int(do[args.command](args))

@@ -43,6 +43,8 @@ __all__ = [
     "Geometry",
     "Motion",
     "MechanismArtists",
+    "ground_symbols",
+    "colour",
 ]
 
 #: joint or driver type -> {field holding a world point at the start: the fields naming
@@ -357,6 +359,28 @@ class Motion:
         body = g.body_of(slider.guide)
         return g.world(q, ends, np.array([body, body], dtype=np.intp))
 
+    def block_polygon(self, k: int, row: int) -> np.ndarray:
+        """The corners (4, 2) of slider k's block at step ``row``: a rectangle about the
+        block's anchor, its long side along the guide."""
+        a = self.axes[k][row]
+        n = np.array([-a[1], a[0]])
+        c = self.xy[row, self.geometry.sliders[k].block]
+        half_l, half_h = self.block
+        return np.array(
+            [c - half_l * a - half_h * n, c + half_l * a - half_h * n, c + half_l * a + half_h * n,
+             c - half_l * a + half_h * n]
+        )  # fmt: skip
+
+    def hatch_polygon(self, k: int, row: int) -> np.ndarray:
+        """The strip (4, 2) hatched beside slider k's guide at step ``row``, on the side
+        away from the block (drawn for guides on the ground)."""
+        a = self.axes[k][row]
+        n = np.array([-a[1], a[0]])
+        ends = self.guides[k][row]
+        side = -1.0 if np.dot(self.xy[row, self.geometry.sliders[k].block] - ends[0], n) >= 0.0 else 1.0
+        off = side * n * self.block[1]
+        return np.array([ends[0] + off * 0.5, ends[1] + off * 0.5, ends[1] + off * 1.5, ends[0] + off * 1.5])
+
     def frames(self, n_frames: int) -> np.ndarray:
         """Indices of about ``n_frames`` steps spread evenly over the sweep, first and last
         included (every step if there are fewer)."""
@@ -470,23 +494,7 @@ class MechanismArtists:
 
         if not pins:
             return
-        p = np.asarray(pins, dtype=np.float64).reshape(-1, 2)
-        x, y = p[:, 0], p[:, 1]
-        triangles = np.stack(
-            [np.stack([x, y], -1), np.stack([x - h, y - 1.6 * h], -1), np.stack([x + h, y - 1.6 * h], -1)], 1
-        )
-        bases = np.stack(
-            [
-                np.stack([x - 1.5 * h, y - 2.2 * h], -1),
-                np.stack([x + 1.5 * h, y - 2.2 * h], -1),
-                np.stack([x + 1.5 * h, y - 1.6 * h], -1),
-                np.stack([x - 1.5 * h, y - 1.6 * h], -1),
-            ],
-            1,
-        )
-        lines = np.stack(
-            [np.stack([x - 1.5 * h, y - 1.6 * h], -1), np.stack([x + 1.5 * h, y - 1.6 * h], -1)], 1
-        )
+        triangles, bases, lines = ground_symbols(np.asarray(pins, dtype=np.float64), h)
         ax.add_collection(
             PolyCollection(
                 triangles, facecolors="0.85", edgecolors="0.2", linewidths=1.2, alpha=alpha, zorder=1
@@ -507,32 +515,12 @@ class MechanismArtists:
             pts = xy[outline]
             patch.set_xy(pts)
             edge.set_xy(pts)
-        half_l, half_h = m.block
-        for slider, axis, guide, (line, hatch, block) in zip(
-            m.geometry.sliders, m.axes, m.guides, self.guides
-        ):
-            a = axis[row]
-            n = np.array([-a[1], a[0]])
-            ends = guide[row]
+        for k, (line, hatch, block) in enumerate(self.guides):
+            ends = m.guides[k][row]
             line.set_data(ends[:, 0], ends[:, 1])
             if hatch is not None:  # a ground guide: hatching on the side away from the block
-                off = (-1.0 if np.dot(xy[slider.block] - ends[0], n) >= 0.0 else 1.0) * n * half_h
-                hatch.set_xy(
-                    np.array(
-                        [ends[0] + off * 0.5, ends[1] + off * 0.5, ends[1] + off * 1.5, ends[0] + off * 1.5]
-                    )
-                )
-            c = xy[slider.block]
-            block.set_xy(
-                np.array(
-                    [
-                        c - half_l * a - half_h * n,
-                        c + half_l * a - half_h * n,
-                        c + half_l * a + half_h * n,
-                        c - half_l * a + half_h * n,
-                    ]
-                )
-            )
+                hatch.set_xy(m.hatch_polygon(k, row))
+            block.set_xy(m.block_polygon(k, row))
         for (a, b), line in zip(m.geometry.actuators, self.actuators):
             line.set_data([xy[a, 0], xy[b, 0]], [xy[a, 1], xy[b, 1]])
         for curve, line in zip(m.geometry.curves, self.curves):
@@ -560,3 +548,32 @@ def setup_axes(ax: Axes, motion: Motion, unit: str) -> None:
     ax.set_xlabel(f"x [{unit}]")
     ax.set_ylabel(f"y [{unit}]")
     ax.grid(True, alpha=0.25)
+
+
+def ground_symbols(pins: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The usual ground pivot under each of the points ``pins`` (m, 2), ``h`` its size:
+    the triangles (m, 3, 2), the hatched bases under them (m, 4, 2) and the base lines
+    (m, 2, 2)."""
+    p = np.asarray(pins, dtype=np.float64).reshape(-1, 2)
+    x, y = p[:, 0], p[:, 1]
+    triangles = np.stack(
+        [np.stack([x, y], -1), np.stack([x - h, y - 1.6 * h], -1), np.stack([x + h, y - 1.6 * h], -1)], 1
+    )
+    bases = np.stack(
+        [
+            np.stack([x - 1.5 * h, y - 2.2 * h], -1),
+            np.stack([x + 1.5 * h, y - 2.2 * h], -1),
+            np.stack([x + 1.5 * h, y - 1.6 * h], -1),
+            np.stack([x - 1.5 * h, y - 1.6 * h], -1),
+        ],
+        1,
+    )
+    lines = np.stack([np.stack([x - 1.5 * h, y - 1.6 * h], -1), np.stack([x + 1.5 * h, y - 1.6 * h], -1)], 1)
+    return triangles, bases, lines
+
+
+def colour(i: int) -> str:
+    """The colour of moving body i (and of what it carries) as "#rrggbb"; -1, the ground, is grey."""
+    from matplotlib.colors import to_hex
+
+    return "#4d4d4d" if i < 0 else str(to_hex(_COLOURS[i % len(_COLOURS)]))

@@ -15,6 +15,8 @@
     ├── StudyError          a design study that cannot be run as asked (a bad study file,
     │   │                   an unknown output, a missing optional package); also a ValueError
     │   └── PortabilityError    a model that cannot travel to another process (Python laws)
+    ├── DependencyError     an optional package a call needs is not installed (the message
+    │                       gives the pip command); also an ImportError
     └── SolveError          a solve could not be completed at some time step
         ├── AssemblyError       no configuration found at the first time
         ├── ConvergenceError    Newton-Raphson did not converge at a later step
@@ -43,6 +45,7 @@ __all__ = [
     "ParameterError",
     "StudyError",
     "PortabilityError",
+    "DependencyError",
     "SolveError",
     "AssemblyError",
     "ConvergenceError",
@@ -103,6 +106,11 @@ class StudyError(LinkworkError, ValueError):
 class PortabilityError(StudyError):
     """A model that cannot travel to another process: its Python laws are functions of this
     interpreter, not data (use an expression, spline or other built-in law instead)."""
+
+
+class DependencyError(LinkworkError, ImportError):
+    """An optional package is missing (pandas, pyarrow, ezdxf, ...); the message names
+    what needs it and the pip command that installs it."""
 
 
 class SolveError(LinkworkError):

@@ -786,6 +786,21 @@ class Mechanism:
             located.element = element  # type: ignore[attr-defined]
             raise located from None
 
+    # -- what a notebook shows ----------------------------------------------------------
+    def draw(self, ax: Any = None, t: float = 0.0) -> Any:
+        """Draws the mechanism assembled at time ``t`` on matplotlib axes ``ax`` (default: a
+        new figure) and returns the axes; a mechanism that cannot be assembled yet is drawn
+        as described, its title saying why."""
+        from .notebook import draw_mechanism
+
+        return draw_mechanism(self, ax, t)
+
+    def _repr_png_(self) -> bytes:
+        """The drawing a notebook shows (PNG)."""
+        from .notebook import mechanism_png
+
+        return mechanism_png(self)
+
 
 def _format_of(path: str | os.PathLike[str]) -> str:
     ext = os.path.splitext(os.fspath(path))[1].lower()

@@ -144,6 +144,19 @@ class Model:
             )
         return (_rebuild, (self.description, self._options))
 
+    def draw(self, ax: Any = None, t: float = 0.0) -> Any:
+        """Draws the model assembled at time ``t`` (on the drawing's branch, as `solve`) on
+        matplotlib axes ``ax`` (default: a new figure); returns the axes."""
+        from .notebook import draw_model
+
+        return draw_model(self, ax, t)
+
+    def _repr_html_(self) -> str:
+        """What a notebook shows: counts, units, degrees of freedom, structure and the drawing."""
+        from .notebook import model_html
+
+        return model_html(self)
+
     def solve(
         self,
         t: float = 0.0,

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from . import _args
 from .events import Event
 
 if TYPE_CHECKING:
@@ -507,10 +508,11 @@ class Results(_Kinematics):
 
     def units(self, column: str) -> str:
         """The unit of a column of `table`: the model's length unit ("m" or "mm") for x
-        and y, "rad" for theta (whatever angle unit the description was written in) and
-        for a curve parameter ``<joint>.s`` (an angle-like parameter of period 2 pi), over
-        "s" or "s^2" for a rate ``<column>_d`` or an acceleration ``<column>_dd``; "s" for
-        ``time``, "" for the diagnostics. An unknown column is a KeyError naming it."""
+        and y (of a body or of a named point: ``P.x``), "rad" for theta (whatever angle
+        unit the description was written in) and for a curve parameter ``<joint>.s`` (an
+        angle-like parameter of period 2 pi), over "s" or "s^2" for a rate ``<column>_d``
+        or an acceleration ``<column>_dd``; "s" for ``time``, "" for the diagnostics. An
+        unknown column is a KeyError naming it."""
         if column == "time":
             return "s"
         if column in ("iterations", "residual", "pivot_ratio"):
@@ -518,29 +520,48 @@ class Results(_Kinematics):
         index = self.model._column_index
         for suffix, per in (("_dd", "/s^2"), ("_d", "/s")):
             base = column.removesuffix(suffix)
-            if base != column and base in index:
+            if base != column and (base in index or base in self._point_columns()):
                 return self.units(base) + per
         point, _, axis = column.rpartition(".")
-        if column not in index and point in self.points and axis in ("x", "y"):
+        if (
+            column not in index
+            and axis in ("x", "y")
+            and (point in self.points or column in self._point_columns())
+        ):
             return str(self.model.units["length"])
         if column not in index:
             raise KeyError(f"no column {column!r}; the coordinates are {', '.join(self.columns)}")
         return "rad" if column.endswith((".theta", ".s")) else self.model.units["length"]
 
-    def table(self) -> tuple[list[str], list[str], np.ndarray]:
+    def _point_names(self) -> list[str]:
+        """The named points whose columns ``P.x``, ``P.y`` do not clash with a coordinate."""
+        index = self.model._column_index
+        return [
+            p[0] for p in self.model._core.points if f"{p[0]}.x" not in index and f"{p[0]}.y" not in index
+        ]
+
+    def _point_columns(self) -> list[str]:
+        return [f"{name}.{axis}" for name in self._point_names() for axis in "xy"]
+
+    def table(self, points: bool = False) -> tuple[list[str], list[str], np.ndarray]:
         """Every output as one table: column names, their units and the data (n_steps x
-        n_columns). Columns: ``time``, every coordinate kept and the kept points' ``<point>.x``
-        and ``.y``, their rates (``<column>_d``) and accelerations (``<column>_dd``) where
-        solved, then the diagnostics ``iterations``, ``residual`` and ``pivot_ratio`` (unit
-        ""). The CSV, NPZ and Parquet writers share it.
+        n_columns). Columns: ``time``, every coordinate kept, the kept points' ``<point>.x``
+        and ``.y`` (`outputs`; with ``points``, also every other named point's), their rates
+        (``<column>_d``) and accelerations (``<column>_dd``) where solved, then the
+        diagnostics ``iterations``, ``residual`` and ``pivot_ratio`` (unit ""). The CSV, NPZ,
+        Parquet and DataFrame writers share it.
         """
-        # a unit per coordinate, then the kept points' x and y (in the length unit)
-        columns = list(self.columns) + [f"{p}.{a}" for p in self.points for a in "xy"]
-        base = [self.units(c) for c in self.columns] + [self.model.units["length"]] * 2 * len(self.points)
+        # the points: those the sweep kept, then (points=True) the other named ones
+        shown = dict(self.points)
+        if points:
+            shown.update({name: self.point(name) for name in self._point_names() if name not in shown})
+        columns = list(self.columns) + [f"{name}.{a}" for name in shown for a in "xy"]
+        # a unit per coordinate, then the points' x and y (in the length unit)
+        base = [self.units(c) for c in self.columns] + [str(self.model.units["length"])] * 2 * len(shown)
         n = len(self.times)
 
         def with_points(a: np.ndarray | None, i: int) -> np.ndarray | None:
-            ps = [getattr(p, ("position", "velocity", "acceleration")[i]) for p in self.points.values()]
+            ps = [getattr(p, ("position", "velocity", "acceleration")[i]) for p in shown.values()]
             if a is None or any(p is None for p in ps):
                 return None
             return np.column_stack([a] + [p.reshape(n, 2) for p in ps])
@@ -557,10 +578,10 @@ class Results(_Kinematics):
         units += ["", "", ""]
         return names, units, np.column_stack(parts + [self.iterations, self.residual, self.pivot_ratio])
 
-    def to_csv(self, path: str) -> None:
-        """Writes t, every coordinate with its derivatives, and the diagnostics; each
-        header names its unit."""
-        names, units, data = self.table()
+    def to_csv(self, path: str, points: bool = False) -> None:
+        """Writes t, every coordinate with its derivatives (with ``points``, the named
+        points' too), and the diagnostics; each header names its unit."""
+        names, units, data = self.table(points=points)
         names[0] = "t"  # the CSV's time column has always been "t [s]"
         header = [f"{n} [{u}]" if u else n for n, u in zip(names, units)]
         with open(path, "w", newline="") as f:
@@ -568,28 +589,100 @@ class Results(_Kinematics):
             w.writerow(header)
             w.writerows(data.tolist())
 
-    def to_npz(self, path: str) -> None:
+    def to_npz(self, path: str, points: bool = False) -> None:
         """Writes a NumPy ``.npz``: one array per column of `table` (``time``, ``crank.x``,
         ``crank.x_d``, ..., ``pivot_ratio``), and ``columns`` and ``units``, the column
         names in order and their units (string arrays, loadable without pickle)."""
-        names, units, data = self.table()
+        names, units, data = self.table(points=points)
         arrays: dict[str, Any] = {name: np.ascontiguousarray(data[:, k]) for k, name in enumerate(names)}
         np.savez(path, **arrays, columns=np.array(names), units=np.array(units))
 
-    def to_parquet(self, path: str) -> None:
+    def to_parquet(self, path: str, points: bool = False) -> None:
         """Writes a Parquet file (needs pyarrow): the columns of `table`, each field's unit
         in its metadata (``unit``), the model's name in the schema's (``model``)."""
-        try:
-            import pyarrow as pa
-            import pyarrow.parquet as pq
-        except ImportError:
-            raise ImportError("writing Parquet needs pyarrow: pip install pyarrow") from None
-        names, units, data = self.table()
+        pa = _args.optional_module("pyarrow", "writing Parquet", "export")
+        pq = _args.optional_module("pyarrow.parquet", "writing Parquet", "export")
+        names, units, data = self.table(points=points)
         schema = pa.schema(
             [pa.field(n, pa.float64(), metadata={"unit": u}) for n, u in zip(names, units)],
             metadata={"model": self.model.name},
         )
         pq.write_table(pa.Table.from_arrays([data[:, k] for k in range(len(names))], schema=schema), path)
+
+    def to_dataframe(self, points: bool = False) -> Any:
+        """The columns of `table` as a pandas DataFrame (needs pandas): one row per step,
+        ``iterations`` as integers, every other column float64; ``df.attrs["units"]``
+        maps each column to its unit and ``df.attrs["model"]`` names the model.
+
+        >>> import numpy as np
+        >>> from linkwork import examples
+        >>> df = examples.four_bar().compile().sweep(np.linspace(0.0, 1.0, 5)).to_dataframe(points=True)
+        >>> df.shape, df.attrs["units"]["P.x_d"], df.attrs["units"]["rocker.theta_dd"]
+        ((5, 37), 'm/s', 'rad/s^2')
+        """
+        from .export import dataframe
+
+        return dataframe(self, points=_args.flag(points, "points"))
+
+    def to_svg(
+        self,
+        path: str | None = None,
+        t: float | None = None,
+        paths: Sequence[str] | None = None,
+        max_points: int = 5000,
+    ) -> str:
+        """The mechanism at time ``t`` (default: the first step) with the paths of points
+        over the sweep, as SVG in world coordinates (the model's length unit, y up, drawn
+        1:1); written to ``path`` if given, and returned. See `linkwork.export.svg`."""
+        from .export import svg
+
+        return svg(self, path, t=t, paths=paths, max_points=max_points)
+
+    def to_html(
+        self,
+        path: str | None = None,
+        outputs: Sequence[str] | None = None,
+        paths: Sequence[str] | None = None,
+        frames: int = 1000,
+    ) -> str:
+        """The interactive page of the sweep: one self-contained HTML file (no network
+        needed) with the mechanism drawn to scale, a slider over the steps, play and pause,
+        the paths of points, live values and plots of ``outputs``, and the events on the
+        timeline; written to ``path`` if given, and returned. See `linkwork.page`."""
+        from .page import page
+
+        return page(self, path, outputs=outputs, paths=paths, frames=frames)
+
+    def draw(self, ax: Any = None, t: float | None = None, paths: Sequence[str] | None = None) -> Any:
+        """Draws the mechanism at time ``t`` of the sweep (default: the first step; a time
+        between steps is solved there) with the paths of ``paths`` (default: every named
+        point) on matplotlib axes ``ax`` (default: a new figure); returns the axes."""
+        from .notebook import draw_results
+
+        return draw_results(self, ax, t, paths)
+
+    def animate(self, frames: int = 60, fps: int = 20, mode: str = "jshtml") -> Any:
+        """The mechanism moving, as an animation a notebook plays inline (an `Animation`:
+        matplotlib's JavaScript player by default, ``mode="html5"`` for a video, which
+        needs ffmpeg); ``frames`` frames spread evenly over the sweep."""
+        from .notebook import animate
+
+        return animate(self, frames=frames, fps=fps, mode=mode)
+
+    def _repr_html_(self) -> str:
+        """What a notebook shows: a summary table and small plots."""
+        from .notebook import results_html
+
+        return results_html(self)
+
+    def to_dxf(
+        self, path: str, t: float | None = None, paths: Sequence[str] | None = None, max_points: int = 5000
+    ) -> None:
+        """The mechanism at time ``t`` and the paths of points as a DXF drawing (needs
+        ezdxf), one layer per kind of thing. See `linkwork.export.dxf`."""
+        from .export import dxf
+
+        dxf(self, path, t=t, paths=paths, max_points=max_points)
 
     def plot(self, path: str, bodies: Sequence[str] | None = None, every: int = 1) -> None:
         """A PNG of every body's angle, angular velocity and acceleration over time, and

@@ -1,0 +1,367 @@
+"""Exports: the mechanism at any time of a sweep, with the paths of its points (coupler
+curves), as SVG and as DXF, and the results as a pandas DataFrame.
+
+Drawings are in world coordinates, in the model's length unit, y up: an SVG's numbers
+are the model's (its root ``viewBox`` is in model units and its ``width`` and
+``height`` in millimetres, so it prints and imports 1:1), a DXF's too (``$INSUNITS`` says
+mm or m). What is drawn is what `linkwork.drawing` draws with matplotlib: each body as
+the polygon through its joints and points, pins, ground pivots, sliders on their guides,
+slots and cam profiles, actuators, named points; each element carries the name of what
+it draws (``data-name`` in SVG, the ``LINKWORK`` XDATA in DXF).
+
+>>> import numpy as np
+>>> from linkwork import examples
+>>> res = examples.four_bar().compile().sweep(np.linspace(0.0, 1.0, 11))
+>>> text = res.to_svg(t=0.25)        # off the grid: solved there, on the sweep's branch
+>>> text.startswith("<?xml") and 'data-name="P"' in text
+True
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+from xml.sax.saxutils import escape, quoteattr
+
+import numpy as np
+
+from . import _args
+from .drawing import Geometry, Motion, colour, ground_symbols
+from .errors import InputError
+
+if TYPE_CHECKING:
+    from .model import Model
+    from .results import Results
+
+__all__ = ["configuration", "path_points", "svg", "svg_text", "dxf", "dataframe", "MM_PER"]
+
+#: millimetres per length unit, for an SVG's physical size
+MM_PER = {"mm": 1.0, "m": 1000.0}
+
+
+class _Steps:
+    """The part of a `Results` a `Motion` reads: times, q and the model."""
+
+    def __init__(self, model: Model, times: np.ndarray, q: np.ndarray) -> None:
+        self.model, self.times, self.q = model, times, q
+
+    @property
+    def n_steps(self) -> int:
+        return int(self.q.shape[0])
+
+
+def configuration(results: Results, t: float | None = None) -> tuple[Motion, int]:
+    """The sweep's motion and the row drawing time ``t`` (default: the first step). A time
+    between steps is solved there (Newton from the nearest step, so on the sweep's
+    branch) and added as the last row; a time outside the sweep is an `InputError`."""
+    from .results import Results
+
+    _args.of_type(results, "results", Results, "the Results of a sweep")
+    if results.n_steps == 0:
+        raise InputError("nothing to draw: the results have no steps")
+    geometry = Geometry.from_model(results.model)
+    if t is None:
+        return Motion(geometry, results), 0
+    t = _args.number(t, "t")
+    times = results.times
+    lo, hi = float(times.min()), float(times.max())
+    if not lo <= t <= hi:
+        raise InputError(f"t = {t:g} is outside the sweep (t = {lo:g} .. {hi:g})")
+    k = int(np.argmin(np.abs(times - t)))
+    if times[k] == t:
+        return Motion(geometry, results), k
+    state = results.model.solve(t, q_guess=results.q[k])
+    steps = _Steps(results.model, np.append(times, t), np.vstack([results.q, state.q]))
+    return Motion(geometry, steps), results.n_steps  # type: ignore[arg-type]
+
+
+def _path_names(model: Model, paths: Sequence[str] | None) -> list[str]:
+    from .figures import default_paths, unknown_paths
+
+    if paths is None:
+        return default_paths(model)
+    names = _args.each(paths, "paths", lambda v, n: _args.of_type(v, n, str, "a point's or joint's name"))
+    problem = unknown_paths(model, names)
+    if problem:
+        raise InputError(problem)
+    return names
+
+
+def path_points(
+    motion: Motion, names: Sequence[str], n_steps: int, max_points: int = 5000
+) -> dict[str, np.ndarray]:
+    """The paths of the named points or joints over the first ``n_steps`` rows of the
+    motion, each (m, 2) through at most ``max_points`` steps spread evenly (first and last
+    included)."""
+    rows = np.unique(np.linspace(0, n_steps - 1, max(2, min(n_steps, max_points))).round().astype(np.intp))
+    return {name: motion.xy[rows, motion.geometry.traceable[name]] for name in names}
+
+
+def _n(v: Any) -> str:
+    """A number written so that it reads back exactly (shortest round trip)."""
+    return repr(float(v))
+
+
+def _points(a: np.ndarray) -> str:
+    return " ".join(f"{_n(x)},{_n(y)}" for x, y in np.asarray(a).reshape(-1, 2))
+
+
+def _attrs(**kw: Any) -> str:
+    return " ".join(f"{k.rstrip('_').replace('_', '-')}={quoteattr(str(v))}" for k, v in kw.items())
+
+
+def svg_text(motion: Motion, row: int, paths: dict[str, np.ndarray], title: str, unit: str) -> str:
+    """The SVG of the mechanism at step ``row`` of ``motion`` with ``paths``. Every element
+    that moves names the anchors it is drawn through (``data-anchor``, ``data-anchors``),
+    its slider (``data-slider``) or curve (``data-curve``): the interactive page moves
+    them by these."""
+    g = motion.geometry
+    xy = motion.xy[row]
+    s = motion.size
+    lw, r_pin, r_point, h = 0.005 * s, 0.011 * s, 0.007 * s, 0.035 * s
+    (x0, x1), (y0, y1) = motion.limits
+    per_mm = MM_PER.get(unit, 1.0)
+    out = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{(x1 - x0) * per_mm:.6g}mm" '
+        f'height="{(y1 - y0) * per_mm:.6g}mm" viewBox="{_n(x0)} {_n(-y1)} {_n(x1 - x0)} {_n(y1 - y0)}" '
+        f'data-unit="{escape(unit)}" data-time="{_n(motion.times[row])}">',
+        f"<title>{escape(title)}</title>",
+        f'<desc>linkwork drawing: world coordinates in {escape(unit)}, y up (the group "world" '
+        "flips the y axis)</desc>",
+        f'<defs><pattern id="lw-hatch" patternUnits="userSpaceOnUse" width="{_n(0.4 * h)}" '
+        f'height="{_n(0.4 * h)}" patternTransform="rotate(45)"><line x1="0" y1="0" x2="0" '
+        f'y2="{_n(0.4 * h)}" stroke="#666666" stroke-width="{_n(0.4 * lw)}"/></pattern></defs>',
+        f'<g id="world" transform="scale(1,-1)" stroke-linejoin="round" stroke-linecap="round" '
+        f'stroke-width="{_n(lw)}">',
+    ]
+    out.append('<g id="paths" fill="none">')
+    for i, (name, pts) in enumerate(paths.items()):
+        a = _attrs(class_="path", data_name=name, stroke=colour(len(g.body_names) + i), points=_points(pts))
+        out.append(f'<polyline {a} stroke-width="{_n(0.6 * lw)}"/>')
+    out.append("</g>")
+    out.append('<g id="ground">')
+    for k in g.ground_pins:
+        (tri,), (base,), (line,) = ground_symbols(xy[k][None, :], h)
+        name = g.anchors[k].name
+        out.append(f'<polygon {_attrs(class_="ground-base", data_name=name, points=_points(base))} '
+                   'fill="url(#lw-hatch)" stroke="none"/>')  # fmt: skip
+        out.append(f'<polygon {_attrs(class_="ground", data_name=name, points=_points(tri))} '
+                   'fill="#d9d9d9" stroke="#333333"/>')  # fmt: skip
+        out.append(f'<polyline {_attrs(class_="ground-line", data_name=name, points=_points(line))} '
+                   'fill="none" stroke="#333333"/>')  # fmt: skip
+    out.append("</g>")
+    out.append('<g id="guides" fill="none" stroke="#595959">')
+    for k, slider in enumerate(g.sliders):
+        ends = motion.guides[k][row]
+        out.append(f'<polyline {_attrs(class_="guide", data_name=slider.joint, data_slider=k)} '
+                   f'points="{_points(ends)}"/>')  # fmt: skip
+        if g.body_of(slider.guide) < 0:
+            out.append(
+                f"<polygon {_attrs(class_='hatch', data_name=slider.joint, data_slider=k)} "
+                f'points="{_points(motion.hatch_polygon(k, row))}" fill="url(#lw-hatch)" stroke="none"/>'
+            )
+    out.append("</g>")
+    out.append('<g id="bodies">')
+    for i, name in enumerate(g.body_names):
+        outline = g.outlines[name]
+        c = colour(i)
+        a = _attrs(class_="body", data_name=name, data_anchors=" ".join(map(str, outline)))
+        if len(outline) == 1:
+            (x, y) = xy[outline[0]]
+            out.append(f'<circle {a} cx="{_n(x)}" cy="{_n(y)}" r="{_n(1.3 * r_pin)}" fill="{c}"/>')
+        else:
+            tag = "polygon" if len(outline) > 2 else "polyline"
+            out.append(
+                f'<{tag} {a} points="{_points(xy[outline])}" fill="{c}" fill-opacity="0.35" stroke="{c}"/>'
+            )
+    out.append("</g>")
+    out.append('<g id="curves" fill="none">')
+    for j, curve in enumerate(g.curves):
+        a = _attrs(class_="curve", data_name=curve.joint, data_curve=j, stroke=colour(curve.body))
+        out.append(f'<polyline {a} points="{_points(motion.curve(curve, row))}"/>')
+    out.append("</g>")
+    out.append('<g id="actuators" stroke="#333333">')
+    for a_, b_ in g.actuators:
+        a = _attrs(class_="actuator", data_name=g.anchors[a_].name, data_anchors=f"{a_} {b_}")
+        out.append(
+            f'<polyline {a} points="{_points(xy[[a_, b_]])}" stroke-dasharray="{_n(3 * lw)} {_n(2 * lw)}"/>'
+        )
+    out.append("</g>")
+    out.append('<g id="blocks" fill="#cccccc" stroke="#333333">')
+    for k, slider in enumerate(g.sliders):
+        a = _attrs(class_="block", data_name=slider.joint, data_slider=k)
+        out.append(f'<polygon {a} points="{_points(motion.block_polygon(k, row))}"/>')
+    out.append("</g>")
+    out.append('<g id="pins" fill="#ffffff" stroke="#000000">')
+    for k in g.pins:
+        a = _attrs(class_="pin", data_name=g.anchors[k].name, data_anchor=k)
+        out.append(f'<circle {a} cx="{_n(xy[k, 0])}" cy="{_n(xy[k, 1])}" r="{_n(r_pin)}"/>')
+    out.append("</g>")
+    out.append('<g id="points" stroke="none">')
+    for n, k in enumerate(g.points):
+        a = _attrs(
+            class_="point", data_name=g.anchors[k].name, data_anchor=k, fill=colour(len(g.body_names) + n)
+        )
+        out.append(f'<circle {a} cx="{_n(xy[k, 0])}" cy="{_n(xy[k, 1])}" r="{_n(r_point)}"/>')
+    out.append("</g>")
+    out.append("</g>")
+    # labels outside the flipped group, so that the text reads upright: y is -y there
+    out.append(f'<g id="labels" font-family="sans-serif" font-size="{_n(0.03 * s)}" fill="#333333">')
+    off = 1.5 * r_pin
+    for k in g.points + [k for k in g.pins if k not in g.ground_pins]:
+        x, y = xy[k]
+        a = _attrs(class_="label", data_anchor=k, data_dx=_n(off), data_dy=_n(off))
+        out.append(f'<text {a} x="{_n(x + off)}" y="{_n(-(y + off))}">{escape(g.anchors[k].name)}</text>')
+    out.append("</g>")
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
+
+
+def _output_path(path: Any, name: str = "path") -> str | None:
+    if path is None:
+        return None
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"{name} must be a file name, not {path!r}")
+    return os.fspath(path)
+
+
+def svg(
+    results: Results,
+    path: str | os.PathLike[str] | None = None,
+    t: float | None = None,
+    paths: Sequence[str] | None = None,
+    max_points: int = 5000,
+) -> str:
+    """The mechanism at time ``t`` of the sweep (default: its first step; a time between
+    steps is solved there) and the paths over the whole sweep of ``paths`` (named points
+    or joints; default: every named point, or the pins off the ground), each through at
+    most ``max_points`` steps. Returns the SVG text and writes it to ``path`` if given."""
+    out = _output_path(path)
+    max_points = _args.integer(max_points, "max_points", 2)
+    motion, row = configuration(results, t)
+    names = _path_names(results.model, paths)
+    title = f"{results.model.name} at t = {motion.times[row]:.6g} s"
+    text = svg_text(
+        motion, row, path_points(motion, names, results.n_steps, max_points), title, _length_unit(results)
+    )
+    if out is not None:
+        with open(out, "w", encoding="utf-8") as f:
+            f.write(text)
+    return text
+
+
+def _length_unit(results: Results) -> str:
+    return str(results.model.units.get("length", "m"))
+
+
+#: DXF layers: name -> AutoCAD colour index
+LAYERS = {
+    "BODIES": 7,
+    "PINS": 7,
+    "GROUND": 8,
+    "GUIDES": 8,
+    "SLIDERS": 7,
+    "CURVES": 5,
+    "ACTUATORS": 7,
+    "POINTS": 1,
+    "PATHS": 1,
+    "LABELS": 7,
+}
+
+
+def dxf(
+    results: Results,
+    path: str | os.PathLike[str],
+    t: float | None = None,
+    paths: Sequence[str] | None = None,
+    max_points: int = 5000,
+) -> None:
+    """Writes the mechanism at time ``t`` and the paths of ``paths`` over the sweep (as for
+    `svg`) as a DXF drawing (R2010, needs ezdxf), in the model's length unit. Layers:
+    BODIES (closed polylines through each body's joints and points, a line for a bar),
+    PINS (circles about the pins), GROUND (pivot symbols), GUIDES and SLIDERS (guides and
+    blocks), CURVES (slots, cam profiles, rollers), ACTUATORS, POINTS (named points: a
+    POINT entity each), PATHS (the coupler curves, polylines) and LABELS. Each entity's
+    XDATA ``LINKWORK`` holds the name of the body, joint or point it draws."""
+    out = _output_path(path)
+    if out is None:
+        raise InputError("path must be a file name, not None")
+    max_points = _args.integer(max_points, "max_points", 2)
+    ezdxf = _args.optional_module("ezdxf", "writing DXF", "export")
+    from ezdxf import colors, units
+
+    motion, row = configuration(results, t)
+    names = _path_names(results.model, paths)
+    g, xy, s = motion.geometry, motion.xy[row], motion.size
+    unit = _length_unit(results)
+    doc = ezdxf.new("R2010", setup=True)
+    doc.units = units.MM if unit == "mm" else units.M
+    doc.header["$MEASUREMENT"] = 1  # metric
+    doc.appids.add("LINKWORK")
+    for layer, aci in LAYERS.items():
+        doc.layers.add(layer, color=aci)
+    msp = doc.modelspace()
+
+    def named(entity: Any, name: str, rgb: str | None = None) -> None:
+        entity.set_xdata("LINKWORK", [(1000, name)])
+        if rgb is not None:
+            entity.rgb = colors.RGB.from_hex(rgb)
+
+    def poly(points: np.ndarray, layer: str, name: str, closed: bool = False, rgb: str | None = None) -> None:
+        pts = [(float(x), float(y)) for x, y in np.asarray(points).reshape(-1, 2)]
+        named(msp.add_lwpolyline(pts, close=closed, dxfattribs={"layer": layer}), name, rgb)
+
+    r_pin = 0.011 * s
+    for i, name in enumerate(g.body_names):
+        outline = g.outlines[name]
+        if len(outline) == 1:
+            x, y = xy[outline[0]]
+            named(
+                msp.add_circle((float(x), float(y)), 1.3 * r_pin, dxfattribs={"layer": "BODIES"}),
+                name,
+                colour(i),
+            )
+        else:
+            poly(xy[outline], "BODIES", name, closed=len(outline) > 2, rgb=colour(i))
+    for k in g.pins:
+        x, y = xy[k]
+        named(msp.add_circle((float(x), float(y)), r_pin, dxfattribs={"layer": "PINS"}), g.anchors[k].name)
+    if g.ground_pins:
+        triangles, bases, lines = ground_symbols(xy[g.ground_pins], 0.035 * s)
+        for k, tri, line in zip(g.ground_pins, triangles, lines):
+            poly(tri, "GROUND", g.anchors[k].name, closed=True)
+            poly(line, "GROUND", g.anchors[k].name)
+    for k, slider in enumerate(g.sliders):
+        poly(motion.guides[k][row], "GUIDES", slider.joint)
+        poly(motion.block_polygon(k, row), "SLIDERS", slider.joint, closed=True)
+    for curve in g.curves:
+        poly(motion.curve(curve, row), "CURVES", curve.joint, rgb=colour(curve.body))
+    for a, b in g.actuators:
+        line = msp.add_line(
+            tuple(xy[a]), tuple(xy[b]), dxfattribs={"layer": "ACTUATORS", "linetype": "DASHED"}
+        )
+        named(line, g.anchors[a].name)
+    for k in g.points:
+        x, y = xy[k]
+        named(msp.add_point((float(x), float(y)), dxfattribs={"layer": "POINTS"}), g.anchors[k].name)
+    for i, (name, pts) in enumerate(path_points(motion, names, results.n_steps, max_points).items()):
+        poly(pts, "PATHS", name, rgb=colour(len(g.body_names) + i))
+    for k in g.points + [k for k in g.pins if k not in g.ground_pins]:
+        x, y = xy[k]
+        text = msp.add_text(g.anchors[k].name, height=0.03 * s, dxfattribs={"layer": "LABELS"})
+        text.set_placement((float(x + 1.5 * r_pin), float(y + 1.5 * r_pin)))
+        named(text, g.anchors[k].name)
+    doc.saveas(out)
+
+
+def dataframe(results: Results, points: bool = False) -> Any:
+    """`Results.table` as a pandas DataFrame, units in ``attrs`` (see `Results.to_dataframe`)."""
+    pd = _args.optional_module("pandas", "Results.to_dataframe", "export")
+    names, units, data = results.table(points=points)
+    df = pd.DataFrame(data, columns=names)
+    df["iterations"] = df["iterations"].astype(np.int64)
+    df.attrs["units"] = dict(zip(names, units))
+    df.attrs["model"] = results.model.name
+    return df
