@@ -416,7 +416,7 @@ def test_cli_bad_study_files_are_named(tmp_path, capsys, text, message):
 def test_missing_packages_and_bad_schedulers_are_named():
     from linkwork.study.run import requires
 
-    with pytest.raises(lw.StudyError, match=r"pip install 'linkwork\[studies\]'"):
+    with pytest.raises(lw.DependencyError, match=r"pip install 'linkwork\[studies\]'"):
         requires("a_package_that_is_not_there")
     study = lw.Study(lw.examples.four_bar(), [0.0, 0.1], ["angle rocker"])
     with pytest.raises(lw.StudyError, match="scheduler must be"):

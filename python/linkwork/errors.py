@@ -13,7 +13,7 @@
     ├── ParameterError      a design parameter that names nothing in the model (the message
     │                       lists what exists); also a ValueError
     ├── StudyError          a design study that cannot be run as asked (a bad study file,
-    │   │                   an unknown output, a missing optional package); also a ValueError
+    │   │                   an unknown output); also a ValueError
     │   └── PortabilityError    a model that cannot travel to another process (Python laws)
     ├── DependencyError     an optional package a call needs is not installed (the message
     │                       gives the pip command); also an ImportError
@@ -100,7 +100,7 @@ class ParameterError(LinkworkError, ValueError):
 
 class StudyError(LinkworkError, ValueError):
     """A design study that cannot be run as asked: a bad study file or design space, an
-    unknown output, a missing optional package (the message gives the pip command)."""
+    unknown output."""
 
 
 class PortabilityError(StudyError):

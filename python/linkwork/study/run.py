@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .. import _args
-from ..errors import LinkworkError, StudyError
+from ..errors import DependencyError, LinkworkError, StudyError
 from .designs import Designs, listed
 from .outputs import Output, outputs
 from .parameters import Parameter, _description, apply_many, parameters
@@ -29,7 +29,7 @@ __all__ = ["Study", "StudyResult", "Job", "run_chunk", "requires"]
 
 
 def requires(module: str, extra: str = "studies") -> Any:
-    """Imports an optional dependency, or raises `StudyError` with the pip command."""
+    """Imports an optional dependency, or raises `DependencyError` with the pip command."""
     import importlib
 
     try:
@@ -38,7 +38,7 @@ def requires(module: str, extra: str = "studies") -> Any:
         package = {"distributed": "dask[distributed]", "h5netcdf": "h5netcdf"}.get(
             module, module.split(".")[0]
         )
-        raise StudyError(
+        raise DependencyError(
             f"this needs {package}, which is not installed: pip install 'linkwork[{extra}]' "
             f"(or pip install '{package}')"
         ) from None
