@@ -22,7 +22,7 @@ pub mod rrr;
 pub mod subst;
 
 use crate::data::Data;
-use crate::joints::Frame;
+use crate::joints::{perp, sub, Frame};
 use crate::model::{Model, SolverKind};
 use crate::structure::{structure, Group, Structure};
 
@@ -275,6 +275,34 @@ pub(crate) fn set_rates(data: &mut Data, b: usize, rd: [f64; 2], thetad: f64) {
     data.qd[3 * b + 2] = thetad;
     data.frames[b].rd = rd;
     data.frames[b].thetad = thetad;
+}
+
+/// A body's origin velocity from that of its point at p (vp) and its angular rate w.
+#[inline(always)]
+pub(crate) fn pinned_rates(data: &mut Data, body: usize, p: [f64; 2], vp: [f64; 2], w: f64) {
+    let arm = perp(sub(data.frames[body].r, p));
+    set_rates(data, body, [vp[0] + w * arm[0], vp[1] + w * arm[1]], w);
+}
+
+/// A body's origin acceleration from that of its point at p (ap), its rate w and angular
+/// acceleration alpha.
+#[inline(always)]
+pub(crate) fn pinned_accelerations(
+    data: &mut Data,
+    body: usize,
+    p: [f64; 2],
+    ap: [f64; 2],
+    w: f64,
+    alpha: f64,
+) {
+    let r = sub(data.frames[body].r, p);
+    let arm = perp(r);
+    set_acc(
+        data,
+        body,
+        [ap[0] + alpha * arm[0] - w * w * r[0], ap[1] + alpha * arm[1] - w * w * r[1]],
+        alpha,
+    );
 }
 
 #[inline(always)]

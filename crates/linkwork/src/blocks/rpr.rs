@@ -10,7 +10,7 @@
 //! The same with the slider massless: a pinned body whose slot (a point-on-line joint's
 //! line) runs through a known point P_S, the lever of a quick-return.
 
-use super::{body_qdd, continued, point_acc, set_acc, set_body, set_rates, side, Miss};
+use super::{body_qdd, continued, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
 use crate::data::Data;
 use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
@@ -172,18 +172,18 @@ impl Rpr {
             let d_dot = sub(vs, vl);
             let along = dot(v, d);
             let w = cross(v, d_dot) / along;
-            self.rates(data, &self.line, pl, vl, w);
+            pinned_rates(data, self.line.body, pl, vl, w);
             if let Some(slider) = &self.slider {
-                self.rates(data, slider, ps, vs, w);
+                pinned_rates(data, slider.body, ps, vs, w);
             }
             if derivatives >= 2 {
                 let al = point_acc(&kl, body_qdd(data, self.line.known), sub(pl, kl.r));
                 let as_ = point_acc(&ks, body_qdd(data, self.point.0), sub(ps, ks.r));
                 let d_ddot = sub(as_, al);
                 let alpha = (cross(v, d_ddot) - 2.0 * w * dot(v, d_dot) + w * w * self.k) / along;
-                self.accelerations(data, &self.line, pl, al, w, alpha);
+                pinned_accelerations(data, self.line.body, pl, al, w, alpha);
                 if let Some(slider) = &self.slider {
-                    self.accelerations(data, slider, ps, as_, w, alpha);
+                    pinned_accelerations(data, slider.body, ps, as_, w, alpha);
                 }
             }
         }
@@ -196,26 +196,6 @@ impl Rpr {
         let k = side(data, self.point.0);
         let p = k.point(self.point.1);
         (k, p)
-    }
-
-    /// A body's origin velocity from its pin's (at p, velocity vp) and the shared rate.
-    #[inline(always)]
-    fn rates(&self, data: &mut Data, pin: &Pin, p: [f64; 2], vp: [f64; 2], w: f64) {
-        let arm = perp(sub(data.frames[pin.body].r, p));
-        set_rates(data, pin.body, [vp[0] + w * arm[0], vp[1] + w * arm[1]], w);
-    }
-
-    /// A body's origin acceleration from its pin's (at p, acceleration ap).
-    #[inline(always)]
-    fn accelerations(&self, data: &mut Data, pin: &Pin, p: [f64; 2], ap: [f64; 2], w: f64, alpha: f64) {
-        let r = sub(data.frames[pin.body].r, p);
-        let arm = perp(r);
-        set_acc(
-            data,
-            pin.body,
-            [ap[0] + alpha * arm[0] - w * w * r[0], ap[1] + alpha * arm[1] - w * w * r[1]],
-            alpha,
-        );
     }
 
     /// The branch sign, closeness and its rate (with `rates`, else 0) of the configuration

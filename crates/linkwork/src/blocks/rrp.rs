@@ -4,8 +4,10 @@
 //! length meets it (two points, one per branch). Velocities and accelerations: B's seen
 //! from the link and from the slide (with the slide's Coriolis term when the line turns).
 
-use super::rrr::{accelerations, link, rates, Link};
-use super::{body_qdd, point_acc, set_acc, set_body, set_rates, side, Miss};
+use super::rrr::{link, Link};
+use super::{
+    body_qdd, pinned_accelerations, pinned_rates, point_acc, set_acc, set_body, set_rates, side, Miss,
+};
 use crate::data::Data;
 use crate::joints::{dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
@@ -133,7 +135,7 @@ impl Rrp {
             let rhs = sub(vk, va);
             let w = (dir[0] * rhs[1] - dir[1] * rhs[0]) / det;
             let u = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
-            rates(data, &self.link, a, va, w);
+            pinned_rates(data, self.link.body, a, va, w);
             let vb = [vk[0] + u * dir[0], vk[1] + u * dir[1]];
             let rs = sub(data.frames[self.slider].r, b);
             let prs = perp(rs);
@@ -150,7 +152,7 @@ impl Rrp {
                 ];
                 let alpha = (dir[0] * rhs[1] - dir[1] * rhs[0]) / det;
                 let ud = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
-                accelerations(data, &self.link, a, aa, w, alpha);
+                pinned_accelerations(data, self.link.body, a, aa, w, alpha);
                 let ab = [ak[0] + ud * dir[0] + cor * pd[0], ak[1] + ud * dir[1] + cor * pd[1]];
                 let w2 = k.thetad * k.thetad;
                 set_acc(

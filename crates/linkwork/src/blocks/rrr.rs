@@ -4,7 +4,7 @@
 //! two pins. Velocities and accelerations: the 2 x 2 system of B's velocity (acceleration)
 //! seen from both links.
 
-use super::{body_qdd, continued, point_acc, set_acc, set_body, set_rates, side, Miss};
+use super::{body_qdd, continued, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
 use crate::data::Data;
 use crate::joints::{dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
@@ -199,9 +199,9 @@ impl Rrr {
             let rhs = sub(vc, va);
             let w1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) / det;
             let w2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
-            rates(data, &self.l1, a, va, w1);
+            pinned_rates(data, self.l1.body, a, va, w1);
             if !self.rod {
-                rates(data, &self.l2, c, vc, w2);
+                pinned_rates(data, self.l2.body, c, vc, w2);
             }
             if derivatives >= 2 {
                 let aa = point_acc(&k1, body_qdd(data, self.l1.known), sub(a, k1.r));
@@ -212,9 +212,9 @@ impl Rrr {
                 ];
                 let a1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) / det;
                 let a2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
-                accelerations(data, &self.l1, a, aa, w1, a1);
+                pinned_accelerations(data, self.l1.body, a, aa, w1, a1);
                 if !self.rod {
-                    accelerations(data, &self.l2, c, ac, w2, a2);
+                    pinned_accelerations(data, self.l2.body, c, ac, w2, a2);
                 }
             }
         }
@@ -242,26 +242,4 @@ impl Rrr {
         };
         (sign, cross.abs() * norm, rate)
     }
-}
-
-/// A link's origin velocity from its outer pin's (at p, velocity vp) and its angular rate.
-#[inline(always)]
-pub(crate) fn rates(data: &mut Data, l: &Link, p: [f64; 2], vp: [f64; 2], w: f64) {
-    let f = data.frames[l.body];
-    let arm = perp(sub(f.r, p));
-    set_rates(data, l.body, [vp[0] + w * arm[0], vp[1] + w * arm[1]], w);
-}
-
-/// A link's origin acceleration from its outer pin's (at p, acceleration ap).
-#[inline(always)]
-pub(crate) fn accelerations(data: &mut Data, l: &Link, p: [f64; 2], ap: [f64; 2], w: f64, alpha: f64) {
-    let f = data.frames[l.body];
-    let r = sub(f.r, p);
-    let arm = perp(r);
-    set_acc(
-        data,
-        l.body,
-        [ap[0] + alpha * arm[0] - w * w * r[0], ap[1] + alpha * arm[1] - w * w * r[1]],
-        alpha,
-    );
 }
