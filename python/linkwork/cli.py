@@ -116,8 +116,10 @@ def _check_figures(args: argparse.Namespace, model: Model) -> None:
     """Refuses unknown --outputs and --paths names before sweeping (bad usage)."""
     from . import figures
 
-    problem = figures.unknown_outputs(model, args.outputs or []) or figures.unknown_paths(
-        model, args.paths or []
+    problem = (
+        figures.unknown_outputs(model, args.outputs or [])
+        or figures.unknown_paths(model, args.paths or [])
+        or figures.unknown_x(model, getattr(args, "x", "time"))
     )
     if problem:
         raise _Failed(f"{args.model}: {problem}", status=2)
@@ -133,7 +135,7 @@ def _sweep(
 ) -> tuple[Results, int]:
     """Sweeps from t0 to t1, keeping ``keep`` (None: as the model says); a failed sweep
     gives its good steps and status 1."""
-    times = np.linspace(args.t0, args.t1, args.steps)
+    times = np.linspace(args.t0, _t1(args, model), args.steps)
     try:
         results = model.sweep(
             times,
@@ -161,6 +163,20 @@ def _sweep(
         return partial, 1
 
 
+def _t1(args: argparse.Namespace, model: Model) -> float:
+    """The last time: --t1, else one cycle of the model's periodic driver after t0, else
+    t0 + 1 s; says which (once)."""
+    if args.t1 is None:
+        cycle = model.cycle()
+        if cycle is None:
+            args.t1 = args.t0 + 1.0
+            print(f"t1 = {args.t1:g} s (the default, 1 s: the model has no single periodic driver)")
+        else:
+            args.t1 = args.t0 + cycle.period
+            print(f"t1 = {args.t1:.6g} s ({cycle})")
+    return float(args.t1)
+
+
 def _stem(args: argparse.Namespace) -> str:
     return os.path.join(args.out, os.path.splitext(os.path.basename(args.model))[0])
 
@@ -172,7 +188,7 @@ def _figures(args: argparse.Namespace, results: Results, plots: bool) -> list[st
     written = []
     if plots:
         written.append(_stem(args) + ".png")
-        figures.plot_outputs(results, written[-1], args.outputs)
+        figures.plot_outputs(results, written[-1], args.outputs, x=args.x)
         written.append(_stem(args) + "_paths.png")
         figures.plot_paths(results, written[-1], args.paths)
     for kind in ("svg", "dxf"):
@@ -345,7 +361,14 @@ _PATHS_HELP = (
 def _sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("model", help="model file (as written by Mechanism.save)")
     p.add_argument("--t0", type=float, default=0.0, help="first time [s] (default 0)")
-    p.add_argument("--t1", type=float, default=1.0, help="last time [s] (default 1)")
+    p.add_argument(
+        "--t1",
+        type=float,
+        default=None,
+        help="last time [s] (default: one cycle of the model's driver after t0 when it has exactly "
+        "one periodic driver (a crank at a constant rate: 2 pi / |rate|; a harmonic or periodic law), "
+        "else t0 + 1)",
+    )
     p.add_argument(
         "--steps", type=int, default=1001, metavar="N", help="time steps from t0 to t1 (default 1001)"
     )
@@ -353,6 +376,13 @@ def _sweep_arguments(p: argparse.ArgumentParser) -> None:
 
 def _figure_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--outputs", type=_names, metavar="NAME,...", help=_OUTPUTS_HELP)
+    p.add_argument(
+        "--x",
+        default="time",
+        metavar="time|input|DRIVER",
+        help="plot the outputs against time (default) or the driver's input: its periodic driver, else "
+        "its only moving one, or the driver named (an angle in the file's angle unit, or a distance)",
+    )
     p.add_argument("--paths", type=_names, metavar="NAME,...", help=_PATHS_HELP)
     p.add_argument(
         "--animate",
