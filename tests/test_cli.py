@@ -202,6 +202,8 @@ def test_failed_sweep_with_every_keeps_the_kept_good_steps(tmp_path, capsys):
         ["plot", "M.json", "--animate", "movie.avi"],
         ["view", "M.json", "--frames", "1"],
         ["run", "M.json", "--at", "noon"],
+        ["run", "M.json", "--angles", "grad"],
+        ["check", "M.json", "--angles", "turns"],
         ["frobnicate"],
     ],
 )
@@ -385,8 +387,29 @@ def test_check_reports_grashof_type_limits_and_assembly_modes(tmp_path, capsys):
     lw.examples.four_bar(ground=0.40, crank=0.30, coupler=0.25, rocker=0.20, theta0=0.8).save(str(path))
     assert main(["check", str(path)]) == 0
     out = capsys.readouterr().out
-    assert "non-Grashof triple-rocker" in out and "crank angle limits -78.5" in out
+    # the file is in rad: its angles are printed in rad, and in deg when asked
+    assert "non-Grashof triple-rocker" in out and "crank angle limits -1.371564 .. 1.371564 rad" in out
+    assert "angles printed in rad (the file's angle unit" in out
     assert "assembly modes at t = 0: 2" in out and "open" in out and "crossed" in out
+    assert main(["check", str(path), "--angles", "deg"]) == 0
+    out = capsys.readouterr().out
+    assert "crank angle limits -78.5848 .. 78.5848 deg" in out and "from -78.5848" in out
+    assert "rad" not in out.split("limits of motion")[1]
+
+
+def test_run_summary_carries_units_in_the_files_angle_unit(tmp_path, capsys):
+    model = os.path.join(os.path.dirname(__file__), "..", "examples", "four_bar.toml")
+    assert main(["run", model, "--steps", "101", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "units: lengths in mm, angles in deg (as the file declares)" in out
+    rows = {line.split()[0]: line.split()[1:] for line in out.splitlines() if line.startswith("  crank.")}
+    assert rows["crank.theta"][-1] == "deg" and float(rows["crank.theta"][1]) == pytest.approx(360.0)
+    assert float(rows["crank.theta"][2]) == pytest.approx(286.4788975654116)  # deg/s
+    assert rows["crank.x"][-1] == "mm"
+    assert main(["run", model, "--steps", "101", "--angles", "rad", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    theta = next(line.split() for line in out.splitlines() if line.startswith("  crank.theta"))
+    assert theta[-1] == "rad" and float(theta[2]) == pytest.approx(2 * math.pi)
 
 
 def test_check_works_on_a_model_beyond_the_dense_limit(tmp_path, capsys):

@@ -98,7 +98,8 @@ def _load(path: str) -> Model:
         raise _Failed(message if message.startswith(os.fspath(path)) else f"{path}: {message}") from None
     units = model.units
     said = "as the file declares" if mechanism.units_declared else "the default: the file declares no units"
-    print(f"units: lengths in {units.get('length', 'm')}, angles in {units.get('angle', 'rad')} ({said})")
+    angle = units.get("input_angle", "rad")
+    print(f"units: lengths in {units.get('length', 'm')}, angles in {angle} ({said})")
     for w in caught:
         print(f"warning: {w.message}", file=sys.stderr)
     return model
@@ -177,6 +178,14 @@ def _t1(args: argparse.Namespace, model: Model) -> float:
     return float(args.t1)
 
 
+def _angles(args: argparse.Namespace, model: Model) -> str:
+    """The unit of the angles printed: --angles, else the file's (rad or deg); says it."""
+    angles = args.angles or str(model.units.get("input_angle", "rad"))
+    said = "--angles" if args.angles else "the file's angle unit; --angles rad|deg for the other"
+    print(f"angles printed in {angles} ({said})")
+    return angles
+
+
 def _stem(args: argparse.Namespace) -> str:
     return os.path.join(args.out, os.path.splitext(os.path.basename(args.model))[0])
 
@@ -231,7 +240,7 @@ def run(args: argparse.Namespace) -> int:
     results, status = _sweep(
         args, model, forces=args.forces, every=args.every, keep=keep, derivatives=args.derivatives
     )
-    print(results.summary())
+    print(results.summary(angles=_angles(args, model)))
     os.makedirs(args.out, exist_ok=True)
     written = [f"{_stem(args)}.{args.format}"]
     writer = {"csv": results.to_csv, "npz": results.to_npz, "parquet": results.to_parquet}[args.format]
@@ -285,6 +294,7 @@ def check(args: argparse.Namespace) -> int:
     limits, circuit) and the assembly modes, without sweeping; exit status 1 if the model
     has a problem."""
     model = _load(args.model)
+    angles = _angles(args, model)
     print(f"{model!r}")
     try:
         mob = model.mobility(t=args.t)
@@ -302,13 +312,14 @@ def check(args: argparse.Namespace) -> int:
               "(linkwork.Model.motion_limits gives any)")  # fmt: skip
     for name in drivers[:listed]:
         try:
-            print(f"  limits of motion        {model.motion_limits(name, t=args.t, q_guess=mob.q)}")
+            limits = model.motion_limits(name, t=args.t, q_guess=mob.q)
+            print(f"  limits of motion        {limits.describe(angles, model.units['length'])}")
         except LinkworkError as e:
             print(f"  limits of motion        {name}: not found ({e})")
     # the four-bar loops and slider-cranks inside it: Grashof type, closed-form limits
     linkages = model.linkages(t=args.t, q_guess=mob.q)
     for linkage in linkages[:MAX_LISTED]:
-        print(f"  {linkage}")
+        print(f"  {linkage.describe(angles)}")
     if len(linkages) > MAX_LISTED:
         print(
             f"  ... and {len(linkages) - MAX_LISTED} more linkages (linkwork.Model.linkages lists them all)"
@@ -371,6 +382,15 @@ def _sweep_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--steps", type=int, default=1001, metavar="N", help="time steps from t0 to t1 (default 1001)"
+    )
+
+
+def _angles_argument(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--angles",
+        choices=("rad", "deg"),
+        default=None,
+        help="unit of the angles printed (default: the file's angle unit)",
     )
 
 
@@ -491,6 +511,7 @@ A sweep that fails at step k writes its k good steps and exits with status 1."""
     )
     r.add_argument("--forces", action="store_true", help="inverse dynamics: driver efforts, joint reactions")
     r.add_argument("--plot", action="store_true", help="also write the PNGs of outputs and paths")
+    _angles_argument(r)
     _figure_arguments(r)
 
     p = sub.add_parser(
@@ -547,6 +568,7 @@ jumps, the closest approach to a singular configuration) marked on the timeline.
     )
     c.add_argument("model", help="model file (as written by Mechanism.save)")
     c.add_argument("--t", type=float, default=0.0, help="time of the configuration checked (default 0)")
+    _angles_argument(c)
 
     s = sub.add_parser(
         "synth",
