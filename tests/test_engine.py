@@ -189,7 +189,7 @@ def test_summary_gives_every_rows_unit_and_angles_in_either_unit():
     for c in r.columns:
         assert rows[c][-1] == r.units(c)
     assert rows["crank.x"][-1] == "m" and rows["crank.theta"][-1] == "rad"
-    assert float(rows["rocker.theta"][1]) == pytest.approx(r.body("rocker").theta.max(), rel=1e-6)
+    assert float(rows["rocker.theta"][1]) == pytest.approx(r.body("rocker").theta.max(), rel=1e-5)
     deg = {line.split()[0]: line.split()[1:] for line in r.summary(angles="deg").splitlines()[2:12]}
     assert deg["rocker.theta"][-1] == "deg" and deg["rocker.x"] == rows["rocker.x"]
     for k in range(4):
