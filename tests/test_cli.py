@@ -202,6 +202,8 @@ def test_failed_sweep_with_every_keeps_the_kept_good_steps(tmp_path, capsys):
         ["plot", "M.json", "--animate", "movie.avi"],
         ["view", "M.json", "--frames", "1"],
         ["run", "M.json", "--at", "noon"],
+        ["run", "M.json", "--angles", "grad"],
+        ["check", "M.json", "--angles", "turns"],
         ["frobnicate"],
     ],
 )
@@ -385,8 +387,29 @@ def test_check_reports_grashof_type_limits_and_assembly_modes(tmp_path, capsys):
     lw.examples.four_bar(ground=0.40, crank=0.30, coupler=0.25, rocker=0.20, theta0=0.8).save(str(path))
     assert main(["check", str(path)]) == 0
     out = capsys.readouterr().out
-    assert "non-Grashof triple-rocker" in out and "crank angle limits -78.5" in out
+    # the file is in rad: its angles are printed in rad, and in deg when asked
+    assert "non-Grashof triple-rocker" in out and "crank angle limits -1.371564 .. 1.371564 rad" in out
+    assert "angles printed in rad (the file's angle unit" in out
     assert "assembly modes at t = 0: 2" in out and "open" in out and "crossed" in out
+    assert main(["check", str(path), "--angles", "deg"]) == 0
+    out = capsys.readouterr().out
+    assert "crank angle limits -78.5848 .. 78.5848 deg" in out and "from -78.5848" in out
+    assert "rad" not in out.split("limits of motion")[1]
+
+
+def test_run_summary_carries_units_in_the_files_angle_unit(tmp_path, capsys):
+    model = os.path.join(os.path.dirname(__file__), "..", "examples", "four_bar.toml")
+    assert main(["run", model, "--steps", "101", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "units: lengths in mm, angles in deg (as the file declares)" in out
+    rows = {line.split()[0]: line.split()[1:] for line in out.splitlines() if line.startswith("  crank.")}
+    assert rows["crank.theta"][-1] == "deg" and float(rows["crank.theta"][1]) == pytest.approx(360.0)
+    assert float(rows["crank.theta"][2]) == pytest.approx(286.4788975654116)  # deg/s
+    assert rows["crank.x"][-1] == "mm"
+    assert main(["run", model, "--steps", "101", "--angles", "rad", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    theta = next(line.split() for line in out.splitlines() if line.startswith("  crank.theta"))
+    assert theta[-1] == "rad" and float(theta[2]) == pytest.approx(2 * math.pi)
 
 
 def test_check_works_on_a_model_beyond_the_dense_limit(tmp_path, capsys):
@@ -491,3 +514,79 @@ def test_dxf_without_ezdxf_says_how_to_install_it(tmp_path, capsys, monkeypatch)
     with pytest.raises(SystemExit) as e:
         main(["plot", model, "--dxf", "--out", str(tmp_path)])
     assert e.value.code == 2 and "pip install ezdxf" in capsys.readouterr().err
+
+
+# -- the sweep's span and the figures' abscissa --------------------------------------------
+
+
+def test_t1_defaults_to_one_cycle_of_the_periodic_driver(tmp_path, capsys):
+    # the shipped four-bar is in deg: one turn is 360 / |rate| there
+    model = os.path.join(os.path.dirname(__file__), "..", "examples", "four_bar.toml")
+    assert main(["run", model, "--steps", "11", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    rate = lw.Mechanism.load(model).to_dict()["drivers"][0]["law"]["rate"]
+    assert "one cycle of crank_angle, 360 / |rate|" in out
+    header, rows = read_csv(tmp_path / "four_bar.csv")
+    assert abs(rows[-1, header.index("t [s]")] - 360.0 / abs(rate)) < 1e-12
+    theta = rows[:, header.index("crank.theta [rad]")]
+    assert abs(theta[-1] - theta[0] - 2 * math.pi) < 1e-9
+
+
+def test_t1_of_a_harmonic_driver_and_the_default_without_one(tmp_path, capsys):
+    m = lw.examples.four_bar()
+    m.remove("crank_angle")
+    m.drive_angle("crank", lw.Harmonic(0.3, 0.2, 4.0), name="wobble")
+    assert (
+        main(["run", save(m, tmp_path / "h.json"), "--t0", "0.5", "--steps", "5", "--out", str(tmp_path)])
+        == 0
+    )
+    header, rows = read_csv(tmp_path / "h.csv")
+    assert abs(rows[-1, 0] - (0.5 + 2 * math.pi / 4.0)) < 1e-12
+    assert "one cycle of wobble, 2 pi / |omega|" in capsys.readouterr().out
+    # two cranks turning: no single cycle, t1 = t0 + 1 s, and the output says so
+    two = os.path.join(os.path.dirname(__file__), "..", "examples", "five_bar_two_inputs.toml")
+    assert main(["run", two, "--steps", "5", "--out", str(tmp_path)]) == 0
+    assert "t1 = 1 s (the default" in capsys.readouterr().out
+    header, rows = read_csv(tmp_path / "five_bar_two_inputs.csv")
+    assert rows[-1, 0] == 1.0
+
+
+def test_plot_against_the_input_angle_in_the_files_unit(tmp_path, capsys, monkeypatch):
+    import matplotlib.figure
+
+    saved = []
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, *a, **k: saved.append(fig))
+    model = os.path.join(os.path.dirname(__file__), "..", "examples", "four_bar.toml")
+    args = ["plot", model, "--steps", "37", "--x", "input", "--outputs", "rocker", "--out", str(tmp_path)]
+    assert main(args) == 0
+    ax = saved[0].axes[0]
+    assert saved[0].axes[-1].get_xlabel() == "crank_angle [deg]"
+    rate = lw.Mechanism.load(model).to_dict()["drivers"][0]["law"]["rate"]
+    res = lw.Mechanism.load(model).compile().sweep(np.linspace(0.0, 360.0 / rate, 37))
+    x, y = ax.lines[0].get_data()
+    crank = res.body("crank").theta
+    assert np.max(np.abs(x - np.degrees(crank - crank[0]) - x[0])) < 1e-9 and abs(x[-1] - x[0] - 360) < 1e-9
+    assert np.max(np.abs(y - res.body("rocker").theta)) < 1e-9
+    capsys.readouterr()
+
+
+def test_x_axis_of_a_distance_driver_and_bad_choices(tmp_path, capsys):
+    from linkwork import figures
+
+    model = pulled_slider(tmp_path / "pull.json")
+    res = lw.Mechanism.load(model).compile().sweep(np.linspace(0.0, 1.0, 11))
+    along = figures.x_axis(res, "input")
+    assert along.label == "pull" and along.unit == "m"
+    assert (
+        np.max(np.abs(along.value - res.body("slider").x - (along.value[0] - res.body("slider").x[0])))
+        < 1e-12
+    )
+    assert np.all(figures.x_axis(res, "time").value == res.times)
+    with pytest.raises(lw.InputError, match="driver's name"):
+        figures.x_axis(res, "angle")
+    two = os.path.join(os.path.dirname(__file__), "..", "examples", "five_bar_two_inputs.toml")
+    assert main(["plot", two, "--x", "input", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "--x input needs one moving driver" in err and "crank1_angle, crank2_angle" in err
+    assert main(["run", two, "--plot", "--x", "crank3", "--out", str(tmp_path / "o")]) == 2
+    assert "not 'crank3'" in capsys.readouterr().err and not (tmp_path / "o").exists()

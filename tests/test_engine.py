@@ -180,3 +180,30 @@ def test_results_are_contiguous_float_arrays_with_names():
     assert len(r.columns) == model.n_coords and r.columns[2] == "crank.theta"
     assert r.iterations.shape == r.residual.shape == r.pivot_ratio.shape == (50,)
     assert len(r) == 50 and "crank.theta" in r.summary()
+
+
+def test_summary_gives_every_rows_unit_and_angles_in_either_unit():
+    r = examples.four_bar().compile().sweep(np.linspace(0, 0.5, 26))
+    rows = {line.split()[0]: line.split()[1:] for line in r.summary().splitlines()[2:12]}
+    assert r.summary().splitlines()[1].split()[-1] == "unit"
+    for c in r.columns:
+        assert rows[c][-1] == r.units(c)
+    assert rows["crank.x"][-1] == "m" and rows["crank.theta"][-1] == "rad"
+    assert float(rows["rocker.theta"][1]) == pytest.approx(r.body("rocker").theta.max(), rel=1e-5)
+    deg = {line.split()[0]: line.split()[1:] for line in r.summary(angles="deg").splitlines()[2:12]}
+    assert deg["rocker.theta"][-1] == "deg" and deg["rocker.x"] == rows["rocker.x"]
+    for k in range(4):
+        assert float(deg["rocker.theta"][k]) == pytest.approx(
+            math.degrees(float(rows["rocker.theta"][k])), rel=1e-5
+        )
+    with pytest.raises(lw.InputError, match="angles must be one of 'rad', 'deg', not 'grad'"):
+        r.summary(angles="grad")
+
+
+def test_a_linkage_is_described_in_rad_or_deg():
+    linkage = examples.four_bar().compile().linkages()[0]
+    mu = linkage.transmission_angle
+    assert str(linkage) == linkage.describe("rad") and f"transmission angle {mu:.4f} rad" in str(linkage)
+    assert f"transmission angle {math.degrees(mu):.2f} deg" in linkage.describe("deg")
+    with pytest.raises(lw.InputError):
+        linkage.describe("turns")

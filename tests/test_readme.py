@@ -32,7 +32,9 @@ def test_designers_tour_examples_run(tmp_path, monkeypatch):
     for block in re.findall(r"```python\n(.*?)```", text, flags=re.S):
         exec(compile(block.replace('"examples/', f'"{root}/examples/'), "designers-tour.md", "exec"), scope)
     assert scope["df"].attrs["units"]["P.x_d"] == "mm/s"
+    assert scope["cycle"].driver == "crank_angle" and scope["cycle"].how == "360 / |rate|"
     assert {p.name for p in tmp_path.iterdir()} == {
+        "four_bar_input.png",
         "four_bar.svg",
         "four_bar.dxf",
         "four_bar.csv",

@@ -98,7 +98,8 @@ def _load(path: str) -> Model:
         raise _Failed(message if message.startswith(os.fspath(path)) else f"{path}: {message}") from None
     units = model.units
     said = "as the file declares" if mechanism.units_declared else "the default: the file declares no units"
-    print(f"units: lengths in {units.get('length', 'm')}, angles in {units.get('angle', 'rad')} ({said})")
+    angle = units.get("input_angle", "rad")
+    print(f"units: lengths in {units.get('length', 'm')}, angles in {angle} ({said})")
     for w in caught:
         print(f"warning: {w.message}", file=sys.stderr)
     return model
@@ -116,8 +117,10 @@ def _check_figures(args: argparse.Namespace, model: Model) -> None:
     """Refuses unknown --outputs and --paths names before sweeping (bad usage)."""
     from . import figures
 
-    problem = figures.unknown_outputs(model, args.outputs or []) or figures.unknown_paths(
-        model, args.paths or []
+    problem = (
+        figures.unknown_outputs(model, args.outputs or [])
+        or figures.unknown_paths(model, args.paths or [])
+        or figures.unknown_x(model, getattr(args, "x", "time"))
     )
     if problem:
         raise _Failed(f"{args.model}: {problem}", status=2)
@@ -133,7 +136,7 @@ def _sweep(
 ) -> tuple[Results, int]:
     """Sweeps from t0 to t1, keeping ``keep`` (None: as the model says); a failed sweep
     gives its good steps and status 1."""
-    times = np.linspace(args.t0, args.t1, args.steps)
+    times = np.linspace(args.t0, _t1(args, model), args.steps)
     try:
         results = model.sweep(
             times,
@@ -161,6 +164,28 @@ def _sweep(
         return partial, 1
 
 
+def _t1(args: argparse.Namespace, model: Model) -> float:
+    """The last time: --t1, else one cycle of the model's periodic driver after t0, else
+    t0 + 1 s; says which (once)."""
+    if args.t1 is None:
+        cycle = model.cycle()
+        if cycle is None:
+            args.t1 = args.t0 + 1.0
+            print(f"t1 = {args.t1:g} s (the default, 1 s: the model has no single periodic driver)")
+        else:
+            args.t1 = args.t0 + cycle.period
+            print(f"t1 = {args.t1:.6g} s ({cycle})")
+    return float(args.t1)
+
+
+def _angles(args: argparse.Namespace, model: Model) -> str:
+    """The unit of the angles printed: --angles, else the file's (rad or deg); says it."""
+    angles = args.angles or str(model.units.get("input_angle", "rad"))
+    said = "--angles" if args.angles else "the file's angle unit; --angles rad|deg for the other"
+    print(f"angles printed in {angles} ({said})")
+    return angles
+
+
 def _stem(args: argparse.Namespace) -> str:
     return os.path.join(args.out, os.path.splitext(os.path.basename(args.model))[0])
 
@@ -172,7 +197,7 @@ def _figures(args: argparse.Namespace, results: Results, plots: bool) -> list[st
     written = []
     if plots:
         written.append(_stem(args) + ".png")
-        figures.plot_outputs(results, written[-1], args.outputs)
+        figures.plot_outputs(results, written[-1], args.outputs, x=args.x)
         written.append(_stem(args) + "_paths.png")
         figures.plot_paths(results, written[-1], args.paths)
     for kind in ("svg", "dxf"):
@@ -215,7 +240,7 @@ def run(args: argparse.Namespace) -> int:
     results, status = _sweep(
         args, model, forces=args.forces, every=args.every, keep=keep, derivatives=args.derivatives
     )
-    print(results.summary())
+    print(results.summary(angles=_angles(args, model)))
     os.makedirs(args.out, exist_ok=True)
     written = [f"{_stem(args)}.{args.format}"]
     writer = {"csv": results.to_csv, "npz": results.to_npz, "parquet": results.to_parquet}[args.format]
@@ -269,6 +294,7 @@ def check(args: argparse.Namespace) -> int:
     limits, circuit) and the assembly modes, without sweeping; exit status 1 if the model
     has a problem."""
     model = _load(args.model)
+    angles = _angles(args, model)
     print(f"{model!r}")
     try:
         mob = model.mobility(t=args.t)
@@ -286,13 +312,14 @@ def check(args: argparse.Namespace) -> int:
               "(linkwork.Model.motion_limits gives any)")  # fmt: skip
     for name in drivers[:listed]:
         try:
-            print(f"  limits of motion        {model.motion_limits(name, t=args.t, q_guess=mob.q)}")
+            limits = model.motion_limits(name, t=args.t, q_guess=mob.q)
+            print(f"  limits of motion        {limits.describe(angles, model.units['length'])}")
         except LinkworkError as e:
             print(f"  limits of motion        {name}: not found ({e})")
     # the four-bar loops and slider-cranks inside it: Grashof type, closed-form limits
     linkages = model.linkages(t=args.t, q_guess=mob.q)
     for linkage in linkages[:MAX_LISTED]:
-        print(f"  {linkage}")
+        print(f"  {linkage.describe(angles)}")
     if len(linkages) > MAX_LISTED:
         print(
             f"  ... and {len(linkages) - MAX_LISTED} more linkages (linkwork.Model.linkages lists them all)"
@@ -345,14 +372,37 @@ _PATHS_HELP = (
 def _sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("model", help="model file (as written by Mechanism.save)")
     p.add_argument("--t0", type=float, default=0.0, help="first time [s] (default 0)")
-    p.add_argument("--t1", type=float, default=1.0, help="last time [s] (default 1)")
+    p.add_argument(
+        "--t1",
+        type=float,
+        default=None,
+        help="last time [s] (default: one cycle of the model's driver after t0 when it has exactly "
+        "one periodic driver (a crank at a constant rate: 2 pi / |rate|; a harmonic or periodic law), "
+        "else t0 + 1)",
+    )
     p.add_argument(
         "--steps", type=int, default=1001, metavar="N", help="time steps from t0 to t1 (default 1001)"
     )
 
 
+def _angles_argument(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--angles",
+        choices=("rad", "deg"),
+        default=None,
+        help="unit of the angles printed (default: the file's angle unit)",
+    )
+
+
 def _figure_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--outputs", type=_names, metavar="NAME,...", help=_OUTPUTS_HELP)
+    p.add_argument(
+        "--x",
+        default="time",
+        metavar="time|input|DRIVER",
+        help="plot the outputs against time (default) or the driver's input: its periodic driver, else "
+        "its only moving one, or the driver named (an angle in the file's angle unit, or a distance)",
+    )
     p.add_argument("--paths", type=_names, metavar="NAME,...", help=_PATHS_HELP)
     p.add_argument(
         "--animate",
@@ -461,6 +511,7 @@ A sweep that fails at step k writes its k good steps and exits with status 1."""
     )
     r.add_argument("--forces", action="store_true", help="inverse dynamics: driver efforts, joint reactions")
     r.add_argument("--plot", action="store_true", help="also write the PNGs of outputs and paths")
+    _angles_argument(r)
     _figure_arguments(r)
 
     p = sub.add_parser(
@@ -517,6 +568,7 @@ jumps, the closest approach to a singular configuration) marked on the timeline.
     )
     c.add_argument("model", help="model file (as written by Mechanism.save)")
     c.add_argument("--t", type=float, default=0.0, help="time of the configuration checked (default 0)")
+    _angles_argument(c)
 
     s = sub.add_parser(
         "synth",

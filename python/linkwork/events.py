@@ -104,17 +104,25 @@ class MotionLimits:
         )
 
     def __str__(self) -> str:
-        unit = "rad" if self.angle else "m"
+        return self.describe()
+
+    def describe(self, angles: str = "rad", length: str = "m") -> str:
+        """One line: the limits either way and the start; an angle input in rad (with
+        degrees beside), or in deg with ``angles="deg"``; a distance in ``length``."""
+        if angles not in ("rad", "deg"):
+            raise ValueError(f"angles must be 'rad' or 'deg', not {angles!r}")
+        unit = angles if self.angle else length
+        k = np.degrees(1.0) if self.angle and angles == "deg" else 1.0
         if self.full_rotation:
             return f"{self.driver}: turns fully (no limit within a revolution either way)"
 
         def fmt(v: float | None, way: str) -> str:
             if v is None:
-                return f"none within {self.range:g} {unit} {way}"
-            deg = f" ({np.degrees(v):.6g} deg)" if self.angle else ""
-            return f"{v:.12g} {unit}{deg}"
+                return f"none within {self.range * k:g} {unit} {way}"
+            deg = f" ({np.degrees(v):.6g} deg)" if self.angle and angles == "rad" else ""
+            return f"{v * k:.12g} {unit}{deg}"
 
         return (
             f"{self.driver}: from {fmt(self.lower, 'below')} to {fmt(self.upper, 'above')} "
-            f"(start {self.start:.6g} {unit})"
+            f"(start {self.start * k:.6g} {unit})"
         )

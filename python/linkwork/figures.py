@@ -33,6 +33,10 @@ __all__ = [
     "Output",
     "output",
     "default_outputs",
+    "X_AXES",
+    "XAxis",
+    "x_axis",
+    "unknown_x",
     "unknown_outputs",
     "default_paths",
     "unknown_paths",
@@ -136,13 +140,86 @@ def default_outputs(results: Results) -> list[str]:
     return (names or list(results.model.body_names))[:MAX_DEFAULT]
 
 
+#: what the outputs can be plotted against (or a driver's name)
+X_AXES = ("time", "input")
+
+
+@dataclass(frozen=True)
+class XAxis:
+    """The abscissa of the figures of outputs: its label, unit and value at every step."""
+
+    label: str
+    unit: str
+    value: np.ndarray
+
+
+def _input_driver(model: Model, x: str) -> tuple[str | None, str | None]:
+    """(the driver plotted against for ``x``, None) or (None, why there is none)."""
+    drivers = [d for d in model.description.get("drivers", [])]
+    names = [str(d.get("name")) for d in drivers]
+    if x in names:
+        return x, None
+    if x != "input":
+        return None, (
+            f"--x must be time, input or a driver's name ({', '.join(names) or 'the model has no drivers'}), "
+            f"not {x!r}"
+        )
+    cycle = model.cycle()
+    if cycle is not None:
+        return cycle.driver, None
+    moving = [str(d.get("name")) for d in drivers if d.get("law", {}).get("type") != "constant"]
+    if len(moving) == 1:
+        return moving[0], None
+    return None, (
+        f"--x input needs one moving driver; the model has {len(moving)} ({', '.join(moving) or 'none'}): "
+        "name one with --x DRIVER"
+    )
+
+
+def unknown_x(model: Model, x: str) -> str | None:
+    """Why the outputs cannot be plotted against ``x`` (time, input or a driver's name),
+    or None."""
+    return None if x == "time" else _input_driver(model, x)[1]
+
+
+def x_axis(results: Results, x: str = "time") -> XAxis:
+    """The abscissa ``x``: "time" (s), or "input", the input of the model's driver (its
+    periodic driver, else its only moving one) or of the driver named ``x``: an angle in
+    the file's angle unit (deg or rad), a distance in the length unit. A bad ``x`` is an
+    `InputError` saying what is allowed."""
+    from .errors import InputError
+    from .page import inputs
+
+    if not isinstance(x, str):
+        raise InputError(f"x must be time, input or a driver's name, not {x!r}")
+    if x == "time":
+        return XAxis("t", "s", np.asarray(results.times))
+    driver, problem = _input_driver(results.model, x)
+    if problem:
+        raise InputError(problem)
+    rows = np.arange(results.n_steps)
+    found = [d for d in inputs(results, Geometry.from_model(results.model), rows) if d["name"] == driver]
+    if not found:
+        raise InputError(f"the input of driver {driver!r} cannot be read from the sweep")
+    d = found[0]
+    value = np.asarray(d["value"], dtype=np.float64)
+    unit = d["unit"]
+    if d["angle"] and results.model.units.get("input_angle") == "deg":
+        value, unit = np.degrees(value), "deg"
+    return XAxis(str(driver), unit, value)
+
+
 def _step(n: int) -> int:
     return max(1, -(-n // MAX_POINTS))
 
 
-def plot_outputs(results: Results, path: str, names: Sequence[str] | None = None) -> list[str]:
-    """A PNG of the outputs over time: one column of axes per unit (rad, m, ...), rows for
-    the value, the rate and the acceleration. Returns the names plotted."""
+def plot_outputs(
+    results: Results, path: str, names: Sequence[str] | None = None, x: str = "time"
+) -> list[str]:
+    """A PNG of the outputs over time (or, with ``x``, against a driver's input: see
+    `x_axis`): one column of axes per unit (rad, m, ...), rows for the value, the rate and
+    the acceleration (rates are per second whatever the abscissa). Returns the names
+    plotted."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -157,7 +234,8 @@ def plot_outputs(results: Results, path: str, names: Sequence[str] | None = None
     ]
     rows = [r for r in rows if any(r[2](o) is not None for o in chosen)]
     k = slice(None, None, _step(results.n_steps))
-    t = results.times[k]
+    along = x_axis(results, x)
+    t = along.value[k]
     fig, axes = plt.subplots(
         len(rows),
         len(units),
@@ -177,8 +255,11 @@ def plot_outputs(results: Results, path: str, names: Sequence[str] | None = None
             ax.grid(True, alpha=0.3)
             if i == 0:
                 ax.legend(fontsize=8, loc="upper right")
-        axes[-1, j].set_xlabel("t [s]")
-    fig.suptitle(f"{results.model.name}: {results.n_steps} steps, t = {t[0]:g} .. {results.times[-1]:g} s")
+        axes[-1, j].set_xlabel(f"{along.label} [{along.unit}]")
+    span = f"t = {results.times[0]:g} .. {results.times[-1]:g} s"
+    if x != "time":
+        span += f", {along.label} = {along.value[0]:.4g} .. {along.value[-1]:.4g} {along.unit}"
+    fig.suptitle(f"{results.model.name}: {results.n_steps} steps, {span}")
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return [o.name for o in chosen]

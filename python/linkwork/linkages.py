@@ -17,6 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from . import _args
+
 __all__ = ["Linkage", "AssemblyMode", "AssemblyModes"]
 
 
@@ -82,15 +84,24 @@ class Linkage:
         )
 
     def __str__(self) -> str:
+        return self.describe()
+
+    def describe(self, angles: str = "rad") -> str:
+        """One line: lengths, type, the crank's limits, circuit, transmission angle and
+        stroke; angles in rad (as every angle in Python), or in deg with ``angles="deg"``
+        (``linkwork check`` uses the file's angle unit)."""
+        _args.choice(angles, "angles", ("rad", "deg"))
+        k = math.degrees(1.0) if angles == "deg" else 1.0
+        digits = 4 if angles == "deg" else 6
         lengths = ", ".join(f"{k} {v:.6g}" for k, v in self.lengths.items())
         if self.input_limits is None:
             limits = "the crank turns fully"
         else:
-            lo, hi = (math.degrees(v) for v in self.input_limits)
-            limits = f"crank angle limits {lo:.4f} .. {hi:.4f} deg"
+            lo, hi = (v * k for v in self.input_limits)
+            limits = f"crank angle limits {lo:.{digits}f} .. {hi:.{digits}f} {angles}"
         text = (
             f"{self.kind} {self.name} ({lengths}): {self.kind_of}; {limits}; {self.circuit} circuit; "
-            f"transmission angle {math.degrees(self.transmission_angle):.2f} deg"
+            f"transmission angle {self.transmission_angle * k:.{digits - 2}f} {angles}"
         )
         if self.stroke is not None:
             text += f"; stroke {self.stroke[1] - self.stroke[0]:.6g}"

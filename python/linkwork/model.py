@@ -18,7 +18,20 @@ from .mobility import Mobility
 from .results import Results, State, Statics
 from .structure import Structure
 
-__all__ = ["Model", "sweep_batch"]
+__all__ = ["Model", "Cycle", "sweep_batch"]
+
+
+@dataclass(frozen=True)
+class Cycle:
+    """One cycle of a model's periodic driver: the driver, the period (s) and how it
+    was found ("2 pi / |rate|", "360 / |rate|", "2 pi / |omega|", "its period")."""
+
+    driver: str
+    period: float
+    how: str
+
+    def __str__(self) -> str:
+        return f"one cycle of {self.driver}, {self.how} = {self.period:.6g} s"
 
 
 class Model:
@@ -344,6 +357,29 @@ class Model:
             driver = drivers[0]
         raw = _core.motion_limits(self._core, driver, t, g, range, steps)
         return MotionLimits.from_raw(raw)
+
+    def cycle(self) -> Cycle | None:
+        """One cycle of the model's periodic driver, when it has exactly one and every
+        other driver holds still: a crank at a constant rate (one turn, 2 pi / |rate| in
+        the file's angle unit), a harmonic law (2 pi / |omega|) or a periodic law (its
+        period); None otherwise. ``linkwork run`` sweeps one cycle by default.
+
+        >>> from linkwork import examples
+        >>> print(examples.four_bar(omega=5.0).compile().cycle())
+        one cycle of crank_angle, 2 pi / |rate| = 1.25664 s
+        """
+        from .motion import period
+
+        turn = 360.0 if self.units.get("input_angle") == "deg" else 2 * math.pi
+        found, moving = [], 0
+        for d in self.description.get("drivers", []):
+            law = d.get("law", {})
+            angle = d.get("type") in ("angle", "relative_angle")
+            p = period(law, full_turn=turn if angle else None)
+            moving += law.get("type") != "constant"
+            if p is not None:
+                found.append(Cycle(str(d.get("name")), p[0], p[1]))
+        return found[0] if len(found) == 1 and moving == 1 else None
 
     def sweep(
         self,

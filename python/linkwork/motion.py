@@ -41,6 +41,7 @@ __all__ = [
     "Sequence",
     "Periodic",
     "PythonLaw",
+    "period",
 ]
 
 #: The cam rise profiles s(u), u in [0, 1], by name. With their peak velocity and
@@ -369,3 +370,25 @@ class PythonLaw(Law):
 
     def python_functions(self) -> dict[str, Callable[[float], Any]]:
         return {self.name: self.func}
+
+
+def period(law: dict[str, Any], full_turn: float | None = None) -> tuple[float, str] | None:
+    """The period of a law description and how it was found, or None if it has none: a
+    harmonic law's 2 pi / |omega|, a periodic law's period, and, for an angle (give
+    ``full_turn``, 2 pi or 360 in the driver's unit), a constant rate's full_turn / |rate|
+    (one turn of a crank).
+
+    >>> period(Linear(0.0, 5.0).to_dict(), full_turn=2 * np.pi)
+    (1.2566370614359172, '2 pi / |rate|')
+    >>> period(Linear(0.0, 5.0).to_dict()) is None  # a distance growing at a constant rate
+    True
+    """
+    kind = law.get("type")
+    if kind == "linear" and full_turn is not None and float(law.get("rate", 0.0)) != 0.0:
+        turn = "2 pi" if full_turn == 2 * np.pi else f"{full_turn:g}"
+        return full_turn / abs(float(law["rate"])), f"{turn} / |rate|"
+    if kind == "harmonic" and float(law.get("omega", 0.0)) != 0.0 and float(law.get("amplitude", 0.0)) != 0.0:
+        return 2 * np.pi / abs(float(law["omega"])), "2 pi / |omega|"
+    if kind == "periodic" and float(law.get("period", 0.0)) > 0.0:
+        return float(law["period"]), "its period"
+    return None

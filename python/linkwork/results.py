@@ -472,29 +472,38 @@ class Results(_Kinematics):
     def __repr__(self) -> str:
         return f"<Results of '{self.model.name}': {self.n_steps} steps x {len(self.columns)} coordinates>"
 
-    def summary(self) -> str:
-        """A plain-text summary: range of every coordinate, worst residual, Newton
-        iterations, closest approach to a singular configuration."""
+    def summary(self, angles: str = "rad") -> str:
+        """A plain-text summary: range of every coordinate with its unit (the value's; the
+        rate's and acceleration's are per s and per s^2), worst residual, Newton
+        iterations, closest approach to a singular configuration. Angles in rad (the
+        results' unit), or in deg with ``angles="deg"``."""
+        _args.choice(angles, "angles", ("rad", "deg"))
         if self.n_steps == 0:
             return f"{self.model.name}: no steps"
         lines = [
-            f"{self.model.name}: {self.n_steps} steps, t = {self.times[0]:g} .. {self.times[-1]:g}",
-            f"  {'coordinate':<22}{'min':>13}{'max':>13}{'max |rate|':>13}{'max |accel|':>13}",
+            f"{self.model.name}: {self.n_steps} steps, t = {self.times[0]:g} .. {self.times[-1]:g} s",
+            f"  {'coordinate':<22}{'min':>13}{'max':>13}{'max |rate|':>13}{'max |accel|':>13}  unit",
         ]
 
         def peak(a: np.ndarray | None, k: int) -> str:
-            return f"{'-':>13}" if a is None else f"{np.abs(a[:, k]).max():>13.6g}"
+            return f"{'-':>13}" if a is None else f"{np.abs(a[:, k]).max() * scale:>13.6g}"
 
         for k, c in enumerate(self.columns):
-            q = self.q[:, k]
-            lines.append(f"  {c:<22}{q.min():>13.6g}{q.max():>13.6g}{peak(self.qd, k)}{peak(self.qdd, k)}")
+            unit = self.units(c)
+            scale = 180.0 / np.pi if unit == "rad" and angles == "deg" else 1.0
+            unit = angles if unit == "rad" else unit
+            q = self.q[:, k] * scale
+            lines.append(
+                f"  {c:<22}{q.min():>13.6g}{q.max():>13.6g}{peak(self.qd, k)}{peak(self.qdd, k)}  {unit}"
+            )
+        scale, length = 1.0, self.model.units["length"]
         for name, p in self.points.items():
             for i, a in enumerate("xy"):
                 motion = (p.position, p.velocity, p.acceleration)
                 r, v, acc = (x if x is None else x[:, i : i + 1] for x in motion)
                 assert r is not None
                 c = f"{name}.{a}"
-                lines.append(f"  {c:<22}{r.min():>13.6g}{r.max():>13.6g}{peak(v, 0)}{peak(acc, 0)}")
+                lines.append(f"  {c:<22}{r.min():>13.6g}{r.max():>13.6g}{peak(v, 0)}{peak(acc, 0)}  {length}")
         worst = int(np.argmin(self.pivot_ratio))
         lines += [
             f"  worst scaled residual   {self.residual.max():.2e}",
