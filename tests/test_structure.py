@@ -212,7 +212,7 @@ def test_bodies_fixed_by_an_angle_row_and_a_pin_are_substitutions() -> None:
     model = mech.compile()
     methods = {g.bodies: g.method for g in model.structure().groups}
     for body in ("plate", "car", "wheel"):
-        assert methods[(body,)].startswith("closed form: its angle from one affine angle row"), methods
+        assert methods[(body,)].startswith("closed form: the angles from rows affine in them"), methods
     t = np.linspace(0.0, 2.0 * math.pi / 5.0, 801)
     a, b = model.sweep(t, forces=False), mech.compile(solver="general").sweep(t)
     assert (a.iterations[1:] == 0).all()
@@ -224,3 +224,49 @@ def test_bodies_fixed_by_an_angle_row_and_a_pin_are_substitutions() -> None:
     tie = 2.0 * a.body("rocker").theta + a.body("wheel").theta
     np.testing.assert_allclose(tie, tie[0], atol=1e-14)
     np.testing.assert_allclose(2.0 * a.body("rocker").thetadd + a.body("wheel").thetadd, 0.0, atol=1e-12)
+
+
+def _prp() -> lw.Mechanism:
+    """A slider on the ground's x guide pinned to a slider on the crank's radial guide."""
+    m = lw.Mechanism("PRP")
+    th = 0.6
+    crank = m.body("crank", (0.0, 0.0), th)
+    m.revolute(m.ground, crank, (0.0, 0.0), name="O")
+    m.drive_angle(crank, lw.Linear(th, 2.0), name="drive")
+    b = (0.1 / math.tan(th), 0.1)  # where the radial line meets the guide y = 0.1
+    s1, s2 = m.body("s1", b, 0.0), m.body("s2", b, th)
+    m.prismatic(m.ground, s1, b, (1.0, 0.0), name="guide")
+    m.prismatic(crank, s2, b, (math.cos(th), math.sin(th)), name="radial")
+    m.revolute(s1, s2, b, name="B")
+    return m
+
+
+def _rpp() -> lw.Mechanism:
+    """A rocker pinned at O4 whose line and the crank's radial line meet at one slider."""
+    m = lw.Mechanism("RPP")
+    th = 0.6
+    crank = m.body("crank", (0.0, 0.0), th)
+    m.revolute(m.ground, crank, (0.0, 0.0), name="O")
+    m.drive_angle(crank, lw.Linear(th, 2.0), name="drive")
+    p, o4 = (0.2 * math.cos(th), 0.2 * math.sin(th)), (0.5, -0.1)
+    phi = math.atan2(p[1] - o4[1], p[0] - o4[0])
+    rocker = m.body("rocker", o4, phi)
+    m.revolute(m.ground, rocker, o4, name="O4")
+    s = m.body("s", p, th)
+    m.prismatic(crank, s, p, (math.cos(th), math.sin(th)), name="radial")
+    m.prismatic(rocker, s, p, (math.cos(phi), math.sin(phi)), name="along")
+    return m
+
+
+@pytest.mark.parametrize("make, kind", [(_prp, "dyad PRP"), (_rpp, "dyad RPP")])
+def test_prp_and_rpp_dyads_are_substitutions(make, kind) -> None:  # type: ignore[no-untyped-def]
+    mech = make()
+    model = mech.compile()
+    groups = model.structure().groups
+    assert groups[1].kind == kind and groups[1].method.startswith("closed form: the angles from rows")
+    t = np.linspace(0.0, 1.0, 401)
+    a, b = model.sweep(t), mech.compile(solver="general").sweep(t)
+    assert (a.iterations[1:] == 0).all()
+    for x, y, tol in ((a.q, b.q, 1e-12), (a.qd, b.qd, 1e-11), (a.qdd, b.qdd, 1e-10)):
+        assert np.abs(x - y).max() <= tol * np.abs(y).max()
+    assert np.array_equal(a.det_sign, b.det_sign)

@@ -72,7 +72,7 @@ impl Block {
             Block::Rpr(_) => "closed form: the line's direction where its offset from the other pin is \
                               met; poses formed from the pins and that angle"
                 .into(),
-            Block::Subst(_) => "closed form: its angle from one affine angle row, then x, y from two rows \
+            Block::Subst(_) => "closed form: the angles from rows affine in them, then x, y from rows \
                                 affine in them (substitutions)"
                 .into(),
             Block::Newton(b) => format!("Newton on its own {n} x {n} block", n = b.n),
@@ -139,16 +139,17 @@ fn closed_form(model: &Model, g: &Group) -> Option<Block> {
     if g.coords.iter().any(|&c| c >= 3 * model.n_bodies) || g.coords.len() != 3 * g.bodies.len() {
         return None; // own coordinates (curve parameters), or a body split between groups
     }
+    let subst = || Subst::new(model, g).map(Block::Subst);
     match g.kind.as_str() {
-        "input" => Crank::new(model, g).map(Block::Crank).or_else(|| Subst::new(model, g).map(Block::Subst)),
+        "input" => Crank::new(model, g).map(Block::Crank).or_else(subst),
         "dyad RRR" => Rrr::new(model, g).map(Block::Rrr),
         "dyad RRP" => Rrp::new(model, g).map(Block::Rrp),
         "dyad RPR" => Rpr::new(model, g).map(Block::Rpr),
-        "one body" => Subst::new(model, g)
-            .map(Block::Subst)
+        "one body" => subst()
             .or_else(|| Rpr::slot(model, g).map(Block::Rpr))
             .or_else(|| Rrr::rod(model, g).map(Block::Rrr)),
-        _ => None,
+        // the PRP and RPP dyads, and any other group whose rows give it outright
+        _ => subst(),
     }
 }
 
@@ -335,7 +336,7 @@ pub fn step(
             Block::Rrr(b) => b.solve(data, sign, derivatives)?,
             Block::Rrp(b) => b.solve(data, sign, derivatives)?,
             Block::Rpr(b) => b.solve(data, sign, derivatives)?,
-            Block::Subst(b) => b.solve(model, data, t, derivatives)?,
+            Block::Subst(b) => b.solve(model, data, t, derivatives, sign)?,
             Block::Newton(b) => {
                 let mut work = std::mem::take(&mut data.blocks.newton[newton_index]);
                 let r = b.solve(model, data, &mut work, t, derivatives);
@@ -393,7 +394,8 @@ pub fn resync(
             Block::Rrr(b) => b.branch(data, rates),
             Block::Rrp(b) => b.branch(data, rates),
             Block::Rpr(b) => b.branch(data, rates),
-            Block::Crank(_) | Block::Subst(_) => (1.0, 1.0, 0.0),
+            Block::Subst(b) => b.branch(model, data, t),
+            Block::Crank(_) => (1.0, 1.0, 0.0),
             Block::Newton(b) => {
                 // its det sign is a factor of det Phi_q: factor the block at the solved q
                 let work = &mut data.blocks.newton[newton_index];
