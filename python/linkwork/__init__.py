@@ -25,7 +25,7 @@ from .errors import (
     StudyError,
 )
 from .mechanism import GROUND, Body, Mechanism
-from .model import Model, sweep_batch
+from .model import Cycle, Model, sweep_batch
 from .motion import (
     PROFILES,
     Cam,
@@ -47,6 +47,7 @@ from .study import Study, StudyResult
 __version__ = "0.1.0"
 
 __all__ = [
+    "Cycle",
     "GROUND",
     "PROFILES",
     "AssemblyError",

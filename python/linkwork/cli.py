@@ -2,14 +2,16 @@
 
     linkwork demo [four_bar|slider_crank|...] [--steps N] [--revolutions R] [--out DIR]
     linkwork run MODEL [--t0 T0] [--t1 T1] [--steps N] [--every K] [--format csv|npz|parquet]
-                       [--keep NAME,...] [--derivatives 0|1|2] [--forces] [--plot]
-                       [--outputs NAME,...] [--paths NAME,...]
+                       [--keep NAME,...] [--derivatives 0|1|2] [--points] [--forces] [--plot]
+                       [--outputs NAME,...] [--x time|input|DRIVER] [--paths NAME,...]
+                       [--angles rad|deg] [--svg] [--dxf] [--at T]
                        [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
     linkwork plot MODEL [--t0 T0] [--t1 T1] [--steps N] [--outputs NAME,...] [--paths NAME,...]
+                        [--x time|input|DRIVER] [--svg] [--dxf] [--at T]
                         [--animate FILE.gif|FILE.mp4] [--fps F] [--frames N] [--out DIR]
     linkwork view MODEL [--t0 T0] [--t1 T1] [--steps N] [--outputs NAME,...] [--paths NAME,...]
                         [--frames N] [--out DIR|FILE.html]
-    linkwork check MODEL [--t T]
+    linkwork check MODEL [--t T] [--angles rad|deg]
     linkwork study STUDY [--scheduler ADDRESS|local] [--chunk N] [--format nc|parquet] [--out DIR]
 
 ``demo`` sweeps a built-in mechanism: it prints a summary (range of every coordinate, worst
