@@ -33,6 +33,7 @@ def test_designers_tour_examples_run(tmp_path, monkeypatch):
         exec(compile(block.replace('"examples/', f'"{root}/examples/'), "designers-tour.md", "exec"), scope)
     assert scope["df"].attrs["units"]["P.x_d"] == "mm/s"
     assert scope["cycle"].driver == "crank_angle" and scope["cycle"].how == "360 / |rate|"
+    assert scope["drawn"].is_drawn() and abs(scope["drawn"].to_dict()["joints"][2]["at"][0] - 0.475) < 1e-15
     assert {p.name for p in tmp_path.iterdir()} == {
         "four_bar_input.png",
         "four_bar.svg",

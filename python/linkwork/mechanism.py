@@ -25,6 +25,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable
 
+import numpy as np
+
 from . import _core, curves
 from .errors import InputError, LinkworkError, LinkworkWarning, ModelError
 from .motion import Law
@@ -98,6 +100,9 @@ class Mechanism:
         #: what a sweep keeps unless told otherwise (`Model.sweep`'s ``outputs``: bodies,
         #: columns, named points, joints); None keeps every coordinate
         self.outputs: list[str] | None = None
+        #: the assembly mode a mechanism given by its pins is drawn on ("open", "crossed",
+        #: or {linkage: circuit}; `assemble`); None: the one nearest the bodies' rough poses
+        self.branch: str | dict[str, str] | None = None
         # (file, {(kind, name): line}) of a mechanism read from a file, for compile errors
         self._source: tuple[str, dict[tuple[str, str], int]] | None = None
 
@@ -171,19 +176,38 @@ class Mechanism:
         return f"{prefix}{k}"
 
     def revolute(
-        self, body_a: Body | str, body_b: Body | str, at: Sequence[float], name: str | None = None
+        self,
+        body_a: Body | str,
+        body_b: Body | str,
+        at: Sequence[float] | None = None,
+        name: str | None = None,
+        pin_a: Sequence[float] | None = None,
+        pin_b: Sequence[float] | None = None,
     ) -> str:
-        """A pin joint at world point ``at``: 2 rows, r_P(b) - r_P(a) = 0."""
+        """A pin joint: 2 rows, r_P(b) - r_P(a) = 0. Drawn: at the world point ``at``.
+        Lengths first: at ``pin_a`` in ``body_a``'s frame and ``pin_b`` in ``body_b``'s (the
+        ground's frame is the world), the bodies' poses then rough or left at 0 and found
+        by the engine (`assemble`, done by `compile`), on ``branch``'s assembly mode.
+
+        >>> m = Mechanism("four-bar, lengths first")
+        >>> m.revolute(m.ground, m.body("crank"), pin_a=(0, 0), pin_b=(0, 0))
+        'A'
+        """
         name = self._auto("", name)
-        self._joints.append(
-            {
-                "type": "revolute",
-                "name": name,
-                "body_a": _name(body_a),
-                "body_b": _name(body_b),
-                "at": _xy(at),
-            }
-        )
+        if at is None and (pin_a is None or pin_b is None):
+            raise InputError(
+                f"revolute {name!r}: give its world point `at`, or its pin in each body (pin_a, pin_b)"
+            )
+        joint: dict[str, Any] = {
+            "type": "revolute",
+            "name": name,
+            "body_a": _name(body_a),
+            "body_b": _name(body_b),
+        }
+        for key, value in (("at", at), ("pin_a", pin_a), ("pin_b", pin_b)):
+            if value is not None:
+                joint[key] = _xy(value)
+        self._joints.append(joint)
         return name
 
     def prismatic(
@@ -624,6 +648,8 @@ class Mechanism:
             desc["units"] = dict(self.units)
         if self.outputs:
             desc["outputs"] = list(self.outputs)
+        if self.branch is not None:
+            desc["branch"] = self.branch if isinstance(self.branch, str) else dict(self.branch)
         return desc | {
             "bodies": [dict(b) for b in self._bodies],
             "joints": [dict(j) for j in self._joints],
@@ -654,6 +680,7 @@ class Mechanism:
         m.gravity = g
         units = desc.get("units")
         m.units = dict(units) if units else None
+        m.branch = desc.get("branch")
         outputs = desc.get("outputs")
         if outputs is not None:
             if isinstance(outputs, str) or not all(isinstance(o, str) for o in outputs):
@@ -770,9 +797,77 @@ class Mechanism:
         m._source = (file, {(kind, name): line for kind, name, line in elements})
         return m
 
+    def is_drawn(self) -> bool:
+        """Whether every joint is placed in the drawing (no revolute given only by its pins
+        in the bodies' frames, which `assemble` places)."""
+        return all("at" in j for j in self._joints if j.get("type") == "revolute")
+
+    def assemble(self, t: float = 0.0, branch: str | dict[str, str] | None = None) -> Mechanism:
+        """The mechanism drawn: its bodies at the configuration the engine assembles at
+        time ``t`` from the joints' pins (on ``branch``'s assembly mode, default
+        `Mechanism.branch`: "open", "crossed" or {linkage: circuit}; else the one nearest
+        the bodies' rough poses), each revolute at its world point. Lengths are the pins'
+        exactly; a joint that cannot close is an `AssemblyError` naming it. A copy is
+        returned; a drawn mechanism comes back unchanged.
+
+        >>> from linkwork import Linear
+        >>> m = Mechanism("four-bar")
+        >>> crank, coupler, rocker = m.body("crank"), m.body("coupler"), m.body("rocker")
+        >>> _ = m.revolute(m.ground, crank, pin_a=(0, 0), pin_b=(0, 0))
+        >>> _ = m.revolute(crank, coupler, pin_a=(0.2, 0), pin_b=(0, 0))
+        >>> _ = m.revolute(coupler, rocker, pin_a=(0.35, 0), pin_b=(0.25, 0))
+        >>> _ = m.revolute(rocker, m.ground, pin_a=(0, 0), pin_b=(0.35, 0))
+        >>> _ = m.drive_angle(crank, Linear(0.0, 5.0))
+        >>> drawn = m.assemble(branch="open")
+        >>> [round(v, 6) for v in drawn.to_dict()["joints"][2]["at"]]
+        [0.475, 0.216506]
+        """
+        if self.is_drawn():
+            return self
+        from . import _args
+        from .errors import AssemblyError
+        from .model import Model
+
+        t = _args.number(t, "t")
+        branch = self.branch if branch is None else branch
+        model = Model(self.to_dict(), python_laws=self.python_laws)
+        q = model._branch_guess(t, branch) if branch is not None else model.solve(t).q
+        desc = self.to_dict()
+        # poses in the description's own angle unit (the engine's are radians)
+        per_rad = 180.0 / math.pi if (self.units or {}).get("angle") == "deg" else 1.0
+        poses = {name: q[3 * i : 3 * i + 3] for i, name in enumerate(model.body_names)}
+        for b in desc["bodies"]:
+            x, y, theta = poses[b["name"]]
+            b.update(x=float(x), y=float(y), theta=float(theta) * per_rad)
+
+        def world(body: str, u: Sequence[float]) -> np.ndarray:
+            if body == GROUND:
+                return np.asarray(u, dtype=float)
+            x, y, theta = poses[body]
+            c, s = math.cos(theta), math.sin(theta)
+            return np.array([x + c * u[0] - s * u[1], y + s * u[0] + c * u[1]])
+
+        for j in desc["joints"]:
+            if j.get("type") != "revolute" or "at" in j:
+                continue
+            a, b = world(j["body_a"], j["pin_a"]), world(j["body_b"], j["pin_b"])
+            miss = float(np.hypot(*(a - b)))
+            if miss > 1e-9 * model.length_scale:
+                raise AssemblyError(
+                    f"joint {j['name']!r} does not close: its pins are {miss:.6g} apart at t = {t:g}"
+                )
+            j["at"] = [float(a[0]), float(a[1])]
+            del j["pin_a"], j["pin_b"]
+        desc.pop("branch", None)
+        drawn = Mechanism.from_dict(desc)
+        drawn._python_laws = dict(self._python_laws)
+        return drawn
+
     def compile(self, **options: Any) -> Model:
         """Validate and compile into an engine model (raises ``ModelError``; for a
-        mechanism read from a file, the message gives the line of the element at fault)."""
+        mechanism read from a file, the message gives the line of the element at fault).
+        A mechanism given by its joints' pins is drawn first (`assemble`; `Model` does the
+        same)."""
         from .model import Model
 
         try:

@@ -60,6 +60,8 @@ class Model:
         if not hasattr(mechanism, "to_dict"):
             _args.mapping(mechanism, "mechanism")
         options = _options(options)
+        if hasattr(mechanism, "assemble"):
+            mechanism = mechanism.assemble()  # a mechanism given by its pins, drawn first
         desc = mechanism.to_dict() if hasattr(mechanism, "to_dict") else dict(mechanism)
         _check_finite(desc)
         self.description: dict[str, Any] = desc

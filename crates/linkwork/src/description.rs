@@ -40,6 +40,10 @@ pub struct Description {
     /// every coordinate. Names are resolved where sweeps are asked for (the Python package).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outputs: Vec<String>,
+    /// the assembly branch to draw a mechanism given by its pins on ("open", "crossed", or
+    /// a table linkage -> circuit); resolved where it is assembled (the Python package)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub branch: Option<serde_json::Value>,
 }
 
 /// A moving body and its approximate starting pose (world origin and angle).
@@ -47,8 +51,13 @@ pub struct Description {
 #[serde(deny_unknown_fields)]
 pub struct BodyDesc {
     pub name: String,
+    /// the starting pose; a rough one (or none: 0) where the joints give pins in the
+    /// bodies' frames and the engine assembles the drawing
+    #[serde(default)]
     pub x: f64,
+    #[serde(default)]
     pub y: f64,
+    #[serde(default)]
     pub theta: f64,
     /// mass (0: massless)
     #[serde(default)]
@@ -108,8 +117,20 @@ impl LoadDesc {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum JointDesc {
-    /// Pin at `at`.
-    Revolute { name: String, body_a: String, body_b: String, at: [f64; 2] },
+    /// Pin at `at`, a world point of the drawing; or, lengths first, at `pin_a` of body_a
+    /// and `pin_b` of body_b, points in each body's own frame (the ground's is the world),
+    /// the drawing then assembled (`at` may be left out where both are given).
+    Revolute {
+        name: String,
+        body_a: String,
+        body_b: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        at: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pin_a: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pin_b: Option<[f64; 2]>,
+    },
     /// `body_b` slides on `body_a` along `axis` through `at`.
     Prismatic { name: String, body_a: String, body_b: String, at: [f64; 2], axis: [f64; 2] },
     /// Weld: `body_b` keeps its starting pose relative to `body_a`.
@@ -382,7 +403,12 @@ mod wire {
             name: String,
             body_a: String,
             body_b: String,
-            at: [f64; 2],
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            at: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pin_a: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pin_b: Option<[f64; 2]>,
         },
         Prismatic {
             name: String,

@@ -315,12 +315,20 @@ impl Model {
             // set by a joint whose rows involve another body's coordinate
             let mut borrowed: Option<usize> = None;
             let (kind, a, b) = match j {
-                JointDesc::Revolute { body_a, body_b, at, .. } => {
+                JointDesc::Revolute { body_a, body_b, at, pin_a, pin_b, .. } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
-                    if !finite2(*at) {
-                        return Err(fail(format!("position {at:?} is not finite")));
+                    if let Some(p) = [*at, *pin_a, *pin_b].into_iter().flatten().find(|p| !finite2(*p)) {
+                        return Err(fail(format!("position {p:?} is not finite")));
                     }
-                    let joint = Revolute { u_a: local(bodies.pose(a), *at), u_b: local(bodies.pose(b), *at) };
+                    // each side's pin in its frame: given, or the drawing's point there
+                    let side = |pin: Option<[f64; 2]>, body: Option<usize>| match (pin, at) {
+                        (Some(p), _) => Ok(p),
+                        (None, Some(at)) => Ok(local(bodies.pose(body), *at)),
+                        (None, None) => Err(fail(
+                            "needs its position `at`, or its pin in each body (pin_a and pin_b)".into(),
+                        )),
+                    };
+                    let joint = Revolute { u_a: side(*pin_a, a)?, u_b: side(*pin_b, b)? };
                     (ConstraintKind::Revolute(joint), a, b)
                 }
                 JointDesc::Prismatic { name, body_a, body_b, at, axis } => {
@@ -1051,7 +1059,10 @@ fn length_scale(desc: &Description) -> f64 {
     let mut pts: Vec<[f64; 2]> = desc.bodies.iter().map(|b| [b.x, b.y]).collect();
     for j in &desc.joints {
         match j {
-            JointDesc::Revolute { at, .. } | JointDesc::Prismatic { at, .. } => pts.push(*at),
+            JointDesc::Revolute { at, pin_a, pin_b, .. } => {
+                pts.extend([*at, *pin_a, *pin_b].into_iter().flatten())
+            }
+            JointDesc::Prismatic { at, .. } => pts.push(*at),
             JointDesc::Fixed { .. } => {}
             JointDesc::Distance { at_a, at_b, .. } => pts.extend([*at_a, *at_b]),
             JointDesc::PointOnLine { at, through, .. } => {

@@ -103,7 +103,7 @@ impl Units {
 /// variant (no `..`, no `_`): a new field or type with an angle cannot be forgotten here.
 pub fn internal(desc: &Description) -> Description {
     let k = desc.units.angle.to_radians();
-    let Description { name, units, bodies, joints, drivers, points, gravity, loads, outputs } = desc;
+    let Description { name, units, bodies, joints, drivers, points, gravity, loads, outputs, branch } = desc;
     let bodies = bodies
         .iter()
         .map(|b| {
@@ -124,11 +124,13 @@ pub fn internal(desc: &Description) -> Description {
     let joints = joints
         .iter()
         .map(|j| match j {
-            JointDesc::Revolute { name, body_a, body_b, at } => JointDesc::Revolute {
+            JointDesc::Revolute { name, body_a, body_b, at, pin_a, pin_b } => JointDesc::Revolute {
                 name: name.clone(),
                 body_a: body_a.clone(),
                 body_b: body_b.clone(),
                 at: *at,
+                pin_a: *pin_a,
+                pin_b: *pin_b,
             },
             JointDesc::Prismatic { name, body_a, body_b, at, axis } => JointDesc::Prismatic {
                 name: name.clone(),
@@ -334,6 +336,7 @@ pub fn internal(desc: &Description) -> Description {
         gravity: *gravity,
         loads,
         outputs: outputs.clone(),
+        branch: branch.clone(),
     }
 }
 
@@ -396,6 +399,7 @@ mod tests {
                 damping: 3.0,
             }],
             outputs: Vec::new(),
+            branch: None,
         }
     }
 

@@ -62,6 +62,7 @@ fn three_followers() -> Description {
         gravity: [0.0, 0.0],
         loads: vec![],
         outputs: Vec::new(),
+        branch: None,
     }
 }
 

@@ -226,8 +226,9 @@ fn file_errors_name_line_column_and_field() {
             "joints[2].pin",
             "unknown field `pin`",
         ),
-        // a missing field: the table that lacks it
-        ("at = [475.0, 216.5063509461096]\n", "", b_table, 1, "joints[2].at", "missing field `at`"),
+        // a missing field: the table that lacks it (a revolute may leave out `at`, given
+        // its pins; not the bodies it joins)
+        ("body_b = \"rocker\"\n", "", b_table, 1, "joints[2].body_b", "missing field `body_b`"),
         // an unknown joint type lists the known ones
         (
             "type = \"revolute\"\nname = \"B\"",
@@ -355,7 +356,7 @@ fn degrees_and_millimetres_compile_to_the_same_angles() {
         (b.x, b.y, b.theta) = (b.x / 1000.0, b.y / 1000.0, b.theta * k);
     }
     for j in &mut m_rad.joints {
-        if let JointDesc::Revolute { at, .. } = j {
+        if let JointDesc::Revolute { at: Some(at), .. } = j {
             *at = [at[0] / 1000.0, at[1] / 1000.0];
         }
     }

@@ -178,7 +178,7 @@ fn events_do_not_depend_on_units() {
             b.y *= f;
         }
         for j in &mut d.joints {
-            if let linkwork::JointDesc::Revolute { at, .. } = j {
+            if let linkwork::JointDesc::Revolute { at: Some(at), .. } = j {
                 *at = [at[0] * f, at[1] * f];
             }
         }

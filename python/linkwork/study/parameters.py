@@ -293,6 +293,8 @@ def parameters(description: Any, names: Sequence[Any]) -> list[Parameter]:
 def _description(description: Any) -> dict[str, Any]:
     if hasattr(description, "description") and isinstance(description.description, dict):
         return description.description
+    if hasattr(description, "assemble"):
+        return description.assemble().to_dict()  # a mechanism given by its pins, drawn
     if hasattr(description, "to_dict"):
         return description.to_dict()
     if isinstance(description, Mapping):

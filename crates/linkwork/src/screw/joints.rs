@@ -75,7 +75,14 @@ impl MechanismJoints {
         for j in &desc.joints {
             let (kind, a, b, at, axis) = match j {
                 JointDesc::Revolute { body_a, body_b, at, .. } => {
-                    (Some(JointKind::Revolute), body_a, body_b, *at, [1.0, 0.0])
+                    let at = at.ok_or_else(|| {
+                        ScrewError::Mechanism(format!(
+                            "joint '{}' is given by its pins in the bodies' frames: screw analysis \
+                             needs the drawing (Mechanism.assemble gives it)",
+                            j.name()
+                        ))
+                    })?;
+                    (Some(JointKind::Revolute), body_a, body_b, at, [1.0, 0.0])
                 }
                 JointDesc::Prismatic { body_a, body_b, at, axis, .. } => {
                     (Some(JointKind::Prismatic), body_a, body_b, *at, *axis)

@@ -8,7 +8,14 @@ pub fn body(name: &str, x: f64, y: f64, theta: f64) -> BodyDesc {
 }
 
 pub fn pin(name: &str, a: &str, b: &str, at: [f64; 2]) -> JointDesc {
-    JointDesc::Revolute { name: name.into(), body_a: a.into(), body_b: b.into(), at }
+    JointDesc::Revolute {
+        name: name.into(),
+        body_a: a.into(),
+        body_b: b.into(),
+        at: Some(at),
+        pin_a: None,
+        pin_b: None,
+    }
 }
 
 pub fn crank_driver(theta0: f64, omega: f64) -> DriverDesc {
@@ -86,6 +93,7 @@ pub fn four_bar(m: &FourBar, th2: f64, omega: f64) -> Description {
         gravity: [0.0, 0.0],
         loads: vec![],
         outputs: Vec::new(),
+        branch: None,
     }
 }
 
@@ -135,6 +143,7 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
         gravity: [0.0, 0.0],
         loads: vec![],
         outputs: Vec::new(),
+        branch: None,
     }
 }
 
@@ -190,6 +199,7 @@ pub fn six_bar_stephenson(th2: f64, omega: f64) -> Description {
         gravity: [0.0, 0.0],
         loads: vec![],
         outputs: Vec::new(),
+        branch: None,
     }
 }
 
@@ -212,6 +222,7 @@ pub fn chain(m: &FourBar, loops: usize, th2: f64, omega: f64, offset: f64, spaci
         gravity: [0.0, 0.0],
         loads: vec![],
         outputs: Vec::new(),
+        branch: None,
     };
     let mut input = th2;
     for k in 1..=loops {
@@ -328,5 +339,6 @@ pub fn translating_cam(
         gravity: [0.0, 0.0],
         loads: vec![],
         outputs: Vec::new(),
+        branch: None,
     }
 }
