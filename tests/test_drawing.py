@@ -398,3 +398,25 @@ def test_the_dxf_has_the_new_layers(tmp_path):
     layers = {e.dxf.layer for e in doc.modelspace()}
     assert {"PITCH", "BELTS"} <= layers
     assert doc.layers.get("PITCH").dxf.linetype == "DASHDOT"
+
+
+def test_labels_name_the_bodies_and_joints_where_they_are(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    g, res = example("steering", np.linspace(0.0, 2.0, 21))
+    motion = Motion(g, res)
+    fig, ax = plt.subplots()
+    artists = MechanismArtists(ax, motion, labels=True)
+    artists.update(7)
+    texts = {t.get_text(): t for _, t in artists.labels}
+    assert set(res.model.body_names) <= set(texts) and {"tie_rod_left", "rack_guide", "column"} <= set(texts)
+    rack = g.outlines["rack"]
+    assert np.allclose(texts["rack"].get_position(), motion.xy[7, rack].mean(axis=0), rtol=0, atol=1e-15)
+    assert texts["tie_rod_left"].xy == tuple(motion.xy[7, g.traceable["tie_rod_left"]])
+    plt.close(fig)
+    assert figures.plot_paths(res, str(tmp_path / "p.png"), labels=True)
+    with pytest.raises(lw.InputError, match="labels must be True or False"):
+        figures.plot_paths(res, str(tmp_path / "p.png"), labels="yes")

@@ -643,10 +643,17 @@ class MechanismArtists:
     the colour of their body, pitch circles (dash-dot, with a radial mark) of gears,
     pulleys and pinions, racks, belts' strands, mesh points as dots, distance joints as
     solid bars, distance drivers as dashed lines, and
-    named points with their trace so far. ``update(row)`` moves everything to a step."""
+    named points with their trace so far; with ``labels``, the names of the bodies and
+    joints too. ``update(row)`` moves everything to a step."""
 
     def __init__(
-        self, ax: Axes, motion: Motion, alpha: float = 1.0, traces: bool = True, clock: bool = False
+        self,
+        ax: Axes,
+        motion: Motion,
+        alpha: float = 1.0,
+        traces: bool = True,
+        clock: bool = False,
+        labels: bool = False,
     ) -> None:
         from matplotlib.lines import Line2D
         from matplotlib.patches import Polygon
@@ -739,6 +746,19 @@ class MechanismArtists:
                 zorder=6,
             )
             self.traces.append((k, trace, dot, label))
+        # with labels: each body's name at the middle of its outline, each joint's at its point
+        self.labels: list[tuple[list[int], Any]] = []
+        if labels:
+            for i, name in enumerate(g.body_names):
+                text = ax.text(0.0, 0.0, name, fontsize=8, ha="center", va="center", alpha=alpha, zorder=7,
+                               color=_COLOURS[i % len(_COLOURS)], fontweight="bold")  # fmt: skip
+                self.labels.append((g.outlines[name], text))
+            named = {g.anchors[k].name for k in g.points}
+            for name, k in g.traceable.items():
+                if name not in named and g.anchors[k].kind == "joint":
+                    text = ax.annotate(name, (0.0, 0.0), xytext=(4, -10), textcoords="offset points",
+                                       fontsize=7, color="0.25", alpha=alpha, zorder=7)  # fmt: skip
+                    self.labels.append(([k], text))
         # the traces are drawn through at most this many steps, whatever the sweep's length
         self._trace_rows = np.unique(np.linspace(0, len(motion.times) - 1, 2000).round().astype(np.intp))
         self.clock = ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9) if clock else None
@@ -796,6 +816,12 @@ class MechanismArtists:
                 trace.set_data(path[:, 0], path[:, 1])
             dot.set_data([xy[k, 0]], [xy[k, 1]])
             label.xy = (float(xy[k, 0]), float(xy[k, 1]))
+        for ks, text in self.labels:
+            x, y = xy[ks].mean(axis=0)
+            if len(ks) > 1:
+                text.set_position((float(x), float(y)))
+            else:
+                text.xy = (float(x), float(y))
         if self.clock is not None:
             self.clock.set_text(f"t = {m.times[row]:.6g} s")
 
