@@ -226,3 +226,197 @@ def test_default_outputs_and_paths():
     assert figures.default_outputs(res) == ["crank", "rod", "slider.x"]  # the slider only slides along x
     assert figures.default_paths(res.model) == ["A", "B"]  # no named points: the moving pins
     assert figures.default_paths(lw.examples.six_bar_watt().compile()) == ["C"]
+
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+T = np.linspace(0.0, 1.0, 41)
+
+
+def example(name: str, times: np.ndarray = T) -> tuple[Geometry, lw.Results]:
+    return sweep(lw.Mechanism.load(EXAMPLES / f"{name}.toml"), times)
+
+
+def test_gears_pitch_circles_turn_about_their_centres_and_touch_at_the_mesh_point():
+    """Each gear's pitch circle, at every drawn step, lies at the joint's radius from its
+    centre (the body's origin: the sweep's x, y); the mark on it turns with the body; the
+    mesh point is on both pitch circles (the carrier's pins hold the centres at r_a +- r_b:
+    the solver's tolerance)."""
+    g, res = example("gear_train_planetary")
+    motion = Motion(g, res)
+    scale = res.model.length_scale
+    radius = {}
+    for j in res.model.description["joints"]:
+        if j["type"] == "gear":
+            radius[(j["name"], j["body_a"])], radius[(j["name"], j["body_b"])] = j["radius_a"], j["radius_b"]
+    pitch = [c for c in motion.curves if c.kind == "pitch"]
+    assert len(pitch) == 4 and len([c for c in motion.curves if c.kind == "mark"]) == 4
+    rows = np.arange(res.n_steps)
+    for c in pitch:
+        body = res.model.body_names[c.body]
+        pts = motion.curve(c, rows)  # (n_steps, m, 2)
+        centre = np.stack([res.body(body).x, res.body(body).y], axis=-1)[:, None, :]
+        r = np.hypot(*np.moveaxis(pts - centre, -1, 0))
+        assert np.abs(r - radius[(c.joint, body)]).max() <= 1e-12 * scale
+    for c in [c for c in motion.curves if c.kind == "mark"]:
+        body = res.model.body_names[c.body]
+        tip = motion.curve(c, rows)[:, 1] - motion.curve(c, rows)[:, 0]
+        turned = np.unwrap(np.arctan2(tip[:, 1], tip[:, 0]))
+        assert np.abs((turned - turned[0]) - (res.body(body).theta - res.body(body).theta[0])).max() < 1e-12
+    meshes = {m.joint: m for m in motion.marks if m.kind == "mesh"}
+    assert sorted(meshes) == ["ring_planet", "sun_planet"]
+    for name, m in meshes.items():
+        (j,) = [j for j in res.model.description["joints"] if j["name"] == name]
+        for body, r in ((j["body_a"], j["radius_a"]), (j["body_b"], j["radius_b"])):
+            centre = np.stack([res.body(body).x, res.body(body).y], axis=-1)
+            assert np.abs(np.hypot(*(m.xy[:, 0] - centre).T) - r).max() <= 1e-12 * scale, (name, body)
+
+
+def test_a_belts_strands_are_tangent_to_both_pulleys():
+    """The chain's two strands: each end is on its pulley's pitch circle and the strand
+    is tangent there (the radius to it is square to the strand), to rounding."""
+    g, res = example("chained_six_bar")
+    motion = Motion(g, res)
+    (belt,) = g.belts
+    strands = [m for m in motion.marks if m.kind == "strand"]
+    assert len(strands) == 2
+    scale = res.model.length_scale
+    for m in strands:
+        along = m.xy[:, 1] - m.xy[:, 0]
+        along /= np.hypot(*along.T)[:, None]
+        for end, anchor_, r in ((0, belt.a, belt.r_a), (1, belt.b, belt.r_b)):
+            centre = motion.xy[:, anchor_]
+            to = m.xy[:, end] - centre
+            assert np.abs(np.hypot(*to.T) - r).max() <= 1e-12 * scale
+            assert np.abs(np.einsum("ij,ij->i", to, along)).max() <= 1e-12 * scale
+            # the distance of the centre from the strand's line is the radius
+            across = np.abs(to[:, 0] * along[:, 1] - to[:, 1] * along[:, 0])
+            assert np.abs(across - r).max() <= 1e-12 * scale
+    # open belt, equal pulleys: the strands are the pulleys' outer tangents, 2 r apart
+    assert belt.r_a == belt.r_b and not belt.crossed
+    gap = np.hypot(*(strands[0].xy[:, 0] - strands[1].xy[:, 0]).T)
+    assert np.abs(gap - 2 * belt.r_a).max() <= 1e-12 * scale
+
+
+def test_crossed_belts_strands_cross_between_the_pulleys():
+    m = lw.Mechanism("crossed")
+    a, b = m.body("a", (0.0, 0.0)), m.body("b", (0.4, 0.0))
+    m.revolute(m.ground, a, (0.0, 0.0))
+    m.revolute(m.ground, b, (0.4, 0.0))
+    m.belt(a, b, radii=(0.1, 0.05), crossed=True)
+    m.drive_angle(a, lw.Linear(0.0, 1.0))
+    g, res = sweep(m, np.linspace(0.0, 1.0, 5))
+    motion = Motion(g, res)
+    s1, s2 = [k.xy[0] for k in motion.marks]
+    # both strands cross the line of centres at the same point, r_a / (r_a + r_b) along it
+    for s in (s1, s2):
+        t = -s[0, 1] / (s[1, 1] - s[0, 1])
+        assert math.isclose(s[0, 0] + t * (s[1, 0] - s[0, 0]), 0.4 * 0.1 / 0.15, abs_tol=1e-15)
+        assert math.isclose(math.hypot(*s[0]), 0.1, abs_tol=1e-15)
+
+
+def test_distance_joints_are_bars_between_their_points():
+    """The steering's tie rods: the bar's ends are the rack's and the arm's points, as
+    results.point_at gives them; and the length stays the joint's."""
+    g, res = example("steering", np.linspace(0.0, 2.0, 41))
+    assert len(g.rods) == 2
+    xy = g.world(res.q)
+    scale = res.model.length_scale
+    for a, b in g.rods:
+        for k in (a, b):
+            want = res.point_at(g.anchors[k].body, g.anchors[k].local).position
+            assert np.abs(xy[:, k] - want).max() <= 4 * np.finfo(float).eps * scale
+        length = np.hypot(*(xy[:, b] - xy[:, a]).T)
+        assert np.abs(length - length[0]).max() <= 1e-12 * scale
+
+
+def test_a_rack_touches_the_pinions_pitch_circle_on_its_pitch_line():
+    g, res = example("steering", np.linspace(0.0, 2.0, 41))
+    motion = Motion(g, res)
+    (rack,) = g.racks
+    (mesh,) = [m for m in motion.marks if m.kind == "mesh"]
+    (line,) = [c for c in motion.curves if c.kind == "pitch" and c.joint == rack.joint and len(c.local) == 2]
+    (teeth,) = [c for c in motion.curves if c.kind == "teeth"]
+    scale = res.model.length_scale
+    centre = np.stack([res.body("pinion").x, res.body("pinion").y], axis=-1)
+    assert np.abs(np.hypot(*(mesh.xy[:, 0] - centre).T) - rack.radius).max() <= 1e-12 * scale
+    ends = motion.curve(line, np.arange(res.n_steps))
+    d = ends[:, 1] - ends[:, 0]
+    rel = mesh.xy[:, 0] - ends[:, 0]
+    assert np.abs(rel[:, 0] * d[:, 1] - rel[:, 1] * d[:, 0]).max() / np.hypot(*d[0]) <= 1e-12 * scale
+    # within the line's ends at every step, and the teeth along the same stretch
+    t = np.einsum("ij,ij->i", rel, d) / np.einsum("ij,ij->i", d, d)
+    assert t.min() > 0.0 and t.max() < 1.0
+    assert len(teeth.local) > 10
+
+
+def test_a_pin_in_a_straight_slot_is_drawn_as_a_block_on_the_slot():
+    g, res = example("whitworth")
+    (slot,) = [s for s in g.sliders if s.joint == "slot"]
+    assert g.anchors[slot.guide].body == "lever" and g.anchors[slot.block].body == "crank"
+    xy = g.world(res.q)
+    axis = g.axis_world(res.q, slot)
+    d = xy[:, slot.block] - xy[:, slot.guide]
+    assert np.abs(d[:, 0] * axis[:, 1] - d[:, 1] * axis[:, 0]).max() <= 1e-12 * res.model.length_scale
+
+
+def test_the_svg_the_dxf_and_the_page_carry_the_new_elements():
+    import json
+    import re
+
+    g, res = example("gear_train_planetary")
+    text = res.to_svg()
+    motion = Motion(g, res)
+    assert text.count('class="curve pitch"') == 4 and text.count('class="curve mark"') == 4
+    for m in [m for m in motion.marks if m.kind == "mesh"]:
+        x, y = (float(v) for v in m.xy[0, 0])
+        assert f'class="mesh" data-name="{m.joint}"' in text and f'cx="{x!r}" cy="{y!r}"' in text
+    html = res.to_html()
+    data = json.loads(
+        re.search(r'<script id="lw-data" type="application/json">(.*?)</script>', html, re.S).group(1)
+    )
+    assert len(data["marks"]) == len(motion.marks) == 2
+    rows = motion.frames(1000)
+    for mark, embedded in zip(motion.marks, data["marks"]):
+        assert np.array_equal(np.asarray(embedded), mark.xy[rows].reshape(len(rows), -1))
+    assert len(data["curves"]) == len(motion.curves)
+    g, res = example("steering", np.linspace(0.0, 2.0, 41))
+    text = res.to_svg()
+    xy = g.world(res.q)[0]
+    for a, b in g.rods:
+        pts = " ".join(f"{float(x)!r},{float(y)!r}" for x, y in xy[[a, b]])
+        assert f'data-anchors="{a} {b}" points="{pts}"' in text
+    assert 'class="curve teeth"' in text
+
+
+def test_the_dxf_has_the_new_layers(tmp_path):
+    pytest.importorskip("ezdxf")
+    import ezdxf
+
+    _, res = example("chained_six_bar")
+    res.to_dxf(tmp_path / "chain.dxf")
+    doc = ezdxf.readfile(tmp_path / "chain.dxf")
+    layers = {e.dxf.layer for e in doc.modelspace()}
+    assert {"PITCH", "BELTS"} <= layers
+    assert doc.layers.get("PITCH").dxf.linetype == "DASHDOT"
+
+
+def test_labels_name_the_bodies_and_joints_where_they_are(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    g, res = example("steering", np.linspace(0.0, 2.0, 21))
+    motion = Motion(g, res)
+    fig, ax = plt.subplots()
+    artists = MechanismArtists(ax, motion, labels=True)
+    artists.update(7)
+    texts = {t.get_text(): t for _, t in artists.labels}
+    assert set(res.model.body_names) <= set(texts) and {"tie_rod_left", "rack_guide", "column"} <= set(texts)
+    rack = g.outlines["rack"]
+    assert np.allclose(texts["rack"].get_position(), motion.xy[7, rack].mean(axis=0), rtol=0, atol=1e-15)
+    assert texts["tie_rod_left"].xy == tuple(motion.xy[7, g.traceable["tie_rod_left"]])
+    plt.close(fig)
+    assert figures.plot_paths(res, str(tmp_path / "p.png"), labels=True)
+    with pytest.raises(lw.InputError, match="labels must be True or False"):
+        figures.plot_paths(res, str(tmp_path / "p.png"), labels="yes")

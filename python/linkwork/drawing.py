@@ -40,6 +40,10 @@ __all__ = [
     "Anchor",
     "Slider",
     "Curve",
+    "Mesh",
+    "Belt",
+    "Rack",
+    "Mark",
     "Geometry",
     "Motion",
     "MechanismArtists",
@@ -71,8 +75,25 @@ WORLD_POINTS: dict[str, dict[str, tuple[str, ...]]] = {
 }
 
 #: joint types drawn as a block (body_b) sliding on a guide (body_a): the field holding
-#: the sliding direction (a world direction at the start, fixed in body_a)
+#: the sliding direction (a world direction at the start, fixed in body_a). A
+#: point_on_line is drawn the other way round: its pin (body_a) in the slot of body_b.
 GUIDES: dict[str, str] = {"prismatic": "axis"}
+
+#: joint types drawn as pitch circles (a gear's, a pulley's, a pinion's), with a radial
+#: mark on each that shows its turning
+WHEELS: tuple[str, ...] = ("gear", "belt", "rack_pinion")
+
+#: teeth drawn along a rack's pitch line at most
+RACK_TEETH = 200
+
+#: a curve's kind -> (line width in points, matplotlib line style); the SVG and DXF
+#: drawings dash the same kinds
+CURVE_STYLES: dict[str, tuple[float, str]] = {
+    "curve": (1.5, "-"),
+    "pitch": (1.0, "-."),
+    "mark": (1.5, "-"),
+    "teeth": (1.0, "-"),
+}
 
 #: joint types whose ``curve`` (world coordinates at the start) is fixed in body_a and
 #: drawn with it: a curved slot, a cam profile
@@ -107,11 +128,66 @@ class Slider:
 @dataclass(frozen=True)
 class Curve:
     """A curve fixed in a body (``body``: index among the moving bodies, -1 for the
-    ground) through the points ``local`` (m, 2) of its frame: a slot or a cam profile."""
+    ground) through the points ``local`` (m, 2) of its frame. ``kind``: "curve" (a slot,
+    a cam profile, a roller), "pitch" (a pitch circle or a rack's pitch line, drawn
+    dash-dot), "mark" (a radial line on a wheel, showing its turning) or "teeth" (a
+    rack's)."""
 
     joint: str
     body: int
     local: np.ndarray
+    kind: str = "curve"
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """Where two pitch circles touch: the point a + t (b - a) on the line through the
+    centre anchors ``a`` and ``b`` (t = r_a / (r_a + r_b) for external gears,
+    r_a / (r_a - r_b) for internal ones)."""
+
+    joint: str
+    a: int
+    b: int
+    t: float
+
+
+@dataclass(frozen=True)
+class Belt:
+    """A belt or chain round two pulleys: centre anchors ``a``, ``b``, pitch radii
+    ``r_a``, ``r_b``; ``crossed``: the two strands cross between the pulleys."""
+
+    joint: str
+    a: int
+    b: int
+    r_a: float
+    r_b: float
+    crossed: bool
+
+
+@dataclass(frozen=True)
+class Rack:
+    """A rack (``body``, index among the moving bodies, -1 for the ground) meshing with a
+    pinion whose centre is anchor ``centre``, pitch radius ``radius``: the rack's pitch
+    line goes through ``base`` along ``axis`` (a unit vector), both in the rack's frame,
+    on the side of the pinion's centre that a counter-clockwise turn moves along +axis."""
+
+    joint: str
+    body: int
+    centre: int
+    radius: float
+    base: tuple[float, float]
+    axis: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Mark:
+    """A drawn element that is fixed in no one body, at every step of a sweep: ``xy``
+    (n_steps, m, 2). ``kind``: "mesh" (m = 1: where pitch circles or a rack touch, a
+    dot) or "strand" (m = 2: a straight run of a belt, a segment)."""
+
+    joint: str
+    kind: str
+    xy: np.ndarray
 
 
 def _rotate(theta: float, v: tuple[float, float]) -> tuple[float, float]:
@@ -126,9 +202,12 @@ class Geometry:
     distinct anchors in the order its outline goes round; ``pins``: one anchor per
     revolute; ``ground_pins``: the ground's side of revolutes to the ground;
     ``sliders``; ``actuators``: the two anchors of each two-point driver (distance);
+    ``rods``: the two anchors of each distance joint (a tie rod, a massless coupler);
     ``points``: the named points; ``traceable``: name -> anchor index of every named
     point, joint and driver that has one (a joint's point on its moving side);
-    ``curves``: the slots, cam profiles and rollers, each in the frame of its body.
+    ``curves``: the slots, cam profiles and rollers, pitch circles of gears, pulleys and
+    pinions and the marks on them, each in the frame of its body; ``meshes``, ``belts``
+    and ``racks``: what is drawn between two bodies (see `Motion.marks`).
     """
 
     def __init__(self, body_names: list[str], q_start: np.ndarray, description: dict[str, Any]) -> None:
@@ -143,6 +222,10 @@ class Geometry:
         self.points: list[int] = []
         self.traceable: dict[str, int] = {}
         self.curves: list[Curve] = []
+        self.rods: list[tuple[int, int]] = []
+        self.meshes: list[Mesh] = []
+        self.belts: list[Belt] = []
+        self.racks: list[Rack] = []
 
         for kind, group in (("joint", "joints"), ("driver", "drivers")):
             for item in description.get(group, []):
@@ -231,9 +314,110 @@ class Geometry:
                 pose = self._pose(str(item["body_a"]))
                 local = _rotate(-pose[2] if pose else 0.0, (axis[0] / norm, axis[1] / norm))
                 self.sliders.append(Slider(name, added["body_a"], added["body_b"], local))
+        elif type_ == "point_on_line" and "body_a" in added and self._known(str(item.get("body_b"))):
+            self._add_slot(name, item, added["body_a"])
         elif kind == "driver" and len(added) == 2:
             a, b = added.values()
             self.actuators.append((a, b))
+        if type_ == "distance" and kind == "joint" and len(added) == 2:
+            self.rods.append((added["body_a"], added["body_b"]))
+        if type_ in WHEELS and kind == "joint":
+            self._add_wheels(name, type_, item, added)
+
+    def _add_slot(self, name: str, item: dict[str, Any], pin: int) -> None:
+        """A point_on_line: the pin's block in a straight slot of body_b, through
+        ``through`` (default the pin's start) moved by ``offset`` across the axis."""
+        axis = np.asarray(item.get("axis", (0.0, 0.0)), dtype=np.float64)
+        norm = float(np.hypot(axis[0], axis[1]))
+        if not norm > 0.0:
+            return
+        e = axis / norm
+        n = np.array([-e[1], e[0]])
+        at = np.asarray(item["at"], dtype=np.float64)
+        through = np.asarray(item.get("through", at), dtype=np.float64)
+        offset = item.get("offset")
+        offset = float(np.dot(at - through, n)) if offset is None else float(offset)
+        body = str(item["body_b"])
+        guide = self._add(name, "joint", "point_on_line", body, through + offset * n)
+        pose = self._pose(body)
+        local = _rotate(-pose[2] if pose else 0.0, (float(e[0]), float(e[1])))
+        self.sliders.append(Slider(name, guide, pin, local))
+
+    def _origin(self, body: str) -> tuple[float, float]:
+        pose = self._pose(body)
+        return (pose[0], pose[1]) if pose else (0.0, 0.0)
+
+    def _wheel(self, joint: str, body: str, centre: int, radius: float, towards: np.ndarray) -> None:
+        """A pitch circle of ``radius`` about anchor ``centre`` and a radial mark on it
+        pointing ``towards`` (a world direction at the start), fixed in ``body``."""
+        pose = self._pose(body)
+        u = np.asarray(self.anchors[centre].local)
+        d = np.asarray(_rotate(-pose[2] if pose else 0.0, (float(towards[0]), float(towards[1]))))
+        s = np.linspace(0.0, 2.0 * math.pi, CURVE_SAMPLES)
+        i = self._index.get(body, -1)
+        self.curves.append(Curve(joint, i, u + radius * np.column_stack([np.cos(s), np.sin(s)]), "pitch"))
+        self.curves.append(Curve(joint, i, np.array([u, u + radius * d]), "mark"))
+
+    def _add_wheels(self, name: str, type_: str, item: dict[str, Any], added: dict[str, int]) -> None:
+        """Pitch circles of a gear pair, of two pulleys and the belt's strands, or of a
+        pinion and its rack's pitch line. Centres left out are the bodies' origins; radii
+        left out come from the ratio and the centres' distance (gears) or are drawn a
+        quarter of that distance for the larger pulley (a belt's length is free)."""
+        body_a, body_b = str(item.get("body_a")), str(item.get("body_b"))
+        if not (self._known(body_a) and self._known(body_b)):
+            return
+        if type_ == "rack_pinion":
+            self._add_rack(name, item, added, body_a, body_b)
+            return
+        c_a = np.asarray(item.get("centre_a") or self._origin(body_a), dtype=np.float64)
+        c_b = np.asarray(item.get("centre_b") or self._origin(body_b), dtype=np.float64)
+        d = float(math.dist(c_a, c_b))
+        r_a, r_b, ratio = item.get("radius_a"), item.get("radius_b"), item.get("ratio")
+        internal = bool(item.get("internal")) and type_ == "gear"
+        if (r_a is None or r_b is None) and ratio is not None and float(ratio) > 0.0:
+            ratio = float(ratio)
+            if type_ == "gear":
+                r_b = d / abs(ratio - 1.0) if internal else d / (1.0 + ratio)
+                r_a = ratio * r_b
+            else:
+                r_a, r_b = (0.25 * d, 0.25 * d / ratio) if ratio >= 1.0 else (0.25 * d * ratio, 0.25 * d)
+        if r_a is None or r_b is None:
+            return
+        r_a, r_b = float(r_a), float(r_b)
+        if not (math.isfinite(r_a) and math.isfinite(r_b) and r_a > 0.0 and r_b > 0.0 and d > 0.0):
+            return
+        a = added.get("body_a", None) if "centre_a" in item else None
+        b = added.get("body_b", None) if "centre_b" in item else None
+        a = self._add(name, "joint", type_, body_a, c_a) if a is None else a
+        b = self._add(name, "joint", type_, body_b, c_b) if b is None else b
+        e = (c_b - c_a) / d
+        self._wheel(name, body_a, a, r_a, e)
+        self._wheel(name, body_b, b, r_b, -e)
+        if type_ == "gear":
+            self.meshes.append(Mesh(name, a, b, r_a / (r_a - r_b) if internal else r_a / (r_a + r_b)))
+        else:
+            self.belts.append(Belt(name, a, b, r_a, r_b, bool(item.get("crossed"))))
+
+    def _add_rack(
+        self, name: str, item: dict[str, Any], added: dict[str, int], pinion: str, rack: str
+    ) -> None:
+        radius = float(item.get("radius") or 0.0)
+        axis = np.asarray(item.get("axis", (0.0, 0.0)), dtype=np.float64)
+        norm = float(np.hypot(axis[0], axis[1]))
+        if not (math.isfinite(radius) and radius > 0.0 and norm > 0.0):
+            return
+        c = np.asarray(item.get("centre") or self._origin(pinion), dtype=np.float64)
+        k = added.get("body_a") if "centre" in item else None
+        k = self._add(name, "joint", "rack_pinion", pinion, c) if k is None else k
+        e = axis / norm
+        n = np.array([-e[1], e[0]])
+        # a counter-clockwise turn moves the rack along +axis: it touches on the -n side
+        self._wheel(name, pinion, k, radius, -n)
+        pose = self._pose(rack)
+        local_axis = _rotate(-pose[2] if pose else 0.0, (float(e[0]), float(e[1])))
+        self.racks.append(
+            Rack(name, self._index.get(rack, -1), k, radius, self._local(rack, c - radius * n), local_axis)
+        )
 
     def _add_curve(self, joint: str, body: str, desc: Any) -> None:
         """Samples the joint's curve over one period, in the frame of ``body``. The curve
@@ -318,16 +502,77 @@ class Motion:
         self.axes = [geometry.axis_world(results.q, s) for s in geometry.sliders]  # each (n_steps, 2)
         self.guides = [self._guide(results.q, s, a) for s, a in zip(geometry.sliders, self.axes)]
         self.q = results.q
+        #: the geometry's curves, then each rack's pitch line and teeth (over its travel)
+        self.curves = list(geometry.curves)
+        #: what is fixed in no one body: mesh points, belts' strands
+        self.marks: list[Mark] = []
+        for m in geometry.meshes:
+            a, b = self.xy[:, m.a], self.xy[:, m.b]
+            self.marks.append(Mark(m.joint, "mesh", (a + m.t * (b - a))[:, None, :]))
+        for belt in geometry.belts:
+            self.marks += [Mark(belt.joint, "strand", xy) for xy in self._strands(belt)]
+        for rack in geometry.racks:
+            self._rack(rack)
         # the curves' extent from a few steps spread over the sweep: a whole sweep of a
         # 257-point curve would take n_steps times its memory
         rows = self.frames(64)
         ends = [g.reshape(-1, 2) for g in self.guides]
-        ends += [self.curve(c, rows).reshape(-1, 2) for c in geometry.curves]
+        ends += [self.curve(c, rows).reshape(-1, 2) for c in self.curves]
+        ends += [m.xy[np.isfinite(m.xy).all(axis=-1)] for m in self.marks]
         allxy = np.concatenate([self.xy.reshape(-1, 2)] + ends)
         margin = 0.08 * self.size
         lo, hi = allxy.min(axis=0) - margin, allxy.max(axis=0) + margin
         lo[1] -= 0.06 * self.size if geometry.ground_pins else 0.0  # room for the ground symbols
         self.limits = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
+
+    def _strands(self, belt: Belt) -> tuple[np.ndarray, np.ndarray]:
+        """The belt's two straight runs at every step, each (n_steps, 2, 2): the common
+        tangents of the pitch circles, outer ones for an open belt, crossing ones for a
+        crossed belt (NaN where the circles overlap and there is none)."""
+        c_a, c_b = self.xy[:, belt.a], self.xy[:, belt.b]
+        d = c_b - c_a
+        length = np.hypot(d[:, 0], d[:, 1])[:, None]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            e = d / length
+            n = np.stack([-e[:, 1], e[:, 0]], axis=-1)
+            # the unit normal m of a tangent line has m.d = r_b s_b - r_a, s_b = +-1
+            s_b = -1.0 if belt.crossed else 1.0
+            cos = (s_b * belt.r_b - belt.r_a) / length
+            sin = np.sqrt(1.0 - cos**2)
+        out = []
+        for side in (1.0, -1.0):
+            m = cos * e + side * sin * n
+            out.append(np.stack([c_a - belt.r_a * m, c_b - s_b * belt.r_b * m], axis=1))
+        return out[0], out[1]
+
+    def _rack(self, rack: Rack) -> None:
+        """A rack's pitch line and teeth, fixed in its body, covering where the pinion
+        touches it over the whole sweep; and the touching point at every step."""
+        g = self.geometry
+        c = self.xy[:, rack.centre]
+        if rack.body >= 0:
+            j = 3 * rack.body
+            th = self.q[:, j + 2]
+            cs, sn = np.cos(th), np.sin(th)
+            rel = c - self.q[:, j : j + 2]
+            local = np.stack([cs * rel[:, 0] + sn * rel[:, 1], -sn * rel[:, 0] + cs * rel[:, 1]], axis=-1)
+        else:
+            local = c
+        e = np.asarray(rack.axis)
+        n = np.array([-e[1], e[0]])
+        base = np.asarray(rack.base)
+        along = (local - base) @ e
+        lo, hi = float(along.min()) - 3.0 * rack.radius, float(along.max()) + 3.0 * rack.radius
+        pitch = max(2.0 * math.pi * rack.radius / 16.0, (hi - lo) / RACK_TEETH)
+        s = lo + 0.5 * pitch * np.arange(int((hi - lo) / (0.5 * pitch)) + 1)
+        h = 0.3 * pitch * np.where(np.arange(len(s)) % 2 == 0, -1.0, 1.0)
+        self.curves.append(Curve(rack.joint, rack.body, base + np.outer([lo, hi], e), "pitch"))
+        self.curves.append(Curve(rack.joint, rack.body, base + np.outer(s, e) + np.outer(h, n), "teeth"))
+        # the touching point: the pinion's centre moved by its radius towards the rack
+        bodies = np.array([rack.body], dtype=np.intp)
+        axis = g.world(self.q, np.array([e]), bodies)[:, 0] - g.world(self.q, np.zeros((1, 2)), bodies)[:, 0]
+        normal = np.stack([-axis[:, 1], axis[:, 0]], axis=-1)
+        self.marks.append(Mark(rack.joint, "mesh", (c - rack.radius * normal)[:, None, :]))
 
     def curve(self, curve: Curve, rows: Any) -> np.ndarray:
         """World points of a curve at the steps ``rows`` (an index or an array of them),
@@ -395,11 +640,20 @@ class MechanismArtists:
     """Matplotlib artists drawing a mechanism on ``ax``: each body as the polygon (or
     segment) through its anchors, pins as small circles, ground pivots as hatched
     triangles, sliders as blocks on their guides, slots and cam profiles as curves in
-    the colour of their body, distance drivers as dashed lines, and
-    named points with their trace so far. ``update(row)`` moves everything to a step."""
+    the colour of their body, pitch circles (dash-dot, with a radial mark) of gears,
+    pulleys and pinions, racks, belts' strands, mesh points as dots, distance joints as
+    solid bars, distance drivers as dashed lines, and
+    named points with their trace so far; with ``labels``, the names of the bodies and
+    joints too. ``update(row)`` moves everything to a step."""
 
     def __init__(
-        self, ax: Axes, motion: Motion, alpha: float = 1.0, traces: bool = True, clock: bool = False
+        self,
+        ax: Axes,
+        motion: Motion,
+        alpha: float = 1.0,
+        traces: bool = True,
+        clock: bool = False,
+        labels: bool = False,
     ) -> None:
         from matplotlib.lines import Line2D
         from matplotlib.patches import Polygon
@@ -450,17 +704,27 @@ class MechanismArtists:
         self.actuators = [
             ax.plot([], [], color="0.2", lw=1.5, ls="--", alpha=alpha, zorder=3)[0] for _ in g.actuators
         ]
-        # a slot or cam profile in the colour of the body that carries it
+        # a slot, cam profile, pitch circle or rack in the colour of the body that carries it
         self.curves = [
             ax.plot(
                 [],
                 [],
                 color=_COLOURS[c.body % len(_COLOURS)] if c.body >= 0 else "0.3",
-                lw=1.5,
+                lw=CURVE_STYLES[c.kind][0],
+                ls=CURVE_STYLES[c.kind][1],
                 alpha=alpha,
                 zorder=3,
             )[0]
-            for c in g.curves
+            for c in motion.curves
+        ]
+        # tie rods and couplers of distance joints: thin solid bars
+        self.rods = [ax.plot([], [], color="0.25", lw=2.0, alpha=alpha, zorder=3)[0] for _ in g.rods]
+        # mesh points and belts' strands
+        self.marks = [
+            ax.plot([], [], ls="none", marker="o", ms=4, color="black", alpha=alpha, zorder=6)[0]
+            if m.kind == "mesh"
+            else ax.plot([], [], color="0.2", lw=1.5, alpha=alpha, zorder=3)[0]
+            for m in motion.marks
         ]
         self.pins = Line2D(
             [], [], ls="none", marker="o", ms=6, mfc="white", mec="black", mew=1.5, alpha=alpha, zorder=5
@@ -482,6 +746,19 @@ class MechanismArtists:
                 zorder=6,
             )
             self.traces.append((k, trace, dot, label))
+        # with labels: each body's name at the middle of its outline, each joint's at its point
+        self.labels: list[tuple[list[int], Any]] = []
+        if labels:
+            for i, name in enumerate(g.body_names):
+                text = ax.text(0.0, 0.0, name, fontsize=8, ha="center", va="center", alpha=alpha, zorder=7,
+                               color=_COLOURS[i % len(_COLOURS)], fontweight="bold")  # fmt: skip
+                self.labels.append((g.outlines[name], text))
+            named = {g.anchors[k].name for k in g.points}
+            for name, k in g.traceable.items():
+                if name not in named and g.anchors[k].kind == "joint":
+                    text = ax.annotate(name, (0.0, 0.0), xytext=(4, -10), textcoords="offset points",
+                                       fontsize=7, color="0.25", alpha=alpha, zorder=7)  # fmt: skip
+                    self.labels.append(([k], text))
         # the traces are drawn through at most this many steps, whatever the sweep's length
         self._trace_rows = np.unique(np.linspace(0, len(motion.times) - 1, 2000).round().astype(np.intp))
         self.clock = ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9) if clock else None
@@ -523,9 +800,13 @@ class MechanismArtists:
             block.set_xy(m.block_polygon(k, row))
         for (a, b), line in zip(m.geometry.actuators, self.actuators):
             line.set_data([xy[a, 0], xy[b, 0]], [xy[a, 1], xy[b, 1]])
-        for curve, line in zip(m.geometry.curves, self.curves):
+        for curve, line in zip(m.curves, self.curves):
             pts = m.curve(curve, row)
             line.set_data(pts[:, 0], pts[:, 1])
+        for (a, b), line in zip(m.geometry.rods, self.rods):
+            line.set_data([xy[a, 0], xy[b, 0]], [xy[a, 1], xy[b, 1]])
+        for mark, line in zip(m.marks, self.marks):
+            line.set_data(mark.xy[row, :, 0], mark.xy[row, :, 1])
         pins = xy[m.geometry.pins]
         self.pins.set_data(pins[:, 0], pins[:, 1])
         rows = self._trace_rows[self._trace_rows <= row]
@@ -535,6 +816,12 @@ class MechanismArtists:
                 trace.set_data(path[:, 0], path[:, 1])
             dot.set_data([xy[k, 0]], [xy[k, 1]])
             label.xy = (float(xy[k, 0]), float(xy[k, 1]))
+        for ks, text in self.labels:
+            x, y = xy[ks].mean(axis=0)
+            if len(ks) > 1:
+                text.set_position((float(x), float(y)))
+            else:
+                text.xy = (float(x), float(y))
         if self.clock is not None:
             self.clock.set_text(f"t = {m.times[row]:.6g} s")
 

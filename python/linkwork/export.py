@@ -6,7 +6,8 @@ are the model's (its root ``viewBox`` is in model units and its ``width`` and
 ``height`` in millimetres, so it prints and imports 1:1), a DXF's too (``$INSUNITS`` says
 mm or m). What is drawn is what `linkwork.drawing` draws with matplotlib: each body as
 the polygon through its joints and points, pins, ground pivots, sliders on their guides,
-slots and cam profiles, actuators, named points; each element carries the name of what
+slots and cam profiles, pitch circles of gears, pulleys and pinions with their mesh
+points, belts, racks, distance joints' bars, actuators, named points; each element carries the name of what
 it draws (``data-name`` in SVG, the ``LINKWORK`` XDATA in DXF).
 
 >>> import numpy as np
@@ -114,8 +115,9 @@ def _attrs(**kw: Any) -> str:
 def svg_text(motion: Motion, row: int, paths: dict[str, np.ndarray], title: str, unit: str) -> str:
     """The SVG of the mechanism at step ``row`` of ``motion`` with ``paths``. Every element
     that moves names the anchors it is drawn through (``data-anchor``, ``data-anchors``),
-    its slider (``data-slider``) or curve (``data-curve``): the interactive page moves
-    them by these."""
+    its slider (``data-slider``), curve (``data-curve``: slots, cam profiles, pitch
+    circles and their marks, racks) or mark (``data-mark``: mesh points, belts'
+    strands, see `Motion.marks`): the interactive page moves them by these."""
     g = motion.geometry
     xy = motion.xy[row]
     s = motion.size
@@ -178,9 +180,35 @@ def svg_text(motion: Motion, row: int, paths: dict[str, np.ndarray], title: str,
             )
     out.append("</g>")
     out.append('<g id="curves" fill="none">')
-    for j, curve in enumerate(g.curves):
-        a = _attrs(class_="curve", data_name=curve.joint, data_curve=j, stroke=colour(curve.body))
-        out.append(f'<polyline {a} points="{_points(motion.curve(curve, row))}"/>')
+    for j, curve in enumerate(motion.curves):
+        a = _attrs(
+            class_="curve" if curve.kind == "curve" else f"curve {curve.kind}",
+            data_name=curve.joint,
+            data_curve=j,
+            stroke=colour(curve.body),
+        )
+        dash = f' stroke-dasharray="{_n(4 * lw)} {_n(1.5 * lw)} {_n(lw)} {_n(1.5 * lw)}"'
+        width = f' stroke-width="{_n(0.5 * lw)}"' if curve.kind in ("pitch", "teeth") else ""
+        out.append(
+            f'<polyline {a} points="{_points(motion.curve(curve, row))}"'
+            f"{dash if curve.kind == 'pitch' else ''}{width}/>"
+        )
+    out.append("</g>")
+    out.append('<g id="rods" stroke="#404040">')
+    for a_, b_ in g.rods:
+        a = _attrs(class_="rod", data_name=g.anchors[a_].name, data_anchors=f"{a_} {b_}")
+        out.append(f'<polyline {a} points="{_points(xy[[a_, b_]])}" stroke-width="{_n(0.8 * lw)}"/>')
+    out.append("</g>")
+    out.append('<g id="marks" stroke="#333333" fill="#000000">')
+    for j, mark in enumerate(motion.marks):
+        pts = mark.xy[row]
+        a = _attrs(class_=mark.kind, data_name=mark.joint, data_mark=j)
+        if mark.kind == "mesh":
+            (x, y) = pts[0] if np.all(np.isfinite(pts)) else (0.0, 0.0)
+            out.append(f'<circle {a} cx="{_n(x)}" cy="{_n(y)}" r="{_n(0.6 * r_point)}" stroke="none"/>')
+        else:
+            text = _points(pts) if np.all(np.isfinite(pts)) else ""
+            out.append(f'<polyline {a} points="{text}" fill="none" stroke-width="{_n(0.6 * lw)}"/>')
     out.append("</g>")
     out.append('<g id="actuators" stroke="#333333">')
     for a_, b_ in g.actuators:
@@ -264,6 +292,10 @@ LAYERS = {
     "GUIDES": 8,
     "SLIDERS": 7,
     "CURVES": 5,
+    "PITCH": 5,
+    "RODS": 7,
+    "MESHES": 1,
+    "BELTS": 8,
     "ACTUATORS": 7,
     "POINTS": 1,
     "PATHS": 1,
@@ -282,7 +314,9 @@ def dxf(
     `svg`) as a DXF drawing (R2010, needs ezdxf), in the model's length unit. Layers:
     BODIES (closed polylines through each body's joints and points, a line for a bar),
     PINS (circles about the pins), GROUND (pivot symbols), GUIDES and SLIDERS (guides and
-    blocks), CURVES (slots, cam profiles, rollers), ACTUATORS, POINTS (named points: a
+    blocks), CURVES (slots, cam profiles, rollers, marks on wheels, racks' teeth), PITCH
+    (pitch circles, racks' pitch lines; dash-dot), RODS (distance joints), MESHES (mesh
+    points: a POINT entity each), BELTS (belts' strands), ACTUATORS, POINTS (named points: a
     POINT entity each), PATHS (the coupler curves, polylines) and LABELS. Each entity's
     XDATA ``LINKWORK`` holds the name of the body, joint or point it draws."""
     out = _output_path(path)
@@ -301,7 +335,7 @@ def dxf(
     doc.header["$MEASUREMENT"] = 1  # metric
     doc.appids.add("LINKWORK")
     for layer, aci in LAYERS.items():
-        doc.layers.add(layer, color=aci)
+        doc.layers.add(layer, color=aci, linetype="DASHDOT" if layer == "PITCH" else "Continuous")
     msp = doc.modelspace()
 
     def named(entity: Any, name: str, rgb: str | None = None) -> None:
@@ -336,8 +370,20 @@ def dxf(
     for k, slider in enumerate(g.sliders):
         poly(motion.guides[k][row], "GUIDES", slider.joint)
         poly(motion.block_polygon(k, row), "SLIDERS", slider.joint, closed=True)
-    for curve in g.curves:
-        poly(motion.curve(curve, row), "CURVES", curve.joint, rgb=colour(curve.body))
+    for curve in motion.curves:
+        layer = "PITCH" if curve.kind == "pitch" else "CURVES"
+        poly(motion.curve(curve, row), layer, curve.joint, rgb=colour(curve.body))
+    for a, b in g.rods:
+        named(msp.add_line(tuple(xy[a]), tuple(xy[b]), dxfattribs={"layer": "RODS"}), g.anchors[a].name)
+    for mark in motion.marks:
+        pts = mark.xy[row]
+        if not np.all(np.isfinite(pts)):
+            continue
+        if mark.kind == "mesh":
+            x, y = pts[0]
+            named(msp.add_point((float(x), float(y)), dxfattribs={"layer": "MESHES"}), mark.joint)
+        else:
+            poly(pts, "BELTS", mark.joint)
     for a, b in g.actuators:
         line = msp.add_line(
             tuple(xy[a]), tuple(xy[b]), dxfattribs={"layer": "ACTUATORS", "linetype": "DASHED"}

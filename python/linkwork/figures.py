@@ -287,9 +287,21 @@ def unknown_paths(model: Model, names: Sequence[str]) -> str | None:
     )
 
 
-def plot_paths(results: Results, path: str, names: Sequence[str] | None = None) -> list[str]:
+def _labels(labels: object) -> bool:
+    from .errors import InputError
+
+    if not isinstance(labels, bool):
+        raise InputError(f"labels must be True or False, not {labels!r}")
+    return labels
+
+
+def plot_paths(
+    results: Results, path: str, names: Sequence[str] | None = None, labels: bool = False
+) -> list[str]:
     """A PNG of the paths of points in the plane (equal scales) over the mechanism drawn
-    faintly at the first step. Returns the names drawn."""
+    faintly at the first step; ``labels``: the bodies' and joints' names on it. Returns
+    the names drawn."""
+    labels = _labels(labels)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -298,7 +310,7 @@ def plot_paths(results: Results, path: str, names: Sequence[str] | None = None) 
     motion = Motion(Geometry.from_model(results.model), results)
     chosen = list(names) if names is not None else default_paths(results.model)
     fig, ax = plt.subplots(figsize=(7.5, 6.0), constrained_layout=True)
-    MechanismArtists(ax, motion, alpha=0.3, traces=False).update(0)
+    MechanismArtists(ax, motion, alpha=0.3, traces=False, labels=labels).update(0)
     k = slice(None, None, _step(results.n_steps))
     for name in chosen:
         xy = motion.xy[k, motion.geometry.traceable[name]]
@@ -331,10 +343,12 @@ def movie_problem(path: str) -> str | None:
     return f"{path}: an animation is written as .gif or .mp4, not {ext or 'a file without extension'}"
 
 
-def animate(results: Results, path: str, fps: int = 30, frames: int = 120) -> int:
+def animate(results: Results, path: str, fps: int = 30, frames: int = 120, labels: bool = False) -> int:
     """Writes the mechanism moving over the sweep as a GIF (Pillow) or an MP4 (ffmpeg),
     ``MOVIE_SIZE`` pixels, with about ``frames`` frames spread evenly over the steps and
-    the axis limits fixed over the whole motion. Returns the number of frames written."""
+    the axis limits fixed over the whole motion; ``labels``: the bodies' and joints' names
+    on it. Returns the number of frames written."""
+    labels = _labels(labels)
     problem = movie_problem(path)
     if problem:
         raise ValueError(problem)
@@ -347,7 +361,7 @@ def animate(results: Results, path: str, fps: int = 30, frames: int = 120) -> in
     motion = Motion(Geometry.from_model(results.model), results)
     dpi = 100
     fig, ax = plt.subplots(figsize=(MOVIE_SIZE[0] / dpi, MOVIE_SIZE[1] / dpi), dpi=dpi)
-    artists = MechanismArtists(ax, motion, clock=True)
+    artists = MechanismArtists(ax, motion, clock=True, labels=labels)
     setup_axes(ax, motion, _length_unit(results))
     ax.set_title(results.model.name, fontsize=10)
     # laid out once (no layout engine): each frame is then drawn once, on the same axes

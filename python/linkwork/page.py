@@ -7,7 +7,8 @@ marked on the timeline. ``Results.to_html`` and ``linkwork view`` write it.
 
 The drawing is the SVG of `linkwork.export` at the first frame; every position at every
 frame is computed here in Python from the sweep (`linkwork.drawing.Motion`, world
-coordinates) and embedded as JSON; the page's script only moves the SVG's elements to
+coordinates; mesh points and belts' strands too, ``Motion.marks``) and embedded as
+JSON; the page's script only moves the SVG's elements to
 the positions of the frame the slider shows. Numbers are embedded in shortest round-trip
 form, so the page's positions are the sweep's to the last bit.
 
@@ -164,7 +165,8 @@ def page(
         }
         for k in range(len(geometry.sliders))
     ]
-    curves = [{"body": c.body, "local": _numbers(c.local)} for c in geometry.curves]
+    curves = [{"body": c.body, "local": _numbers(c.local)} for c in motion.curves]
+    marks = [_numbers(m.xy[rows].reshape(len(rows), -1)) for m in motion.marks]
     poses = _numbers(results.q[rows][:, : 3 * model.n_bodies]) if curves else []
     t = results.times
     events = [
@@ -197,6 +199,7 @@ def page(
         "sliders": sliders,
         "curves": curves,
         "poses": poses,
+        "marks": marks,
         "outputs": _outputs(results, outputs, rows),
         "inputs": inputs(results, geometry, rows),
         "pivot_ratio": _numbers(results.pivot_ratio[rows]),
@@ -312,6 +315,7 @@ const byAnchor = [...svg.querySelectorAll("[data-anchor]")];
 const byAnchors = [...svg.querySelectorAll("[data-anchors]")];
 const bySlider = [...svg.querySelectorAll("[data-slider]")];
 const byCurve = [...svg.querySelectorAll("[data-curve]")];
+const byMark = [...svg.querySelectorAll("[data-mark]")];
 const pairs = (a) => a.reduce((s, v, i) => (i % 2 ? s + "," + v : s + (i ? " " : "") + v), "");
 
 function at(f, k) { return [D.xy[f][2 * k], D.xy[f][2 * k + 1]]; }
@@ -357,6 +361,18 @@ function moveDrawing(f) {
     const cs = Math.cos(th), sn = Math.sin(th);
     const world = c.local.map(([u, v]) => (x + cs * u - sn * v) + "," + (y + sn * u + cs * v));
     el.setAttribute("points", world.join(" "));
+  }
+  for (const el of byMark) {
+    // a mesh point or a belt's strand: its world points at this frame (none: not drawn)
+    const p = D.marks[+el.dataset.mark][f];
+    const ok = p.every((v) => v !== null);
+    if (el.tagName === "circle") {
+      el.setAttribute("cx", ok ? p[0] : 0);
+      el.setAttribute("cy", ok ? p[1] : 0);
+      el.style.display = ok ? "" : "none";
+    } else {
+      el.setAttribute("points", ok ? pairs(p) : "");
+    }
   }
 }
 
