@@ -131,6 +131,8 @@ def draw_mechanism(mechanism: Mechanism, ax: Any = None, t: float = 0.0) -> Axes
     except LinkworkError as e:
         ax = _axes(ax)
         desc = mechanism.to_dict()
+        # pins given only in the bodies' frames have no place in a drawing not assembled
+        desc["joints"] = [j for j in desc["joints"] if j.get("type") != "revolute" or "at" in j]
         deg = (desc.get("units") or {}).get("angle") == "deg"
         bodies = [b["name"] for b in desc["bodies"]]
         q = np.array(
