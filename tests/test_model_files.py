@@ -306,13 +306,14 @@ def load_text(tmp_path: Path, text: str, name: str = "bad.toml") -> lw.Mechanism
             "joints[2].at",
             r'invalid type: string "B", expected an array',
         ),
-        # a missing field: the line of the table that lacks it
+        # a missing field: the line of the table that lacks it (a revolute may leave out
+        # `at`, given its pins; not the bodies it joins)
         (
-            "at = [475.0, 216.5063509461096]\n",
+            'body_b = "rocker"\n',
             "",
             '[[joints]]\ntype = "revolute"\nname = "B"',
-            "joints[2].at",
-            "missing field `at`",
+            "joints[2].body_b",
+            "missing field `body_b`",
         ),
         # an unknown key is an error, not ignored: the line of the key
         (
