@@ -72,26 +72,12 @@ fn bench_sweep(
     steps: usize,
     derivatives: u8,
 ) {
-    bench_solver(c, group, id, desc, linear, SolverKind::General, steps, derivatives)
+    bench_outputs(c, group, id, desc, linear, SolverKind::General, steps, derivatives, Outputs::all())
 }
 
-/// `bench_sweep` with the solver chosen: `Auto` is the structure-aware path (the groups
-/// one after another), `General` the whole model as one sparse system with `linear`.
-#[allow(clippy::too_many_arguments)]
-fn bench_solver(
-    c: &mut Criterion,
-    group: &str,
-    id: BenchmarkId,
-    desc: &Description,
-    linear: LinearKind,
-    solver: SolverKind,
-    steps: usize,
-    derivatives: u8,
-) {
-    bench_outputs(c, group, id, desc, linear, solver, steps, derivatives, Outputs::all())
-}
-
-/// `bench_solver` keeping only `outputs`.
+/// `bench_sweep` with the solver chosen (`Auto` is the structure-aware path, the groups one
+/// after another; `General` the whole model as one sparse system with `linear`), keeping
+/// only `outputs`.
 #[allow(clippy::too_many_arguments)]
 fn bench_outputs(
     c: &mut Criterion,
@@ -138,7 +124,7 @@ fn mechanisms(c: &mut Criterion) {
         }
         for (what, d) in [("pva", 2), ("p", 0)] {
             let id = BenchmarkId::new("structured", what);
-            bench_solver(c, name, id, desc, auto, SolverKind::Auto, STEPS, d);
+            bench_outputs(c, name, id, desc, auto, SolverKind::Auto, STEPS, d, Outputs::all());
         }
         // one coupler point's path and nothing else (the coupler is body 1 in each)
         let path = Outputs { coords: Some(Vec::new()), points: vec![(Some(1), [0.05, 0.04])] };
@@ -168,7 +154,7 @@ fn chains(c: &mut Criterion) {
             bench_sweep(c, "chain", BenchmarkId::new(kind_name(linear), loops), &desc, linear, steps, 2);
         }
         let id = BenchmarkId::new("structured", loops);
-        bench_solver(c, "chain", id, &desc, LinearKind::Auto, SolverKind::Auto, steps, 2);
+        bench_outputs(c, "chain", id, &desc, LinearKind::Auto, SolverKind::Auto, steps, 2, Outputs::all());
     }
 }
 

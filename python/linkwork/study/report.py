@@ -29,6 +29,15 @@ def _plt() -> Any:
     return plt
 
 
+def _save(fig: Any, path: str, title: str, written: list[str], figures: list[tuple[str, str]]) -> None:
+    """Writes a report's figure and lists it (the files written; the report's sections)."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    _plt().close(fig)
+    written.append(path)
+    figures.append((title, path))
+
+
 def _normals(path: np.ndarray) -> np.ndarray:
     """Unit normals (left of the direction of travel) along a path (n_steps x 2)."""
     tangent = np.gradient(path, axis=0)
@@ -88,12 +97,13 @@ def tolerance_report(tol: ToleranceResult, directory: str, stem: str = "toleranc
             ax2.set_xlabel("step")
             ax2.set_ylabel(f"deviation across the path ({o.unit})")
             ax2.legend(loc="best", fontsize=8)
-            fig.tight_layout()
-            path = os.path.join(directory, f"{stem}_{o.key}_envelope.png")
-            fig.savefig(path, dpi=110)
-            plt.close(fig)
-            written.append(path)
-            figures.append((f"Envelope of {o.name}", path))
+            _save(
+                fig,
+                os.path.join(directory, f"{stem}_{o.key}_envelope.png"),
+                f"Envelope of {o.name}",
+                written,
+                figures,
+            )
         elif o.kind in ("angle", "coordinate"):
             c = comps.index(o.key)
             fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
@@ -118,12 +128,13 @@ def tolerance_report(tol: ToleranceResult, directory: str, stem: str = "toleranc
             ax2.set_xlabel(f"error at step {k}, t = {times[k]:.4g} s ({unit})")
             ax2.set_ylabel("density")
             ax2.legend(fontsize=8)
-            fig.tight_layout()
-            path = os.path.join(directory, f"{stem}_{o.key}_error.png")
-            fig.savefig(path, dpi=110)
-            plt.close(fig)
-            written.append(path)
-            figures.append((f"Error of {o.name}", path))
+            _save(
+                fig,
+                os.path.join(directory, f"{stem}_{o.key}_error.png"),
+                f"Error of {o.name}",
+                written,
+                figures,
+            )
     if lin is not None:
         names = list(tol.tolerances)
         share = lin.share.mean(axis=0)  # (n_params, n_components)
@@ -136,12 +147,7 @@ def tolerance_report(tol: ToleranceResult, directory: str, stem: str = "toleranc
         ax.set_ylabel("share of the variance (%, mean over the cycle)")
         ax.set_title(f"Which parameter contributes most ({lin.method})")
         ax.legend(fontsize=8)
-        fig.tight_layout()
-        path = os.path.join(directory, f"{stem}_contributions.png")
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        written.append(path)
-        figures.append(("Contributions", path))
+        _save(fig, os.path.join(directory, f"{stem}_contributions.png"), "Contributions", written, figures)
     md = os.path.join(directory, f"{stem}.md")
     with open(md, "w", encoding="utf-8") as f:
         f.write(f"# Tolerance study of {tol.nominal.model_name}\n\n")
@@ -234,12 +240,13 @@ def study_report(res: StudyResult, directory: str, stem: str = "study") -> list[
                 ax.plot(res.designs.values[:, c], y * factor, ".", ms=3)
                 ax.set_xlabel(f"{par.name} ({par.unit})")
                 ax.set_ylabel(f"{o.name} ({unit})" if unit else o.name)
-        fig.tight_layout()
-        path = os.path.join(directory, f"{stem}_figures.png")
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        written.append(path)
-        figures.append(("Figures against parameters", path))
+        _save(
+            fig,
+            os.path.join(directory, f"{stem}_figures.png"),
+            "Figures against parameters",
+            written,
+            figures,
+        )
     md = os.path.join(directory, f"{stem}.md")
     with open(md, "w", encoding="utf-8") as f:
         f.write(f"# Design study of {res.model_name}\n\n")
