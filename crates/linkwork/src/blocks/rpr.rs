@@ -10,7 +10,8 @@
 //! The same with the slider massless: a pinned body whose slot (a point-on-line joint's
 //! line) runs through a known point P_S, the lever of a quick-return.
 
-use super::{body_qdd, continued, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
+use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
+use crate::assembly::angle_of;
 use crate::data::Data;
 use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
@@ -158,7 +159,7 @@ impl Rpr {
         let v = [(m * d[0] - self.k * d[1]) * inv_dd, (self.k * d[0] + m * d[1]) * inv_dd];
         // the rotation taking e_a to v: body L's angle
         let (c, s) = (dot(self.e_a, v), cross(self.e_a, v));
-        let theta = continued(s.atan2(c), data.q[3 * self.line.body + 2]);
+        let theta = angle_of(c, s, data.q[3 * self.line.body + 2], &mut data.frame_base[self.line.body]);
         set_body(data, self.line.body, self.line.origin(pl, c, s), theta, c, s);
         if let Some(slider) = &self.slider {
             let (cs, ss) = (c * self.c0 - s * self.s0, s * self.c0 + c * self.s0);

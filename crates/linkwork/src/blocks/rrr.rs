@@ -4,7 +4,8 @@
 //! two pins. Velocities and accelerations: the 2 x 2 system of B's velocity (acceleration)
 //! seen from both links.
 
-use super::{body_qdd, continued, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
+use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
+use crate::assembly::angle_of;
 use crate::data::Data;
 use crate::joints::{dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
@@ -59,7 +60,7 @@ impl Link {
         // the rotation taking dir to w
         let c = self.dir[0] * w[0] + self.dir[1] * w[1];
         let s = self.dir[0] * w[1] - self.dir[1] * w[0];
-        let theta = continued(s.atan2(c), data.q[3 * self.body + 2]);
+        let theta = angle_of(c, s, data.q[3 * self.body + 2], &mut data.frame_base[self.body]);
         let arm = [c * self.u_outer[0] - s * self.u_outer[1], s * self.u_outer[0] + c * self.u_outer[1]];
         let r = sub(a, arm);
         set_body(data, self.body, r, theta, c, s);
@@ -193,12 +194,12 @@ impl Rrr {
             let (rab, rcb) = (sub(b, a), sub(b, c));
             let (pab, pcb) = (perp(rab), perp(rcb));
             // w1 perp(rab) - w2 perp(rcb) = vC - vA
-            let det = pcb[0] * pab[1] - pcb[1] * pab[0];
+            let inv_det = 1.0 / (pcb[0] * pab[1] - pcb[1] * pab[0]);
             let va = k1.point_velocity(self.l1.u_known);
             let vc = k2.point_velocity(self.l2.u_known);
             let rhs = sub(vc, va);
-            let w1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) / det;
-            let w2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
+            let w1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) * inv_det;
+            let w2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det;
             pinned_rates(data, self.l1.body, a, va, w1);
             if !self.rod {
                 pinned_rates(data, self.l2.body, c, vc, w2);
@@ -210,8 +211,8 @@ impl Rrr {
                     ac[0] - aa[0] - w2 * w2 * rcb[0] + w1 * w1 * rab[0],
                     ac[1] - aa[1] - w2 * w2 * rcb[1] + w1 * w1 * rab[1],
                 ];
-                let a1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) / det;
-                let a2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
+                let a1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) * inv_det;
+                let a2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det;
                 pinned_accelerations(data, self.l1.body, a, aa, w1, a1);
                 if !self.rod {
                     pinned_accelerations(data, self.l2.body, c, ac, w2, a2);

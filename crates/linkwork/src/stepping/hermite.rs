@@ -76,7 +76,7 @@ pub fn consistent(model: &Model, a: &State, b: &State) -> bool {
 /// predicted from the new step's rates, q, qd and qdd (or qd_prev, with velocities only:
 /// then qdd is their difference quotient), within CONSISTENCY of the motion.
 pub fn continues(
-    model: &Model,
+    inv_col_scale: &[f64],
     h: f64,
     q_prev: &[f64],
     qd_prev: &[f64],
@@ -86,7 +86,7 @@ pub fn continues(
 ) -> bool {
     let (mut motion, mut misfit) = (0.0f64, 0.0f64);
     for i in 0..q.len() {
-        let s = 1.0 / model.col_scale[i];
+        let s = inv_col_scale[i];
         let acc = match qdd {
             Some(qdd) => qdd[i],
             None => (qd[i] - qd_prev[i]) / h,
