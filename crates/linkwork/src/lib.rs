@@ -22,6 +22,7 @@ pub mod forces;
 pub mod joints;
 pub mod linear;
 pub mod loads;
+pub mod memory;
 pub mod model;
 pub mod motion;
 pub mod position;
@@ -44,11 +45,10 @@ pub use expr::{ExprError, Expression};
 pub use files::{Format, ModelFile, SourceMap, FORMAT_VERSION};
 pub use forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
 pub use linear::{LinearKind, Pivots};
+pub use memory::available_memory;
 pub use model::{Model, Options, SolverKind};
 pub use motion::{ExternalFn, ExternalLaw, MotionLaw};
 pub use position::{solve_position, PositionInfo};
-pub use sweep::{
-    available_memory, check_times, drawing_time, solve, solve_along, sweep, Outputs, Request, SweepOutput,
-};
+pub use sweep::{check_times, drawing_time, solve, solve_along, sweep, Outputs, Request, SweepOutput};
 pub use units::Units;
 pub use velocity::solve_velocity;

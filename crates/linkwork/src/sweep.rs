@@ -8,6 +8,7 @@ use crate::data::Data;
 use crate::error::SolveError;
 use crate::forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
 use crate::joints::Constraint;
+use crate::memory::zeroed;
 use crate::model::Model;
 use crate::position::solve_position;
 use crate::position::PositionInfo;
@@ -167,7 +168,7 @@ impl SweepOutput {
         let n = times.len().div_ceil(every);
         let (r, nc) = (model.n_rows, model.constraints.len());
         let (m, np) = (outputs.n_kept(model), outputs.points.len());
-        let sized = |on: bool, len: usize| if on { vec![0.0; len] } else { Vec::new() };
+        let sized = |on: bool, len: usize| if on { zeroed(len) } else { Vec::new() };
         SweepOutput {
             n_steps: n,
             n_coords: model.n_coords,
@@ -178,20 +179,20 @@ impl SweepOutput {
             request,
             times: times.iter().step_by(every).copied().collect(),
             outputs,
-            q: vec![0.0; n * m],
+            q: zeroed(n * m),
             qd: sized(d >= 1, n * m),
             qdd: sized(d >= 2, n * m),
-            points: vec![0.0; n * np * 2],
+            points: zeroed(n * np * 2),
             points_d: sized(d >= 1, n * np * 2),
             points_dd: sized(d >= 2, n * np * 2),
-            iterations: vec![0; n],
-            residual: vec![0.0; n],
-            pivot_ratio: vec![0.0; n],
+            iterations: zeroed(n),
+            residual: zeroed(n),
+            pivot_ratio: zeroed(n),
             lambda: sized(forces, n * r),
             lambda_parts: std::array::from_fn(|_| sized(forces, n * r)),
             reactions: sized(forces, n * nc * REACTION_COLUMNS),
             load_power: sized(forces, n),
-            det_sign: vec![0.0; n],
+            det_sign: zeroed(n),
             events: Vec::new(),
         }
     }
@@ -555,7 +556,7 @@ fn sweep_steps(
         let info = if k > 0 && !rates_set && solved >= 1 {
             let qdd = (solved >= 2).then_some(&data.qdd[..]);
             let h = t - times[k - 1];
-            if continues(model, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
+            if continues(&data.inv_col_scale, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
                 info
             } else {
                 rates_set = true;
@@ -679,15 +680,6 @@ fn closed_step(
 fn factor_at(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
     crate::assembly::position(model, data, t);
     crate::position::factor(model, data, t, step).map(|_| ())
-}
-
-/// Memory available for new allocations (Linux: MemAvailable of /proc/meminfo), or None
-/// where it is not known.
-pub fn available_memory() -> Option<usize> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: usize = line.split_whitespace().nth(1)?.parse().ok()?;
-    kb.checked_mul(1024)
 }
 
 /// Sub-steps allowed to follow the drivers from the drawing to a solve's time.
