@@ -1,4 +1,5 @@
-"""What users would otherwise run, on the textbook four-bar, for ``compare.py``.
+"""What users would otherwise run, on the textbook four-bar and slider-crank, for
+``compare.py``.
 
 - pylinkage (optional; ``pip install pylinkage==1.3.0 numba``): its numba fast path,
   closed-form dyads (circle-circle intersections) applied joint after joint.
@@ -85,6 +86,67 @@ def pylinkage_four_bar(
         solved["omega4"] = rate(r4, vel[:, i_b] - vel[:, i_d])
         solved["alpha3"] = rate(r3, acc[:, i_b] - acc[:, i_a])
         solved["alpha4"] = rate(r4, acc[:, i_b] - acc[:, i_d])
+        return solved
+
+    return build, run, decode
+
+
+def pylinkage_slider_crank(
+    crank: float, rod: float, offset: float, omega: float, steps: int, mode: str
+) -> tuple[Callable[[], Any], Callable[[Any], Any], Callable[[Any], Solved]]:
+    """(build, run, decode) for pylinkage's slider-crank (the slide along x at height
+    ``offset``, the slider on the side of +x, as linkwork's open branch): ``mode`` is
+    "step_fast_with_kinematics", "step_fast" (numba) or "step" (its Python loop, positions
+    only). ``decode`` gives the rod angle ``theta3`` and the slider's ``x`` (with
+    ``omega3``, ``v``, ``alpha3``, ``a`` where computed) at the crank angles."""
+    from pylinkage.mechanism import slider_crank
+
+    def build() -> Any:
+        m = slider_crank(
+            crank=crank,
+            rod=rod,
+            omega=2.0 * math.pi / steps,  # rad per step
+            initial_angle=0.0,
+            slide_through=(0.0, offset),
+            slide_direction=(-1.0, 0.0),  # its circle-line pick then lands on +x
+        )
+        if mode == "step_fast_with_kinematics":
+            m.set_input_velocity(m._driver_links[0], omega, 0.0)
+        if mode != "step":
+            m.compile()
+        return m
+
+    def run(m: Any) -> Any:
+        if mode == "step":
+            return np.array(list(m.step(iterations=steps)))
+        return getattr(m, mode)(iterations=steps)
+
+    m = build()
+    names = [j.name for j in m.joints]
+    # step() yields the joints in its solving order; the fast paths in m.joints' order
+    first = list(m.step(iterations=1))[0] if mode == "step" else None
+    if first is not None:
+        i_a = next(i for i, p in enumerate(first) if abs(math.hypot(*p) - crank) < 1e-9)
+        i_b = next(i for i, p in enumerate(first) if abs(p[1] - offset) < 1e-12 and p[0] > crank)
+    else:
+        i_a = next(i for i, n in enumerate(names) if n.startswith("crank.tip"))
+        i_b = next(i for i, n in enumerate(names) if n.startswith("rod."))
+
+    def decode(out: Any) -> Solved:
+        pos, vel, acc = out if mode == "step_fast_with_kinematics" else (out, None, None)
+        pos = np.asarray(pos, dtype=float)
+        r3 = pos[:, i_b] - pos[:, i_a]
+        solved: Solved = {
+            "theta2": (np.arange(steps) + 1.0) * (2.0 * math.pi / steps),
+            "theta3": np.arctan2(r3[:, 1], r3[:, 0]),
+            "x": pos[:, i_b, 0],
+        }
+        if vel is not None:
+            rr = np.sum(r3 * r3, axis=1)
+            dv, da = vel[:, i_b] - vel[:, i_a], acc[:, i_b] - acc[:, i_a]
+            solved["omega3"] = (r3[:, 0] * dv[:, 1] - r3[:, 1] * dv[:, 0]) / rr
+            solved["alpha3"] = (r3[:, 0] * da[:, 1] - r3[:, 1] * da[:, 0]) / rr
+            solved["v"], solved["a"] = vel[:, i_b, 0], acc[:, i_b, 0]
         return solved
 
     return build, run, decode

@@ -56,6 +56,15 @@ CHAIN_H = PERIOD / 100_000  # the chain's step: the four-bar's at 100,000 steps 
 HAS_DERIVATIVES = "derivatives" in inspect.signature(linkwork.Model.sweep).parameters
 HAS_BATCH = hasattr(linkwork, "sweep_batch")
 
+SLIDER_TEXT = """
+`examples.slider_crank()` (crank 0.10 m, rod 0.35 m, offset 0.02 m, 5 rad/s), {steps:,}
+steps over one revolution, fresh output memory for every row, errors against
+`linkwork.closed_form.slider_crank`. pylinkage 1.3's numba paths solve the crank and
+leave the slider where it was drawn (their errors show it): its one path that moves the
+slider is its Python loop `step` ({py_steps:,} steps, positions only; its
+`step_with_derivatives` gives the slider no rates).
+"""
+
 FOUR_BAR_TEXT = """
 {steps:,} steps over one revolution (the reference: {ref_steps:,}; its time per step does not depend
 on the step count). Errors: the largest absolute errors of the coupler and rocker angle, angular
@@ -364,6 +373,126 @@ def four_bar_table(section: dict[str, Any]) -> str:
             *(f"{err[k]:.1e}" if err.get(k) is not None else "-" for k in ("theta", "omega", "alpha")),
             f"{r['residual']:.1e}" if "residual" in r else "-",
             f"{r['iterations']:.2f}" if "iterations" in r else "-",
+        ]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------- 1b. the slider-crank
+
+SLIDER = (0.10, 0.35, 0.02)  # crank, rod, offset of examples.slider_crank
+SLIDER_PY_STEPS = 2_000  # pylinkage's Python loop (its time per step does not depend on them)
+
+
+def slider_errors(s: baselines.Solved, t_crank: np.ndarray) -> dict[str, float | None]:
+    """Largest absolute errors of the rod angle (rad) and the slider's x (m), and of their
+    rates and accelerations, against the closed form at the crank angles solved for."""
+    cf = closed_form.slider_crank(*SLIDER, theta2=t_crank, omega2=OMEGA)
+    e: dict[str, float | None] = {}
+    for key, angle in (
+        ("theta3", True),
+        ("x", False),
+        ("omega3", False),
+        ("v", False),
+        ("alpha3", False),
+        ("a", False),
+    ):
+        if key in s:
+            d = s[key] - cf[key]
+            e[key] = max_abs(wrap(d) if angle else d)
+        else:
+            e[key] = None
+    return e
+
+
+def slider_crank_section(steps: int, repeats: int, notes: list[str]) -> list[dict[str, Any]]:
+    """linkwork's slider-crank against pylinkage's, interleaved, with errors."""
+    t = np.linspace(0.0, PERIOD, steps)
+    model = examples.slider_crank().compile()
+    tasks, meta, decoders = [], {}, {}
+    for d in (2, 0):
+        tasks.append(Task(f"auto{d}", lambda _, d=d: engine_sweep(model, t, d), lambda: cold_outputs()))
+        meta[f"auto{d}"] = (
+            "**linkwork** `sweep` (auto: the groups in closed form)",
+            d,
+            steps,
+            {"engine": True},
+        )
+    version = baselines.pylinkage_version()
+    if version is not None:
+        for mode, d in (("step_fast_with_kinematics", 2), ("step_fast", 0)):
+            build, run, decode = baselines.pylinkage_slider_crank(*SLIDER, OMEGA, steps, mode)
+            run(build())  # JIT warm-up
+
+            def setup(build: Callable[[], Any] = build) -> Any:
+                cold_outputs()
+                return build()
+
+            tasks.append(Task(mode, run, setup))
+            decoders[mode] = decode
+            meta[mode] = (f"pylinkage-numba `{mode}`", d, steps, {"pylinkage": True})
+    timed = interleaved(tasks, repeats)
+    rows = []
+    for key, (secs, r) in timed.items():
+        name, d, n, extra = meta[key]
+        if key in decoders:
+            s = decoders[key](r)
+        else:
+            cols = r.columns
+            j3, jx = cols.index("rod.theta"), cols.index("slider.x")
+            s = {"theta3": r.q[:, j3], "x": r.q[:, jx]}
+            if d >= 2:
+                s.update(omega3=r.qd[:, j3], v=r.qd[:, jx], alpha3=r.qdd[:, j3], a=r.qdd[:, jx])
+            s["theta2"] = OMEGA * t
+        rows.append(
+            {
+                "name": name,
+                "d": d,
+                "steps": n,
+                "us": secs / n * 1e6,
+                "err": slider_errors(s, s["theta2"]),
+                **extra,
+            }
+        )
+    if version is not None:
+        # its Python loop: the one pylinkage path that moves the slider (positions only)
+        build, run, decode = baselines.pylinkage_slider_crank(*SLIDER, OMEGA, SLIDER_PY_STEPS, "step")
+        secs, out = best_of(1, lambda: run(build()))
+        s = decode(out)
+        rows.append(
+            {
+                "name": "pylinkage `step` (Python loop)",
+                "d": 0,
+                "steps": SLIDER_PY_STEPS,
+                "us": secs / SLIDER_PY_STEPS * 1e6,
+                "err": slider_errors(s, s["theta2"]),
+                "pylinkage_python": True,
+            }
+        )
+    else:
+        notes.append("pylinkage's slider-crank: not installed")
+    return rows
+
+
+def slider_crank_table(rows: list[dict[str, Any]]) -> str:
+    base = {r["d"]: r["us"] for r in rows if r.get("engine")}
+    lines = [
+        "| tool | computes | steps | us per step | time / linkwork's | max error rod angle [rad] | "
+        "slider x [m] | rod omega [rad/s] | slider v [m/s] | rod alpha [rad/s^2] | slider a [m/s^2] |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in rows:
+        err = r["err"]
+        cells = [
+            r["name"],
+            QUANTITIES[r["d"]],
+            f"{r['steps']:,}",
+            f"{r['us']:.3f}",
+            f"{r['us'] / base[r['d']]:.2f}x" if r["d"] in base else "-",
+            *(
+                f"{err[k]:.1e}" if err.get(k) is not None else "-"
+                for k in ("theta3", "x", "omega3", "v", "alpha3", "a")
+            ),
         ]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
@@ -841,7 +970,11 @@ def tradeoff_plot(curves: dict[str, list[tuple[str, float, float]]], path: Path,
 
 
 def targets_table(
-    fb: dict[str, Any], mechs: list[dict[str, Any]], scaling: dict[str, Any], batch: dict
+    fb: dict[str, Any],
+    mechs: list[dict[str, Any]],
+    scaling: dict[str, Any],
+    batch: dict,
+    slider: list[dict[str, Any]] | None = None,
 ) -> str:
     rows = fb["rows"]
 
@@ -889,6 +1022,30 @@ def targets_table(
     ratio_line(
         "positions only >= 2x faster than pylinkage-numba `step_fast`", pl0, lw0, 2.0, "positions only"
     )
+    sc = slider or []
+    sc2 = next((r for r in sc if r.get("engine") and r["d"] == 2), None)
+    sc0 = next((r for r in sc if r.get("engine") and r["d"] == 0), None)
+    for d, mine, label in ((2, sc2, "p+v+a"), (0, sc0, "positions only")):
+        theirs = next((r for r in sc if r.get("pylinkage") and r["d"] == d), None)
+        if theirs is not None and mine is not None:
+            wrong = theirs["err"]["x"]
+            ratio = theirs["us"] / mine["us"]
+            line(
+                f"slider-crank {label} >= 2x faster than pylinkage-numba "
+                f"`{'step_fast_with_kinematics' if d == 2 else 'step_fast'}`",
+                f"{mine['us']:.3f} vs {theirs['us']:.3f} us per step: {ratio:.2f}x; its numba path leaves "
+                f"the slider where it was drawn (x error {wrong:.2f} m)",
+                ratio >= 2.0,
+                f"by {2.0 / ratio:.2f}x",
+            )
+    py = next((r for r in sc if r.get("pylinkage_python")), None)
+    if py is not None and sc0 is not None:
+        ratio = py["us"] / sc0["us"]
+        line(
+            "slider-crank positions only >= 2x faster than pylinkage's correct path (`step`, Python)",
+            f"{sc0['us']:.3f} vs {py['us']:.3f} us per step: {ratio:.0f}x",
+            ratio >= 2.0,
+        )
     per = {r["name"]: r["us"] / r["coords"] for r in mechs}
     for name in ("slider_crank", "six_bar_stephenson"):
         ratio = per[name] / per["four_bar"]
@@ -997,6 +1154,8 @@ def main() -> None:
 
     say("four-bar")
     fb = four_bar_section(args.steps, args.reference_steps, args.repeats, notes)
+    say("slider-crank")
+    slider = slider_crank_section(args.steps, args.repeats, notes)
     say("mechanisms")
     mechs = mechanisms_section(args.steps, args.repeats)
     say("scaling")
@@ -1015,13 +1174,19 @@ def main() -> None:
             "",
             "### Targets of the performance issue",
             "",
-            targets_table(fb, mechs, scaling, batch),
+            targets_table(fb, mechs, scaling, batch, slider),
             "",
             "### The textbook four-bar, one revolution",
             "",
             para(FOUR_BAR_TEXT.format(steps=args.steps, ref_steps=args.reference_steps)),
             "",
             four_bar_table(fb),
+            "",
+            "### The slider-crank against pylinkage",
+            "",
+            para(SLIDER_TEXT.format(steps=args.steps, py_steps=SLIDER_PY_STEPS)),
+            "",
+            slider_crank_table(slider),
             "",
             "### Other mechanisms: time per coordinate",
             "",

@@ -17,27 +17,32 @@ pub fn available_memory() -> Option<usize> {
 /// Buffers from this size on are advised to use huge pages (NumPy's threshold).
 pub const HUGE_PAGES_FROM: usize = 4 << 20;
 
-/// `len` zeros, in huge pages where the system has them and the buffer is large enough.
+/// Buffers from this size on have their pages faulted in by one call (16 pages: below
+/// that the call costs about what the faults it saves do).
+pub const POPULATE_FROM: usize = 64 << 10;
+
+/// `len` zeros, in huge pages where the system has them and the buffer is large enough,
+/// its pages faulted in.
 pub fn zeroed<T: Copy + Default>(len: usize) -> Vec<T> {
     let v = vec![T::default(); len];
-    advise_huge_pages(&v);
+    advise_pages(&v);
     v
 }
 
 /// Advises the kernel to back the buffer's whole 2 MiB pages by huge pages, before its
-/// first write (calloc's fresh mappings are not touched until then). Advice only: where
-/// it is refused or means nothing, the buffer is the same.
+/// first write (calloc's fresh mappings are not touched until then), and faults its pages
+/// in. Advice only: where it is refused or means nothing, the buffer is the same.
 #[cfg(target_os = "linux")]
-fn advise_huge_pages<T>(v: &[T]) {
+fn advise_pages<T>(v: &[T]) {
     const HUGE: usize = 2 << 20;
     let bytes = std::mem::size_of_val(v);
-    if bytes < HUGE_PAGES_FROM {
+    if bytes < POPULATE_FROM {
         return;
     }
     let start = v.as_ptr() as usize;
     let first = start.next_multiple_of(HUGE);
     let end = (start + bytes) / HUGE * HUGE;
-    if end > first {
+    if bytes >= HUGE_PAGES_FROM && end > first {
         // SAFETY: [first, end) lies inside the allocation `v` owns; MADV_HUGEPAGE changes
         // how its pages are backed, never their contents.
         unsafe {
@@ -58,7 +63,7 @@ fn advise_huge_pages<T>(v: &[T]) {
 }
 
 #[cfg(not(target_os = "linux"))]
-fn advise_huge_pages<T>(_: &[T]) {}
+fn advise_pages<T>(_: &[T]) {}
 
 #[cfg(test)]
 mod tests {
