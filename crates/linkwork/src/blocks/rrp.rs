@@ -131,10 +131,10 @@ impl Rrp {
             let vk = [k.rd[0] - k.thetad * rk[1], k.rd[1] + k.thetad * rk[0]];
             let va = k1.point_velocity(self.link.u_known);
             // w pab - u dir = vk - va
-            let det = dir[0] * pab[1] - dir[1] * pab[0];
+            let inv_det = 1.0 / (dir[0] * pab[1] - dir[1] * pab[0]);
             let rhs = sub(vk, va);
-            let w = (dir[0] * rhs[1] - dir[1] * rhs[0]) / det;
-            let u = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
+            let w = (dir[0] * rhs[1] - dir[1] * rhs[0]) * inv_det;
+            let u = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det;
             pinned_rates(data, self.link.body, a, va, w);
             let vb = [vk[0] + u * dir[0], vk[1] + u * dir[1]];
             let rs = sub(data.frames[self.slider].r, b);
@@ -150,8 +150,8 @@ impl Rrp {
                     ak[0] + cor * pd[0] - aa[0] + w * w * rab[0],
                     ak[1] + cor * pd[1] - aa[1] + w * w * rab[1],
                 ];
-                let alpha = (dir[0] * rhs[1] - dir[1] * rhs[0]) / det;
-                let ud = (pab[0] * rhs[1] - pab[1] * rhs[0]) / det;
+                let alpha = (dir[0] * rhs[1] - dir[1] * rhs[0]) * inv_det;
+                let ud = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det;
                 pinned_accelerations(data, self.link.body, a, aa, w, alpha);
                 let ab = [ak[0] + ud * dir[0] + cor * pd[0], ak[1] + ud * dir[1] + cor * pd[1]];
                 let w2 = k.thetad * k.thetad;
