@@ -365,6 +365,9 @@ impl Model {
                     }
                     // the axis in a's frame: given there, or the world one turned into a's
                     let a_turn = Some([0.0, 0.0, bodies.theta(a)]);
+                    if axis_a.or(*axis).is_some_and(|e| e[0].hypot(e[1]) == 0.0) {
+                        return Err(fail("has a zero-length axis; give the sliding direction".into()));
+                    }
                     let e =
                         match (axis_a, axis) {
                             (Some(e), _) => unit("axis_a", *e).map_err(fail)?,
