@@ -232,3 +232,59 @@ fn residual(joints: &[&ConstraintEntry], length_scale: f64, q: &[f64]) -> (Vec<f
     }
     (phi, worst)
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::{Description, Model, ModelError};
+
+    /// The textbook four-bar drawn, joint B also giving its pins, B's drawn point moved by
+    /// `shift` along x and the coupler's pose by `turn`; closed as `close` says.
+    fn four_bar(shift: f64, turn: f64, close: &str) -> Result<Model, ModelError> {
+        let close = if close.is_empty() { String::new() } else { format!(r#""close": "{close}","#) };
+        let text = format!(
+            r#"{{"name": "four-bar", {close}
+            "bodies": [{{"name": "crank"}},
+                       {{"name": "coupler", "x": 0.2, "theta": {}}},
+                       {{"name": "rocker", "x": 0.35, "theta": 1.0471975511965974}}],
+            "joints": [
+              {{"type": "revolute", "name": "O2", "body_a": "ground", "body_b": "crank", "at": [0, 0]}},
+              {{"type": "revolute", "name": "A", "body_a": "crank", "body_b": "coupler", "at": [0.2, 0]}},
+              {{"type": "revolute", "name": "B", "body_a": "coupler", "body_b": "rocker",
+                "at": [{}, 0.2165063509461096], "pin_a": [0.35, 0], "pin_b": [0.25, 0]}},
+              {{"type": "revolute", "name": "O4", "body_a": "ground", "body_b": "rocker", "at": [0.35, 0]}}],
+            "drivers": [{{"type": "angle", "name": "crank_angle", "body": "crank",
+                          "law": {{"type": "linear", "value": 0, "rate": 5}}}}]}}"#,
+            0.6669463445036641 + turn,
+            0.47500000000000003 + shift
+        );
+        Model::new(Description::from_json(&text)?)
+    }
+
+    #[test]
+    fn a_miss_names_the_joint_unless_closed() {
+        // exact to round-off: nothing to report
+        assert!(four_bar(0.0, 0.0, "").unwrap().closing.is_none());
+        match four_bar(1e-3, 0.0, "") {
+            Err(ModelError::NotClosed { joint, miss, .. }) => {
+                assert_eq!(joint, "B");
+                assert!((miss - 1e-3).abs() < 1e-15, "{miss}");
+            }
+            other => panic!("expected NotClosed, got {other:?}"),
+        }
+        // the coupler turned by 1e-4 rad: keeping the pins, the bodies move until B holds
+        let model = four_bar(0.0, 1e-4, "given").unwrap();
+        let closing = model.closing.as_ref().unwrap();
+        assert_eq!(closing.misses[0].joint, "B");
+        let q = &model.q_start;
+        let (c, r) = (&q[3..6], &q[6..9]);
+        let on_coupler = [c[0] + 0.35 * c[2].cos(), c[1] + 0.35 * c[2].sin()];
+        let on_rocker = [r[0] + 0.25 * r[2].cos(), r[1] + 0.25 * r[2].sin()];
+        let miss = (on_coupler[0] - on_rocker[0]).hypot(on_coupler[1] - on_rocker[1]);
+        assert!(miss < 1e-14, "{miss}");
+        assert!(closing.moved.iter().all(|(_, d, t)| *d < 1e-4 && t.abs() < 1e-4));
+        // keeping the drawing: the bodies stay, the coupler's pin is the drawing's
+        let model = four_bar(0.0, 1e-4, "drawn").unwrap();
+        assert!(model.closing.as_ref().unwrap().moved.is_empty());
+        assert!(matches!(four_bar(0.0, 0.0, "nearest"), Err(ModelError::Description(_))));
+    }
+}
