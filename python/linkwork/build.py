@@ -17,7 +17,7 @@ model's length unit (metres unless ``units`` says otherwise).
 >>> m = lw.build.four_bar(ground=0.35, crank=0.20, coupler=0.35, rocker=0.25, branch="open")
 >>> res = m.compile().sweep(np.linspace(0.0, 2 * np.pi / 5.0, 361))
 >>> round(float(res.body("rocker").theta[0]), 9)
-2.094395102
+1.047197551
 """
 
 from __future__ import annotations

@@ -843,9 +843,12 @@ class Mechanism:
         """The mechanism drawn: its bodies at the configuration the engine assembles at
         time ``t`` from the joints' pins (on ``branch``'s assembly mode, default
         `Mechanism.branch`: "open", "crossed" or {linkage: circuit}; else the one nearest
-        the bodies' rough poses), each revolute at its world point. Lengths are the pins'
-        exactly; a joint that cannot close is an `AssemblyError` naming it. A copy is
-        returned; a drawn mechanism comes back unchanged.
+        the bodies' rough poses), each revolute at its world point, each slide through
+        its ``pin_b`` (its pins kept: its slide is still measured from them), every named
+        point and joint point carried with its body. Lengths are the pins' exactly; a
+        joint that cannot close is an `AssemblyError` naming it. A copy is returned; a
+        drawn mechanism comes back unchanged (compiling it checks that any pins it also
+        gives meet their drawn points: `close`).
 
         >>> from linkwork import Linear
         >>> m = Mechanism("four-bar")
