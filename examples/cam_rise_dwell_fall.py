@@ -10,6 +10,10 @@ the pitch curve R = base + roller + s; the profile is that curve offset inward b
 roller's radius, tabulated as r(phi) every degree (cam_rise_dwell_fall.toml). The
 spline through the table is exact to O(h^4) in r, so the follower's displacement is
 (measured here) O(h^4), its velocity O(h^3) and its acceleration O(h^2).
+
+Parameters: base circle 40 mm, roller 10 mm; a 15 mm cycloidal rise over 120 deg, dwell
+60 deg, 3-4-5 fall over 120 deg, dwell 60 deg; the cam at one turn a second (2 pi rad/s,
+clockwise); the file in m and rad.
 """
 
 import math

@@ -5,6 +5,9 @@ step stays on the parallelogram (the branch whose velocity is continuous), rates
 and the change point is reported once. Draws docs/analysis_change_point.png.
 
     python examples/change_point.py [output folder]
+
+Parameters: a parallelogram: crank and rocker 0.4 m, ground and coupler 1 m; the crank
+from pi/2 rad at 1 rad/s.
 """
 
 import sys

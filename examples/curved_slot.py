@@ -3,6 +3,9 @@ the closed form (the point of the slot's circle at the link's length from the sl
 pin), every coordinate against the NumPy reference, and the slot's own coordinate s.
 
     python examples/curved_slot.py [output folder]
+
+Parameters: slider on y = -0.15 m, driven 0.08 sin(2 pi t) m from x = 0.10 m; link 0.20
+m; slot a circle of radius 0.10 m about the origin.
 """
 
 import math

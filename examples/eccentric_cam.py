@@ -6,6 +6,9 @@ contacts run on the cam (the joints' own coordinates).
 
 With the cam at angle th (its centre at e (cos th, sin th)) the knife edge is at
 y = e sin th + S, S = sqrt(R^2 - e^2 cos^2 th), and the flat face at y = e sin th - R.
+
+Parameters: disc radius 50 mm, its centre 20 mm from the pivot; the cam at one turn a
+second (2 pi rad/s).
 """
 
 import math

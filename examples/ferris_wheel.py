@@ -3,6 +3,9 @@ a parallel joint and a relative-angle driver. Each car only translates, so its s
 on a circle of the wheel's radius centred 2 m below the hub (the closed form).
 
     python examples/ferris_wheel.py [output folder]
+
+Parameters: wheel radius 10 m, one turn a minute (2 pi / 60 rad/s); seats 2 m below
+their pins.
 """
 
 import math

@@ -4,6 +4,10 @@ coordinate against the NumPy reference; and chained (one driver, a chain couplin
 cranks), against the reference.
 
     python examples/five_bars.py [output folder]
+
+Parameters: cranks 0.10 m about O1 = (0, 0) and O2 = (0.30, 0) m, links 0.30 m; crank 1
+at 2 pi rad/s, crank 2 pi/2 + 0.8 sin(2 pi t) rad (chained: a chain of ratio 1, crank 2
+a quarter turn ahead).
 """
 
 import math

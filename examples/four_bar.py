@@ -2,6 +2,10 @@
 with the closed form, and draw the coupler curve.
 
     python examples/four_bar.py [output folder]
+
+Parameters: ground 0.35 m, crank 0.20 m, coupler 0.35 m, rocker 0.25 m (its model file:
+the same in mm); the crank at 5 rad/s (286.48 deg/s in the file) from 0 rad; coupler
+point P at the coupler's middle.
 """
 
 import math

@@ -3,6 +3,9 @@ forces, print the peak crank torque and its parts (inertia, gravity), the peak p
 and the energy balance, and plot the torque over the cycle.
 
     python examples/four_bar_torque.py [output folder]
+
+Parameters: the four-bar of four_bar (m) in steel bars 30 mm x 8 mm (7850 kg/m^3: 1.884
+kg/m, uniform slender rods), the crank at 60 rpm (2 pi rad/s), gravity 9.81 m/s^2.
 """
 
 import math

@@ -3,6 +3,10 @@ tooth ratios, and a planetary differential (sun and ring both driven) against Wi
 formula, (w_sun - w_arm) / (w_ring - w_arm) = -r_ring / r_sun.
 
     python examples/gear_trains.py
+
+Parameters: compound train: pitch radii 20, 60, 25, 50 mm, the input at 360 deg/s (file
+in mm, deg); planetary: sun 0.05 m, planet 0.03 m, ring 0.11 m (internal), the sun at 6
+rad/s, the ring 0.5 sin(3 t) rad.
 """
 
 import math

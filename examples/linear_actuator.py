@@ -3,6 +3,10 @@ boom's angle against the triangle heel-base-rod end (law of cosines), and the fo
 holds the boom at rest (`model.statics`) against the moment balance about the heel.
 
     python examples/linear_actuator.py [output folder]
+
+Parameters: boom of 50 kg from its heel (0, 0) to its tip (2.0, 0.4) m; cylinder from
+(0.6, -0.5) m to the boom's (1.0, 0.2) m, extending 0.1 (1 - cos t) m from 0.806226 m;
+gravity 9.81 m/s^2.
 """
 
 import math

@@ -7,6 +7,9 @@ The ram stops where the lever does, at the two crank angles where the crank is
 perpendicular to the lever: the crank sweeps 180 + alpha degrees on the cutting stroke
 and 180 - alpha on the return, alpha = 2 asin(crank / O2O4); the ram moves the lever's
 tip sideways by 2 lever crank / O2O4.
+
+Parameters: crank 100 mm, O2O4 300 mm, lever 500 mm, link 150 mm, ram guide 210 mm above
+O2, tool tip 30 mm ahead of and 60 mm below the ram pin; the crank at 360 deg/s.
 """
 
 import math

@@ -6,6 +6,9 @@ driver): the valve's path, velocity and acceleration against the cycloid's close
 With the hub at x(t), the wheel turns by -x / R and the valve, at the bottom at the start,
 is at (x - R sin(x / R), R (1 - cos(x / R))); its velocity x' (1 - cos, sin) and
 acceleration x'' (1 - cos, sin) + x'^2 / R (sin, cos).
+
+Parameters: wheel radius 300 mm; the hub pushed along x = 100 t + 200 t^2 mm (file in
+mm, deg: the coupling's coefficient 5.236 mm/deg).
 """
 
 import sys

@@ -8,6 +8,9 @@ through the torque centres.
 The arm is a representative example chosen for linkwork's documentation (links 1.0, 0.8,
 0.5 m; joint angles 30, 45, -60 degrees; rates 1.0, -0.5, 2.0 rad/s); no published values
 are reproduced.
+
+Parameters: links 1.0, 0.8, 0.5 m; relative joint angles 30, 45, -60 deg; joint rates
+1.0, -0.5, 2.0 rad/s; end force (0, -10) N; joint torques 4.0, 1.5, 0.5 N m.
 """
 
 import sys

@@ -4,6 +4,10 @@ slider-crank whose slider stops at its dead centres (locks). Prints the events a
 docs/analysis_events.png.
 
     python examples/singular_events.py [output folder]
+
+Parameters: a parallelogram (ground = coupler = 0.3 m, crank = rocker = 0.1 m, crank
+from 0.5 rad at 1 rad/s); a non-Grashof four-bar (ground 0.40, crank 0.30, coupler 0.25,
+rocker 0.20 m, 1 rad/s); the slider-crank of slider_crank at 1 rad/s.
 """
 
 import sys

@@ -3,6 +3,11 @@ accelerations and the crank torque (masses, gravity) over a crank revolution, en
 against the independent NumPy reference (linkwork.reference).
 
     python examples/six_bars.py [output folder]
+
+Parameters: four-bar crank 0.10 m, coupler 0.35 m, rocker 0.30 m, O2O4 0.35 m; link5
+0.25 m, output 0.15 m; O6 = (0.15, 0.45) m (Watt II) or (0.20, -0.15) m (Stephenson
+III); masses in kg, inertias in kg m^2 in the files, gravity 9.81 m/s^2; the crank at 5
+rad/s.
 """
 
 import math

@@ -2,6 +2,9 @@
 over a revolution against the textbook closed form.
 
     python examples/slider_crank.py
+
+Parameters: crank 0.10 m, rod 0.35 m, slide line 0.02 m above the crank pivot; the crank
+at 5 rad/s from 0 rad.
 """
 
 import math

@@ -3,6 +3,10 @@ travel against the closed form of each side (a circle-circle intersection), and 
 Ackermann error against the ideal cot(d_outer) - cot(d_inner) = track / wheelbase.
 
     python examples/steering.py [output folder]
+
+Parameters: pinion pitch radius 8 mm; rack 0.20 m behind the axle, its ends at +-0.25 m;
+steering arms 0.15 m angled 10 deg inward; kingpins 1.2 m apart, wheelbase 2.5 m; the
+steering wheel 8 sin(pi t) rad; tyre torsion springs in N m/rad.
 """
 
 import math

@@ -3,6 +3,8 @@ solving order) in its own colour. The Stephenson III six-bar of the examples: it
 crank, then the Assur dyad coupler-rocker, then the dyad link5-output hung on the coupler.
 
     python examples/structure.py [output folder]     # writes structure_stephenson.png
+
+Parameters: the Stephenson III six-bar of six_bars (m, rad).
 """
 
 import sys

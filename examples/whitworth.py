@@ -6,6 +6,9 @@ extremes located by the sweep's lock events.
 The ram stops where the lever lies along the ram's line, so where the crank pin crosses
 that line: the crank sweeps 180 + alpha degrees on the slow stroke and 180 - alpha on the
 quick one, alpha = 2 asin(O2O4 / crank); the stroke is twice the lever's arm O4C.
+
+Parameters: crank 0.10 m, O4 0.05 m below O2, lever arm O4C 0.08 m, link 0.25 m; the
+crank at 2 pi rad/s.
 """
 
 import math

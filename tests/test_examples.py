@@ -30,6 +30,22 @@ def test_there_are_examples():
     assert len(MODELS) >= 10
 
 
+def test_every_example_says_its_parameters_with_units():
+    """Each script's docstring has its parameters (with their units) and docs/examples.md
+    the same line in its table of parameters."""
+    import ast
+
+    table = (FOLDER.parent / "docs" / "examples.md").read_text().split("## Parameters", 1)[1]
+    for path in EXAMPLES:
+        doc = ast.get_docstring(ast.parse(path.read_text())) or ""
+        assert "Parameters: " in doc, path.name
+        said = " ".join(doc.split("Parameters: ", 1)[1].split())
+        row = re.search(rf"^\| `{path.stem}` \| (.*) \|$", table, re.M)
+        assert row is not None, f"docs/examples.md has no parameters of {path.stem}"
+        assert said == row.group(1) + ".", path.name
+        assert re.search(r"\b(m|mm|rad|deg|rad/s|deg/s|kg|N|rpm)\b", said), path.name
+
+
 def documented_run(path: Path) -> list[str]:
     """The options of the `linkwork run examples/NAME.toml ...` line in the file's header."""
     found = re.search(rf"^#\s+linkwork run examples/{re.escape(path.name)}(.*)$", path.read_text(), re.M)

@@ -257,3 +257,38 @@ def test_a_missing_package_is_named_with_its_pip_command(tmp_path, monkeypatch, 
     with pytest.raises(lw.DependencyError, match=f"pip install {module}") as e:
         call(res, tmp_path)
     assert isinstance(e.value, ImportError) and "linkwork[export]" in str(e.value)
+
+
+def test_svg_labels_name_bodies_joints_and_points_as_the_figure_does():
+    """The SVG's labels are the static figure's (MechanismArtists with labels): every body
+    at the middle of its outline, every joint and named point beside its point."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from linkwork.drawing import Geometry, MechanismArtists, Motion
+
+    res = four_bar()
+    row = 37
+    root = ET.fromstring(res.to_svg(t=float(res.times[row])).encode())
+    labels = {t.text: t for t in root.iterfind(".//svg:g[@id='labels']/svg:text", NS)}
+    bodies = {t.text: t for t in root.iterfind(".//svg:text[@class='label body-label']", NS)}
+    assert set(bodies) == {"crank", "coupler", "rocker"}
+    expected = four_bar_joints(res.q[row], res)
+    outlines = {
+        "crank": [expected["O2"], expected["A"]],
+        "rocker": [expected["O4"], expected["B"]],
+        "coupler": [expected["A"], expected["B"], res.point("P").position[row]],
+    }
+    for name, corners in outlines.items():
+        # upright text outside the flipped group: y is -y there
+        x, y = float(bodies[name].get("x", "nan")), -float(bodies[name].get("y", "nan"))
+        assert np.abs(np.array([x, y]) - np.mean(corners, axis=0)).max() < 1e-9, name
+    # the figure labels the same names
+    fig, ax = plt.subplots()
+    g = Geometry.from_model(res.model)
+    artists = MechanismArtists(ax, Motion(g, res), labels=True)
+    figure = {t.get_text() for _, t in artists.labels} | {"P"}
+    plt.close(fig)
+    assert set(labels) == figure == {"crank", "coupler", "rocker", "O2", "A", "B", "O4", "P"}

@@ -531,3 +531,18 @@ def test_a_file_without_units_that_looks_like_mm_and_deg_is_warned_about(tmp_pat
     )
     assert "units: lengths in m, angles in rad (the default: the file declares no units)" in run.stdout
     assert "warning:" in run.stderr and "millimetres" in run.stderr
+
+
+def test_the_law_table_names_every_law_the_engine_accepts():
+    """docs/model-format.md's table of motion laws against the engine's own list (the
+    one its reader gives for an unknown type), so neither can drift from the other."""
+    doc = (Path(__file__).resolve().parent.parent / "docs" / "model-format.md").read_text()
+    section = doc.split("### Motion laws", 1)[1].split("\n### ", 1)[0]
+    documented = re.findall(r'^\| `"(\w+)"` \|', section, flags=re.M)
+    with pytest.raises(lw.ModelError, match="unknown variant") as e:
+        lw.Mechanism.from_toml(
+            '[model]\nname = "x"\n[[bodies]]\nname = "a"\n[[drivers]]\ntype = "angle"\n'
+            'name = "d"\nbody = "a"\nlaw = { type = "no_such_law" }\n'
+        )
+    accepted = re.findall(r"`(\w+)`", str(e.value).split("expected one of", 1)[1])
+    assert len(accepted) >= 11 and documented == accepted

@@ -306,3 +306,32 @@ def test_a_page_of_fewer_frames_than_steps_and_a_cam(browser, tmp_path):
     keep(browser, tmp_path, "page_cam.png")
     assert problems(browser) == []
     assert os.path.getsize(tmp_path / "cam.html") < 2_000_000
+
+
+def test_the_page_labels_the_bodies_and_moves_them_with_the_drawing(browser, tmp_path):
+    """The page's labels (the SVG export's, the figure's): read from its DOM at a step of
+    the slider, each body's name at the middle of its outline, from the sweep."""
+    res = four_bar(61)
+    res.to_html(tmp_path / "labels.html")
+    open_page(browser, tmp_path / "labels.html")
+    browser.execute_script("window.linkwork.show(40)")
+    raw = browser.execute_script(
+        "return [...document.querySelectorAll('#drawing text.body-label')]"
+        ".map(t => [t.textContent, t.getAttribute('x'), t.getAttribute('y')])"
+    )
+    labels = {name: np.array([float(x), -float(y)]) for name, x, y in raw}
+    assert set(labels) == {"crank", "coupler", "rocker"}
+    pins = four_bar_joints(res.q[40], res)
+    p = res.point("P").position[40]
+    middles = {
+        "crank": (pins["O2"] + pins["A"]) / 2,
+        "rocker": (pins["O4"] + pins["B"]) / 2,
+        "coupler": (pins["A"] + pins["B"] + p) / 3,
+    }
+    for name, xy in middles.items():
+        assert np.abs(labels[name] - xy).max() < 1e-12, name
+    joints = browser.execute_script(
+        "return [...document.querySelectorAll('#drawing text.joint-label')].map(t => t.textContent)"
+    )
+    assert sorted(joints) == ["A", "B", "O2", "O4"]
+    assert problems(browser) == []

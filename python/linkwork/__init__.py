@@ -4,10 +4,11 @@ Build a `Mechanism` (bodies, joints at world points, drivers with motion laws), 
 it into a `Model`, then ``model.solve(t)`` or ``model.sweep(times)``.
 """
 
-from . import closed_form, curves, examples, reference, screw, study
+from . import build, closed_form, curves, examples, reference, screw, study
 from .errors import (
     AssemblyError,
     CancelledError,
+    ClosureError,
     ConvergenceError,
     DependencyError,
     ExpressionError,
@@ -60,6 +61,7 @@ __all__ = [
     "ConvergenceError",
     "DependencyError",
     "Expression",
+    "ClosureError",
     "ExpressionError",
     "Harmonic",
     "InputError",
@@ -88,6 +90,7 @@ __all__ = [
     "State",
     "Study",
     "StudyResult",
+    "build",
     "closed_form",
     "curves",
     "sweep_batch",

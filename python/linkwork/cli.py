@@ -298,6 +298,9 @@ def check(args: argparse.Namespace) -> int:
     model = _load(args.model)
     angles = _angles(args, model)
     print(f"{model!r}")
+    closing = model.closing
+    if closing is not None:
+        print(closing.report(model.units["length"], angles))
     try:
         mob = model.mobility(t=args.t)
     except LinkworkError as e:

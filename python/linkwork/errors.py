@@ -4,7 +4,9 @@
 
     LinkworkError
     ├── ModelError          the description cannot be compiled (names the body/joint/driver)
-    │   └── ExpressionError     a text expression that does not parse (``column`` says where)
+    │   ├── ExpressionError     a text expression that does not parse (``column`` says where)
+    │   └── ClosureError        a drawing that does not close: a joint's pins miss its drawn
+    │                           point (``joint``, ``miss``); ``close`` asks the engine to close it
     ├── InputError          bad arguments to a solve (time grid, q_guess); also a ValueError
     ├── ScrewError          a screw-theory question without a (unique) answer: coincident
     │                       or collinear joints, parallel lines, a redundant arm; also a ValueError
@@ -39,6 +41,7 @@ __all__ = [
     "LinkworkError",
     "ModelError",
     "ExpressionError",
+    "ClosureError",
     "InputError",
     "ScrewError",
     "SynthesisError",
@@ -72,6 +75,17 @@ class ExpressionError(ModelError):
     column: int = 0
     text: str = ""
     hint: str | None = None
+
+
+class ClosureError(ModelError):
+    """A drawing that does not close: a joint gives both its drawn point and its pins in the
+    bodies' frames, and they disagree (or, closed keeping the pins, the joints cannot all
+    hold). ``joint`` names the joint that misses most, ``miss`` by how much (the model's
+    length unit). ``Mechanism.close = "given"`` or ``"drawn"`` (the model file's ``close``)
+    asks the engine to close it."""
+
+    joint: str = ""
+    miss: float = 0.0
 
 
 class InputError(LinkworkError, ValueError):

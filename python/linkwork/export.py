@@ -235,12 +235,31 @@ def svg_text(motion: Motion, row: int, paths: dict[str, np.ndarray], title: str,
         out.append(f'<circle {a} cx="{_n(xy[k, 0])}" cy="{_n(xy[k, 1])}" r="{_n(r_point)}"/>')
     out.append("</g>")
     out.append("</g>")
-    # labels outside the flipped group, so that the text reads upright: y is -y there
+    # labels outside the flipped group, so that the text reads upright: y is -y there. The
+    # same labels as the figure's (MechanismArtists with labels): each body's name at the
+    # middle of its outline, each joint's and named point's name beside its point
     out.append(f'<g id="labels" font-family="sans-serif" font-size="{_n(0.03 * s)}" fill="#333333">')
+    for i, name in enumerate(g.body_names):
+        outline = g.outlines[name]
+        x, y = xy[outline].mean(axis=0)
+        a = _attrs(class_="label body-label", data_name=name, data_anchors=" ".join(map(str, outline)))
+        out.append(
+            f'<text {a} x="{_n(x)}" y="{_n(-y)}" text-anchor="middle" dominant-baseline="middle" '
+            f'font-weight="bold" fill="{colour(i)}">{escape(name)}</text>'
+        )
     off = 1.5 * r_pin
-    for k in g.points + [k for k in g.pins if k not in g.ground_pins]:
+    named = {g.anchors[k].name for k in g.points}
+    joints = [k for name, k in g.traceable.items() if name not in named and g.anchors[k].kind == "joint"]
+    for k in g.points + joints:
         x, y = xy[k]
-        a = _attrs(class_="label", data_anchor=k, data_dx=_n(off), data_dy=_n(off))
+        kind = "point-label" if k in g.points else "joint-label"
+        a = _attrs(
+            class_=f"label {kind}",
+            data_name=g.anchors[k].name,
+            data_anchor=k,
+            data_dx=_n(off),
+            data_dy=_n(off),
+        )
         out.append(f'<text {a} x="{_n(x + off)}" y="{_n(-(y + off))}">{escape(g.anchors[k].name)}</text>')
     out.append("</g>")
     out.append("</svg>")

@@ -103,6 +103,11 @@ class Mechanism:
         #: the assembly mode a mechanism given by its pins is drawn on ("open", "crossed",
         #: or {linkage: circuit}; `assemble`); None: the one nearest the bodies' rough poses
         self.branch: str | dict[str, str] | None = None
+        #: where a joint gives both its drawn point ``at`` and its pins and they disagree:
+        #: None, a `ClosureError` naming the joint and the miss; "given", the engine keeps
+        #: the pins and moves the bodies until the joints hold (least squares); "drawn", it
+        #: keeps the drawing's points. What was done is `Model.closing`.
+        self.close: str | None = None
         # (file, {(kind, name): line}) of a mechanism read from a file, for compile errors
         self._source: tuple[str, dict[tuple[str, str], int]] | None = None
 
@@ -214,24 +219,53 @@ class Mechanism:
         self,
         body_a: Body | str,
         body_b: Body | str,
-        at: Sequence[float],
-        axis: Sequence[float],
+        at: Sequence[float] | None = None,
+        axis: Sequence[float] | None = None,
         name: str | None = None,
+        pin_a: Sequence[float] | None = None,
+        pin_b: Sequence[float] | None = None,
+        axis_a: Sequence[float] | None = None,
+        angle: float | None = None,
     ) -> str:
-        """A translational joint: ``body_b`` slides on ``body_a`` along ``axis`` (world
-        direction at the start, fixed in ``body_a``) through ``at``. 2 rows: no relative
-        rotation, no offset across the axis. The slide s is 0 at the start."""
+        """A translational joint: ``body_b`` slides on ``body_a``. 2 rows: no relative
+        rotation, no offset across the axis. Drawn: along ``axis`` (a world direction at
+        the start, fixed in ``body_a``) through the world point ``at``; the slide s is 0 at
+        the start. Lengths first: along the line through ``pin_a`` in ``body_a``'s frame,
+        in the direction ``axis_a`` there (or the world ``axis``, for a slide on the
+        ground), with ``body_b``'s point ``pin_b`` (in its frame) on it, ``angle`` =
+        theta_b - theta_a (default 0); s is 0 where ``pin_b`` is at ``pin_a``.
+
+        >>> m = Mechanism("slider, lengths first")
+        >>> m.prismatic(m.ground, m.body("slider"), pin_a=(0, 0.02), pin_b=(0, 0), axis=(1, 0))
+        'P1'
+        """
         name = self._auto("P", name)
-        self._joints.append(
-            {
-                "type": "prismatic",
-                "name": name,
-                "body_a": _name(body_a),
-                "body_b": _name(body_b),
-                "at": _xy(at),
-                "axis": _xy(axis),
-            }
-        )
+        if at is None and (pin_a is None or pin_b is None):
+            raise InputError(
+                f"prismatic {name!r}: give its world point `at`, or its pin in each body (pin_a, pin_b)"
+            )
+        if axis is None and axis_a is None:
+            raise InputError(
+                f"prismatic {name!r}: give its direction, `axis` (world) or `axis_a` (in body_a)"
+            )
+        joint: dict[str, Any] = {
+            "type": "prismatic",
+            "name": name,
+            "body_a": _name(body_a),
+            "body_b": _name(body_b),
+        }
+        for key, value in (
+            ("at", at),
+            ("axis", axis),
+            ("pin_a", pin_a),
+            ("pin_b", pin_b),
+            ("axis_a", axis_a),
+        ):
+            if value is not None:
+                joint[key] = _xy(value)
+        if angle is not None:
+            joint["angle"] = float(angle)
+        self._joints.append(joint)
         return name
 
     def fixed(self, body_a: Body | str, body_b: Body | str, name: str | None = None) -> str:
@@ -650,6 +684,8 @@ class Mechanism:
             desc["outputs"] = list(self.outputs)
         if self.branch is not None:
             desc["branch"] = self.branch if isinstance(self.branch, str) else dict(self.branch)
+        if self.close is not None:
+            desc["close"] = self.close
         return desc | {
             "bodies": [dict(b) for b in self._bodies],
             "joints": [dict(j) for j in self._joints],
@@ -681,6 +717,7 @@ class Mechanism:
         units = desc.get("units")
         m.units = dict(units) if units else None
         m.branch = desc.get("branch")
+        m.close = desc.get("close")
         outputs = desc.get("outputs")
         if outputs is not None:
             if isinstance(outputs, str) or not all(isinstance(o, str) for o in outputs):
@@ -798,17 +835,20 @@ class Mechanism:
         return m
 
     def is_drawn(self) -> bool:
-        """Whether every joint is placed in the drawing (no revolute given only by its pins
-        in the bodies' frames, which `assemble` places)."""
-        return all("at" in j for j in self._joints if j.get("type") == "revolute")
+        """Whether every joint is placed in the drawing (no revolute or prismatic given only
+        by its pins in the bodies' frames, which `assemble` places)."""
+        return all("at" in j for j in self._joints if j.get("type") in ("revolute", "prismatic"))
 
     def assemble(self, t: float = 0.0, branch: str | dict[str, str] | None = None) -> Mechanism:
         """The mechanism drawn: its bodies at the configuration the engine assembles at
         time ``t`` from the joints' pins (on ``branch``'s assembly mode, default
         `Mechanism.branch`: "open", "crossed" or {linkage: circuit}; else the one nearest
-        the bodies' rough poses), each revolute at its world point. Lengths are the pins'
-        exactly; a joint that cannot close is an `AssemblyError` naming it. A copy is
-        returned; a drawn mechanism comes back unchanged.
+        the bodies' rough poses), each revolute at its world point, each slide through
+        its ``pin_b`` (its pins kept: its slide is still measured from them), every named
+        point and joint point carried with its body. Lengths are the pins' exactly; a
+        joint that cannot close is an `AssemblyError` naming it. A copy is returned; a
+        drawn mechanism comes back unchanged (compiling it checks that any pins it also
+        gives meet their drawn points: `close`).
 
         >>> from linkwork import Linear
         >>> m = Mechanism("four-bar")
@@ -835,6 +875,10 @@ class Mechanism:
         desc = self.to_dict()
         # poses in the description's own angle unit (the engine's are radians)
         per_rad = 180.0 / math.pi if (self.units or {}).get("angle") == "deg" else 1.0
+        rough = {
+            b["name"]: (b.get("x", 0.0), b.get("y", 0.0), b.get("theta", 0.0) / per_rad)
+            for b in desc["bodies"]
+        }
         poses = {name: q[3 * i : 3 * i + 3] for i, name in enumerate(model.body_names)}
         for b in desc["bodies"]:
             x, y, theta = poses[b["name"]]
@@ -847,17 +891,34 @@ class Mechanism:
             c, s = math.cos(theta), math.sin(theta)
             return np.array([x + c * u[0] - s * u[1], y + s * u[0] + c * u[1]])
 
+        def turn(body: str, v: Sequence[float]) -> np.ndarray:
+            if body == GROUND:
+                return np.asarray(v, dtype=float)
+            c, s = math.cos(poses[body][2]), math.sin(poses[body][2])
+            return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+        _carry_world_points(desc, rough, poses)
         for j in desc["joints"]:
-            if j.get("type") != "revolute" or "at" in j:
+            if j.get("type") not in ("revolute", "prismatic") or "at" in j:
                 continue
             a, b = world(j["body_a"], j["pin_a"]), world(j["body_b"], j["pin_b"])
             miss = float(np.hypot(*(a - b)))
+            if j["type"] == "prismatic":
+                # the slide: pin_b on the line through pin_a; drawn through pin_b, the pins
+                # kept so that the slide is still 0 where pin_b is at pin_a
+                e = turn(j["body_a"], j["axis_a"]) if "axis_a" in j else np.asarray(j["axis"], dtype=float)
+                e = e / np.hypot(*e)
+                miss = abs(float(e[0] * (b - a)[1] - e[1] * (b - a)[0]))
+                j["at"], j["axis"] = [float(b[0]), float(b[1])], [float(e[0]), float(e[1])]
+                j.pop("axis_a", None)
+                j.setdefault("angle", 0.0)
             if miss > 1e-9 * model.length_scale:
                 raise AssemblyError(
                     f"joint {j['name']!r} does not close: its pins are {miss:.6g} apart at t = {t:g}"
                 )
-            j["at"] = [float(a[0]), float(a[1])]
-            del j["pin_a"], j["pin_b"]
+            if j["type"] == "revolute":
+                j["at"] = [float(a[0]), float(a[1])]
+                del j["pin_a"], j["pin_b"]
         desc.pop("branch", None)
         drawn = Mechanism.from_dict(desc)
         drawn._python_laws = dict(self._python_laws)
@@ -877,8 +938,9 @@ class Mechanism:
             line = self._source[1].get(tuple(element)) if self._source and element else None
             if line is None:
                 raise
-            located = ModelError(f"{self._source[0]}: line {line}: {e}")
-            located.element = element  # type: ignore[attr-defined]
+            # the same kind of error (a ClosureError stays one), its attributes kept
+            located = type(e)(f"{self._source[0]}: line {line}: {e}")
+            located.__dict__.update(e.__dict__)
             raise located from None
 
     # -- what a notebook shows ----------------------------------------------------------
@@ -895,6 +957,72 @@ class Mechanism:
         from .notebook import mechanism_png
 
         return mechanism_png(self)
+
+
+#: world directions at the start fixed in a body: joint or driver type -> {field: the
+#: field naming the body} (a prismatic's axis is turned with its pins, in `assemble`)
+WORLD_DIRECTIONS: dict[str, dict[str, str]] = {
+    "point_on_line": {"axis": "body_b"},
+    "rack_pinion": {"axis": "body_b"},
+    "parallel": {"axis_a": "body_a", "axis_b": "body_b"},
+    "cam_follower": {"face": "body_b"},
+}
+
+
+def _carry_world_points(
+    desc: dict[str, Any], rough: dict[str, tuple[float, float, float]], poses: dict[str, np.ndarray]
+) -> None:
+    """Carries every world point and direction of ``desc`` fixed in one body from the
+    body's rough pose to its assembled one (as the engine reads them: the point in the
+    body's frame is u = A(theta_rough)^T (p - R_rough)), so a named point or a joint's
+    point given beside the pins stays where it is on its body."""
+    from .drawing import CURVES, WORLD_POINTS
+
+    def moved(body: str) -> bool:
+        return body != GROUND and any(abs(a - b) > 0.0 for a, b in zip(rough[body], poses[body]))
+
+    def carry(body: str, p: Sequence[float], direction: bool = False) -> list[float]:
+        if body == GROUND:
+            return [float(p[0]), float(p[1])]
+        x0, y0, th0 = rough[body]
+        x, y, th = (float(v) for v in poses[body])
+        d = (p[0], p[1]) if direction else (p[0] - x0, p[1] - y0)
+        c0, s0 = math.cos(th0), math.sin(th0)
+        u = (c0 * d[0] + s0 * d[1], -s0 * d[0] + c0 * d[1])
+        c, s = math.cos(th), math.sin(th)
+        w = (c * u[0] - s * u[1], s * u[0] + c * u[1])
+        return [w[0], w[1]] if direction else [x + w[0], y + w[1]]
+
+    for item in desc["joints"] + desc["drivers"]:
+        kind = item.get("type")
+        if kind in ("revolute", "prismatic"):
+            # a drawn point of two bodies goes with either (they agree once assembled)
+            side = item["body_a"] if item["body_a"] != GROUND else item["body_b"]
+            if "at" in item:
+                item["at"] = carry(side, item["at"])
+            if "axis" in item:
+                item["axis"] = carry(item["body_a"], item["axis"], direction=True)
+            continue
+        for key, sides in WORLD_POINTS.get(kind, {}).items():
+            if len(sides) == 1 and key in item:
+                item[key] = carry(item[sides[0]], item[key])
+        for key, side in WORLD_DIRECTIONS.get(kind, {}).items():
+            if key in item:
+                item[key] = carry(item[side], item[key], direction=True)
+        if kind in CURVES and moved(item["body_a"]):
+            raise InputError(
+                f"joint {item['name']!r}: its curve is fixed in {item['body_a']!r}, which assembling "
+                "moves from its pose; give that body its drawn pose (a curve is drawn in world terms)"
+            )
+    for p in desc["points"]:
+        p["at"] = carry(p["body"], p["at"])
+    for ld in desc["loads"]:
+        for key, side in (("at", "body"), ("at_a", "body_a"), ("at_b", "body_b")):
+            if key in ld and side in ld:
+                ld[key] = carry(ld[side], ld[key])
+    for b in desc["bodies"]:
+        if "com" in b:
+            b["com"] = carry(b["name"], b["com"])
 
 
 def _format_of(path: str | os.PathLike[str]) -> str:

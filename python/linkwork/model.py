@@ -22,6 +22,51 @@ __all__ = ["Model", "Cycle", "sweep_batch"]
 
 
 @dataclass(frozen=True)
+class Miss:
+    """A joint's pin that missed its drawn point: ``miss`` (the model's length unit; for a
+    prismatic joint, across the slide line), the pin ``given`` and the one the drawing
+    puts there (``drawn``), both in the body's frame."""
+
+    joint: str
+    body: str
+    pin: str
+    miss: float
+    given: tuple[float, float]
+    drawn: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Closing:
+    """How the engine closed a drawing that did not close, as asked (``close``): keeping
+    the pins ``"given"`` (the bodies ``moved``, as (body, how far its origin moved, how far
+    it turned in rad), to the nearest configuration where every joint holds, by least
+    squares) or the ``"drawn"`` points (each pin where the drawing puts it)."""
+
+    keep: str
+    misses: tuple[Miss, ...]
+    moved: tuple[tuple[str, float, float], ...]
+
+    def report(self, length: str = "m", angles: str = "rad") -> str:
+        """Lines for ``linkwork check``: what missed, what was kept, what moved."""
+        k = math.degrees(1.0) if angles == "deg" else 1.0
+        how = (
+            "keeping the pins given, the bodies moved by least squares"
+            if self.keep == "given"
+            else "keeping the drawing's points, the pins given ignored"
+        )
+        lines = [f'  drawing closed          {how} (close = "{self.keep}")']
+        for m in self.misses:
+            kept = m.given if self.keep == "given" else m.drawn
+            lines.append(
+                f"    joint {m.joint!r}: {m.pin} of {m.body!r} missed its drawn point by "
+                f"{m.miss:.3e} {length}; {m.pin} = ({kept[0]:.9g}, {kept[1]:.9g}) {length}"
+            )
+        for body, d, turn in self.moved:
+            lines.append(f"    body {body!r} moved {d:.3e} {length} and turned {turn * k:.3e} {angles}")
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
 class Cycle:
     """One cycle of a model's periodic driver: the driver, the period (s) and how it
     was found ("2 pi / |rate|", "360 / |rate|", "2 pi / |omega|", "its period")."""
@@ -116,6 +161,17 @@ class Model:
         lambda self: self._core.indeterminate,
         doc="Joints whose reactions kinematics does not determine (their rows are dependent).",
     )
+
+    @property
+    def closing(self) -> Closing | None:
+        """How a drawing that did not close was closed (`Mechanism.close`, the model file's
+        ``close``), or None where it closed as drawn (or nothing was given twice)."""
+        raw = self._core.closing
+        if raw is None:
+            return None
+        misses = tuple(Miss(j, b, p, float(m), tuple(g), tuple(d)) for j, b, p, m, g, d in raw["misses"])  # type: ignore[arg-type]
+        moved = tuple((str(b), float(d), float(t)) for b, d, t in raw["moved"])
+        return Closing(str(raw["keep"]), misses, moved)
 
     @property
     def units(self) -> dict[str, str]:

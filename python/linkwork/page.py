@@ -339,7 +339,12 @@ function moveDrawing(f) {
   }
   for (const el of byAnchors) {
     const ks = el.dataset.anchors.split(" ").map(Number);
-    if (el.tagName === "circle") {
+    if (el.tagName === "text") {
+      // a body's label, at the middle of its outline (outside the flipped group: -y)
+      const ps = ks.map((k) => at(f, k));
+      el.setAttribute("x", ps.reduce((s, p) => s + p[0], 0) / ps.length);
+      el.setAttribute("y", -ps.reduce((s, p) => s + p[1], 0) / ps.length);
+    } else if (el.tagName === "circle") {
       const [x, y] = at(f, ks[0]);
       el.setAttribute("cx", x);
       el.setAttribute("cy", y);

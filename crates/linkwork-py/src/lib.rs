@@ -27,6 +27,7 @@ mod py_errors {
 }
 use py_errors::ModelError as PyModelError;
 pyo3::import_exception!(linkwork.errors, InputError);
+pyo3::import_exception!(linkwork.errors, ClosureError);
 pyo3::import_exception!(linkwork.errors, AssemblyError);
 pyo3::import_exception!(linkwork.errors, ConvergenceError);
 pyo3::import_exception!(linkwork.errors, SingularError);
@@ -34,11 +35,23 @@ pyo3::import_exception!(linkwork.errors, NonFiniteError);
 pyo3::import_exception!(linkwork.errors, CancelledError);
 
 fn model_err(e: ModelError) -> PyErr {
-    let err = PyModelError::new_err(e.to_string());
+    let inner = match &e {
+        ModelError::Located { error, .. } => error.as_ref(),
+        other => other,
+    };
+    let err = match inner {
+        ModelError::NotClosed { .. } => ClosureError::new_err(e.to_string()),
+        _ => PyModelError::new_err(e.to_string()),
+    };
     // (kind, name) of the element at fault, so that a file's reader can add its line
     Python::attach(|py| {
         let element = e.element().map(|(kind, name)| (kind.to_string(), name.to_string()));
-        let _ = err.value(py).setattr("element", element);
+        let value = err.value(py);
+        let _ = value.setattr("element", element);
+        if let ModelError::NotClosed { joint, miss, .. } = inner {
+            let _ = value.setattr("joint", joint);
+            let _ = value.setattr("miss", *miss);
+        }
     });
     err
 }
@@ -504,6 +517,23 @@ impl PyModel {
             .iter()
             .map(|c| (c.name.clone(), c.role, c.kind.label(), c.n_rows, c.row0))
             .collect()
+    }
+    /// How a drawing that did not close was closed (the description's `close`), or None:
+    /// {"keep": "given" | "drawn", "misses": [(joint, body, pin, miss, given, drawn)],
+    /// "moved": [(body, distance, turn)]}.
+    #[getter]
+    fn closing<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(c) = &self.model.closing else { return Ok(None) };
+        let d = PyDict::new(py);
+        d.set_item("keep", c.keep.name())?;
+        let misses: Vec<_> = c
+            .misses
+            .iter()
+            .map(|m| (m.joint.clone(), m.body.clone(), m.pin, m.miss, m.given, m.drawn))
+            .collect();
+        d.set_item("misses", misses)?;
+        d.set_item("moved", c.moved.clone())?;
+        Ok(Some(d))
     }
     /// Joints whose reactions kinematics does not determine (redundant rows).
     #[getter]

@@ -44,6 +44,11 @@ pub struct Description {
     /// a table linkage -> circuit); resolved where it is assembled (the Python package)
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub branch: Option<serde_json::Value>,
+    /// what to do where a joint gives both a drawn point and its pins and they disagree:
+    /// none (an error naming the joint), "given" (keep the pins, close the drawing by least
+    /// squares) or "drawn" (keep the drawing's points, the pins given ignored)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub close: Option<String>,
 }
 
 /// A moving body and its approximate starting pose (world origin and angle).
@@ -131,8 +136,27 @@ pub enum JointDesc {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         pin_b: Option<[f64; 2]>,
     },
-    /// `body_b` slides on `body_a` along `axis` through `at`.
-    Prismatic { name: String, body_a: String, body_b: String, at: [f64; 2], axis: [f64; 2] },
+    /// `body_b` slides on `body_a` along `axis` through `at` (world, in the drawing); or,
+    /// lengths first, along `axis_a` (or `axis`) through `pin_a`, in body_a's frame, with
+    /// body_b's point `pin_b` (in its frame) on that line, `angle` = theta_b - theta_a
+    /// (default: the drawing's, or 0 with pins).
+    Prismatic {
+        name: String,
+        body_a: String,
+        body_b: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        at: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        axis: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pin_a: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pin_b: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        axis_a: Option<[f64; 2]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        angle: Option<f64>,
+    },
     /// Weld: `body_b` keeps its starting pose relative to `body_a`.
     Fixed { name: String, body_a: String, body_b: String },
     /// A massless coupler between `at_a` (a point of `body_a`) and `at_b` (of `body_b`):
@@ -414,8 +438,18 @@ mod wire {
             name: String,
             body_a: String,
             body_b: String,
-            at: [f64; 2],
-            axis: [f64; 2],
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            at: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            axis: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pin_a: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pin_b: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            axis_a: Option<[f64; 2]>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            angle: Option<f64>,
         },
         Fixed {
             name: String,

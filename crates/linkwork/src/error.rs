@@ -34,6 +34,10 @@ pub enum ModelError {
     /// A model file (or description text) that cannot be read: where, which field, what.
     #[error("{file}: line {line}, column {column}: {}{message}", field_prefix(.field))]
     File { file: String, line: usize, column: usize, field: String, message: String },
+    /// A joint whose pins, placed by the drawing's poses, miss its drawn point (or, closed
+    /// keeping the pins, whose joints cannot all hold): `miss` in the model's length unit.
+    #[error("joint '{joint}' does not close: {detail}")]
+    NotClosed { joint: String, miss: f64, detail: String },
     /// An error of one element of a model file, with the line where the element starts.
     #[error("{file}: line {line}: {error}")]
     Located { file: String, line: usize, error: Box<ModelError> },
@@ -55,6 +59,7 @@ impl ModelError {
             ModelError::Body { name, .. } => Some(("body", name)),
             ModelError::Constraint { kind, name, .. } => Some((kind, name)),
             ModelError::Point { name, .. } => Some(("point", name)),
+            ModelError::NotClosed { joint, .. } => Some(("joint", joint)),
             ModelError::DuplicateName { name, second, .. } => {
                 Some((second.strip_prefix("a ").unwrap_or(second), name))
             }

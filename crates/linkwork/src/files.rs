@@ -27,7 +27,7 @@ pub const FORMAT_VERSION: i64 = 1;
 pub const NO_FILE: &str = "model description";
 
 /// The keys of the `model` header table.
-const MODEL_KEYS: [&str; 6] = ["name", "version", "units", "gravity", "outputs", "branch"];
+const MODEL_KEYS: [&str; 7] = ["name", "version", "units", "gravity", "outputs", "branch", "close"];
 
 /// The element lists, in file order, with the kind errors call their elements.
 const GROUPS: [(&str, &str); 5] =
@@ -391,7 +391,7 @@ fn flatten(root: Node) -> Result<Node, DeError> {
         let node = e.node;
         let Value::Table(inner) = node.value else {
             let message = format!(
-                "the model header is a table (name, version, units, gravity, outputs, branch), not {}",
+                "the model header is a table (name, version, units, gravity, outputs, branch, close), not {}",
                 node.kind()
             );
             return Err(DeError { message, span: Some(node.span), path: Some(node.path) });
@@ -400,7 +400,7 @@ fn flatten(root: Node) -> Result<Node, DeError> {
             if !MODEL_KEYS.contains(&m.key.as_str()) {
                 let message = format!(
                     "unknown field `{}` in the model header, expected one of `name`, `version`, `units`, `gravity`, \
-                     `outputs`, `branch`",
+                     `outputs`, `branch`, `close`",
                     m.key
                 );
                 return Err(DeError { message, span: Some(m.key_span), path: Some(m.node.path) });
@@ -805,7 +805,7 @@ fn file_form(flat: &Node) -> Node {
             ]),
         )),
     }
-    for key in ["gravity", "outputs", "branch"] {
+    for key in ["gravity", "outputs", "branch", "close"] {
         if let Some(e) = flat.get(key) {
             header.push(e.clone());
         }

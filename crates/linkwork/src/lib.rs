@@ -11,6 +11,7 @@ pub mod analysis;
 pub mod assembly;
 pub mod batch;
 pub mod blocks;
+pub mod closing;
 pub mod curves;
 pub mod data;
 pub mod description;

@@ -6,6 +6,7 @@
 use std::collections::HashMap;
 
 use crate::analysis::mobility::analyse;
+use crate::closing::{close_given, not_closed, world, Closer, Closing, Keep, Side, CLOSE_TOL};
 use crate::description::{Description, DriverDesc, JointDesc, LoadDesc, GROUND};
 use crate::drivers::{
     angle::AngleDriver, coordinate::CoordinateDriver, distance::DistanceDriver,
@@ -185,6 +186,8 @@ pub struct Model {
     /// the groups solved one after another by the sweep, or why the general path solves
     /// the whole model (`blocks::Plan::new`)
     pub plan: crate::blocks::PlanResult,
+    /// how a drawing that did not close was closed, as the description asked (`close`)
+    pub closing: Option<Closing>,
 }
 
 fn finite2(p: [f64; 2]) -> bool {
@@ -307,6 +310,19 @@ impl Model {
         }
 
         let length_scale = length_scale(desc);
+        let close = match desc.close.as_deref() {
+            None => None,
+            Some("given") => Some(Keep::Given),
+            Some("drawn") => Some(Keep::Drawn),
+            Some(other) => {
+                return Err(ModelError::Description(format!(
+                    "close must be \"given\" (keep the pins given, close the drawing by least squares) \
+                     or \"drawn\" (keep the drawing's points), not {other:?}"
+                )))
+            }
+        };
+        // where a joint gives a drawn point and its pins, how far apart they are
+        let mut closer = Closer { keep: close, tol: CLOSE_TOL * length_scale, misses: Vec::new() };
         let mut entries: Vec<Entry> = Vec::new();
         let mut prismatic_of: HashMap<&str, (Prismatic, Option<usize>, Option<usize>)> = HashMap::new();
         for j in &desc.joints {
@@ -315,38 +331,70 @@ impl Model {
             // set by a joint whose rows involve another body's coordinate
             let mut borrowed: Option<usize> = None;
             let (kind, a, b) = match j {
-                JointDesc::Revolute { body_a, body_b, at, pin_a, pin_b, .. } => {
+                JointDesc::Revolute { name, body_a, body_b, at, pin_a, pin_b } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
                     if let Some(p) = [*at, *pin_a, *pin_b].into_iter().flatten().find(|p| !finite2(*p)) {
                         return Err(fail(format!("position {p:?} is not finite")));
                     }
-                    // each side's pin in its frame: given, or the drawing's point there
-                    let side = |pin: Option<[f64; 2]>, body: Option<usize>| match (pin, at) {
-                        (Some(p), _) => Ok(p),
-                        (None, Some(at)) => Ok(local(bodies.pose(body), *at)),
-                        (None, None) => Err(fail(
+                    if at.is_none() && (pin_a.is_none() || pin_b.is_none()) {
+                        return Err(fail(
                             "needs its position `at`, or its pin in each body (pin_a and pin_b)".into(),
-                        )),
+                        ));
+                    }
+                    // each side's pin in its frame: given (checked against the drawing's
+                    // point where both are), or the drawing's point there
+                    let mut side = |pin: Option<[f64; 2]>, body: Option<usize>, key: &'static str| {
+                        let pose = bodies.pose(body);
+                        let body_name = body.map_or(GROUND, |i| desc.bodies[i].name.as_str());
+                        let drawn = at.map(|at| (at, local(pose, at)));
+                        closer.side(Side { joint: name, body: body_name, pin: key }, pin, drawn, pose, None)
                     };
-                    let joint = Revolute { u_a: side(*pin_a, a)?, u_b: side(*pin_b, b)? };
+                    let joint = Revolute { u_a: side(*pin_a, a, "pin_a"), u_b: side(*pin_b, b, "pin_b") };
                     (ConstraintKind::Revolute(joint), a, b)
                 }
-                JointDesc::Prismatic { name, body_a, body_b, at, axis } => {
+                JointDesc::Prismatic { name, body_a, body_b, at, axis, pin_a, pin_b, axis_a, angle } => {
                     let (a, b) = bodies.pair(body_a, body_b).map_err(fail)?;
-                    if !finite2(*at) || !finite2(*axis) {
-                        return Err(fail(format!("position {at:?} or axis {axis:?} is not finite")));
+                    let points = [*at, *axis, *pin_a, *pin_b, *axis_a];
+                    if let Some(p) = points.into_iter().flatten().find(|p| !finite2(*p)) {
+                        return Err(fail(format!("point or axis {p:?} is not finite")));
                     }
-                    let norm = axis[0].hypot(axis[1]);
-                    if norm == 0.0 {
+                    if at.is_none() && (pin_a.is_none() || pin_b.is_none()) {
+                        return Err(fail(
+                            "needs its point `at` (world), or its pin in each body (pin_a and pin_b)".into(),
+                        ));
+                    }
+                    // the axis in a's frame: given there, or the world one turned into a's
+                    let a_turn = Some([0.0, 0.0, bodies.theta(a)]);
+                    if axis_a.or(*axis).is_some_and(|e| e[0].hypot(e[1]) == 0.0) {
                         return Err(fail("has a zero-length axis; give the sliding direction".into()));
                     }
-                    let e = local(Some([0.0, 0.0, bodies.theta(a)]), [axis[0] / norm, axis[1] / norm]);
-                    let joint = Prismatic {
-                        u_a: local(bodies.pose(a), *at),
-                        u_b: local(bodies.pose(b), *at),
-                        e_a: e,
-                        theta0: bodies.theta(b) - bodies.theta(a),
+                    let e =
+                        match (axis_a, axis) {
+                            (Some(e), _) => unit("axis_a", *e).map_err(fail)?,
+                            (None, Some(e)) => local(a_turn, unit("axis", *e).map_err(fail)?),
+                            (None, None) => return Err(fail(
+                                "needs its sliding direction: `axis` (world) or `axis_a` (in body_a's frame)"
+                                    .into(),
+                            )),
+                        };
+                    // a pin need only be on the slide line: the miss is across it
+                    let normal = Some(world(a_turn, [-e[1], e[0]]));
+                    let mut side = |pin: Option<[f64; 2]>, body: Option<usize>, key: &'static str| {
+                        let pose = bodies.pose(body);
+                        let body_name = body.map_or(GROUND, |i| desc.bodies[i].name.as_str());
+                        let drawn = at.map(|at| (at, local(pose, at)));
+                        closer.side(Side { joint: name, body: body_name, pin: key }, pin, drawn, pose, normal)
                     };
+                    let (u_a, u_b) = (side(*pin_a, a, "pin_a"), side(*pin_b, b, "pin_b"));
+                    let lengths_first = pin_a.is_some() || pin_b.is_some();
+                    let drawn_angle = bodies.theta(b) - bodies.theta(a);
+                    let theta0 = match angle {
+                        Some(v) if v.is_finite() => *v,
+                        Some(v) => return Err(fail(format!("angle {v} is not finite"))),
+                        None if lengths_first => 0.0,
+                        None => drawn_angle,
+                    };
+                    let joint = Prismatic { u_a, u_b, e_a: e, theta0 };
                     prismatic_of.insert(name, (joint.clone(), a, b));
                     (ConstraintKind::Prismatic(joint), a, b)
                 }
@@ -592,6 +640,9 @@ impl Model {
             let name = j.name().to_string();
             entries.push(Entry { name, role: "joint", kind, body_a: a, body_b: b, borrowed });
         }
+        if close.is_none() && !closer.misses.is_empty() {
+            return Err(not_closed(&closer.misses));
+        }
         for d in &desc.drivers {
             let fail =
                 |problem: String| ModelError::Constraint { kind: "driver", name: d.name().into(), problem };
@@ -744,6 +795,26 @@ impl Model {
             col_scale.push(1.0);
         }
 
+        // a drawing that did not close, closed as asked (the drawing's points are already
+        // the pins where it keeps them)
+        let closing = match close {
+            Some(keep) if !closer.misses.is_empty() => {
+                let drawn = q_start.clone();
+                if keep == Keep::Given {
+                    close_given(&constraints, &col_scale, length_scale, &mut q_start)?;
+                }
+                let moved = (0..n_bodies)
+                    .map(|i| {
+                        let (d, p) = (&drawn[3 * i..3 * i + 3], &q_start[3 * i..3 * i + 3]);
+                        (desc.bodies[i].name.clone(), (p[0] - d[0]).hypot(p[1] - d[1]), p[2] - d[2])
+                    })
+                    .filter(|(_, d, turn)| *d > 0.0 || *turn != 0.0)
+                    .collect();
+                Some(Closing { keep, misses: closer.misses, moved })
+            }
+            _ => None,
+        };
+
         let mut indeterminate = Vec::new();
         if n_rows != n_coords {
             // with rows to spare, say which are dependent (or that none is: a structure);
@@ -824,6 +895,7 @@ impl Model {
             loads,
             description,
             plan: Err(String::new()),
+            closing,
         };
         model.plan = crate::blocks::Plan::new(&model);
         Ok(model)
@@ -1062,7 +1134,9 @@ fn length_scale(desc: &Description) -> f64 {
             JointDesc::Revolute { at, pin_a, pin_b, .. } => {
                 pts.extend([*at, *pin_a, *pin_b].into_iter().flatten())
             }
-            JointDesc::Prismatic { at, .. } => pts.push(*at),
+            JointDesc::Prismatic { at, pin_a, pin_b, .. } => {
+                pts.extend([*at, *pin_a, *pin_b].into_iter().flatten())
+            }
             JointDesc::Fixed { .. } => {}
             JointDesc::Distance { at_a, at_b, .. } => pts.extend([*at_a, *at_b]),
             JointDesc::PointOnLine { at, through, .. } => {

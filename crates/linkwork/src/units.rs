@@ -103,7 +103,8 @@ impl Units {
 /// variant (no `..`, no `_`): a new field or type with an angle cannot be forgotten here.
 pub fn internal(desc: &Description) -> Description {
     let k = desc.units.angle.to_radians();
-    let Description { name, units, bodies, joints, drivers, points, gravity, loads, outputs, branch } = desc;
+    let Description { name, units, bodies, joints, drivers, points, gravity, loads, outputs, branch, close } =
+        desc;
     let bodies = bodies
         .iter()
         .map(|b| {
@@ -132,13 +133,19 @@ pub fn internal(desc: &Description) -> Description {
                 pin_a: *pin_a,
                 pin_b: *pin_b,
             },
-            JointDesc::Prismatic { name, body_a, body_b, at, axis } => JointDesc::Prismatic {
-                name: name.clone(),
-                body_a: body_a.clone(),
-                body_b: body_b.clone(),
-                at: *at,
-                axis: *axis,
-            },
+            JointDesc::Prismatic { name, body_a, body_b, at, axis, pin_a, pin_b, axis_a, angle } => {
+                JointDesc::Prismatic {
+                    name: name.clone(),
+                    body_a: body_a.clone(),
+                    body_b: body_b.clone(),
+                    at: *at,
+                    axis: *axis,
+                    pin_a: *pin_a,
+                    pin_b: *pin_b,
+                    axis_a: *axis_a,
+                    angle: angle.map(|a| k * a),
+                }
+            }
             JointDesc::Fixed { name, body_a, body_b } => {
                 JointDesc::Fixed { name: name.clone(), body_a: body_a.clone(), body_b: body_b.clone() }
             }
@@ -337,6 +344,7 @@ pub fn internal(desc: &Description) -> Description {
         loads,
         outputs: outputs.clone(),
         branch: branch.clone(),
+        close: close.clone(),
     }
 }
 
@@ -400,6 +408,7 @@ mod tests {
             }],
             outputs: Vec::new(),
             branch: None,
+            close: None,
         }
     }
 

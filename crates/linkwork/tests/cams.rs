@@ -160,6 +160,7 @@ fn circular_cam_with_oscillating_followers_is_a_four_bar() {
             loads: vec![],
             outputs: Vec::new(),
             branch: None,
+            close: None,
         };
         let (model, out) = sweep_all(desc, &times);
         let mut want: [Vec<f64>; 5] = Default::default();

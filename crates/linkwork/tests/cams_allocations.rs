@@ -26,7 +26,17 @@ fn follower(name: &str, b: &str, kind: &str, at: [f64; 2], curve: &CurveDesc) ->
 }
 
 fn slide(name: &str, b: &str, at: [f64; 2], axis: [f64; 2]) -> JointDesc {
-    JointDesc::Prismatic { name: name.into(), body_a: "ground".into(), body_b: b.into(), at, axis }
+    JointDesc::Prismatic {
+        name: name.into(),
+        body_a: "ground".into(),
+        body_b: b.into(),
+        at: Some(at),
+        axis: Some(axis),
+        pin_a: None,
+        pin_b: None,
+        axis_a: None,
+        angle: None,
+    }
 }
 
 /// r(phi) = 40 mm + 10 mm of harmonic lift: a roller arm above, a flat-faced slider
@@ -63,6 +73,7 @@ fn three_followers() -> Description {
         loads: vec![],
         outputs: Vec::new(),
         branch: None,
+        close: None,
     }
 }
 

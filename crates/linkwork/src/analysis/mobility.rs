@@ -70,7 +70,13 @@ pub enum MobilityError {
 }
 
 /// The scaled Phi_q of the given constraints (rows by their row0) at q and t.
-fn dense_jacobian(constraints: &[&ConstraintEntry], n_coords: usize, l: f64, q: &[f64], t: f64) -> Mat<f64> {
+pub(crate) fn dense_jacobian(
+    constraints: &[&ConstraintEntry],
+    n_coords: usize,
+    l: f64,
+    q: &[f64],
+    t: f64,
+) -> Mat<f64> {
     let frame = |b: Option<usize>| match b {
         Some(i) => Frame::new([q[3 * i], q[3 * i + 1], q[3 * i + 2]], [0.0; 3]),
         None => Frame::GROUND,

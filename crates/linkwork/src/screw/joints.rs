@@ -84,8 +84,15 @@ impl MechanismJoints {
                     })?;
                     (Some(JointKind::Revolute), body_a, body_b, at, [1.0, 0.0])
                 }
-                JointDesc::Prismatic { body_a, body_b, at, axis, .. } => {
+                JointDesc::Prismatic { body_a, body_b, at: Some(at), axis: Some(axis), .. } => {
                     (Some(JointKind::Prismatic), body_a, body_b, *at, *axis)
+                }
+                JointDesc::Prismatic { .. } => {
+                    return Err(ScrewError::Mechanism(format!(
+                        "joint '{}' is given by its pins in the bodies' frames: screw analysis \
+                         needs the drawing (Mechanism.assemble gives it)",
+                        j.name()
+                    )))
                 }
                 JointDesc::Fixed { body_a, body_b, .. } => {
                     let b = index(j.name(), body_b)?;

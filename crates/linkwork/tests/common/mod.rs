@@ -94,6 +94,7 @@ pub fn four_bar(m: &FourBar, th2: f64, omega: f64) -> Description {
         loads: vec![],
         outputs: Vec::new(),
         branch: None,
+        close: None,
     }
 }
 
@@ -134,8 +135,12 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
                 name: "S".into(),
                 body_a: "ground".into(),
                 body_b: "slider".into(),
-                at: [x, m.e],
-                axis: [1.0, 0.0],
+                at: Some([x, m.e]),
+                axis: Some([1.0, 0.0]),
+                pin_a: None,
+                pin_b: None,
+                axis_a: None,
+                angle: None,
             },
         ],
         drivers: vec![crank_driver(th2, omega)],
@@ -144,6 +149,7 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
         loads: vec![],
         outputs: Vec::new(),
         branch: None,
+        close: None,
     }
 }
 
@@ -200,6 +206,7 @@ pub fn six_bar_stephenson(th2: f64, omega: f64) -> Description {
         loads: vec![],
         outputs: Vec::new(),
         branch: None,
+        close: None,
     }
 }
 
@@ -223,6 +230,7 @@ pub fn chain(m: &FourBar, loops: usize, th2: f64, omega: f64, offset: f64, spaci
         loads: vec![],
         outputs: Vec::new(),
         branch: None,
+        close: None,
     };
     let mut input = th2;
     for k in 1..=loops {
@@ -316,8 +324,12 @@ pub fn translating_cam(
                 name: "slide".into(),
                 body_a: "ground".into(),
                 body_b: "follower".into(),
-                at: [0.0, y_drawn],
-                axis: [0.0, 1.0],
+                at: Some([0.0, y_drawn]),
+                axis: Some([0.0, 1.0]),
+                pin_a: None,
+                pin_b: None,
+                axis_a: None,
+                angle: None,
             },
             JointDesc::CamFollower {
                 name: "F".into(),
@@ -340,5 +352,6 @@ pub fn translating_cam(
         loads: vec![],
         outputs: Vec::new(),
         branch: None,
+        close: None,
     }
 }
