@@ -67,7 +67,7 @@ fn to_local_column(pose: Option<[f64; 3]>, i: usize) -> [f64; 2] {
     let theta = pose.map_or(0.0, |p| p[2]);
     let (s, c) = theta.sin_cos();
     // A^T = [[c, s], [-s, c]]
-    [[c, -s][i], [s, c][i]]
+    [[c, s][i], [-s, c][i]]
 }
 
 impl Parameter {
