@@ -40,8 +40,8 @@ fn general(desc: &Value) -> Model {
 fn plain(model: &Model, times: &[f64]) -> Vec<[Vec<f64>; 6]> {
     let mut data = Data::new(model);
     let points: Vec<PointRequest> = points(model);
-    let (out, r) = sensitivity_sweep(model, &mut data, times, &[], &points, 0, &mut |_| true);
-    r.unwrap();
+    let mut out = SensitivityOutput::new(model, times, &[], points.len());
+    sensitivity_sweep(model, &mut data, times, &[], &points, &mut out, 0, &mut |_| true).unwrap();
     let (n, np) = (model.n_coords, points.len());
     (0..times.len())
         .map(|k| {
@@ -138,8 +138,9 @@ fn check(label: &str, desc: Value, times: &[f64], paths: &[&str]) {
     };
     assert!(!params.is_empty(), "{label}: no parameters");
     let mut data = Data::new(&model);
-    let (out, r) = sensitivity_sweep(&model, &mut data, times, &params, &points(&model), 0, &mut |_| true);
-    r.unwrap();
+    let pts = points(&model);
+    let mut out = SensitivityOutput::new(&model, times, &params, pts.len());
+    sensitivity_sweep(&model, &mut data, times, &params, &pts, &mut out, 0, &mut |_| true).unwrap();
     assert_eq!(out.n_done, times.len());
     let size = model.length_scale;
     for (j, p) in params.iter().enumerate() {

@@ -32,33 +32,48 @@ pub struct SensitivityOutput {
     pub points_dd: Vec<f64>,
 }
 
+impl SensitivityOutput {
+    /// Preallocated outputs of a sweep over `times` with the sensitivities to `params`
+    /// and of `n_points` body points.
+    pub fn new(model: &Model, times: &[f64], params: &[Parameter], n_points: usize) -> SensitivityOutput {
+        let (n_steps, n, nc) = (times.len(), params.len(), model.n_coords);
+        SensitivityOutput {
+            sweep: SweepOutput::with_request(model, times, Request::default()),
+            names: params.iter().map(|p| p.name.clone()).collect(),
+            n_params: n,
+            n_points,
+            n_done: 0,
+            dq: vec![0.0; n_steps * nc * n],
+            dqd: vec![0.0; n_steps * nc * n],
+            dqdd: vec![0.0; n_steps * nc * n],
+            points: vec![0.0; n_steps * n_points * 2 * n],
+            points_d: vec![0.0; n_steps * n_points * 2 * n],
+            points_dd: vec![0.0; n_steps * n_points * 2 * n],
+        }
+    }
+}
+
 /// Sweeps `times` from data.q (as `crate::sweep::sweep`) and solves the sensitivities
-/// of every step to `params`, and of the body points `points`. On error the steps
-/// before the one at fault are kept (`n_done`, and the sweep's own `n_done`).
+/// of every step to `params`, and of the body points `points`, into `out` (made by
+/// `SensitivityOutput::new` for the same times, parameters and points). On error the
+/// steps before the one at fault are kept (`out.n_done`, and the sweep's own).
+#[allow(clippy::too_many_arguments)]
 pub fn sensitivity_sweep(
     model: &Model,
     data: &mut Data,
     times: &[f64],
     params: &[Parameter],
     points: &[PointRequest],
+    out: &mut SensitivityOutput,
     progress_every: usize,
     progress: &mut dyn FnMut(usize) -> bool,
-) -> (SensitivityOutput, Result<(), SolveError>) {
-    let n_steps = times.len();
+) -> Result<(), SolveError> {
     let (n, nc, np) = (params.len(), model.n_coords, points.len());
-    let mut out = SensitivityOutput {
-        sweep: SweepOutput::with_request(model, times, Request::default()),
-        names: params.iter().map(|p| p.name.clone()).collect(),
-        n_params: n,
-        n_points: np,
-        n_done: 0,
-        dq: vec![0.0; n_steps * nc * n],
-        dqd: vec![0.0; n_steps * nc * n],
-        dqdd: vec![0.0; n_steps * nc * n],
-        points: vec![0.0; n_steps * np * 2 * n],
-        points_d: vec![0.0; n_steps * np * 2 * n],
-        points_dd: vec![0.0; n_steps * np * 2 * n],
-    };
+    assert!(
+        out.n_params == n && out.n_points == np && out.dq.len() == times.len() * nc * n,
+        "outputs made for other times, parameters or points"
+    );
+    out.n_done = 0;
     let result = crate::sweep::sweep(model, data, times, &mut out.sweep, progress_every, progress);
     let mut sens = Sensitivity::new(model, params, points);
     for k in 0..out.sweep.n_done {
@@ -68,9 +83,7 @@ pub fn sensitivity_sweep(
         data.qd.copy_from_slice(&out.sweep.qd[row.clone()]);
         data.qdd.copy_from_slice(&out.sweep.qdd[row]);
         crate::assembly::position(model, data, t);
-        if let Err(e) = crate::position::factor(model, data, t, k) {
-            return (out, Err(e));
-        }
+        crate::position::factor(model, data, t, k)?;
         let (s, p) = (k * nc * n..(k + 1) * nc * n, k * np * 2 * n..(k + 1) * np * 2 * n);
         sens.step(
             model,
@@ -87,5 +100,5 @@ pub fn sensitivity_sweep(
         );
         out.n_done = k + 1;
     }
-    (out, result)
+    result
 }
