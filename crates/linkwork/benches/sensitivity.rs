@@ -46,8 +46,17 @@ fn sensitivities(c: &mut Criterion) {
             b.iter_batched_ref(
                 || Data::new(&model),
                 |data| {
-                    sensitivity_sweep(&model, data, black_box(&times), &params, &[], &mut out, 0, &mut |_| true)
-                        .unwrap();
+                    sensitivity_sweep(
+                        &model,
+                        data,
+                        black_box(&times),
+                        &params,
+                        &[],
+                        &mut out,
+                        0,
+                        &mut |_| true,
+                    )
+                    .unwrap();
                     black_box(out.dqdd.last().copied())
                 },
                 BatchSize::LargeInput,

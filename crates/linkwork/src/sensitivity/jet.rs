@@ -93,22 +93,32 @@ impl<const W: usize> Jet<W> {
 impl<const W: usize> Add for Jet<W> {
     type Output = Jet<W>;
     #[inline(always)]
-    fn add(self, o: Jet<W>) -> Jet<W> {
-        Jet {
-            v: std::array::from_fn(|i| self.v[i] + o.v[i]),
-            e: std::array::from_fn(|k| std::array::from_fn(|i| self.e[k][i] + o.e[k][i])),
+    fn add(mut self, o: Jet<W>) -> Jet<W> {
+        for i in 0..3 {
+            self.v[i] += o.v[i];
         }
+        for k in 0..W {
+            for i in 0..3 {
+                self.e[k][i] += o.e[k][i];
+            }
+        }
+        self
     }
 }
 
 impl<const W: usize> Sub for Jet<W> {
     type Output = Jet<W>;
     #[inline(always)]
-    fn sub(self, o: Jet<W>) -> Jet<W> {
-        Jet {
-            v: std::array::from_fn(|i| self.v[i] - o.v[i]),
-            e: std::array::from_fn(|k| std::array::from_fn(|i| self.e[k][i] - o.e[k][i])),
+    fn sub(mut self, o: Jet<W>) -> Jet<W> {
+        for i in 0..3 {
+            self.v[i] -= o.v[i];
         }
+        for k in 0..W {
+            for i in 0..3 {
+                self.e[k][i] -= o.e[k][i];
+            }
+        }
+        self
     }
 }
 
@@ -123,8 +133,16 @@ impl<const W: usize> Neg for Jet<W> {
 impl<const W: usize> Mul<f64> for Jet<W> {
     type Output = Jet<W>;
     #[inline(always)]
-    fn mul(self, c: f64) -> Jet<W> {
-        Jet { v: self.v.map(|x| x * c), e: self.e.map(|e| e.map(|x| x * c)) }
+    fn mul(mut self, c: f64) -> Jet<W> {
+        for i in 0..3 {
+            self.v[i] *= c;
+        }
+        for k in 0..W {
+            for i in 0..3 {
+                self.e[k][i] *= c;
+            }
+        }
+        self
     }
 }
 
@@ -156,13 +174,12 @@ impl<const W: usize> Mul for Jet<W> {
     type Output = Jet<W>;
     #[inline(always)]
     fn mul(self, o: Jet<W>) -> Jet<W> {
-        Jet {
-            v: times(self.v, o.v),
-            e: std::array::from_fn(|k| {
-                let (x, y) = (times(self.v, o.e[k]), times(self.e[k], o.v));
-                [x[0] + y[0], x[1] + y[1], x[2] + y[2]]
-            }),
+        let mut e = [[0.0; 3]; W];
+        for k in 0..W {
+            let (x, y) = (times(self.v, o.e[k]), times(self.e[k], o.v));
+            e[k] = [x[0] + y[0], x[1] + y[1], x[2] + y[2]];
         }
+        Jet { v: times(self.v, o.v), e }
     }
 }
 
@@ -207,8 +224,19 @@ impl<const W: usize> JetFrame<W> {
     /// value, rate and acceleration) and perturbed as `dq`, `dqd` (per coordinate, per
     /// direction).
     pub fn new(x: [Jet<W>; 3]) -> JetFrame<W> {
-        let (s, c) = x[2].sin_cos();
-        JetFrame { r: [x[0], x[1]], theta: x[2], c, s }
+        let (s, c) = x[2].v[0].sin_cos();
+        JetFrame::with_cos_sin(x, c, s)
+    }
+
+    /// `new` with cos and sin of the angle's value already known.
+    #[inline(always)]
+    pub fn with_cos_sin(x: [Jet<W>; 3], c: f64, s: f64) -> JetFrame<W> {
+        JetFrame {
+            r: [x[0], x[1]],
+            theta: x[2],
+            c: x[2].compose([c, -s, -c, s]),
+            s: x[2].compose([s, c, -s, -c]),
+        }
     }
 
     /// A(theta) u.

@@ -113,21 +113,27 @@ impl Sensitivity {
     /// pass has them: `order` 0, 1, 2, 3 for none, S, S and S', all three).
     #[inline(always)]
     fn coordinate(&self, data: &Data, k: usize, order: usize) -> Jet<W> {
-        let mut x = Jet::motion(data.q[k], data.qd[k], data.qdd[k], [0.0; W], [0.0; W]);
+        let mut x = Jet { v: [data.q[k], data.qd[k], 0.5 * data.qdd[k]], e: [[0.0; 3]; W] };
         for d in 0..W {
-            x.e[d] = [
-                if order >= 1 { self.dq[k][d] } else { 0.0 },
-                if order >= 2 { self.dqd[k][d] } else { 0.0 },
-                if order >= 3 { 0.5 * self.dqdd[k][d] } else { 0.0 },
-            ];
+            if order >= 1 {
+                x.e[d][0] = self.dq[k][d];
+            }
+            if order >= 2 {
+                x.e[d][1] = self.dqd[k][d];
+            }
+            if order >= 3 {
+                x.e[d][2] = 0.5 * self.dqdd[k][d];
+            }
         }
         x
     }
 
     fn update_frames(&mut self, data: &Data, order: usize) {
         for i in 0..self.frames.len() {
-            let x = std::array::from_fn(|j| self.coordinate(data, 3 * i + j, order));
-            self.frames[i] = JetFrame::new(x);
+            let x = [0, 1, 2].map(|j| self.coordinate(data, 3 * i + j, order));
+            // cos and sin as the position solve left them (data.frames, at data.q)
+            let f = &data.frames[i];
+            self.frames[i] = JetFrame::with_cos_sin(x, f.c, f.s);
         }
     }
 
