@@ -4,6 +4,7 @@
 //! `phi_jet`): forward-mode differentiation, no differences. Parameters are named
 //! description paths or the engine's own numbers (`params`); `sweep` runs a sweep and
 //! its sensitivities step by step.
+#![allow(clippy::needless_range_loop)] // jets, rows and steps index several arrays by one index
 
 pub mod jet;
 pub mod params;
