@@ -5,11 +5,12 @@
 //!   Phi_q S   = -Phi_p
 //!   Phi_q S'  = -(Phi_q' S + Phi_p')
 //!   Phi_q S'' = -(2 Phi_q' S' + Phi_q'' S + Phi_p'')
-//! (' the time derivative along the motion). psi is the eps-part of phi along the
-//! perturbed motion q + eps (S + S' tau + S'' tau^2 / 2), p + eps e: each joint's
-//! `phi_jet` gives its tau coefficients exactly, so three passes over the joints, each
-//! with what the last one solved, give the right-hand sides, and the three solves reuse
-//! one factorization (multiple right-hand sides: W parameter directions per pass).
+//! (' the time derivative along the motion). Each joint's rows over jets (`phi_jet`) give
+//! these exactly, once per step: in its coordinates' directions, the blocks of Phi_q'
+//! and Phi_q'' / 2 (n_rows x 7 per joint: side a's x, y, theta, side b's, the extra
+//! coordinate); in the parameters' directions (W at a time, only the joints they move),
+//! Phi_p, Phi_p' and Phi_p'' / 2. Each parameter then costs three solves with the one
+//! factorization and two sparse products.
 
 use super::jet::{Jet, JetFrame};
 use super::params::{values, Parameter};
@@ -19,6 +20,8 @@ use crate::model::Model;
 
 /// Parameter directions carried by one pass of jets.
 pub const W: usize = 4;
+/// Coordinate directions of one joint: side a's x, y, theta, side b's, the extra one.
+const WC: usize = 7;
 
 /// A body point whose position sensitivities are wanted: its body (None: the ground),
 /// its local coordinates, and the named point it is, if it is one (a parameter may move
@@ -31,16 +34,12 @@ pub struct PointRequest {
 }
 
 /// W parameters (the last chunk may have fewer): the constraints' numbers as jets, each
-/// perturbed along the chunk's directions, and the points' local coordinates likewise.
+/// perturbed along the chunk's directions.
 struct Chunk {
     first: usize,
     len: usize,
-    /// per constraint, its numbers as jets
-    p: Vec<Vec<Jet<W>>>,
-    /// per constraint: whether a parameter of the chunk moves one of its numbers
-    moves: Vec<bool>,
-    /// per point request, its local coordinates as jets
-    local: Vec<[Jet<W>; 2]>,
+    /// per constraint moved by a parameter of the chunk: (its index, its numbers as jets)
+    moved: Vec<(usize, Vec<Jet<W>>)>,
 }
 
 /// What one step needs, prepared once for a model, parameters and points; with the
@@ -49,14 +48,27 @@ pub struct Sensitivity {
     pub n_params: usize,
     pub points: Vec<PointRequest>,
     chunks: Vec<Chunk>,
-    /// n_bodies
-    frames: Vec<JetFrame<W>>,
-    /// W x n_rows
-    rhs: [Vec<f64>; W],
-    /// n_coords x W: the chunk's S, S', S''
-    dq: Vec<[f64; W]>,
-    dqd: Vec<[f64; W]>,
-    dqdd: Vec<[f64; W]>,
+    /// per constraint: its numbers as constant jets (for its Phi_q' and Phi_q'')
+    consts: Vec<Vec<Jet<WC>>>,
+    /// per constraint: the column of each of its coordinate directions (None: the ground)
+    cols: Vec<[Option<usize>; WC]>,
+    /// per point request, d local / d parameter (n_params)
+    point_seeds: Vec<Vec<[f64; 2]>>,
+    /// n_bodies: the bodies' motions, in their own coordinates' directions
+    frames: Vec<JetFrame<3>>,
+    /// n_params x n_rows: Phi_p, Phi_p', Phi_p'' / 2
+    p0: Vec<f64>,
+    p1: Vec<f64>,
+    p2: Vec<f64>,
+    /// the nonzero entries (row, column, value) of Phi_q' and Phi_q'' / 2 at the step
+    m1_entries: Vec<(u32, u32, f64)>,
+    m2_entries: Vec<(u32, u32, f64)>,
+    /// n_params x n_rows: right-hand sides, solved in place
+    rhs: Vec<f64>,
+    /// n_params x n_coords: S, S', S''
+    s: Vec<f64>,
+    sd: Vec<f64>,
+    sdd: Vec<f64>,
 }
 
 /// Row-major outputs of one step: (n_coords x n_params) each, and the points'
@@ -70,110 +82,216 @@ pub struct StepOut<'a> {
     pub points_dd: &'a mut [f64],
 }
 
+/// A jet frame of `f`'s lanes placed at lanes `at..at + 3` of a wider one.
+#[inline(always)]
+fn widen(f: &JetFrame<3>, at: usize) -> JetFrame<WC> {
+    let w = |x: &Jet<3>| {
+        let mut y = Jet::<WC> { v: x.v, e: [[0.0; 3]; WC] };
+        y.e[at..at + 3].copy_from_slice(&x.e);
+        y
+    };
+    JetFrame { r: [w(&f.r[0]), w(&f.r[1])], theta: w(&f.theta), c: w(&f.c), s: w(&f.s) }
+}
+
+/// The frame of `f` without perturbations, W lanes wide.
+#[inline(always)]
+fn plain(f: &JetFrame<3>) -> JetFrame<W> {
+    let w = |x: &Jet<3>| Jet::<W> { v: x.v, e: [[0.0; 3]; W] };
+    JetFrame { r: [w(&f.r[0]), w(&f.r[1])], theta: w(&f.theta), c: w(&f.c), s: w(&f.s) }
+}
+
 impl Sensitivity {
     pub fn new(model: &Model, params: &[Parameter], points: &[PointRequest]) -> Sensitivity {
         let vals = values(model);
         let mut chunks = Vec::new();
         for first in (0..params.len()).step_by(W) {
             let len = W.min(params.len() - first);
-            let mut p: Vec<Vec<Jet<W>>> =
-                vals.iter().map(|v| v.iter().map(|&x| Jet::cst(x)).collect()).collect();
-            let mut moves = vec![false; model.constraints.len()];
-            let mut local: Vec<[Jet<W>; 2]> = points.iter().map(|r| r.local.map(Jet::cst)).collect();
+            let mut moved: Vec<(usize, Vec<Jet<W>>)> = Vec::new();
             for k in 0..len {
-                let par = &params[first + k];
-                for &(c, i, d) in &par.seeds {
-                    p[c][i].e[k][0] += d;
-                    moves[c] = true;
-                }
-                for &(named, d) in &par.points {
-                    for (r, req) in points.iter().enumerate() {
-                        if req.named == Some(named) {
-                            local[r][0].e[k][0] += d[0];
-                            local[r][1].e[k][0] += d[1];
+                for &(c, i, d) in &params[first + k].seeds {
+                    let at = match moved.iter().position(|(m, _)| *m == c) {
+                        Some(at) => at,
+                        None => {
+                            moved.push((c, vals[c].iter().map(|&x| Jet::cst(x)).collect()));
+                            moved.len() - 1
                         }
-                    }
+                    };
+                    moved[at].1[i].e[k][0] += d;
                 }
             }
-            chunks.push(Chunk { first, len, p, moves, local });
+            chunks.push(Chunk { first, len, moved });
         }
+        let cols = model
+            .constraints
+            .iter()
+            .map(|c| {
+                let mut cols = [None; WC];
+                for j in 0..3 {
+                    cols[j] = c.body_a.map(|b| 3 * b + j);
+                    cols[3 + j] = c.body_b.map(|b| 3 * b + j);
+                }
+                cols[6] = c.extra;
+                cols
+            })
+            .collect();
+        let point_seeds = points
+            .iter()
+            .map(|r| {
+                params
+                    .iter()
+                    .map(|p| {
+                        p.points
+                            .iter()
+                            .filter(|(k, _)| r.named == Some(*k))
+                            .fold([0.0; 2], |a, (_, d)| [a[0] + d[0], a[1] + d[1]])
+                    })
+                    .collect()
+            })
+            .collect();
+        let (nc, nr, n) = (model.n_coords, model.n_rows, params.len());
         Sensitivity {
-            n_params: params.len(),
+            n_params: n,
             points: points.to_vec(),
             chunks,
+            consts: vals.iter().map(|v| v.iter().map(|&x| Jet::cst(x)).collect()).collect(),
+            cols,
+            point_seeds,
             frames: vec![JetFrame::ground(); model.n_bodies],
-            rhs: std::array::from_fn(|_| vec![0.0; model.n_rows]),
-            dq: vec![[0.0; W]; model.n_coords],
-            dqd: vec![[0.0; W]; model.n_coords],
-            dqdd: vec![[0.0; W]; model.n_coords],
+            p0: vec![0.0; n * nr],
+            p1: vec![0.0; n * nr],
+            p2: vec![0.0; n * nr],
+            m1_entries: Vec::with_capacity(model.n_rows * WC),
+            m2_entries: Vec::with_capacity(model.n_rows * WC),
+            rhs: vec![0.0; n * nr],
+            s: vec![0.0; n * nc],
+            sd: vec![0.0; n * nc],
+            sdd: vec![0.0; n * nc],
         }
     }
 
-    /// The jet of coordinate k: data's motion, perturbed by S (and S', S''/2 where the
-    /// pass has them: `order` 0, 1, 2, 3 for none, S, S and S', all three).
-    #[inline(always)]
-    fn coordinate(&self, data: &Data, k: usize, order: usize) -> Jet<W> {
-        let mut x = Jet { v: [data.q[k], data.qd[k], 0.5 * data.qdd[k]], e: [[0.0; 3]; W] };
-        for d in 0..W {
-            if order >= 1 {
-                x.e[d][0] = self.dq[k][d];
-            }
-            if order >= 2 {
-                x.e[d][1] = self.dqd[k][d];
-            }
-            if order >= 3 {
-                x.e[d][2] = 0.5 * self.dqdd[k][d];
-            }
-        }
-        x
-    }
-
-    fn update_frames(&mut self, data: &Data, order: usize) {
-        for i in 0..self.frames.len() {
-            let x = [0, 1, 2].map(|j| self.coordinate(data, 3 * i + j, order));
+    /// The bodies' motions (data's q, qd, qdd) as jets in their own coordinates.
+    fn update_frames(&mut self, data: &Data) {
+        for (i, frame) in self.frames.iter_mut().enumerate() {
+            let x = [0, 1, 2].map(|j| {
+                let k = 3 * i + j;
+                let mut x = Jet::<3> { v: [data.q[k], data.qd[k], 0.5 * data.qdd[k]], e: [[0.0; 3]; 3] };
+                x.e[j][0] = 1.0;
+                x
+            });
             // cos and sin as the position solve left them (data.frames, at data.q)
             let f = &data.frames[i];
-            self.frames[i] = JetFrame::with_cos_sin(x, f.c, f.s);
+            *frame = JetFrame::with_cos_sin(x, f.c, f.s);
         }
     }
 
-    /// One pass over the constraints: the tau^`level` coefficient of each row's eps part,
-    /// times -`factor`, scaled, into rhs; then solved, into `target` (S, S' or S'').
-    fn pass(&mut self, model: &Model, data: &mut Data, t: f64, chunk: usize, level: usize, factor: f64) {
-        let ground = JetFrame::ground();
-        for r in &mut self.rhs {
-            r.fill(0.0);
-        }
+    /// Phi_q' and Phi_q'' / 2, joint by joint.
+    fn rates_of_phi_q(&mut self, model: &Model, data: &Data, t: f64) {
+        self.m1_entries.clear();
+        self.m2_entries.clear();
         for (ci, c) in model.constraints.iter().enumerate() {
-            // Phi_p alone: only the constraints the parameters move
-            if level == 0 && !self.chunks[chunk].moves[ci] {
-                continue;
-            }
-            let a = c.body_a.map_or(&ground, |i| &self.frames[i]);
-            let b = c.body_b.map_or(&ground, |i| &self.frames[i]);
+            let a = c.body_a.map_or_else(JetFrame::ground, |i| widen(&self.frames[i], 0));
+            let b = c.body_b.map_or_else(JetFrame::ground, |i| widen(&self.frames[i], 3));
             let s = match c.extra {
-                Some(k) => self.coordinate(data, k, level),
+                Some(k) => {
+                    let mut s =
+                        Jet::<WC> { v: [data.q[k], data.qd[k], 0.5 * data.qdd[k]], e: [[0.0; 3]; WC] };
+                    s.e[6][0] = 1.0;
+                    s
+                }
                 None => Jet::ZERO,
             };
             let mut out = [Jet::ZERO; MAX_ROWS];
-            c.kind.phi_jet(a, b, s, t, &self.chunks[chunk].p[ci], &mut out);
+            c.kind.phi_jet(&a, &b, s, t, &self.consts[ci], &mut out);
             for i in 0..c.n_rows {
-                let scale = -factor * c.row_scale[i];
-                for d in 0..W {
-                    self.rhs[d][c.row0 + i] = out[i].e[d][level] * scale;
+                let row = (c.row0 + i) as u32;
+                for (lane, col) in self.cols[ci].iter().enumerate() {
+                    let Some(col) = *col else { continue };
+                    let (m1, m2) = (out[i].e[lane][1], out[i].e[lane][2]);
+                    if m1 != 0.0 {
+                        self.m1_entries.push((row, col as u32, m1));
+                    }
+                    if m2 != 0.0 {
+                        self.m2_entries.push((row, col as u32, m2));
+                    }
                 }
             }
         }
-        let len = self.chunks[chunk].len;
-        for d in 0..len {
-            data.factor.solve(&model.symbolic, &mut self.rhs[d]);
-            let target = match level {
-                0 => &mut self.dq,
-                1 => &mut self.dqd,
-                _ => &mut self.dqdd,
-            };
-            for ((x, col), s) in self.rhs[d].iter().zip(target.iter_mut()).zip(&model.col_scale) {
-                col[d] = x * s;
+    }
+
+    /// Phi_p, Phi_p' and Phi_p'' / 2 of every parameter, from the joints it moves.
+    fn rates_of_phi_p(&mut self, model: &Model, data: &Data, t: f64) {
+        let nr = model.n_rows;
+        self.p0.fill(0.0);
+        self.p1.fill(0.0);
+        self.p2.fill(0.0);
+        for chunk in &self.chunks {
+            for (ci, p) in &chunk.moved {
+                let c = &model.constraints[*ci];
+                let a = c.body_a.map_or_else(JetFrame::ground, |i| plain(&self.frames[i]));
+                let b = c.body_b.map_or_else(JetFrame::ground, |i| plain(&self.frames[i]));
+                let s = match c.extra {
+                    Some(k) => Jet::<W> { v: [data.q[k], data.qd[k], 0.5 * data.qdd[k]], e: [[0.0; 3]; W] },
+                    None => Jet::ZERO,
+                };
+                let mut out = [Jet::ZERO; MAX_ROWS];
+                c.kind.phi_jet(&a, &b, s, t, p, &mut out);
+                for i in 0..c.n_rows {
+                    for d in 0..chunk.len {
+                        let at = (chunk.first + d) * nr + c.row0 + i;
+                        self.p0[at] += out[i].e[d][0];
+                        self.p1[at] += out[i].e[d][1];
+                        self.p2[at] += out[i].e[d][2];
+                    }
+                }
+            }
+        }
+    }
+
+    /// For every parameter k: x_k = -factor Phi_q^-1 (p_k + sum of m v_k over `terms`),
+    /// the rows scaled for the solver and the solution unscaled; solved two at a time.
+    fn stage(&mut self, model: &Model, data: &mut Data, level: usize, factor: f64) {
+        let (n, nr, nc) = (self.n_params, model.n_rows, model.n_coords);
+        let p = [&self.p0, &self.p1, &self.p2][level];
+        self.rhs.copy_from_slice(p);
+        let terms: &[(&[(u32, u32, f64)], &[f64])] = match level {
+            0 => &[],
+            1 => &[(&self.m1_entries, &self.s)],
+            _ => &[(&self.m2_entries, &self.s), (&self.m1_entries, &self.sd)],
+        };
+        for (entries, v) in terms {
+            for &(row, col, m) in entries.iter() {
+                for k in 0..n {
+                    self.rhs[k * nr + row as usize] += m * v[k * nc + col as usize];
+                }
+            }
+        }
+        for c in &model.constraints {
+            for i in 0..c.n_rows {
+                let scale = -factor * c.row_scale[i];
+                for k in 0..n {
+                    self.rhs[k * nr + c.row0 + i] *= scale;
+                }
+            }
+        }
+        let mut pairs = self.rhs.chunks_exact_mut(2 * nr);
+        for pair in &mut pairs {
+            let (a, b) = pair.split_at_mut(nr);
+            data.factor.solve_pair(&model.symbolic, a, b);
+        }
+        let rest = pairs.into_remainder();
+        if !rest.is_empty() {
+            data.factor.solve(&model.symbolic, rest);
+        }
+        let x = match level {
+            0 => &mut self.s,
+            1 => &mut self.sd,
+            _ => &mut self.sdd,
+        };
+        for k in 0..n {
+            for ((x, r), s) in
+                x[k * nc..(k + 1) * nc].iter_mut().zip(&self.rhs[k * nr..]).zip(&model.col_scale)
+            {
+                *x = r * s;
             }
         }
     }
@@ -181,41 +299,68 @@ impl Sensitivity {
     /// S, S', S'' (and the points') at the step data holds: data.q, qd, qdd solved at t
     /// and Phi_q factored at data.q (in data.factor).
     pub fn step(&mut self, model: &Model, data: &mut Data, t: f64, out: StepOut) {
-        let n = self.n_params;
-        let ground = JetFrame::ground();
-        for chunk in 0..self.chunks.len() {
-            self.update_frames(data, 0);
-            self.pass(model, data, t, chunk, 0, 1.0);
-            self.update_frames(data, 1);
-            self.pass(model, data, t, chunk, 1, 1.0);
-            self.update_frames(data, 2);
-            self.pass(model, data, t, chunk, 2, 2.0);
-            let (first, len) = (self.chunks[chunk].first, self.chunks[chunk].len);
-            for k in 0..model.n_coords {
-                for d in 0..len {
-                    out.dq[k * n + first + d] = self.dq[k][d];
-                    out.dqd[k * n + first + d] = self.dqd[k][d];
-                    out.dqdd[k * n + first + d] = self.dqdd[k][d];
-                }
+        let (n, nc) = (self.n_params, model.n_coords);
+        self.update_frames(data);
+        self.rates_of_phi_q(model, data, t);
+        self.rates_of_phi_p(model, data, t);
+        self.stage(model, data, 0, 1.0);
+        self.stage(model, data, 1, 1.0);
+        self.stage(model, data, 2, 2.0);
+        for k in 0..n {
+            for c in 0..nc {
+                out.dq[c * n + k] = self.s[k * nc + c];
+                out.dqd[c * n + k] = self.sd[k * nc + c];
+                out.dqdd[c * n + k] = self.sdd[k * nc + c];
             }
-            if self.points.is_empty() {
-                continue;
-            }
-            // the points move with their bodies' perturbed motion, and with their own
-            // local coordinates where a parameter moves them
-            self.update_frames(data, 3);
+            let param = k * nc..(k + 1) * nc;
             for (r, req) in self.points.iter().enumerate() {
-                let frame = req.body.map_or(&ground, |i| &self.frames[i]);
-                let p = frame.point(self.chunks[chunk].local[r]);
-                for (axis, x) in p.iter().enumerate() {
-                    for d in 0..len {
-                        let at = (r * 2 + axis) * n + first + d;
-                        out.points[at] = x.e[d][0];
-                        out.points_d[at] = x.e[d][1];
-                        out.points_dd[at] = 2.0 * x.e[d][2];
-                    }
+                let du = self.point_seeds[r][k];
+                let (d, dd, ddd) = point_sensitivity(
+                    req,
+                    data,
+                    du,
+                    &self.s[param.clone()],
+                    &self.sd[param.clone()],
+                    &self.sdd[param.clone()],
+                );
+                for axis in 0..2 {
+                    let at = (r * 2 + axis) * n + k;
+                    out.points[at] = d[axis];
+                    out.points_d[at] = dd[axis];
+                    out.points_dd[at] = ddd[axis];
                 }
             }
         }
     }
+}
+
+/// The change of a body point's world position, velocity and acceleration with its
+/// body's motion changed by (s, sd, sdd) and its local coordinates by du:
+/// r = R + A u, r' = R' + B u th', r'' = R'' + B u th'' - A u th'^2, differentiated.
+fn point_sensitivity(
+    req: &PointRequest,
+    data: &Data,
+    du: [f64; 2],
+    s: &[f64],
+    sd: &[f64],
+    sdd: &[f64],
+) -> ([f64; 2], [f64; 2], [f64; 2]) {
+    let Some(b) = req.body else {
+        return (du, [0.0; 2], [0.0; 2]);
+    };
+    let f = &data.frames[b];
+    let (w, al) = (data.qd[3 * b + 2], data.qdd[3 * b + 2]);
+    let (dth, dw, dal) = (s[3 * b + 2], sd[3 * b + 2], sdd[3 * b + 2]);
+    let (au, bu) = (f.rot(req.local), f.rot_d(req.local));
+    let (adu, bdu) = (f.rot(du), f.rot_d(du));
+    let mut out = ([0.0; 2], [0.0; 2], [0.0; 2]);
+    for i in 0..2 {
+        out.0[i] = s[3 * b + i] + bu[i] * dth + adu[i];
+        out.1[i] = sd[3 * b + i] + bu[i] * dw - au[i] * w * dth + bdu[i] * w;
+        out.2[i] =
+            sdd[3 * b + i] + bu[i] * dal - au[i] * al * dth - 2.0 * au[i] * w * dw - bu[i] * w * w * dth
+                + bdu[i] * al
+                - adu[i] * w * w;
+    }
+    out
 }
