@@ -56,16 +56,17 @@ pub struct Sensitivity {
     point_seeds: Vec<Vec<[f64; 2]>>,
     /// n_bodies: the bodies' motions, in their own coordinates' directions
     frames: Vec<JetFrame<3>>,
-    /// n_params x n_rows: Phi_p, Phi_p', Phi_p'' / 2
+    /// n_rows x n_params: Phi_p, Phi_p', Phi_p'' / 2
     p0: Vec<f64>,
     p1: Vec<f64>,
     p2: Vec<f64>,
     /// the nonzero entries (row, column, value) of Phi_q' and Phi_q'' / 2 at the step
     m1_entries: Vec<(u32, u32, f64)>,
     m2_entries: Vec<(u32, u32, f64)>,
-    /// n_params x n_rows: right-hand sides, solved in place
+    /// n_rows x n_params: right-hand sides, solved in place; and the solver's scratch
     rhs: Vec<f64>,
-    /// n_params x n_coords: S, S', S''
+    scratch: Vec<f64>,
+    /// n_coords x n_params: S, S', S''
     s: Vec<f64>,
     sd: Vec<f64>,
     sdd: Vec<f64>,
@@ -163,6 +164,7 @@ impl Sensitivity {
             m1_entries: Vec::with_capacity(model.n_rows * WC),
             m2_entries: Vec::with_capacity(model.n_rows * WC),
             rhs: vec![0.0; n * nr],
+            scratch: vec![0.0; n * nr],
             s: vec![0.0; n * nc],
             sd: vec![0.0; n * nc],
             sdd: vec![0.0; n * nc],
@@ -220,7 +222,7 @@ impl Sensitivity {
 
     /// Phi_p, Phi_p' and Phi_p'' / 2 of every parameter, from the joints it moves.
     fn rates_of_phi_p(&mut self, model: &Model, data: &Data, t: f64) {
-        let nr = model.n_rows;
+        let n = self.n_params;
         self.p0.fill(0.0);
         self.p1.fill(0.0);
         self.p2.fill(0.0);
@@ -237,7 +239,7 @@ impl Sensitivity {
                 c.kind.phi_jet(&a, &b, s, t, p, &mut out);
                 for i in 0..c.n_rows {
                     for d in 0..chunk.len {
-                        let at = (chunk.first + d) * nr + c.row0 + i;
+                        let at = (c.row0 + i) * n + chunk.first + d;
                         self.p0[at] += out[i].e[d][0];
                         self.p1[at] += out[i].e[d][1];
                         self.p2[at] += out[i].e[d][2];
@@ -247,10 +249,11 @@ impl Sensitivity {
         }
     }
 
-    /// For every parameter k: x_k = -factor Phi_q^-1 (p_k + sum of m v_k over `terms`),
-    /// the rows scaled for the solver and the solution unscaled; solved two at a time.
+    /// For every parameter k at once: x_k = -factor Phi_q^-1 (p_k + the products of
+    /// Phi_q' and Phi_q'' / 2 with what the earlier levels solved), the rows scaled for the
+    /// solver and the solution unscaled.
     fn stage(&mut self, model: &Model, data: &mut Data, level: usize, factor: f64) {
-        let (n, nr, nc) = (self.n_params, model.n_rows, model.n_coords);
+        let n = self.n_params;
         let p = [&self.p0, &self.p1, &self.p2][level];
         self.rhs.copy_from_slice(p);
         let terms: &[(&[(u32, u32, f64)], &[f64])] = match level {
@@ -260,37 +263,29 @@ impl Sensitivity {
         };
         for (entries, v) in terms {
             for &(row, col, m) in entries.iter() {
-                for k in 0..n {
-                    self.rhs[k * nr + row as usize] += m * v[k * nc + col as usize];
+                let (row, col) = (row as usize * n, col as usize * n);
+                for (r, x) in self.rhs[row..row + n].iter_mut().zip(&v[col..col + n]) {
+                    *r += m * x;
                 }
             }
         }
         for c in &model.constraints {
             for i in 0..c.n_rows {
                 let scale = -factor * c.row_scale[i];
-                for k in 0..n {
-                    self.rhs[k * nr + c.row0 + i] *= scale;
+                let row = (c.row0 + i) * n;
+                for r in &mut self.rhs[row..row + n] {
+                    *r *= scale;
                 }
             }
         }
-        let mut pairs = self.rhs.chunks_exact_mut(2 * nr);
-        for pair in &mut pairs {
-            let (a, b) = pair.split_at_mut(nr);
-            data.factor.solve_pair(&model.symbolic, a, b);
-        }
-        let rest = pairs.into_remainder();
-        if !rest.is_empty() {
-            data.factor.solve(&model.symbolic, rest);
-        }
+        data.factor.solve_many(&model.symbolic, &mut self.rhs, n, &mut self.scratch);
         let x = match level {
             0 => &mut self.s,
             1 => &mut self.sd,
             _ => &mut self.sdd,
         };
-        for k in 0..n {
-            for ((x, r), s) in
-                x[k * nc..(k + 1) * nc].iter_mut().zip(&self.rhs[k * nr..]).zip(&model.col_scale)
-            {
+        for ((x, r), s) in x.chunks_exact_mut(n).zip(self.rhs.chunks_exact(n)).zip(&model.col_scale) {
+            for (x, r) in x.iter_mut().zip(r) {
                 *x = r * s;
             }
         }
@@ -299,30 +294,23 @@ impl Sensitivity {
     /// S, S', S'' (and the points') at the step data holds: data.q, qd, qdd solved at t
     /// and Phi_q factored at data.q (in data.factor).
     pub fn step(&mut self, model: &Model, data: &mut Data, t: f64, out: StepOut) {
-        let (n, nc) = (self.n_params, model.n_coords);
+        let n = self.n_params;
+        if n == 0 {
+            return;
+        }
         self.update_frames(data);
         self.rates_of_phi_q(model, data, t);
         self.rates_of_phi_p(model, data, t);
         self.stage(model, data, 0, 1.0);
         self.stage(model, data, 1, 1.0);
         self.stage(model, data, 2, 2.0);
-        for k in 0..n {
-            for c in 0..nc {
-                out.dq[c * n + k] = self.s[k * nc + c];
-                out.dqd[c * n + k] = self.sd[k * nc + c];
-                out.dqdd[c * n + k] = self.sdd[k * nc + c];
-            }
-            let param = k * nc..(k + 1) * nc;
-            for (r, req) in self.points.iter().enumerate() {
+        out.dq.copy_from_slice(&self.s);
+        out.dqd.copy_from_slice(&self.sd);
+        out.dqdd.copy_from_slice(&self.sdd);
+        for (r, req) in self.points.iter().enumerate() {
+            for k in 0..n {
                 let du = self.point_seeds[r][k];
-                let (d, dd, ddd) = point_sensitivity(
-                    req,
-                    data,
-                    du,
-                    &self.s[param.clone()],
-                    &self.sd[param.clone()],
-                    &self.sdd[param.clone()],
-                );
+                let (d, dd, ddd) = point_sensitivity(req, data, du, k, n, &self.s, &self.sd, &self.sdd);
                 for axis in 0..2 {
                     let at = (r * 2 + axis) * n + k;
                     out.points[at] = d[axis];
@@ -337,28 +325,33 @@ impl Sensitivity {
 /// The change of a body point's world position, velocity and acceleration with its
 /// body's motion changed by (s, sd, sdd) and its local coordinates by du:
 /// r = R + A u, r' = R' + B u th', r'' = R'' + B u th'' - A u th'^2, differentiated.
+#[allow(clippy::too_many_arguments)]
 fn point_sensitivity(
     req: &PointRequest,
     data: &Data,
     du: [f64; 2],
+    k: usize,
+    n: usize,
     s: &[f64],
     sd: &[f64],
     sdd: &[f64],
 ) -> ([f64; 2], [f64; 2], [f64; 2]) {
+    // parameter k's column of the (n_coords x n_params) arrays
+    let (s, sd, sdd) = (|c: usize| s[c * n + k], |c: usize| sd[c * n + k], |c: usize| sdd[c * n + k]);
     let Some(b) = req.body else {
         return (du, [0.0; 2], [0.0; 2]);
     };
     let f = &data.frames[b];
     let (w, al) = (data.qd[3 * b + 2], data.qdd[3 * b + 2]);
-    let (dth, dw, dal) = (s[3 * b + 2], sd[3 * b + 2], sdd[3 * b + 2]);
+    let (dth, dw, dal) = (s(3 * b + 2), sd(3 * b + 2), sdd(3 * b + 2));
     let (au, bu) = (f.rot(req.local), f.rot_d(req.local));
     let (adu, bdu) = (f.rot(du), f.rot_d(du));
     let mut out = ([0.0; 2], [0.0; 2], [0.0; 2]);
     for i in 0..2 {
-        out.0[i] = s[3 * b + i] + bu[i] * dth + adu[i];
-        out.1[i] = sd[3 * b + i] + bu[i] * dw - au[i] * w * dth + bdu[i] * w;
+        out.0[i] = s(3 * b + i) + bu[i] * dth + adu[i];
+        out.1[i] = sd(3 * b + i) + bu[i] * dw - au[i] * w * dth + bdu[i] * w;
         out.2[i] =
-            sdd[3 * b + i] + bu[i] * dal - au[i] * al * dth - 2.0 * au[i] * w * dw - bu[i] * w * w * dth
+            sdd(3 * b + i) + bu[i] * dal - au[i] * al * dth - 2.0 * au[i] * w * dw - bu[i] * w * w * dth
                 + bdu[i] * al
                 - adu[i] * w * w;
     }
