@@ -16,7 +16,7 @@ use super::jet::{Jet, JetFrame};
 use super::params::{values, Parameter};
 use crate::data::Data;
 use crate::joints::{Constraint, MAX_ROWS};
-use crate::model::Model;
+use crate::model::{ConstraintEntry, Model};
 
 /// Parameter directions carried by one pass of jets.
 pub const W: usize = 4;
@@ -42,16 +42,25 @@ struct Chunk {
     moved: Vec<(usize, Vec<Jet<W>>)>,
 }
 
+/// A constraint's numbers as constant jets, one lane per coordinate direction it has.
+enum Consts {
+    W3(Vec<Jet<3>>),
+    W4(Vec<Jet<4>>),
+    W6(Vec<Jet<6>>),
+    W7(Vec<Jet<WC>>),
+}
+
 /// What one step needs, prepared once for a model, parameters and points; with the
 /// per-step scratch, so a sweep allocates nothing per step.
 pub struct Sensitivity {
     pub n_params: usize,
     pub points: Vec<PointRequest>,
     chunks: Vec<Chunk>,
-    /// per constraint: its numbers as constant jets (for its Phi_q' and Phi_q'')
-    consts: Vec<Vec<Jet<WC>>>,
-    /// per constraint: the column of each of its coordinate directions (None: the ground)
-    cols: Vec<[Option<usize>; WC]>,
+    /// per constraint: its numbers as constant jets as wide as its coordinate directions
+    /// (3 per moving side, 1 for an extra coordinate), for its Phi_q' and Phi_q''
+    consts: Vec<Consts>,
+    /// per constraint: the column of each of its coordinate directions, in lane order
+    cols: Vec<Vec<usize>>,
     /// per point request, d local / d parameter (n_params)
     point_seeds: Vec<Vec<[f64; 2]>>,
     /// n_bodies: the bodies' motions, in their own coordinates' directions
@@ -85,9 +94,9 @@ pub struct StepOut<'a> {
 
 /// A jet frame of `f`'s lanes placed at lanes `at..at + 3` of a wider one.
 #[inline(always)]
-fn widen(f: &JetFrame<3>, at: usize) -> JetFrame<WC> {
+fn widen<const WL: usize>(f: &JetFrame<3>, at: usize) -> JetFrame<WL> {
     let w = |x: &Jet<3>| {
-        let mut y = Jet::<WC> { v: x.v, e: [[0.0; 3]; WC] };
+        let mut y = Jet::<WL> { v: x.v, e: [[0.0; 3]; WL] };
         y.e[at..at + 3].copy_from_slice(&x.e);
         y
     };
@@ -122,17 +131,27 @@ impl Sensitivity {
             }
             chunks.push(Chunk { first, len, moved });
         }
-        let cols = model
+        let cols: Vec<Vec<usize>> = model
             .constraints
             .iter()
             .map(|c| {
-                let mut cols = [None; WC];
-                for j in 0..3 {
-                    cols[j] = c.body_a.map(|b| 3 * b + j);
-                    cols[3 + j] = c.body_b.map(|b| 3 * b + j);
+                let side = |b: Option<usize>| b.into_iter().flat_map(|b| [3 * b, 3 * b + 1, 3 * b + 2]);
+                side(c.body_a).chain(side(c.body_b)).chain(c.extra).collect()
+            })
+            .collect();
+        let consts = vals
+            .iter()
+            .zip(&cols)
+            .map(|(v, cols)| {
+                fn jets<const WL: usize>(v: &[f64]) -> Vec<Jet<WL>> {
+                    v.iter().map(|&x| Jet::cst(x)).collect()
                 }
-                cols[6] = c.extra;
-                cols
+                match cols.len() {
+                    3 => Consts::W3(jets(v)),
+                    4 => Consts::W4(jets(v)),
+                    6 => Consts::W6(jets(v)),
+                    _ => Consts::W7(jets(v)),
+                }
             })
             .collect();
         let point_seeds = points
@@ -154,7 +173,7 @@ impl Sensitivity {
             n_params: n,
             points: points.to_vec(),
             chunks,
-            consts: vals.iter().map(|v| v.iter().map(|&x| Jet::cst(x)).collect()).collect(),
+            consts,
             cols,
             point_seeds,
             frames: vec![JetFrame::ground(); model.n_bodies],
@@ -186,36 +205,18 @@ impl Sensitivity {
         }
     }
 
-    /// Phi_q' and Phi_q'' / 2, joint by joint.
+    /// Phi_q' and Phi_q'' / 2, joint by joint, each in its own coordinates' directions.
     fn rates_of_phi_q(&mut self, model: &Model, data: &Data, t: f64) {
         self.m1_entries.clear();
         self.m2_entries.clear();
         for (ci, c) in model.constraints.iter().enumerate() {
-            let a = c.body_a.map_or_else(JetFrame::ground, |i| widen(&self.frames[i], 0));
-            let b = c.body_b.map_or_else(JetFrame::ground, |i| widen(&self.frames[i], 3));
-            let s = match c.extra {
-                Some(k) => {
-                    let mut s =
-                        Jet::<WC> { v: [data.q[k], data.qd[k], 0.5 * data.qdd[k]], e: [[0.0; 3]; WC] };
-                    s.e[6][0] = 1.0;
-                    s
-                }
-                None => Jet::ZERO,
-            };
-            let mut out = [Jet::ZERO; MAX_ROWS];
-            c.kind.phi_jet(&a, &b, s, t, &self.consts[ci], &mut out);
-            for i in 0..c.n_rows {
-                let row = (c.row0 + i) as u32;
-                for (lane, col) in self.cols[ci].iter().enumerate() {
-                    let Some(col) = *col else { continue };
-                    let (m1, m2) = (out[i].e[lane][1], out[i].e[lane][2]);
-                    if m1 != 0.0 {
-                        self.m1_entries.push((row, col as u32, m1));
-                    }
-                    if m2 != 0.0 {
-                        self.m2_entries.push((row, col as u32, m2));
-                    }
-                }
+            let (f, cols) = (&self.frames, &self.cols[ci]);
+            let (m1, m2) = (&mut self.m1_entries, &mut self.m2_entries);
+            match &self.consts[ci] {
+                Consts::W3(p) => rates_one(c, f, data, t, p, cols, m1, m2),
+                Consts::W4(p) => rates_one(c, f, data, t, p, cols, m1, m2),
+                Consts::W6(p) => rates_one(c, f, data, t, p, cols, m1, m2),
+                Consts::W7(p) => rates_one(c, f, data, t, p, cols, m1, m2),
             }
         }
     }
@@ -317,6 +318,48 @@ impl Sensitivity {
                     out.points_d[at] = dd[axis];
                     out.points_dd[at] = ddd[axis];
                 }
+            }
+        }
+    }
+}
+
+/// One constraint's rows on jets in the WL directions of its coordinates (side a's x,
+/// y, theta if it moves, side b's, its extra coordinate), their entries of Phi_q' and
+/// Phi_q'' / 2 pushed as (row, column, value).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn rates_one<const WL: usize>(
+    c: &ConstraintEntry,
+    frames: &[JetFrame<3>],
+    data: &Data,
+    t: f64,
+    consts: &[Jet<WL>],
+    cols: &[usize],
+    m1: &mut Vec<(u32, u32, f64)>,
+    m2: &mut Vec<(u32, u32, f64)>,
+) {
+    let b_at = if c.body_a.is_some() { 3 } else { 0 };
+    let a = c.body_a.map_or_else(JetFrame::ground, |i| widen(&frames[i], 0));
+    let b = c.body_b.map_or_else(JetFrame::ground, |i| widen(&frames[i], b_at));
+    let s = match c.extra {
+        Some(k) => {
+            let mut s = Jet::<WL> { v: [data.q[k], data.qd[k], 0.5 * data.qdd[k]], e: [[0.0; 3]; WL] };
+            s.e[WL - 1][0] = 1.0;
+            s
+        }
+        None => Jet::ZERO,
+    };
+    let mut out = [Jet::ZERO; MAX_ROWS];
+    c.kind.phi_jet(&a, &b, s, t, consts, &mut out);
+    for i in 0..c.n_rows {
+        let row = (c.row0 + i) as u32;
+        for (lane, &col) in cols.iter().enumerate() {
+            let (d1, d2) = (out[i].e[lane][1], out[i].e[lane][2]);
+            if d1 != 0.0 {
+                m1.push((row, col as u32, d1));
+            }
+            if d2 != 0.0 {
+                m2.push((row, col as u32, d2));
             }
         }
     }
