@@ -280,8 +280,9 @@ def test_a_ground_pivot_moves_the_crank_one_for_one():
     assert s[:, 0, 0] == pytest.approx(np.ones(50), abs=1e-6)
     assert s[:, 0, 1] == pytest.approx(np.zeros(50), abs=1e-6)
     tol = study.tolerance({"pivot O2.x": S.Uniform(1e-4)}, n=20, seed=1)
-    assert tol.linear.worst[:, 0] == pytest.approx(np.full(50, 1e-4), rel=1e-5)
-    assert tol.linear.method == "central differences"
+    # the engine's exact sensitivities: d(crank.x)/d(pivot O2.x) = 1 to round-off
+    assert tol.linear.worst[:, 0] == pytest.approx(np.full(50, 1e-4), rel=1e-12)
+    assert tol.linear.method == "exact (engine)"
     # every sample's crank.x deviation is exactly its pivot's
     dev = tol.deviations[:, :, 0]
     shift = tol.monte_carlo.designs.values[:, 0][:, None]
@@ -298,6 +299,7 @@ def test_monte_carlo_against_direct_sweeps_and_first_order():
     }
     tol = study.tolerance(tolerances, n=400, seed=11)
     assert tol.n_failed == 0
+    assert tol.linear.method == "exact (engine)"
     nominal = lw.Model(four_bar()).sweep(times, derivatives=0).body("rocker").theta
     direct = np.array(
         [
@@ -343,7 +345,7 @@ def test_tolerance_report_files(tmp_path):
     paths = tol.report(str(tmp_path), stem="fb")
     names = sorted(os.path.basename(p) for p in paths)
     assert names == ["fb.md", "fb_angle_rocker_error.png", "fb_contributions.png", "fb_path_P_envelope.png"]
-    assert "central differences" in open(paths[0]).read()
+    assert "exact (engine)" in open(paths[0]).read()
 
 
 # -- the command line ------------------------------------------------------------------
@@ -376,7 +378,7 @@ def test_cli_tolerance_study_as_parquet(tmp_path, capsys):
     path.write_text(text.replace("n = 2000", "n = 60").replace("steps = 1000", "steps = 200"))
     assert main(["study", str(path), "--out", str(tmp_path), "--format", "parquet", "--chunk", "16"]) == 0
     out = capsys.readouterr().out
-    assert "60 samples (seed 1), 60 swept, 0 failed" in out and "central differences" in out
+    assert "60 samples (seed 1), 60 swept, 0 failed" in out and "exact (engine)" in out
     ds = S.open_dataset(str(tmp_path / "tol.parquet"))
     assert ds.sizes["design"] == 60 and ds.pivot_O4_x.attrs["units"] == "mm"
     assert {"tol.md", "tol_contributions.png"} <= set(os.listdir(tmp_path))

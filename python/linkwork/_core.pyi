@@ -27,6 +27,7 @@ __all__ = [
     "write_model",
     "screw_transport",
     "sweep_batch",
+    "sensitivities",
     "_check_panic_guard",
     "synth_chebyshev",
     "synth_dyads",
@@ -48,6 +49,15 @@ def sweep_batch(
     on_singular: str = "continue",
     locks: bool = False,
 ) -> list[tuple[dict[str, Any], BaseException | None]]: ...
+def sensitivities(
+    model: Model,
+    times: npt.NDArray[np.float64],
+    parameters: list[str],
+    q_guess: npt.NDArray[np.float64] | None = None,
+    points: list[tuple[int, float, float, int]] | None = None,
+    progress: Callable[[int, int], Any] | None = None,
+    progress_every: int = 0,
+) -> tuple[dict[str, Any], BaseException | None]: ...
 def parse_expression(text: str, variable: str = "t") -> None: ...
 def evaluate_law(
     law_json: str,

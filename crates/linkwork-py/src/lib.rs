@@ -18,6 +18,7 @@ mod linkages;
 mod mobility;
 mod panics;
 mod screw;
+mod sensitivity;
 mod synthesis;
 
 use panics::guard;
@@ -779,6 +780,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synthesis::synth_start_set, m)?)?;
     m.add_function(wrap_pyfunction!(synthesis::synth_alt, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(sensitivity::sensitivities, m)?)?;
     m.add_function(wrap_pyfunction!(panics::_check_panic_guard, m)?)?;
     m.add_function(wrap_pyfunction!(read_model, m)?)?;
     m.add_function(wrap_pyfunction!(write_model, m)?)?;

@@ -354,6 +354,26 @@ impl Curve {
         }
     }
 
+    /// c''''(s), for the exact sensitivities of the followers whose rows hold the tangent
+    /// (`sensitivity::jet::curve`): 0 on a spline curve (cubic pieces), from r and its
+    /// derivatives on a circle and a polar profile (r'''' = 0 on the cubic pieces); NaN on a
+    /// polar expression, whose fourth derivative is not computed.
+    pub fn fourth(&self, s: f64) -> [f64; 2] {
+        let polar = |angle: f64, rj: [f64; 4]| {
+            let (sin, cos) = (s + angle).sin_cos();
+            let [r, r1, r2, r3] = rj;
+            // c'''' = (r'''' - 6 r'' + r) e + (4 r''' - 4 r') e', with r'''' = 0
+            let (a, b) = (r - 6.0 * r2, 4.0 * (r3 - r1));
+            [a * cos - b * sin, a * sin + b * cos]
+        };
+        match self {
+            Curve::Circle(k) => polar(k.angle, [k.radius, 0.0, 0.0, 0.0]),
+            Curve::Spline(_) => [0.0, 0.0],
+            Curve::Polar(k) => polar(k.angle, k.r.eval(s)),
+            Curve::PolarExpression(_) => [f64::NAN, f64::NAN],
+        }
+    }
+
     /// +1 if s runs counter-clockwise round the curve, -1 if clockwise.
     pub fn orientation(&self) -> f64 {
         match self {

@@ -28,6 +28,7 @@ pub mod model;
 pub mod motion;
 pub mod position;
 pub mod screw;
+pub mod sensitivity;
 pub mod small_lu;
 pub mod sparse_lu;
 pub mod stepping;

@@ -530,6 +530,28 @@ impl Factor {
         }
     }
 
+    /// Solves Phi_q X = B in place for `k` right-hand sides, B row-major (n x k), with
+    /// `scratch` (n x k): side by side with the fixed-sequence LU, one column at a time
+    /// with the others.
+    pub(crate) fn solve_many(&mut self, sym: &SymbolicFactor, b: &mut [f64], k: usize, scratch: &mut [f64]) {
+        match &mut self.numeric {
+            Numeric::Refactor(lu) => lu.solve_many(b, k, scratch),
+            numeric => {
+                let n = b.len() / k;
+                for col in 0..k {
+                    let x = &mut scratch[..n];
+                    for (r, x) in x.iter_mut().enumerate() {
+                        *x = b[r * k + col];
+                    }
+                    numeric.solve(sym, x);
+                    for (r, x) in x.iter().enumerate() {
+                        b[r * k + col] = *x;
+                    }
+                }
+            }
+        }
+    }
+
     /// Solves Phi_q^T x = rhs in place with the last factorization (inverse dynamics).
     pub(crate) fn solve_transpose(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         self.numeric.solve_transpose(sym, rhs)

@@ -236,6 +236,51 @@ impl SparseLu {
         }
     }
 
+    /// Solves A X = B in place for `k` right-hand sides at once, B row-major (n x k: each
+    /// row's k values together), with `scratch` (n x k): every operation of the program
+    /// applied to a row of k values, so the k solves run side by side (the sensitivities'
+    /// many parameters).
+    pub fn solve_many(&self, b: &mut [f64], k: usize, scratch: &mut [f64]) {
+        let n = self.n;
+        assert!(self.ready && b.len() == n * k && scratch.len() >= n * k);
+        let w = &mut scratch[..n * k];
+        for (step, &r) in self.row_of_step.iter().enumerate() {
+            let r = r as usize;
+            w[step * k..(step + 1) * k].copy_from_slice(&b[r * k..(r + 1) * k]);
+        }
+        let nl = self.l_row.len();
+        // row i -= l row j, as `solve`, on rows of k
+        let axpy = |w: &mut [f64], i: usize, j: usize, l: f64| {
+            let (i, j) = (i * k, j * k);
+            if i > j {
+                let (lo, hi) = w.split_at_mut(i);
+                for (x, y) in hi[..k].iter_mut().zip(&lo[j..j + k]) {
+                    *x -= l * y;
+                }
+            } else {
+                let (lo, hi) = w.split_at_mut(j);
+                for (x, y) in lo[i..i + k].iter_mut().zip(&hi[..k]) {
+                    *x -= l * y;
+                }
+            }
+        };
+        for ((&i, &j), &l) in self.l_row.iter().zip(&self.l_col).zip(&self.lu[..nl]) {
+            axpy(w, i as usize, j as usize, l);
+        }
+        for (row, d) in w.chunks_exact_mut(k).zip(&self.inv_diag) {
+            for x in row {
+                *x *= d;
+            }
+        }
+        for ((&i, &j), &v) in self.u_row.iter().zip(&self.u_col).zip(&self.v) {
+            axpy(w, i as usize, j as usize, v);
+        }
+        for (step, &c) in self.col_of_step.iter().enumerate() {
+            let c = c as usize;
+            b[c * k..(c + 1) * k].copy_from_slice(&w[step * k..(step + 1) * k]);
+        }
+    }
+
     /// Solves A^T x = b in place with the last factorization: V^T D L^T (P x) = Q^T b.
     pub fn solve_transpose(&mut self, b: &mut [f64]) {
         assert!(self.ready && b.len() == self.n);

@@ -7,6 +7,7 @@ design swept and reduced where it runs, in-process on all cores or on a Dask clu
 - `outputs`: the figures kept of each design (reductions of its sweep);
 - `run`: `Study`, the three scales, `StudyResult`;
 - `dataset`: the labelled dataset (xarray, pandas), NetCDF and Parquet with units;
+- `sensitivities`: exact sensitivities of a sweep to parameters (`Model.sensitivities`);
 - `tolerance`: Monte Carlo and first-order tolerance analysis; `report`: its report.
 """
 
@@ -17,6 +18,7 @@ from .outputs import Output
 from .parameters import KINDS, Parameter, apply, apply_many, parameter, parameters
 from .report import atlas_figure, study_report, tolerance_report
 from .run import Job, Study, StudyResult, run_chunk
+from .sensitivities import Sensitivities, engine_directions, sensitivities
 from .tolerance import Linear, ToleranceResult, central_differences, components, propagate, tolerance_study
 
 __all__ = [
@@ -31,12 +33,14 @@ __all__ = [
     "Parameter",
     "Study",
     "StudyResult",
+    "Sensitivities",
     "ToleranceResult",
     "Uniform",
     "apply",
     "apply_many",
     "atlas_figure",
     "central_differences",
+    "engine_directions",
     "components",
     "grid",
     "latin_hypercube",
@@ -47,6 +51,7 @@ __all__ = [
     "propagate",
     "run_chunk",
     "sample",
+    "sensitivities",
     "study_report",
     "tolerance_report",
     "tolerance_study",

@@ -28,7 +28,7 @@ tolerances; read by `load_study` and ``linkwork study FILE``.
     [tolerances]
     n = 10000
     seed = 1
-    linear = true                  # first order beside Monte Carlo (central differences)
+    linear = true                  # first order beside Monte Carlo (exact; differences as fallback)
     [tolerances.parameters]
     "length crank" = { normal = 0.05 }         # sigma, in the model's units
     "length coupler" = { uniform = 0.1 }       # +- half width

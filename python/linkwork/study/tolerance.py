@@ -9,9 +9,11 @@ Two answers, side by side:
   (n_steps x n_params x n_components), `propagate` gives the worst case
   sum_i |S_i| t_i (t_i the tolerance's half width; 3 sigma for a normal one), the
   root-sum-square sqrt(sum_i (S_i sigma_i)^2) and each parameter's share of the
-  variance. S is, today, estimated by **central differences** of sweeps (two designs per
-  parameter, +-h), and labelled so; exact sensitivities from the engine plug in as the
-  same array (``sensitivities=``).
+  variance. S is the engine's **exact** sensitivities (`Model.sensitivities`: the
+  implicit function theorem on each step's factorization, no differences) where every
+  parameter is one of the engine's (`linkwork.study.sensitivities`), and otherwise
+  estimated by **central differences** of sweeps (two designs per parameter, +-h), the
+  fallback, labelled with the parameter that needs it; or given (``sensitivities=``).
 
 The components are the per-step outputs' numbers: ``path P`` gives "path_P.x" and
 "path_P.y", ``angle rocker`` gives "angle_rocker". Scalar outputs (``transmission_min``,
@@ -21,17 +23,25 @@ The components are the per-step outputs' numbers: ``path P`` gives "path_P.x" an
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from ..errors import StudyError
+from ..errors import ParameterError, StudyError
 from .designs import Designs, sample, tolerance
 from .run import Study, StudyResult
 
-__all__ = ["propagate", "Linear", "ToleranceResult", "tolerance_study", "central_differences", "components"]
+__all__ = [
+    "propagate",
+    "Linear",
+    "ToleranceResult",
+    "tolerance_study",
+    "central_differences",
+    "exact_sensitivities",
+    "components",
+]
 
 
 @dataclass(frozen=True)
@@ -39,7 +49,7 @@ class Linear:
     """First-order propagation: ``worst`` and ``rss`` (n_steps x n_components), ``shift``
     (the mean deviation, from tolerances not centred on nominal), ``share`` (n_steps x
     n_params x n_components: each parameter's fraction of the variance), ``method`` (how S
-    was found: "central differences" or "given")."""
+    was found: "exact (engine)", "central differences (...why...)" or "given")."""
 
     worst: np.ndarray
     rss: np.ndarray
@@ -135,6 +145,32 @@ def central_differences(
     y = _stack(res)
     h = np.asarray([steps[m] for m in names])
     return np.transpose((y[0::2] - y[1::2]) / (2.0 * h[:, None, None]), (1, 0, 2))
+
+
+def exact_sensitivities(study: Study, names: Sequence[str]) -> np.ndarray:
+    """S (n_steps x n_params x n_components) of the study's per-step outputs from the
+    engine's exact sensitivities of the nominal design (`Model.sensitivities`). Raises
+    `ParameterError` for a parameter that is not one of the engine's, `StudyError` for an
+    output without a per-step first order."""
+    paths = [o.target for o in study.outputs if o.kind == "path"]
+    sens = study.model.sensitivities(study.times, list(names), points=paths)
+    parts = []
+    for o in study.outputs:
+        if o.dtype != "float64" or "step" not in o.dims:
+            continue
+        if o.kind == "path":
+            parts += [sens.points[o.target][:, 0, :], sens.points[o.target][:, 1, :]]
+        elif o.kind == "angle":
+            parts.append(sens.column(f"{o.target}.theta"))
+        elif o.kind == "coordinate":
+            parts.append(sens.column(o.target))
+        else:
+            raise StudyError(f"output {o.name!r} has no exact first order")
+    if not parts:
+        raise StudyError(
+            "a tolerance study needs a per-step output: 'path P', 'angle BODY' or 'coordinate NAME'"
+        )
+    return np.stack(parts, axis=2)
 
 
 @dataclass
@@ -245,7 +281,9 @@ def tolerance_study(
     """Monte Carlo over ``n`` mechanisms sampled from ``tolerances`` {parameter: Normal,
     Uniform, Interval or a study file's dict}, beside first-order propagation from
     ``sensitivities`` (n_steps x n_params x n_components, in the order of ``tolerances``)
-    or, by default, from central differences of sweeps. ``run``: as for `Study.run`
+    or, by default, from the engine's exact sensitivities (`exact_sensitivities`), or where
+    a parameter is not one of the engine's, from central differences of sweeps (the
+    method, ``linear.method``, says which, and why). ``run``: as for `Study.run`
     (``scheduler``, ``chunk``, ``progress``, ...); the nominal and the differences run
     in-process.
     """
@@ -273,10 +311,14 @@ def tolerance_study(
                 f"sensitivities give {lin.worst.shape} (steps x components); the outputs are {y0.shape}"
             )
     elif linear:
-        # a step small against the tolerance (truncation ~h^2) and large against the
-        # solver's round-off (~1e-12 of the mechanism's size)
-        steps = {k: 1e-2 * t.std for k, t in tols.items()}
-        local = {k: v for k, v in run.items() if k in ("threads",)}
-        s = central_differences(study, nominal, steps, **local)
-        lin = propagate(s, half, sig, means, method="central differences")
+        try:
+            lin = propagate(exact_sensitivities(study, names), half, sig, means, method="exact (engine)")
+        except ParameterError as e:
+            # a step small against the tolerance (truncation ~h^2) and large against the
+            # solver's round-off (~1e-12 of the mechanism's size)
+            steps = {k: 1e-2 * t.std for k, t in tols.items()}
+            local = {k: v for k, v in run.items() if k in ("threads",)}
+            s = central_differences(study, nominal, steps, **local)
+            why = str(e).split(";")[0]
+            lin = propagate(s, half, sig, means, method=f"central differences ({why})")
     return ToleranceResult(base, mc, deviations, comps, lin, tols, int(n), seed)

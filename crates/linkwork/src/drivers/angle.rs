@@ -2,6 +2,7 @@
 
 use crate::joints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::motion::MotionLaw;
+use crate::sensitivity::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct AngleDriver {
@@ -9,6 +10,21 @@ pub struct AngleDriver {
 }
 
 impl Constraint for AngleDriver {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        self.law.params_mut()
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        _a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        out[0] = b.theta - self.law.jet(t, p);
+    }
     fn n_rows(&self) -> usize {
         1
     }

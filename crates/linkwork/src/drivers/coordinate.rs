@@ -2,6 +2,7 @@
 
 use crate::joints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::motion::MotionLaw;
+use crate::sensitivity::jet::{pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoordinateDriver {
@@ -12,6 +13,23 @@ pub struct CoordinateDriver {
 }
 
 impl Constraint for CoordinateDriver {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p: Vec<(String, &mut f64)> = crate::joints::xy("u", &mut self.u).into_iter().collect();
+        p.extend(self.law.params_mut());
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        _a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        out[0] = b.point(pair(p, 0))[self.axis] - self.law.jet(t, &p[2..]);
+    }
     fn n_rows(&self) -> usize {
         1
     }

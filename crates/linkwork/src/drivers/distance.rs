@@ -3,6 +3,7 @@
 
 use crate::joints::{dot, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::motion::MotionLaw;
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct DistanceDriver {
@@ -12,6 +13,26 @@ pub struct DistanceDriver {
 }
 
 impl Constraint for DistanceDriver {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(crate::joints::xy("u_a", &mut self.u_a));
+        p.extend(crate::joints::xy("u_b", &mut self.u_b));
+        p.extend(self.law.params_mut());
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let d = jet::sub(b.point(pair(p, 2)), a.point(pair(p, 0)));
+        out[0] = jet::dot(d, d).sqrt() - self.law.jet(t, &p[4..]);
+    }
     fn n_rows(&self) -> usize {
         1
     }

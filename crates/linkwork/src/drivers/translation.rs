@@ -4,6 +4,7 @@
 use crate::joints::prismatic::{line_gamma, line_row};
 use crate::joints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::motion::MotionLaw;
+use crate::sensitivity::jet::{pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct TranslationDriver {
@@ -15,6 +16,27 @@ pub struct TranslationDriver {
 }
 
 impl Constraint for TranslationDriver {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(crate::joints::xy("u_a", &mut self.u_a));
+        p.extend(crate::joints::xy("u_b", &mut self.u_b));
+        p.extend(crate::joints::xy("e_a", &mut self.e_a));
+        p.extend(self.law.params_mut());
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let line = crate::joints::prismatic::line_jet(pair(p, 4), pair(p, 0), pair(p, 2), a, b);
+        out[0] = line - self.law.jet(t, &p[6..]);
+    }
     fn n_rows(&self) -> usize {
         1
     }

@@ -6,11 +6,27 @@
 
 use super::gear::Gear;
 use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Belt(pub Gear);
 
 impl Constraint for Belt {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        self.0.params_mut()
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        s: Jet<W>,
+        t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        self.0.phi_jet(a, b, s, t, p, out);
+    }
     fn n_rows(&self) -> usize {
         1
     }

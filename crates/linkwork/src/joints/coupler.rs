@@ -5,6 +5,7 @@
 //! solution (it equals |d| - l to first order).
 
 use super::{dot, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Coupler {
@@ -17,6 +18,27 @@ pub struct Coupler {
 }
 
 impl Constraint for Coupler {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(super::xy("u_a", &mut self.u_a));
+        p.extend(super::xy("u_b", &mut self.u_b));
+        p.push(("length".into(), &mut self.length));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let d = jet::sub(b.point(pair(p, 2)), a.point(pair(p, 0)));
+        let l = p[4];
+        out[0] = (jet::dot(d, d) - l * l) * (l * 2.0).recip();
+    }
     fn n_rows(&self) -> usize {
         1
     }

@@ -5,6 +5,7 @@
 //! a rack's slide against a pinion's turn, a pantograph's scaled motion.
 
 use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearCoupling {
@@ -28,6 +29,36 @@ fn q(f: &Frame) -> [f64; 3] {
 }
 
 impl Constraint for LinearCoupling {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let [a0, a1, a2] = &mut self.c_a;
+        let [b0, b1, b2] = &mut self.c_b;
+        vec![
+            ("c_a.x".into(), a0),
+            ("c_a.y".into(), a1),
+            ("c_a.theta".into(), a2),
+            ("c_b.x".into(), b0),
+            ("c_b.y".into(), b1),
+            ("c_b.theta".into(), b2),
+            ("value".into(), &mut self.value),
+        ]
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let (qa, qb) = ([a.r[0], a.r[1], a.theta], [b.r[0], b.r[1], b.theta]);
+        let mut sum = Jet::ZERO - p[6];
+        for k in 0..3 {
+            sum = sum + p[k] * qa[k] + p[3 + k] * qb[k];
+        }
+        out[0] = sum;
+    }
     fn n_rows(&self) -> usize {
         1
     }

@@ -3,6 +3,7 @@
 
 use super::revolute::{coincidence, coincidence_gamma};
 use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fixed {
@@ -13,6 +14,27 @@ pub struct Fixed {
 }
 
 impl Constraint for Fixed {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(super::xy("u_a", &mut self.u_a));
+        p.push(("theta0".into(), &mut self.theta0));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let pa = a.point(pair(p, 0));
+        out[0] = b.r[0] - pa[0];
+        out[1] = b.r[1] - pa[1];
+        out[2] = b.theta - a.theta - p[2];
+    }
     fn n_rows(&self) -> usize {
         3
     }

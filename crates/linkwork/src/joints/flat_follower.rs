@@ -10,6 +10,7 @@
 use super::point_on_curve::{to_local, to_local_dir};
 use super::{dot, perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::curves::Curve;
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlatFollower {
@@ -46,6 +47,28 @@ impl FlatFollower {
 }
 
 impl Constraint for FlatFollower {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(super::xy("u_b", &mut self.u_b));
+        p.extend(super::xy("n_b", &mut self.n_b));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let (c, c1) = jet::curve(&self.curve, s);
+        let n = b.rot(pair(p, 2));
+        let e = jet::sub(a.point(c), b.point(pair(p, 0)));
+        out[0] = jet::dot(n, e);
+        out[1] = jet::dot(n, a.rot(c1));
+    }
     fn n_rows(&self) -> usize {
         2
     }

@@ -22,6 +22,7 @@
 use std::f64::consts::PI;
 
 use super::{perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Gear {
@@ -69,6 +70,54 @@ impl Gear {
 }
 
 impl Constraint for Gear {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p: Vec<(String, &mut f64)> = vec![
+            ("k_a".into(), &mut self.k_a),
+            ("k_b".into(), &mut self.k_b),
+            ("value".into(), &mut self.value),
+        ];
+        if let Some(m) = &mut self.mesh {
+            p.extend(super::xy("u_a", &mut m.u_a));
+            p.extend(super::xy("u_b", &mut m.u_b));
+            p.push(("delta".into(), &mut m.delta));
+        }
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let (k_a, k_b) = (p[0], p[1]);
+        let phi = match &self.mesh {
+            // the line of centres' angle on the turn `position` picks (delta only picks it)
+            Some(m) => {
+                let d = jet::sub(b.point(pair(p, 5)), a.point(pair(p, 3)));
+                let raw = Jet::atan2(d[1], d[0]);
+                let frames = |f: &JetFrame<W>| {
+                    let v = |x: &Jet<W>| x.value();
+                    Frame {
+                        r: [v(&f.r[0]), v(&f.r[1])],
+                        theta: v(&f.theta),
+                        c: v(&f.c),
+                        s: v(&f.s),
+                        rd: [0.0; 2],
+                        thetad: 0.0,
+                    }
+                };
+                let (turn, _) = m.phi(&frames(a), &frames(b), s.value());
+                raw + (turn - raw.value())
+            }
+            None if self.carrier => s,
+            None => Jet::ZERO,
+        };
+        out[0] = k_a * (a.theta - phi) + k_b * (b.theta - phi) - p[2];
+    }
     fn n_rows(&self) -> usize {
         1
     }

@@ -25,6 +25,7 @@ pub mod rack_pinion;
 
 use crate::drivers::{angle, coordinate, distance, relative_angle, translation};
 use crate::motion::MotionLaw;
+use crate::sensitivity::jet::{Jet, JetFrame};
 
 /// The most rows one joint or driver writes.
 pub const MAX_ROWS: usize = 3;
@@ -151,6 +152,28 @@ pub trait Constraint {
     fn anchor_b(&self) -> [f64; 2] {
         [0.0, 0.0]
     }
+    /// The joint's own numbers, the design parameters it has, named ("u_a.x", "length";
+    /// a driver's law's after its own, "law.rate"), in the order `phi_jet` reads them.
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)>;
+    /// phi on jets (`sensitivity::jet`): the sides' perturbed motions, the extra coordinate
+    /// `s`, the parameters `p` (in the order of `params_mut`) at time t. The same rows as
+    /// `position`, written once more over jets, from which Phi_p, Phi_q, nu, gamma and the
+    /// sensitivities' time derivatives all follow exactly.
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        s: Jet<W>,
+        t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    );
+}
+
+/// A point or vector parameter, its two coordinates named "<name>.x" and "<name>.y".
+pub(crate) fn xy<'a>(name: &str, v: &'a mut [f64; 2]) -> [(String, &'a mut f64); 2] {
+    let [x, y] = v;
+    [(format!("{name}.x"), x), (format!("{name}.y"), y)]
 }
 
 /// Gives one valid, non-trivial instance of a type, for tests over every joint.
@@ -210,6 +233,21 @@ macro_rules! constraint_list {
             }
             fn anchor_b(&self) -> [f64; 2] {
                 match self { $(ConstraintKind::$variant(j) => j.anchor_b()),* }
+            }
+            fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+                match self { $(ConstraintKind::$variant(j) => j.params_mut()),* }
+            }
+            #[inline]
+            fn phi_jet<const W: usize>(
+                &self,
+                a: &JetFrame<W>,
+                b: &JetFrame<W>,
+                s: Jet<W>,
+                t: f64,
+                p: &[Jet<W>],
+                out: &mut [Jet<W>; MAX_ROWS],
+            ) {
+                match self { $(ConstraintKind::$variant(j) => j.phi_jet(a, b, s, t, p, out)),* }
             }
         }
 

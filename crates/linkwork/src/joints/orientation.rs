@@ -3,6 +3,7 @@
 //! given).
 
 use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct FixedOrientation {
@@ -11,6 +12,21 @@ pub struct FixedOrientation {
 }
 
 impl Constraint for FixedOrientation {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        vec![("angle".into(), &mut self.angle)]
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        out[0] = b.theta - a.theta - p[0];
+    }
     fn n_rows(&self) -> usize {
         1
     }

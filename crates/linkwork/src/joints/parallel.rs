@@ -5,6 +5,7 @@
 //! (the cosine, +-1) is far from singular.
 
 use super::{dot, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Parallel {
@@ -20,6 +21,24 @@ fn cross(u: [f64; 2], v: [f64; 2]) -> f64 {
 }
 
 impl Constraint for Parallel {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(super::xy("e_a", &mut self.e_a));
+        p.extend(super::xy("e_b", &mut self.e_b));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        out[0] = jet::cross(a.rot(pair(p, 0)), b.rot(pair(p, 2)));
+    }
     fn n_rows(&self) -> usize {
         1
     }

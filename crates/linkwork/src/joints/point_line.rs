@@ -9,6 +9,7 @@
 
 use super::prismatic::{line_gamma, line_row};
 use super::{perp, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointOnLine {
@@ -23,6 +24,27 @@ pub struct PointOnLine {
 }
 
 impl Constraint for PointOnLine {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(super::xy("u_a", &mut self.u_a));
+        p.extend(super::xy("u_b", &mut self.u_b));
+        p.extend(super::xy("e_b", &mut self.e_b));
+        p.push(("offset".into(), &mut self.offset));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let line = super::prismatic::line_jet(jet::perp(pair(p, 4)), pair(p, 2), pair(p, 0), b, a);
+        out[0] = line - p[6];
+    }
     fn n_rows(&self) -> usize {
         1
     }

@@ -4,6 +4,7 @@
 
 use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::curves::Curve;
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointOnCurve {
@@ -27,6 +28,24 @@ pub(crate) fn to_local_dir(a: &Frame, v: [f64; 2]) -> [f64; 2] {
 }
 
 impl Constraint for PointOnCurve {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        super::xy("u_b", &mut self.u_b).into_iter().collect()
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let (c, _) = jet::curve(&self.curve, s);
+        let d = jet::sub(b.point(pair(p, 0)), a.point(c));
+        out[0] = d[0];
+        out[1] = d[1];
+    }
     fn n_rows(&self) -> usize {
         2
     }

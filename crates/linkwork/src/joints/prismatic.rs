@@ -3,6 +3,7 @@
 //! along the axis e_a (n . d = 0, n the axis normal, d = r_b(u_b) - r_a(u_a)).
 
 use super::{dot, perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame, Vec2};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Prismatic {
@@ -46,7 +47,40 @@ pub(crate) fn line_gamma(v_a: [f64; 2], u_a: [f64; 2], u_b: [f64; 2], a: &Frame,
     a.thetad * a.thetad * dot(v, d) - 2.0 * a.thetad * dot(perp(v), dd) + dot(v, centripetal)
 }
 
+/// `line_row`'s value on jets: (A_a v_a) . (r_b(u_b) - r_a(u_a)).
+#[inline(always)]
+pub(crate) fn line_jet<const W: usize>(
+    v_a: Vec2<W>,
+    u_a: Vec2<W>,
+    u_b: Vec2<W>,
+    a: &JetFrame<W>,
+    b: &JetFrame<W>,
+) -> Jet<W> {
+    jet::dot(a.rot(v_a), jet::sub(b.point(u_b), a.point(u_a)))
+}
+
 impl Constraint for Prismatic {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(super::xy("u_a", &mut self.u_a));
+        p.extend(super::xy("u_b", &mut self.u_b));
+        p.extend(super::xy("e_a", &mut self.e_a));
+        p.push(("theta0".into(), &mut self.theta0));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        out[0] = b.theta - a.theta - p[6];
+        out[1] = line_jet(jet::perp(pair(p, 4)), pair(p, 0), pair(p, 2), a, b);
+    }
     fn n_rows(&self) -> usize {
         2
     }

@@ -13,6 +13,7 @@
 
 use super::prismatic::{line_gamma, line_row};
 use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RackPinion {
@@ -29,6 +30,28 @@ pub struct RackPinion {
 }
 
 impl Constraint for RackPinion {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(super::xy("u_a", &mut self.u_a));
+        p.extend(super::xy("u_b", &mut self.u_b));
+        p.extend(super::xy("e_b", &mut self.e_b));
+        p.push(("radius".into(), &mut self.radius));
+        p.push(("delta0".into(), &mut self.delta0));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let line = super::prismatic::line_jet(pair(p, 4), pair(p, 2), pair(p, 0), b, a);
+        out[0] = line + p[6] * (a.theta - b.theta - p[7]);
+    }
     fn n_rows(&self) -> usize {
         1
     }

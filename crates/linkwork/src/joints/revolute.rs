@@ -1,6 +1,7 @@
 //! Revolute (pin) joint: the point u_a of body a and u_b of body b coincide. 2 rows.
 
 use super::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::sensitivity::jet::{pair, sub as jsub, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Revolute {
@@ -43,6 +44,26 @@ pub(crate) fn coincidence_gamma(
 }
 
 impl Constraint for Revolute {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p = Vec::new();
+        p.extend(super::xy("u_a", &mut self.u_a));
+        p.extend(super::xy("u_b", &mut self.u_b));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        _s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let d = jsub(b.point(pair(p, 2)), a.point(pair(p, 0)));
+        out[0] = d[0];
+        out[1] = d[1];
+    }
     fn n_rows(&self) -> usize {
         2
     }

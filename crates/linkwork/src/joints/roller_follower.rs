@@ -10,6 +10,7 @@
 use super::point_on_curve::to_local;
 use super::{dot, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::curves::Curve;
+use crate::sensitivity::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RollerFollower {
@@ -52,6 +53,28 @@ impl RollerFollower {
 }
 
 impl Constraint for RollerFollower {
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        let mut p: Vec<(String, &mut f64)> = super::xy("u_b", &mut self.u_b).into_iter().collect();
+        p.push(("radius".into(), &mut self.radius));
+        p
+    }
+    #[inline]
+    fn phi_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        s: Jet<W>,
+        _t: f64,
+        p: &[Jet<W>],
+        out: &mut [Jet<W>; MAX_ROWS],
+    ) {
+        let (c, c1) = jet::curve(&self.curve, s);
+        let d = jet::sub(b.point(pair(p, 0)), a.point(c));
+        let tangent = a.rot(c1);
+        let inv = p[2].recip();
+        out[0] = (jet::dot(d, d) - p[2] * p[2]) * (inv * 0.5);
+        out[1] = jet::dot(d, tangent) * inv;
+    }
     fn n_rows(&self) -> usize {
         2
     }

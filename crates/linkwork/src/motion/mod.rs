@@ -7,6 +7,7 @@
 mod cam;
 mod compose;
 mod external;
+mod params;
 mod spline;
 
 use serde::{Deserialize, Serialize};

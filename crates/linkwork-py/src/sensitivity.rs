@@ -1,0 +1,142 @@
+//! Exact sensitivities of a sweep to design parameters, as NumPy arrays.
+
+use linkwork::sensitivity::{sensitivity_sweep, Parameter, PointRequest, SensitivityOutput};
+use linkwork::Data;
+use numpy::ndarray::{Array3, Array4};
+use numpy::{IntoPyArray, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::{along, guard, guess, laws, output_dict, InputError, PyModel};
+
+pyo3::import_exception!(linkwork.errors, ParameterError);
+
+/// Sweeps `times` and solves, at every step, dq/dp, dqd/dp and dqdd/dp for each named
+/// parameter (description paths or engine names), and the world position, velocity and
+/// acceleration sensitivities of `points` ((body index, -1 the ground; u_x, u_y; named
+/// point index or -1)). The GIL is released meanwhile. Returns (dict, error or None): the
+/// sweep's outputs and "names", "nominal", "dq", "dqd", "dqdd" (n_steps x n_coords x
+/// n_params) and "points", "points_d", "points_dd" (n_steps x n_points x 2 x n_params),
+/// the steps before a failure kept.
+#[pyfunction]
+#[pyo3(signature = (model, times, parameters, q_guess=None, points=None, progress=None, progress_every=0))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sensitivities<'py>(
+    py: Python<'py>,
+    model: PyRef<'py, PyModel>,
+    times: PyReadonlyArray1<'py, f64>,
+    parameters: Vec<String>,
+    q_guess: Option<PyReadonlyArray1<'py, f64>>,
+    points: Option<Vec<(i64, f64, f64, i64)>>,
+    progress: Option<Py<PyAny>>,
+    progress_every: usize,
+) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
+    let m = std::sync::Arc::clone(&model.model);
+    let params = parameters
+        .iter()
+        .map(|name| Parameter::resolve(&m, name).map_err(|e| ParameterError::new_err(e.to_string())))
+        .collect::<PyResult<Vec<_>>>()?;
+    let index = |i: i64, what: &str, n: usize| -> PyResult<Option<usize>> {
+        match i {
+            -1 => Ok(None),
+            i if i >= 0 && (i as usize) < n => Ok(Some(i as usize)),
+            i => Err(InputError::new_err(format!("a point's {what} index {i} does not exist"))),
+        }
+    };
+    let requests = points
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(b, ux, uy, named)| {
+            Ok(PointRequest {
+                body: index(b, "body", m.n_bodies)?,
+                local: [ux, uy],
+                named: index(named, "named point", m.points.len())?,
+            })
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let times = times.as_slice()?;
+    let mut data = Data::new(&m);
+    data.q = match (guess(&m, q_guess)?, times.first()) {
+        (Some(q), _) => q,
+        (None, Some(&t0)) if t0.is_finite() && t0 != linkwork::drawing_time(&m) => {
+            laws::clear(&model.failures);
+            along(py, &m, t0).map_err(|e| model.law_failure(py, e))?.0.q
+        }
+        (None, _) => m.q_start.clone(),
+    };
+    let mut out = SensitivityOutput::new(&m, times, &params, requests.len());
+    let total = times.len();
+    laws::clear(&model.failures);
+    let (result, interrupt) = py.detach(|| {
+        let mut interrupt: Option<PyErr> = None;
+        let mut on_progress = |k: usize| -> bool {
+            Python::attach(|py| {
+                let r = py.check_signals().and_then(|_| match &progress {
+                    Some(cb) => cb.call1(py, (k, total)).map(|_| ()),
+                    None => Ok(()),
+                });
+                match r {
+                    Ok(()) => true,
+                    Err(e) => {
+                        interrupt = Some(e);
+                        false
+                    }
+                }
+            })
+        };
+        let r = guard("solving sensitivities", || {
+            sensitivity_sweep(
+                &m,
+                &mut data,
+                times,
+                &params,
+                &requests,
+                &mut out,
+                progress_every,
+                &mut on_progress,
+            )
+        });
+        (r, interrupt)
+    });
+    let error = match (result, interrupt) {
+        (Err(panic), _) => Some(panic),
+        (Ok(Ok(())), _) => None,
+        (Ok(Err(_)), Some(py_err)) => Some(py_err),
+        (Ok(Err(e)), None) => Some(model.solve_err(py, &e)),
+    };
+    let SensitivityOutput {
+        mut sweep,
+        names,
+        n_params,
+        n_points,
+        n_done,
+        dq,
+        dqd,
+        dqdd,
+        points,
+        points_d,
+        points_dd,
+    } = out;
+    sweep.truncate();
+    let nc = m.n_coords;
+    let d = output_dict(py, sweep)?;
+    let per_step = |mut v: Vec<f64>| {
+        v.truncate(n_done * nc * n_params);
+        Array3::from_shape_vec((n_done, nc, n_params), v).expect("steps x coords x params").into_pyarray(py)
+    };
+    let per_point = |mut v: Vec<f64>| {
+        v.truncate(n_done * n_points * 2 * n_params);
+        Array4::from_shape_vec((n_done, n_points, 2, n_params), v)
+            .expect("steps x points x 2 x params")
+            .into_pyarray(py)
+    };
+    d.set_item("names", names)?;
+    d.set_item("nominal", params.iter().map(|p| p.nominal).collect::<Vec<f64>>())?;
+    d.set_item("dq", per_step(dq))?;
+    d.set_item("dqd", per_step(dqd))?;
+    d.set_item("dqdd", per_step(dqdd))?;
+    d.set_item("sens_points", per_point(points))?;
+    d.set_item("sens_points_d", per_point(points_d))?;
+    d.set_item("sens_points_dd", per_point(points_dd))?;
+    Ok((d, error))
+}

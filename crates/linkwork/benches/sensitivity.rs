@@ -1,0 +1,70 @@
+//! Sensitivity benchmark (criterion): the textbook four-bar over 100,000 steps (one crank
+//! revolution, as the sweep benchmark), its sweep alone against the same sweep with the
+//! exact sensitivities dq/dp, dqd/dp, dqdd/dp to 10 parameters (the pins O2, A and B in
+//! their bodies), on the structure-aware path (`structured`, the default) and the general
+//! one (`general`). Outputs are allocated outside the timing, as in the sweep benchmark.
+//! The target: the sensitivities cost at most 2x the sweep. Run:
+//!     cargo bench -p linkwork --bench sensitivity
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::*;
+use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
+use linkwork::sensitivity::{sensitivity_sweep, Parameter, SensitivityOutput};
+use linkwork::{sweep, Data, Model, Options, Request, SolverKind, SweepOutput};
+use std::f64::consts::PI;
+use std::hint::black_box;
+use std::time::Duration;
+
+const STEPS: usize = 100_000;
+const N_PARAMS: usize = 10;
+
+fn sensitivities(c: &mut Criterion) {
+    let desc = four_bar(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 0.0, 5.0);
+    let h = 2.0 * PI / 5.0 / STEPS as f64;
+    let times: Vec<f64> = (0..STEPS).map(|k| k as f64 * h).collect();
+    let mut g = c.benchmark_group("four_bar_sensitivities");
+    g.throughput(Throughput::Elements(STEPS as u64));
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    for (name, solver) in [("structured", SolverKind::Auto), ("general", SolverKind::General)] {
+        let model = Model::with_options(desc.clone(), Options { solver, ..Options::default() }).unwrap();
+        g.bench_function(BenchmarkId::new(name, "sweep"), |b| {
+            let mut out = SweepOutput::with_request(&model, &times, Request::default());
+            b.iter_batched_ref(
+                || Data::new(&model),
+                |data| {
+                    sweep(&model, data, black_box(&times), &mut out, 0, &mut |_| true).unwrap();
+                    black_box(out.q.last().copied())
+                },
+                BatchSize::LargeInput,
+            )
+        });
+        let params: Vec<Parameter> = Parameter::all(&model).into_iter().take(N_PARAMS).collect();
+        g.bench_function(BenchmarkId::new(name, "sweep_and_10_sensitivities"), |b| {
+            let mut out = SensitivityOutput::new(&model, &times, &params, 0);
+            b.iter_batched_ref(
+                || Data::new(&model),
+                |data| {
+                    sensitivity_sweep(
+                        &model,
+                        data,
+                        black_box(&times),
+                        &params,
+                        &[],
+                        &mut out,
+                        0,
+                        &mut |_| true,
+                    )
+                    .unwrap();
+                    black_box(out.dqdd.last().copied())
+                },
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, sensitivities);
+criterion_main!(benches);

@@ -1,0 +1,168 @@
+"""Exact sensitivities of a sweep to design parameters: dq/dp, dqd/dp, dqdd/dp per step,
+and of named points, from the engine (the implicit function theorem on the sweep's
+factorization of Phi_q, each joint's rows differentiated exactly; no differences).
+
+Parameters are named as in `linkwork.study.parameters`:
+
+- description paths the engine maps exactly onto its numbers: a revolute's ``at`` (or
+  ``pin_a``/``pin_b``), a distance joint's ``at_a``/``at_b``/``length``, a prismatic
+  joint's ``at`` (its translation drivers too), a point-on-line's ``at``/``through``/
+  ``offset``, a rack's ``radius``, a cam follower's ``at`` and roller ``radius``, a
+  distance or coordinate driver's points, a driver's closed-form law fields
+  (``drivers.D.law.rate``: constant, linear, polynomial, harmonic), a named point's
+  ``points.P.at.0``; and the engine's own numbers, ``constraints.<joint>.<number>``;
+- the friendly names that are one direction in those numbers: ``pin J@body.x`` (the pin's
+  place in that body only), ``pivot J.x``, ``point P.x``, ``law D.field`` and ``length
+  body`` (the moved pin's place in the body along the link, exactly what `apply`'s redraw
+  does to first order);
+- ``mass``/``inertia`` of a body and ``gravity``: the kinematics does not depend on them,
+  so their sensitivities are exactly zero (the driver effort's are not computed).
+
+Anything else (a gear's ratio or radii, a body's drawn pose, a table or expression law)
+raises `ParameterError` naming it: vary it by differences of whole sweeps
+(`linkwork.study.central_differences`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import ParameterError
+from .parameters import Parameter, parameters
+
+if TYPE_CHECKING:
+    from ..model import Model
+    from ..results import Results
+
+__all__ = ["Sensitivities", "sensitivities", "engine_directions"]
+
+
+@dataclass(frozen=True)
+class Sensitivities:
+    """A sweep's exact sensitivities: ``names`` (the parameters, as given), ``nominal``,
+    ``columns`` (the model's coordinates), ``times``, ``dq``, ``dqd``, ``dqdd`` (n_steps x
+    n_coords x n_params), ``points`` (name -> n_steps x 2 x n_params, the world position's;
+    ``points_d`` and ``points_dd`` the velocity's and acceleration's) and ``results`` (the
+    sweep itself)."""
+
+    names: list[str]
+    nominal: list[float]
+    columns: list[str]
+    times: np.ndarray
+    dq: np.ndarray = field(repr=False)
+    dqd: np.ndarray = field(repr=False)
+    dqdd: np.ndarray = field(repr=False)
+    points: dict[str, np.ndarray] = field(repr=False)
+    points_d: dict[str, np.ndarray] = field(repr=False)
+    points_dd: dict[str, np.ndarray] = field(repr=False)
+    results: Results = field(repr=False)
+
+    def column(self, name: str, derivative: int = 0) -> np.ndarray:
+        """n_steps x n_params: the sensitivities of one coordinate ("rocker.theta"), of
+        its rate (``derivative=1``) or its acceleration (2)."""
+        if name not in self.columns:
+            raise ParameterError(f"no coordinate {name!r}; the coordinates are {', '.join(self.columns)}")
+        return (self.dq, self.dqd, self.dqdd)[derivative][:, self.columns.index(name), :]
+
+
+def _theta0(model: Model, body: str) -> float:
+    return 0.0 if body == "ground" else float(model.q_start[model._column_index[f"{body}.theta"]])
+
+
+def engine_directions(model: Model, p: Parameter) -> dict[str, float]:
+    """The engine parameters (names) and weights whose combination is ``p``: one path
+    with weight 1, or a pin's local coordinates in one body. Empty for a parameter the
+    kinematics does not depend on (a mass, an inertia, gravity). Raises `ParameterError`
+    for a parameter that is not one direction in the engine's numbers."""
+    if p.kind == "path":
+        if p.path[0] == "gravity" or (p.path[0] == "bodies" and p.path[-1] in ("mass", "inertia", "com")):
+            return {}
+        return {".".join(str(k) for k in p.path): 1.0}
+    joint = next(j for j in model.description["joints"] if j["name"] == p.joint)
+    side = "u_a" if joint["body_a"] == p.body else "u_b"
+    if p.kind == "pin":
+        world = [0.0, 0.0]
+        world[p.axis] = 1.0
+    else:
+        # a length: the moved pin slides along the link, away from the anchor
+        anchor = next(j for j in model.description["joints"] if j["name"] == p.anchor)
+        d = [joint["at"][0] - anchor["at"][0], joint["at"][1] - anchor["at"][1]]
+        norm = math.hypot(d[0], d[1])
+        world = [d[0] / norm, d[1] / norm]
+    # d local / d world = A(theta_0)^T in the body's drawn frame (theta in rad)
+    c, s = math.cos(_theta0(model, p.body)), math.sin(_theta0(model, p.body))
+    local = [c * world[0] + s * world[1], -s * world[0] + c * world[1]]
+    out = {f"constraints.{p.joint}.{side}.x": local[0], f"constraints.{p.joint}.{side}.y": local[1]}
+    return {k: v for k, v in out.items() if v != 0.0}
+
+
+def sensitivities(
+    model: Model,
+    times: Any,
+    names: Sequence[Any],
+    points: Sequence[str] | None = None,
+    q_guess: Any = None,
+    progress: Callable[[int, int], Any] | bool | None = None,
+) -> Sensitivities:
+    """See `Model.sensitivities`."""
+    from .. import _args, _core
+    from ..model import _ProgressBar
+    from ..results import Results
+
+    t = _args.times(times)
+    params = parameters(model.description, names)
+    directions = [engine_directions(model, p) for p in params]
+    engine = sorted({k for d in directions for k in d})
+    named = {n: (k, b, ux, uy) for k, (n, b, ux, uy) in enumerate(model._core.points)}
+    wanted = list(points) if points is not None else list(named)
+    requests = []
+    for name in wanted:
+        if name not in named:
+            raise ParameterError(f"no named point {name!r}; the points are {', '.join(named) or 'none'}")
+        k, b, ux, uy = named[name]
+        requests.append((b, ux, uy, k))
+    progress = _args.callback(progress, "progress", allow_true=True)
+    callback = _ProgressBar() if progress is True else (progress or None)
+    check = max(1, min(16384, 1_000_000 // max(1, model.n_coords)))
+    try:
+        raw, error = _core.sensitivities(
+            model._core, t, engine, model._guess(q_guess), requests, callback, check if callback else 0
+        )
+    except ParameterError as e:
+        # the engine names its own path: say which of the user's parameters it came from
+        bad = next((p.name for p, d in zip(params, directions) if any(k in str(e) for k in d)), None)
+        raise ParameterError(f"parameter {bad!r}: {e}" if bad and bad not in str(e) else str(e)) from None
+    # the user's parameters: combinations of the engine's (exact: the map is linear)
+    weights = np.zeros((len(engine), len(params)))
+    for j, d in enumerate(directions):
+        for path, w in d.items():
+            weights[engine.index(path), j] = w
+
+    def combine(a: np.ndarray) -> np.ndarray:
+        return np.asarray(a @ weights)
+
+    dq, dqd, dqdd = (combine(raw[k]) for k in ("dq", "dqd", "dqdd"))
+    pts = [combine(raw[k]) for k in ("sens_points", "sens_points_d", "sens_points_dd")]
+    results = Results(model, raw, None)
+    out = Sensitivities(
+        [p.name for p in params],
+        [p.nominal for p in params],
+        list(model.columns),
+        np.asarray(raw["times"]),
+        dq,
+        dqd,
+        dqdd,
+        {n: pts[0][:, i] for i, n in enumerate(wanted)},
+        {n: pts[1][:, i] for i, n in enumerate(wanted)},
+        {n: pts[2][:, i] for i, n in enumerate(wanted)},
+        results,
+    )
+    if error is not None:
+        setattr(error, "partial", out)  # noqa: B010 (raised from the engine's tuple)
+        raise error
+    return out
