@@ -274,7 +274,7 @@ fn describe_path(model: &Model, c: usize, rest: &[&str], p: &mut Parameter) -> R
             p.nominal = pin[i];
             p.seeds.push((c, if field == "pin_a" { i } else { 2 + i }, 1.0));
         }
-        (JointDesc::Prismatic { name, body_a, body_b, at, .. }, "at") => {
+        (JointDesc::Prismatic { name, body_a, body_b, at: Some(at), pin_a: None, pin_b: None, .. }, "at") => {
             let i = axis()?;
             p.nominal = at[i];
             // the joint and every translation driver of it (they copy its points)
