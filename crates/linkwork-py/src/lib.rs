@@ -396,6 +396,44 @@ impl PyModel {
     }
 }
 
+impl PyModel {
+    /// The configuration a sweep over `times` starts from: the guess, else the drawing
+    /// followed by its drivers to the first time (the drawing's branch, however far).
+    fn start_q(
+        &self,
+        py: Python<'_>,
+        q_guess: Option<PyReadonlyArray1<'_, f64>>,
+        times: &[f64],
+    ) -> PyResult<Vec<f64>> {
+        let model = &self.model;
+        Ok(match (guess(model, q_guess)?, times.first()) {
+            (Some(q), _) => q,
+            (None, Some(&t0)) if t0.is_finite() && t0 != linkwork::drawing_time(model) => {
+                laws::clear(&self.failures);
+                along(py, model, t0).map_err(|e| self.law_failure(py, e))?.0.q
+            }
+            (None, _) => model.q_start.clone(),
+        })
+    }
+}
+
+/// A long solve's progress poll, from its thread without the GIL: Ctrl-C and the
+/// callback `progress(k, total)`; false (stop) with the exception kept in `interrupt`.
+pub(crate) fn poll_progress(
+    progress: &Option<Py<PyAny>>,
+    total: usize,
+    k: usize,
+    interrupt: &mut Option<PyErr>,
+) -> bool {
+    Python::attach(|py| {
+        let r = py.check_signals().and_then(|_| match progress {
+            Some(cb) => cb.call1(py, (k, total)).map(|_| ()),
+            None => Ok(()),
+        });
+        r.map_err(|e| *interrupt = Some(e)).is_ok()
+    })
+}
+
 #[pymethods]
 impl PyModel {
     #[new]
@@ -621,15 +659,7 @@ impl PyModel {
         let model = Arc::clone(&self.model);
         let times = times.as_slice()?;
         let mut data = Data::new(&model);
-        // without a guess, the first time on the drawing's branch, however far from it
-        data.q = match (guess(&model, q_guess)?, times.first()) {
-            (Some(q), _) => q,
-            (None, Some(&t0)) if t0.is_finite() && t0 != linkwork::drawing_time(&model) => {
-                laws::clear(&self.failures);
-                along(py, &model, t0).map_err(|e| self.law_failure(py, e))?.0.q
-            }
-            (None, _) => model.q_start.clone(),
-        };
+        data.q = self.start_q(py, q_guess, times)?;
         let mut out =
             SweepOutput::try_with_outputs(&model, times, request, outputs, linkwork::available_memory())
                 .map_err(|e| solve_err(py, &e))?;
@@ -637,21 +667,7 @@ impl PyModel {
         laws::clear(&self.failures);
         let (result, interrupt) = py.detach(|| {
             let mut interrupt: Option<PyErr> = None;
-            let mut on_progress = |k: usize| -> bool {
-                Python::attach(|py| {
-                    let r = py.check_signals().and_then(|_| match &progress {
-                        Some(cb) => cb.call1(py, (k, total)).map(|_| ()),
-                        None => Ok(()),
-                    });
-                    match r {
-                        Ok(()) => true,
-                        Err(e) => {
-                            interrupt = Some(e);
-                            false
-                        }
-                    }
-                })
-            };
+            let mut on_progress = |k: usize| poll_progress(&progress, total, k, &mut interrupt);
             let r = guard("sweeping", || {
                 linkwork::sweep(&model, &mut data, times, &mut out, progress_every, &mut on_progress)
             });

@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{along, guard, guess, laws, output_dict, InputError, PyModel};
+use crate::{guard, laws, output_dict, poll_progress, InputError, PyModel};
 
 pyo3::import_exception!(linkwork.errors, ParameterError);
 
@@ -56,34 +56,13 @@ pub(crate) fn sensitivities<'py>(
         .collect::<PyResult<Vec<_>>>()?;
     let times = times.as_slice()?;
     let mut data = Data::new(&m);
-    data.q = match (guess(&m, q_guess)?, times.first()) {
-        (Some(q), _) => q,
-        (None, Some(&t0)) if t0.is_finite() && t0 != linkwork::drawing_time(&m) => {
-            laws::clear(&model.failures);
-            along(py, &m, t0).map_err(|e| model.law_failure(py, e))?.0.q
-        }
-        (None, _) => m.q_start.clone(),
-    };
+    data.q = model.start_q(py, q_guess, times)?;
     let mut out = SensitivityOutput::new(&m, times, &params, requests.len());
     let total = times.len();
     laws::clear(&model.failures);
     let (result, interrupt) = py.detach(|| {
         let mut interrupt: Option<PyErr> = None;
-        let mut on_progress = |k: usize| -> bool {
-            Python::attach(|py| {
-                let r = py.check_signals().and_then(|_| match &progress {
-                    Some(cb) => cb.call1(py, (k, total)).map(|_| ()),
-                    None => Ok(()),
-                });
-                match r {
-                    Ok(()) => true,
-                    Err(e) => {
-                        interrupt = Some(e);
-                        false
-                    }
-                }
-            })
-        };
+        let mut on_progress = |k: usize| poll_progress(&progress, total, k, &mut interrupt);
         let r = guard("solving sensitivities", || {
             sensitivity_sweep(
                 &m,
