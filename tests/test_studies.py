@@ -310,7 +310,12 @@ def test_monte_carlo_against_direct_sweeps_and_first_order():
     )  # fmt: skip
     stats = tol.monte_carlo_stats()
     k = tol.components.index("angle_rocker")
-    assert np.array_equal(stats["std"][:, k], (direct - nominal).std(axis=0, ddof=1))
+    # the study's designs are the compiled model's variants, assembled from its drawing;
+    # the direct sweeps are redrawn and recompiled: the same closed configurations to
+    # round-off (a few ulps of 1 rad), so the spreads (~7e-4 rad) agree to ~1e-12
+    assert tol.monte_carlo.built == "variants"
+    direct_std = (direct - nominal).std(axis=0, ddof=1)
+    assert np.max(np.abs(stats["std"][:, k] - direct_std) / direct_std) < 1e-10
     # small tolerances: first order and Monte Carlo agree (400 samples: ~7 % sampling error)
     ratio = stats["std"] / tol.linear.rss
     assert np.all(np.abs(ratio - 1.0) < 0.2)
@@ -484,3 +489,82 @@ def test_a_slider_crank_keeps_its_rod_and_offset():
     assert after["crank"] == pytest.approx(before["crank"] * 1.1, rel=1e-12)
     assert after["rod"] == pytest.approx(before["rod"], rel=1e-12)
     assert after["offset"] == pytest.approx(before["offset"], abs=1e-12 * before["rod"])
+
+
+# -- designs as variants of the compiled model -------------------------------------------
+
+
+def test_variants_agree_with_redrawn_and_recompiled_designs():
+    # every kind of parameter the engine maps: a link length, a pin in one body, a ground
+    # pivot, a pin in both bodies (the length's anchor), a named point, a driver's law;
+    # designs that sweep and designs that stop at a limit of motion
+    times = np.linspace(0.0, TURN, 200)
+    study = lw.Study(lw.examples.four_bar(), times, ["path P", "angle rocker", "events", "pivot_min"])
+    designs = S.grid(
+        {
+            "length crank": [0.15, 0.2, 0.26],
+            "pin B@coupler.y": [0.2165, 0.23],
+            "pivot O4.x": [0.35, 0.37],
+            "joints.O2.at.1": [0.0, 0.01],
+            "point P.x": [0.3375, 0.3],
+            "drivers.crank_angle.law.rate": [5.0, 6.0],
+        }
+    )
+    variants = study.run(designs)
+    redrawn = S.run_chunk(study.job(designs.names, variants=False), 0, designs.values)
+    assert variants.built == "variants" and study.job(designs.names).variants is not None
+    kinds = [e.partition(":")[0] for e in variants.errors]
+    assert kinds == [e.partition(":")[0] for e in redrawn["error"]]
+    assert {"", "SingularError"} <= set(kinds)
+    # the same closed configurations, assembled from the drawing or redrawn: round-off
+    # (paths of ~0.5 m to a few ulps, angles of a few rad likewise)
+    ok = variants.ok
+    assert np.max(np.abs(variants.figures["path_P"][ok] - redrawn["figures"]["path_P"][ok])) < 1e-13
+    assert (
+        np.max(np.abs(variants.figures["angle_rocker"][ok] - redrawn["figures"]["angle_rocker"][ok])) < 1e-12
+    )
+    assert np.array_equal(variants.figures["events"], redrawn["figures"]["events"])
+    assert np.all(np.isnan(variants.figures["path_P"][~ok]))
+    # the pivot ratio of the assembled start measures lengths in the drawing's size L: a
+    # variant keeps the model's, a redrawn design has its own (so they differ, by up to
+    # ~10 % here); where L is one, so are the pivot ratios, to round-off
+    pivots = variants.figures["pivot_min"][ok], redrawn["figures"]["pivot_min"][ok]
+    assert np.max(np.abs(pivots[0] - pivots[1]) / pivots[1]) < 0.15
+    rates = S.grid({"drivers.crank_angle.law.rate": [4.0, 5.0, 6.5]})
+    pivots = (
+        study.run(rates).figures["pivot_min"],
+        S.run_chunk(study.job(rates.names, False), 0, rates.values),
+    )
+    assert np.max(np.abs(pivots[0] - pivots[1]["figures"]["pivot_min"])) < 1e-14
+
+
+def test_variants_name_bad_values_as_apply_does():
+    study = lw.Study(lw.examples.four_bar(), np.linspace(0.0, TURN, 20), ["path P"])
+    res = study.run(S.listed([{"length crank": v} for v in (0.2, -0.1, 0.21)]))
+    assert res.built == "variants"
+    assert res.errors[0] == res.errors[2] == ""
+    assert res.errors[1] == "ParameterError: parameter 'length crank': a length must be > 0, not -0.1"
+    # a task's values straight from elsewhere (designs check theirs when made)
+    part = S.run_chunk(study.job(["length crank"]), 0, np.array([[np.nan], [0.2]]))
+    assert part["error"][0].startswith("ParameterError: parameter 'length crank': the value must be a finite")
+    assert part["error"][1] == "" and np.all(np.isnan(part["figures"]["path_P"][0]))
+
+
+def test_designs_are_redrawn_where_the_engine_cannot_vary_them():
+    times = np.linspace(0.0, TURN, 20)
+    # an output that needs every coordinate, or forces
+    for outputs in (["path P", "transmission_min"], ["grashof"]):
+        res = lw.Study(lw.examples.four_bar(), times, outputs).run(S.grid({"length crank": [0.2]}))
+        assert res.built == "redrawn"
+    m = lw.examples.four_bar()
+    m.set_mass("coupler", 1.0, inertia=0.01)
+    res = lw.Study(m, times, ["peak_effort crank_angle"]).run(S.grid({"mass coupler": [1.0]}))
+    assert res.built == "redrawn"
+    # a parameter that is not one of the engine's numbers (a body's drawn pose)
+    study = lw.Study(lw.examples.four_bar(), times, ["path P"])
+    assert study.job(["bodies.coupler.theta"]).variants is None
+    # two parameters that move one pin in one body (the redraw keeps the last; the
+    # engine's directions would add)
+    assert study.job(["length crank", "joints.A.at.1"]).variants is None
+    assert study.job(["length crank", "pin A@crank.y"]).variants is None
+    assert study.job(["pin A@crank.x", "pin A@crank.y"]).variants is not None

@@ -27,6 +27,7 @@ __all__ = [
     "write_model",
     "screw_transport",
     "sweep_batch",
+    "sweep_variants",
     "sensitivities",
     "_check_panic_guard",
     "synth_chebyshev",
@@ -58,6 +59,18 @@ def sensitivities(
     progress: Callable[[int, int], Any] | None = None,
     progress_every: int = 0,
 ) -> tuple[dict[str, Any], BaseException | None]: ...
+def sweep_variants(
+    model: Model,
+    parameters: list[str],
+    deltas: npt.NDArray[np.float64],
+    times: npt.NDArray[np.float64],
+    coords: list[int],
+    points: list[tuple[int, float, float, int]],
+    derivatives: int = 0,
+    on_singular: str = "continue",
+    threads: int = 0,
+    progress: Callable[[int, int], Any] | None = None,
+) -> dict[str, Any]: ...
 def parse_expression(text: str, variable: str = "t") -> None: ...
 def evaluate_law(
     law_json: str,

@@ -20,6 +20,7 @@ mod panics;
 mod screw;
 mod sensitivity;
 mod synthesis;
+mod variants;
 
 use panics::guard;
 
@@ -797,6 +798,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synthesis::synth_alt, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity::sensitivities, m)?)?;
+    m.add_function(wrap_pyfunction!(variants::sweep_variants, m)?)?;
     m.add_function(wrap_pyfunction!(panics::_check_panic_guard, m)?)?;
     m.add_function(wrap_pyfunction!(read_model, m)?)?;
     m.add_function(wrap_pyfunction!(write_model, m)?)?;

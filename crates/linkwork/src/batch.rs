@@ -24,41 +24,65 @@ pub fn sweep_batch(
     threads: usize,
     watch: &mut dyn FnMut(usize) -> bool,
 ) -> Vec<BatchItem> {
+    let items = on_threads(
+        models.len(),
+        threads,
+        watch,
+        || (),
+        |_, i, cancel| {
+            let model = models[i];
+            let mut data = Data::new(model);
+            let mut out = SweepOutput::with_request(model, times, request);
+            let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
+            let err = if cancel.load(Ordering::Relaxed) {
+                Some(SolveError::Cancelled { step: 0 })
+            } else {
+                sweep(model, &mut data, times, &mut out, 4096, &mut keep_going).err()
+            };
+            out.truncate();
+            (out, err)
+        },
+    );
+    items.into_iter().map(|r| r.expect("every model was swept")).collect()
+}
+
+/// Runs `work(state, i, cancel)` for i in 0..n on `threads` threads (0: one per core),
+/// each thread with its own `state` (made by `init` on it), and returns the results in
+/// order. The calling thread polls `watch(done)` about every 5 ms; false sets `cancel`,
+/// which the work reads to stop early.
+pub(crate) fn on_threads<S, T: Send>(
+    n: usize,
+    threads: usize,
+    watch: &mut dyn FnMut(usize) -> bool,
+    init: impl Fn() -> S + Sync,
+    work: impl Fn(&mut S, usize, &AtomicBool) -> T + Sync,
+) -> Vec<Option<T>> {
     let threads =
         if threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { threads };
-    let threads = threads.min(models.len()).max(1);
+    let threads = threads.min(n).max(1);
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
     let cancel = AtomicBool::new(false);
-    let mut results: Vec<Option<BatchItem>> = (0..models.len()).map(|_| None).collect();
+    let mut results: Vec<Option<T>> = (0..n).map(|_| None).collect();
     std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads)
             .map(|_| {
                 scope.spawn(|| {
+                    let mut state = init();
                     let mut mine = Vec::new();
                     loop {
                         let i = next.fetch_add(1, Ordering::Relaxed);
-                        if i >= models.len() {
+                        if i >= n {
                             break;
                         }
-                        let model = models[i];
-                        let mut data = Data::new(model);
-                        let mut out = SweepOutput::with_request(model, times, request);
-                        let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
-                        let err = if cancel.load(Ordering::Relaxed) {
-                            Some(SolveError::Cancelled { step: 0 })
-                        } else {
-                            sweep(model, &mut data, times, &mut out, 4096, &mut keep_going).err()
-                        };
-                        out.truncate();
-                        mine.push((i, (out, err)));
+                        mine.push((i, work(&mut state, i, &cancel)));
                         done.fetch_add(1, Ordering::Relaxed);
                     }
                     mine
                 })
             })
             .collect();
-        while done.load(Ordering::Relaxed) < models.len() && !workers.iter().all(|w| w.is_finished()) {
+        while done.load(Ordering::Relaxed) < n && !workers.iter().all(|w| w.is_finished()) {
             if !watch(done.load(Ordering::Relaxed)) {
                 cancel.store(true, Ordering::Relaxed);
             }
@@ -70,5 +94,5 @@ pub fn sweep_batch(
             }
         }
     });
-    results.into_iter().map(|r| r.expect("every model was swept")).collect()
+    results
 }

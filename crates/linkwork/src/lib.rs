@@ -36,6 +36,7 @@ pub mod structure;
 pub mod sweep;
 pub mod synthesis;
 pub mod units;
+pub mod variants;
 pub mod velocity;
 
 pub use acceleration::solve_acceleration;
@@ -53,4 +54,5 @@ pub use motion::{ExternalFn, ExternalLaw, MotionLaw};
 pub use position::{solve_position, PositionInfo};
 pub use sweep::{check_times, drawing_time, solve, solve_along, sweep, Outputs, Request, SweepOutput};
 pub use units::Units;
+pub use variants::{sweep_variants, VariantFigures, Variation};
 pub use velocity::solve_velocity;

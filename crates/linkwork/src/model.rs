@@ -4,6 +4,7 @@
 //! `Send + Sync`; every mutable buffer lives in `Data`.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use crate::analysis::mobility::analyse;
 use crate::closing::{close_given, not_closed, world, Closer, Closing, Keep, Side, CLOSE_TOL};
@@ -147,7 +148,7 @@ pub struct NamedPoint {
 }
 
 /// A compiled mechanism: immutable, shared between threads.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Model {
     pub name: String,
     pub description: Description,
@@ -173,8 +174,9 @@ pub struct Model {
     /// n_coords: L for x and y, 1 for theta (the solver works on q / col_scale)
     pub col_scale: Vec<f64>,
     pub options: Options,
-    /// the linear algebra chosen, with its symbolic analysis
-    pub(crate) symbolic: SymbolicFactor,
+    /// the linear algebra chosen, with its symbolic analysis (shared by a model's
+    /// variants, which differ in numbers only: `crate::variants`)
+    pub(crate) symbolic: Arc<SymbolicFactor>,
     /// the time interval every driver and load law is defined on
     pub time_domain: (f64, f64),
     /// n_bodies: mass properties (all zero: massless)
@@ -888,7 +890,7 @@ impl Model {
             length_scale,
             col_scale,
             options,
-            symbolic,
+            symbolic: Arc::new(symbolic),
             time_domain,
             inertias,
             gravity: desc.gravity,

@@ -23,7 +23,7 @@ from .. import _args
 from ..errors import DependencyError, LinkworkError, StudyError
 from .designs import Designs, listed
 from .outputs import Output, outputs
-from .parameters import Parameter, _description, apply_many, parameters
+from .parameters import Parameter, _description, _value, apply_many, parameters
 
 __all__ = ["Study", "StudyResult", "Job", "run_chunk", "requires"]
 
@@ -57,15 +57,164 @@ class Job:
     derivatives: int
     forces: bool
     on_singular: str
+    #: the designs as variants of the compiled model (`Variants`), or None: each redrawn
+    #: and compiled
+    variants: Variants | None = None
+
+
+@dataclass(frozen=True)
+class Variants:
+    """How a job's designs move the compiled model's own numbers: the engine parameters
+    (``names``, as `linkwork.study.sensitivities.engine_directions` gives them) and
+    ``weights`` (one row per engine parameter, one column per design parameter: the map
+    is affine and exact). Plain data: it pickles."""
+
+    names: tuple[str, ...]
+    weights: tuple[tuple[float, ...], ...]
+
+
+# the outputs the engine keeps itself while it sweeps a design's variant
+_KEPT = ("path", "angle", "coordinate", "events", "pivot_min")
+
+
+def variants_of(
+    model: Any, params: Sequence[Parameter], outs: Sequence[Output], forces: bool
+) -> Variants | None:
+    """The job's designs as variants of ``model``, where every parameter is a direction in
+    the engine's numbers and every output is kept by the engine while it sweeps; else
+    None (the designs are redrawn and compiled one by one)."""
+    from .. import _core
+    from ..errors import ParameterError
+    from .sensitivities import engine_directions
+
+    if forces or any(o.kind not in _KEPT for o in outs) or _overlapping(params):
+        return None
+    try:
+        directions = [engine_directions(model, p) for p in params]
+        names = sorted({k for d in directions for k in d})
+        # the engine resolves every name (no design: nothing is swept)
+        _core.sweep_variants(model._core, names, np.zeros((0, len(names))), np.zeros(1), [], [])
+    except ParameterError:
+        return None
+    weights = tuple(tuple(d.get(k, 0.0) for d in directions) for k in names)
+    return Variants(tuple(names), weights)
+
+
+def _overlapping(params: Sequence[Parameter]) -> bool:
+    """Whether two parameters move one pin in one body other than as its x and y. The
+    engine's directions add; a redraw sets such a pin from the last of them (a length
+    puts it on the link, a pin coordinate on its axis, a joint's place in both bodies), so
+    the two would differ: such designs are redrawn."""
+    moves: dict[tuple[str, str], list[Parameter]] = {}
+    for p in params:
+        if p.kind in ("length", "pin"):
+            moves.setdefault((p.joint, p.body), []).append(p)
+    for ps in moves.values():
+        if len(ps) > 1 and not (all(p.kind == "pin" for p in ps) and len({p.axis for p in ps}) == len(ps)):
+            return True
+    joints = {j for j, _ in moves}
+    return any(p.kind == "path" and p.path[0] == "joints" and p.path[1] in joints for p in params)
 
 
 def run_chunk(job: Job, start: int, values: np.ndarray, threads: int | None = None) -> dict[str, Any]:
     """Designs ``start .. start + len(values)`` of a study: each built (`apply_many`),
-    compiled, swept (`sweep_batch` on ``threads``) and reduced to the job's outputs.
-    Returns {"start", "figures": {key: (k, ...) array}, "error": [message or ""],
-    "seconds", "phases": {"build", "sweep", "reduce"} seconds}."""
+    compiled, swept (`sweep_batch` on ``threads``) and reduced to the job's outputs; or,
+    where the job's designs are variants of the compiled model (``job.variants``), each
+    set up, swept and reduced by the engine on its threads. Returns {"start", "figures":
+    {key: (k, ...) array}, "error": [message or ""], "seconds", "phases": {"build",
+    "sweep", "reduce"} seconds}."""
+    if job.variants is not None:
+        return _run_variants(job, start, values, threads)
     built = _build(job, start, values)
     return _reduce(job, built, _sweep(job, built, threads))
+
+
+_MODELS: dict[int, Any] = {}
+
+
+def _base_model(job: Job) -> Any:
+    """The job's compiled model, compiled once per process and job."""
+    from ..model import Model
+
+    key = id(job)
+    cached = _MODELS.get(key)
+    if cached is None or cached[0] is not job:
+        _MODELS.clear()  # one job at a time: its model only
+        cached = _MODELS[key] = (job, Model._checked(job.description, job.options))
+    return cached[1]
+
+
+def _run_variants(job: Job, start: int, values: np.ndarray, threads: int | None) -> dict[str, Any]:
+    """`run_chunk` for designs that are variants of the compiled model: the engine sets
+    each design's numbers, sweeps it and keeps its figures on its threads, the GIL
+    released; here only the values are checked and the figures placed."""
+    from .. import _core
+    from ..errors import LinkworkError
+
+    begin = time.perf_counter()
+    assert job.variants is not None
+    model = _base_model(job)
+    values = np.asarray(values, dtype=np.float64).reshape(len(values), len(job.parameters))
+    n, n_steps = len(values), len(job.times)
+    errors = [""] * n
+    ok = np.all(np.isfinite(values), axis=1)
+    for j, p in enumerate(job.parameters):
+        if p.kind == "length":
+            ok &= values[:, j] > 0.0
+    for i in np.flatnonzero(~ok):  # the value's own error, as `apply` gives it
+        try:
+            for p, v in zip(job.parameters, values[i]):
+                _value(p, float(v))
+        except LinkworkError as e:
+            errors[i] = f"{type(e).__name__}: {e}"
+    good = [i for i in range(n) if not errors[i]]
+    nominal = np.array([p.nominal for p in job.parameters])
+    weights = np.array(job.variants.weights, dtype=np.float64).reshape(len(job.variants.names), len(nominal))
+    deltas = np.ascontiguousarray((values[good] - nominal) @ weights.T)
+    coords: list[int] = []
+    points: list[tuple[int, float, float, int]] = []
+    named = {name: (k, b, ux, uy) for k, (name, b, ux, uy) in enumerate(model._core.points)}
+    slots: dict[str, int] = {}
+    for o in job.outputs:
+        if o.kind == "path":
+            k, b, ux, uy = named[o.target]
+            slots[o.key] = len(points)
+            points.append((b, ux, uy, k))
+        elif o.kind in ("angle", "coordinate"):
+            column = f"{o.target}.theta" if o.kind == "angle" else o.target
+            slots[o.key] = len(coords)
+            coords.append(model._column_index[column])
+    times = np.array(job.times, dtype=np.float64)
+    build = time.perf_counter() - begin
+    begin = time.perf_counter()
+    raw = _core.sweep_variants(
+        model._core, list(job.variants.names), deltas, times, coords, points,
+        job.derivatives, job.on_singular, threads or 0,
+    )  # fmt: skip
+    sweep = time.perf_counter() - begin
+    begin = time.perf_counter()
+    for j, e in raw["errors"]:
+        errors[good[j]] = f"{type(e).__name__}: {e}"
+    swept = np.array([not errors[i] for i in good], dtype=bool)
+    rows = np.array(good, dtype=np.intp)[swept]
+    figures = {o.key: o.empty(n, n_steps) for o in job.outputs}
+    for o in job.outputs:
+        if o.kind == "path":
+            figures[o.key][rows] = raw["points"][swept, :, slots[o.key], :]
+        elif o.kind in ("angle", "coordinate"):
+            figures[o.key][rows] = raw["q"][swept, :, slots[o.key]]
+        elif o.kind == "events":
+            figures[o.key][rows] = raw["events"][swept]
+        else:
+            figures[o.key][rows] = raw["pivot_min"][swept]
+    phases = {"build": build, "sweep": sweep, "reduce": time.perf_counter() - begin}
+    return {
+        "start": start,
+        "figures": figures,
+        "error": errors,
+        "seconds": sum(phases.values()),
+        "phases": phases,
+    }
 
 
 def _build(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
@@ -217,16 +366,26 @@ class Study:
         """The nominal value of each parameter (its value in the model)."""
         return {p.name: p.nominal for p in parameters(self.description, names)}
 
-    def job(self, names: Sequence[str]) -> Job:
+    def job(self, names: Sequence[str], variants: bool = True) -> Job:
+        """Everything a task needs to sweep designs of the parameters ``names``. Where
+        every parameter is one of the engine's numbers (see
+        `linkwork.study.sensitivities`) and every output one the engine keeps (``path``,
+        ``angle``, ``coordinate``, ``events``, ``pivot_min``), the designs are variants of
+        the compiled model, set up and swept by the engine on its threads; otherwise (or
+        with ``variants=False``) each design is redrawn (`apply`) and compiled. The two
+        agree to round-off (the same closed configuration, assembled from the drawing or
+        redrawn)."""
+        params = tuple(parameters(self.description, names))
         return Job(
             self.description,
             self.model.options,
-            tuple(parameters(self.description, names)),
+            params,
             self.outputs,
             self.times,
             self.derivatives,
             self.forces,
             self.on_singular,
+            variants_of(self.model, params, self.outputs, self.forces) if variants else None,
         )
 
     def run(
@@ -355,6 +514,14 @@ def _run_local(
 
     bar = _Bar(len(values), progress, "designs")
     parts = []
+    if job.variants is not None:
+        try:
+            for s, e in _chunks(len(values), chunk):
+                parts.append(_run_variants(job, s, values[s:e], threads))
+                bar.add(e - s)
+        finally:
+            bar.close()
+        return parts
     try:
         with ThreadPoolExecutor(1) as sweeper:
             pending: Any = None
@@ -449,7 +616,9 @@ class StudyResult:
     ..."), ``outputs``, ``parameters``, ``times``, ``units`` of every figure and parameter,
     ``tasks`` [(first design, designs, seconds)], ``chunk``, ``where`` it ran,
     ``seconds`` in all and ``phases``: the tasks' seconds building the designs' models,
-    sweeping and reducing, summed. ``dataset`` is the labelled xarray Dataset; `save` writes NetCDF
+    sweeping and reducing, summed. ``built``: how the designs were built, "variants" (the
+    compiled model's numbers set by the engine, see `Study.job`) or "redrawn" (each
+    redrawn and compiled). ``dataset`` is the labelled xarray Dataset; `save` writes NetCDF
     or Parquet.
     """
 
@@ -467,6 +636,7 @@ class StudyResult:
     seconds: float
     derivatives: int = 0
     phases: dict[str, float] = field(default_factory=dict)
+    built: str = "redrawn"
 
     @classmethod
     def _assemble(
@@ -502,6 +672,7 @@ class StudyResult:
             seconds,
             job.derivatives,
             {k: sum(p["phases"][k] for p in parts) for k in ("build", "sweep", "reduce")},
+            "redrawn" if job.variants is None else "variants",
         )
 
     def __len__(self) -> int:

@@ -104,7 +104,7 @@ impl Plan {
         Plan::from_structure(model, &s)
     }
 
-    fn from_structure(model: &Model, s: &Structure) -> PlanResult {
+    pub(crate) fn from_structure(model: &Model, s: &Structure) -> PlanResult {
         if !s.redundant_rows.is_empty() {
             return Err(format!("{} rows are structurally redundant", s.redundant_rows.len()));
         }
