@@ -352,21 +352,11 @@ fn sweep_batch<'py>(
     }
     let (items, interrupt) = py.detach(|| {
         let mut interrupt: Option<PyErr> = None;
-        let mut last = usize::MAX;
-        let mut watch = |done: usize| -> bool {
-            Python::attach(|py| {
-                let r = py.check_signals().and_then(|_| match (&progress, done != last) {
-                    (Some(cb), true) => cb.call1(py, (done, total)).map(|_| ()),
-                    _ => Ok(()),
-                });
-                last = done;
-                r.map_err(|e| interrupt = Some(e)).is_ok()
-            })
-        };
-        (
-            guard("sweeping a batch", || linkwork::sweep_batch(&refs, times, request, threads, &mut watch)),
-            interrupt,
-        )
+        let mut watch = batch_watch(&progress, total, &mut interrupt);
+        let items =
+            guard("sweeping a batch", || linkwork::sweep_batch(&refs, times, request, threads, &mut watch));
+        drop(watch);
+        (items, interrupt)
     });
     let items = items?;
     if let Some(e) = interrupt {
@@ -383,6 +373,27 @@ fn sweep_batch<'py>(
             Ok((output_dict(py, out)?, err))
         })
         .collect()
+}
+
+/// A batch's watch, called without the GIL about every 5 ms with the items done: Ctrl-C
+/// and `progress(done, total)` (when done moved); an exception of either cancels the
+/// batch and is kept in `interrupt`.
+pub(crate) fn batch_watch<'a>(
+    progress: &'a Option<Py<PyAny>>,
+    total: usize,
+    interrupt: &'a mut Option<PyErr>,
+) -> impl FnMut(usize) -> bool + 'a {
+    let mut last = usize::MAX;
+    move |done: usize| {
+        Python::attach(|py| {
+            let r = py.check_signals().and_then(|_| match (progress, done != last) {
+                (Some(cb), true) => cb.call1(py, (done, total)).map(|_| ()),
+                _ => Ok(()),
+            });
+            last = done;
+            r.map_err(|e| *interrupt = Some(e)).is_ok()
+        })
+    }
 }
 
 impl PyModel {

@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::sensitivity::ParameterError;
-use crate::{guard, parse_request, solve_err, InputError, PyModel};
+use crate::{batch_watch, guard, parse_request, solve_err, InputError, PyModel};
 
 /// Sweeps the designs `deltas` (n x len(parameters): each row a design's changes of the
 /// engine parameters, named as for `sensitivities`) of `model` over `times` on `threads`
@@ -90,22 +90,13 @@ pub(crate) fn sweep_variants<'py>(
     let (figures, interrupt) = py.detach(|| {
         let variation = Variation::new(&m, params);
         let mut interrupt: Option<PyErr> = None;
-        let mut last = usize::MAX;
-        let mut watch = |done: usize| -> bool {
-            Python::attach(|py| {
-                let r = py.check_signals().and_then(|_| match (&progress, done != last) {
-                    (Some(cb), true) => cb.call1(py, (done, n)).map(|_| ()),
-                    _ => Ok(()),
-                });
-                last = done;
-                r.map_err(|e| interrupt = Some(e)).is_ok()
-            })
-        };
+        let mut watch = batch_watch(&progress, n, &mut interrupt);
         let figures = guard("sweeping a study's designs", || {
             linkwork::sweep_variants(
                 &m, &variation, n, &deltas, times, request, &outputs, &named, threads, &mut watch,
             )
         });
+        drop(watch);
         (figures, interrupt)
     });
     let figures = figures?;
