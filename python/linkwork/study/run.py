@@ -396,6 +396,7 @@ class Study:
         threads: int | None = None,
         progress: Any = False,
         timeout: float | None = None,
+        variants: bool = True,
     ) -> StudyResult:
         """Sweeps every design and keeps its figures: a `StudyResult` (``.dataset``).
 
@@ -407,9 +408,11 @@ class Study:
         in-process, the engine threads (default one per core). ``progress``: True for a
         progress bar (tqdm where installed, in notebooks too), or a callable(done, total)
         counting designs. ``timeout``: seconds to wait for a cluster's results.
+        ``variants``: False redraws and compiles every design even where the engine could
+        set it up as a variant of the compiled model (see `job`).
         """
         designs = listed(designs) if not isinstance(designs, Designs) else designs
-        job = self.job(designs.names)
+        job = self.job(designs.names, variants=variants)
         n = len(designs)
         if chunk is not None:
             chunk = _args.integer(chunk, "chunk", 1)
