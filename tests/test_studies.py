@@ -563,6 +563,12 @@ def test_designs_are_redrawn_where_the_engine_cannot_vary_them():
     # a parameter that is not one of the engine's numbers (a body's drawn pose)
     study = lw.Study(lw.examples.four_bar(), times, ["path P"])
     assert study.job(["bodies.coupler.theta"]).variants is None
+    # a gear's radius: its exact sensitivity is a tangent, a finite change not one direction
+    gears = lw.Mechanism.load(
+        os.path.join(os.path.dirname(__file__), "..", "examples", "gear_train_compound.toml")
+    )
+    first = gears.to_dict()["bodies"][0]["name"]
+    assert lw.Study(gears, times, [f"angle {first}"]).job(["radius_a mesh12"]).variants is None
     # two parameters that move one pin in one body (the redraw keeps the last; the
     # engine's directions would add)
     assert study.job(["length crank", "joints.A.at.1"]).variants is None

@@ -87,7 +87,7 @@ def variants_of(
     from ..errors import ParameterError
     from .sensitivities import engine_directions
 
-    if forces or any(o.kind not in _KEPT for o in outs) or _overlapping(params):
+    if forces or any(o.kind not in _KEPT for o in outs) or _overlapping(params) or any(map(_curved, params)):
         return None
     try:
         directions = [engine_directions(model, p) for p in params]
@@ -98,6 +98,13 @@ def variants_of(
         return None
     weights = tuple(tuple(d.get(k, 0.0) for d in directions) for k in names)
     return Variants(tuple(names), weights)
+
+
+def _curved(p: Parameter) -> bool:
+    """Whether ``p`` moves the engine's numbers other than affinely: a gear's or belt's
+    ratio or radii (its coefficients are r / max(r_a, r_b)). Its exact sensitivity is a
+    tangent, but a finite change of it is not one direction: such designs are redrawn."""
+    return p.kind == "path" and p.path[0] == "joints" and p.path[-1] in ("ratio", "radius_a", "radius_b")
 
 
 def _overlapping(params: Sequence[Parameter]) -> bool:
