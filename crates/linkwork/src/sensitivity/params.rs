@@ -268,11 +268,11 @@ impl Parameter {
                         p.dynamics.push((Dynamics::body(b, 3), col[1]));
                     }
                     _ => {
-                        return Err(fail(
-                            "a body's engine parameters are its mass, inertia and com.0, com.1 (its \
-                             drawn pose only names its frame)"
-                                .into(),
-                        ))
+                        return Err(fail(format!(
+                            "'{}' of a body is not an engine parameter (its drawn pose only names its \
+                             frame); a body's are its mass, inertia and com.0, com.1",
+                            rest.join(".")
+                        )))
                     }
                 }
                 Ok(p)
