@@ -226,3 +226,63 @@ impl Inertia {
         [mg[0] - m * ac[0], mg[1] - m * ac[1], jet::dot(bs, mg) - m * jet::dot(bs, ac) - j * alpha]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The jets' values at the step are the generalized forces `add_to`, `inertia_force`
+    /// and `gravity_force` give, for every load kind (the same sums in another order: 1e-13
+    /// of forces ~10).
+    #[test]
+    fn jets_value_the_forces_they_differentiate() {
+        let (qa, qda, qdda) = ([0.1, -0.2, 0.7], [0.3, 0.1, -1.2], [0.5, -0.4, 2.0]);
+        let (qb, qdb, qddb) = ([0.4, 0.3, -0.5], [-0.2, 0.6, 0.9], [1.1, 0.2, -3.0]);
+        let motion = |q: [f64; 3], qd: [f64; 3], qdd: [f64; 3]| {
+            let x = [0, 1, 2].map(|j| Jet::<1> { v: [q[j], qd[j], 0.5 * qdd[j]], e: [[0.0; 3]] });
+            JetFrame::new(x)
+        };
+        let (ja, jb) = (motion(qa, qda, qdda), motion(qb, qdb, qddb));
+        let (fa, fb) = (Frame::new(qa, qda), Frame::new(qb, qdb));
+        let law = MotionLaw::Harmonic { mean: 5.0, amplitude: 2.0, omega: 3.0, phase: 0.1 };
+        let loads = [
+            Load::Force { u: [0.2, 0.1], dir: [0.6, -0.8], law: law.clone() },
+            Load::Torque { law },
+            Load::Spring {
+                u_a: [0.1, 0.3],
+                u_b: [-0.2, 0.05],
+                stiffness: 300.0,
+                free_length: 0.1,
+                damping: 4.0,
+            },
+            Load::TorsionSpring { stiffness: 2.0, free_angle: 0.4, damping: 0.3 },
+        ];
+        let t = 0.37;
+        for load in loads {
+            let entry = LoadEntry { name: "L".into(), load, body_a: Some(0), body_b: Some(1) };
+            let mut want = [0.0; 6];
+            entry.add_to(&fa, &fb, t, &mut want);
+            let p: Vec<Jet<1>> =
+                entry.load.clone().params_mut().into_iter().map(|(_, v)| Jet::cst(*v)).collect();
+            let mut got = [Jet::<1>::ZERO; 6];
+            entry.add_jet(&ja, &jb, t, &p, &mut got);
+            for (g, w) in got.iter().zip(want) {
+                assert!(
+                    (g.value() - w).abs() < 1e-13 * (1.0 + w.abs()),
+                    "{:?}: {} vs {w}",
+                    entry.load,
+                    g.value()
+                );
+            }
+        }
+        let body = Inertia { mass: 1.3, inertia: 0.02, com: [0.15, -0.04] };
+        let g = [0.4, -9.81];
+        let p = [body.mass, body.inertia, body.com[0], body.com[1]].map(Jet::<1>::cst);
+        let got = Inertia::force_jet(&jb, &p, [Jet::cst(g[0]), Jet::cst(g[1])]);
+        let (qi, qg) = (body.inertia_force(&fb, &qddb), body.gravity_force(&fb, g));
+        for j in 0..3 {
+            let w = qi[j] + qg[j];
+            assert!((got[j].value() - w).abs() < 1e-13 * (1.0 + w.abs()), "{j}: {} vs {w}", got[j].value());
+        }
+    }
+}
