@@ -515,21 +515,26 @@ class Model:
         points: Sequence[str] | None = None,
         q_guess: Sequence[float] | np.ndarray | None = None,
         progress: Callable[[int, int], Any] | bool | None = None,
+        efforts: bool = False,
     ) -> Any:
         """A sweep over ``times`` and, at every step, the exact sensitivities of the
         coordinates, their rates and accelerations (dq/dp, dqd/dp, dqdd/dp: n_steps x
         n_coords x n_params) and of the named ``points`` (default: all) to the design
         ``parameters``, named as in `linkwork.study.parameters` (``joints.B.at.0``,
-        ``drivers.crank_angle.law.rate``, ``pin A@crank.x``, ``length crank``, ...).
-        From the implicit function theorem on the factorization of Phi_q at each solved
-        step, every joint's rows differentiated exactly: no differences. The GIL is
-        released meanwhile. A parameter that is not one of the engine's numbers (see
-        `linkwork.study.sensitivities`) raises `ParameterError` naming it. Returns a
-        `linkwork.study.Sensitivities` (its ``results`` is the sweep).
+        ``drivers.crank_angle.law.rate``, ``pin A@crank.x``, ``length crank``, ``ratio
+        G1``, ``mass coupler``, ...). From the implicit function theorem on the
+        factorization of Phi_q at each solved step, every joint's rows differentiated
+        exactly: no differences. With ``efforts=True`` the sweep solves the inverse
+        dynamics too (its ``results`` has the forces) and the multipliers' sensitivities
+        follow, dlambda/dp (n_steps x n_rows x n_params), and each driver's effort's
+        (``.effort(driver)``); masses, inertias, centres of mass, gravity and the loads'
+        numbers move those alone. The GIL is released meanwhile. A parameter that is not
+        one of the engine's numbers (see `linkwork.study.sensitivities`) raises
+        `ParameterError` naming it. Returns a `linkwork.study.Sensitivities`.
         """
         from .study.sensitivities import sensitivities
 
-        return sensitivities(self, times, parameters, points, q_guess, progress)
+        return sensitivities(self, times, parameters, points, q_guess, progress, efforts)
 
 
 @dataclass(frozen=True)

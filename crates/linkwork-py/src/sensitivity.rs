@@ -14,12 +14,14 @@ pyo3::import_exception!(linkwork.errors, ParameterError);
 /// Sweeps `times` and solves, at every step, dq/dp, dqd/dp and dqdd/dp for each named
 /// parameter (description paths or engine names), and the world position, velocity and
 /// acceleration sensitivities of `points` ((body index, -1 the ground; u_x, u_y; named
-/// point index or -1)). The GIL is released meanwhile. Returns (dict, error or None): the
-/// sweep's outputs and "names", "nominal", "dq", "dqd", "dqdd" (n_steps x n_coords x
-/// n_params) and "points", "points_d", "points_dd" (n_steps x n_points x 2 x n_params),
-/// the steps before a failure kept.
+/// point index or -1)). With `efforts`, the sweep solves the inverse dynamics too and
+/// dlambda/dp follows. The GIL is released meanwhile. Returns (dict, error or None): the
+/// sweep's outputs (its forces with `efforts`) and "names", "nominal", "dq", "dqd", "dqdd"
+/// (n_steps x n_coords x n_params), "points", "points_d", "points_dd" (n_steps x n_points
+/// x 2 x n_params) and, with `efforts`, "dlambda" (n_steps x n_rows x n_params), the
+/// steps before a failure kept.
 #[pyfunction]
-#[pyo3(signature = (model, times, parameters, q_guess=None, points=None, progress=None, progress_every=0))]
+#[pyo3(signature = (model, times, parameters, q_guess=None, points=None, progress=None, progress_every=0, efforts=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sensitivities<'py>(
     py: Python<'py>,
@@ -30,6 +32,7 @@ pub(crate) fn sensitivities<'py>(
     points: Option<Vec<(i64, f64, f64, i64)>>,
     progress: Option<Py<PyAny>>,
     progress_every: usize,
+    efforts: bool,
 ) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
     let m = std::sync::Arc::clone(&model.model);
     let params = parameters
@@ -57,7 +60,11 @@ pub(crate) fn sensitivities<'py>(
     let times = times.as_slice()?;
     let mut data = Data::new(&m);
     data.q = model.start_q(py, q_guess, times)?;
-    let mut out = SensitivityOutput::new(&m, times, &params, requests.len());
+    let mut out = if efforts {
+        SensitivityOutput::with_efforts(&m, times, &params, requests.len())
+    } else {
+        SensitivityOutput::new(&m, times, &params, requests.len())
+    };
     let total = times.len();
     laws::clear(&model.failures);
     let (result, interrupt) = py.detach(|| {
@@ -95,6 +102,8 @@ pub(crate) fn sensitivities<'py>(
         points,
         points_d,
         points_dd,
+        dlambda,
+        ..
     } = out;
     sweep.truncate();
     let nc = m.n_coords;
@@ -117,5 +126,12 @@ pub(crate) fn sensitivities<'py>(
     d.set_item("sens_points", per_point(points))?;
     d.set_item("sens_points_d", per_point(points_d))?;
     d.set_item("sens_points_dd", per_point(points_dd))?;
+    if efforts {
+        let nr = m.n_rows;
+        let mut v = dlambda;
+        v.truncate(n_done * nr * n_params);
+        let a = Array3::from_shape_vec((n_done, nr, n_params), v).expect("steps x rows x params");
+        d.set_item("dlambda", a.into_pyarray(py))?;
+    }
     Ok((d, error))
 }

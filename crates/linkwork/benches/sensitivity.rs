@@ -3,6 +3,8 @@
 //! exact sensitivities dq/dp, dqd/dp, dqdd/dp to 10 parameters (the pins O2, A and B in
 //! their bodies), on the structure-aware path (`structured`, the default) and the general
 //! one (`general`). Outputs are allocated outside the timing, as in the sweep benchmark.
+//! Then the same four-bar with masses and gravity: its sweep with forces against the same
+//! sweep with the 10 parameters' sensitivities and their efforts' (dlambda/dp).
 //! The target: the sensitivities cost at most 2x the sweep. Run:
 //!     cargo bench -p linkwork --bench sensitivity
 
@@ -12,7 +14,7 @@ mod common;
 use common::*;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
 use linkwork::sensitivity::{sensitivity_sweep, Parameter, SensitivityOutput};
-use linkwork::{sweep, Data, Model, Options, Request, SolverKind, SweepOutput};
+use linkwork::{sweep, Data, Description, Model, Options, Request, SolverKind, SweepOutput};
 use std::f64::consts::PI;
 use std::hint::black_box;
 use std::time::Duration;
@@ -66,5 +68,55 @@ fn sensitivities(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, sensitivities);
+fn efforts(c: &mut Criterion) {
+    let mut desc: Description = four_bar(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 0.0, 5.0);
+    for b in &mut desc.bodies {
+        (b.mass, b.inertia) = (1.5, 0.01);
+    }
+    desc.gravity = [0.0, -9.81];
+    let h = 2.0 * PI / 5.0 / STEPS as f64;
+    let times: Vec<f64> = (0..STEPS).map(|k| k as f64 * h).collect();
+    let mut g = c.benchmark_group("four_bar_effort_sensitivities");
+    g.throughput(Throughput::Elements(STEPS as u64));
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    for (name, solver) in [("structured", SolverKind::Auto), ("general", SolverKind::General)] {
+        let model = Model::with_options(desc.clone(), Options { solver, ..Options::default() }).unwrap();
+        g.bench_function(BenchmarkId::new(name, "sweep_with_forces"), |b| {
+            let mut out = SweepOutput::with_forces(&model, &times);
+            b.iter_batched_ref(
+                || Data::new(&model),
+                |data| {
+                    sweep(&model, data, black_box(&times), &mut out, 0, &mut |_| true).unwrap();
+                    black_box(out.lambda.last().copied())
+                },
+                BatchSize::LargeInput,
+            )
+        });
+        let params: Vec<Parameter> = Parameter::all(&model).into_iter().take(N_PARAMS).collect();
+        g.bench_function(BenchmarkId::new(name, "sweep_and_10_sensitivities_with_efforts"), |b| {
+            let mut out = SensitivityOutput::with_efforts(&model, &times, &params, 0);
+            b.iter_batched_ref(
+                || Data::new(&model),
+                |data| {
+                    sensitivity_sweep(
+                        &model,
+                        data,
+                        black_box(&times),
+                        &params,
+                        &[],
+                        &mut out,
+                        0,
+                        &mut |_| true,
+                    )
+                    .unwrap();
+                    black_box(out.dlambda.last().copied())
+                },
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, sensitivities, efforts);
 criterion_main!(benches);

@@ -318,15 +318,22 @@ fn gears_on_the_ground_and_on_a_carrier() {
         ],
         "drivers": [angle("input", "pinion", linear(0.4, 3.0))],
     });
-    check("gear pair", desc, &steps(0.5, 9), &[]);
+    check("gear pair", desc.clone(), &steps(0.5, 9), &[]);
+    // ratio < 1: k_a = ratio moves, and the drawing's row constant with it
+    check("gear pair ratio", desc.clone(), &steps(0.5, 9), &["joints.mesh.ratio"]);
+    let mut desc = desc;
+    desc["joints"][2]["ratio"] = json!(1.7);
+    check("gear pair ratio > 1", desc, &steps(0.5, 9), &["joints.mesh.ratio"]);
     let (r_s, r_p) = (0.05, 0.03);
+    let op = [(r_s + r_p) * 0.5f64.cos(), (r_s + r_p) * 0.5f64.sin()];
     let desc = json!({
-        "bodies": [body("sun", 0.0, 0.0, 0.2), body("carrier", 0.0, 0.0, 0.0), body("planet", r_s + r_p, 0.0, -0.4),
+        // the carrier drawn at 0.5 rad: the line of centres, and the rows' constants, too
+        "bodies": [body("sun", 0.0, 0.0, 0.2), body("carrier", 0.0, 0.0, 0.5), body("planet", op[0], op[1], -0.4),
                    body("ring", 0.0, 0.0, 0.7)],
         "joints": [
             pin("Os", "ground", "sun", [0.0, 0.0]),
             pin("Oc", "ground", "carrier", [0.0, 0.0]),
-            pin("Op", "carrier", "planet", [r_s + r_p, 0.0]),
+            pin("Op", "carrier", "planet", op),
             pin("Or", "ground", "ring", [0.0, 0.0]),
             {"type": "gear", "name": "sun_planet", "body_a": "sun", "body_b": "planet", "radius_a": r_s, "radius_b": r_p, "carrier": "carrier"},
             {"type": "gear", "name": "planet_ring", "body_a": "ring", "body_b": "planet", "radius_a": r_s + 2.0 * r_p,
@@ -334,7 +341,15 @@ fn gears_on_the_ground_and_on_a_carrier() {
         ],
         "drivers": [angle("input", "sun", linear(0.2, 6.0)), angle("ring_input", "ring", linear(0.7, -2.5))],
     });
-    check("planetary", desc, &steps(0.4, 9), &[]);
+    check("planetary", desc.clone(), &steps(0.4, 9), &[]);
+    // on a carrier: the row constant is measured from the line of centres
+    let radii = [
+        "joints.sun_planet.radius_a",
+        "joints.sun_planet.radius_b",
+        "joints.planet_ring.radius_a",
+        "joints.planet_ring.radius_b",
+    ];
+    check("planetary radii", desc, &steps(0.4, 9), &radii);
 }
 
 #[test]
@@ -350,7 +365,18 @@ fn belts_rack_and_pinion() {
         ],
         "drivers": [angle("input", "arm", linear(0.0, 1.5))],
     });
-    check("belts", desc, &steps(0.5, 9), &[]);
+    check("belts", desc.clone(), &steps(0.5, 9), &[]);
+    check(
+        "belt ratio and radii",
+        desc.clone(),
+        &steps(0.5, 9),
+        &["joints.chain.ratio", "joints.belt.radius_a", "joints.belt.radius_b"],
+    );
+    // r_a > r_b: k_b moves, and with c drawn at 2 rad the row constant with it
+    let mut desc = desc;
+    desc["joints"][4]["radius_a"] = json!(0.075);
+    desc["joints"][4]["radius_b"] = json!(0.03);
+    check("belt radii, r_a > r_b", desc, &steps(0.5, 9), &["joints.belt.radius_a", "joints.belt.radius_b"]);
     let r = 0.04;
     let desc = json!({
         "bodies": [body("pinion", 0.0, 0.0, 0.3), body("rack", 0.1, -r, 0.0)],
@@ -472,12 +498,35 @@ fn unknown_and_unmapped_parameters_are_refused_by_name() {
         ("joints.Z.at.0", "no joint 'Z'"),
         ("joints.B.at.2", ".0 (x) or .1 (y)"),
         ("drivers.input.law.omega", "law has law.value, law.rate"),
-        ("bodies.crank.mass", "driver effort"),
+        ("bodies.crank.theta", "its drawn pose only names its frame"),
         ("constraints.B.length", "no engine number 'length'"),
-        ("gravity.1", "a parameter is a path"),
+        ("joints.B", "a parameter is a path"),
     ] {
         let e = Parameter::resolve(&model, name).unwrap_err();
         assert_eq!(e.name, name);
         assert!(e.to_string().contains(says), "{name}: {e}");
     }
+}
+
+#[test]
+fn equal_gear_radii_are_refused_where_the_derivative_is_one_sided() {
+    // k_a = r_a / max(r_a, r_b): at r_a = r_b the two sides' derivatives differ
+    let desc = json!({
+        "bodies": [body("a", 0.0, 0.0, 0.0), body("b", 0.1, 0.0, 0.0), body("c", 0.0, 0.3, 0.0)],
+        "joints": [
+            pin("Oa", "ground", "a", [0.0, 0.0]),
+            pin("Ob", "ground", "b", [0.1, 0.0]),
+            pin("Oc", "ground", "c", [0.0, 0.3]),
+            {"type": "gear", "name": "mesh", "body_a": "a", "body_b": "b", "radius_a": 0.05, "radius_b": 0.05},
+            {"type": "belt", "name": "belt", "body_a": "a", "body_b": "c", "ratio": 1.0},
+        ],
+        "drivers": [angle("input", "a", linear(0.0, 3.0))],
+    });
+    let model = Model::from_json(&desc.to_string(), Options::default()).unwrap();
+    for name in ["joints.mesh.radius_a", "joints.mesh.radius_b", "joints.belt.ratio"] {
+        let e = Parameter::resolve(&model, name).unwrap_err();
+        assert!(e.to_string().contains("two radii are equal") && e.to_string().contains("one-sided"), "{e}");
+    }
+    let e = Parameter::resolve(&model, "joints.mesh.ratio").unwrap_err();
+    assert!(e.to_string().contains("not mapped"), "{e}");
 }

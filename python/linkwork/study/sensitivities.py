@@ -1,26 +1,36 @@
 """Exact sensitivities of a sweep to design parameters: dq/dp, dqd/dp, dqdd/dp per step,
 and of named points, from the engine (the implicit function theorem on the sweep's
-factorization of Phi_q, each joint's rows differentiated exactly; no differences).
+factorization of Phi_q, each joint's rows differentiated exactly; no differences); with
+``efforts=True``, of the inverse dynamics' multipliers too (dlambda/dp, hence each
+driver's effort), from Phi_q^T dlambda/dp = dQ/dp - (dPhi_q/dp)^T lambda.
 
 Parameters are named as in `linkwork.study.parameters`:
 
 - description paths the engine maps exactly onto its numbers: a revolute's ``at`` (or
   ``pin_a``/``pin_b``), a distance joint's ``at_a``/``at_b``/``length``, a prismatic
   joint's ``at`` (its translation drivers too), a point-on-line's ``at``/``through``/
-  ``offset``, a rack's ``radius``, a cam follower's ``at`` and roller ``radius``, a
-  distance or coordinate driver's points, a driver's closed-form law fields
-  (``drivers.D.law.rate``: constant, linear, polynomial, harmonic), a named point's
+  ``offset``, a rack's ``radius``, a gear's or belt's ``ratio``, ``radius_a`` and
+  ``radius_b`` (its coefficients and the drawing's row constant move; refused where the
+  two radii are equal, where the derivative is one-sided), a cam follower's ``at`` and
+  roller ``radius``, a distance or coordinate driver's points, a driver's closed-form law
+  fields (``drivers.D.law.rate``: constant, linear, polynomial, harmonic), a named point's
   ``points.P.at.0``; and the engine's own numbers, ``constraints.<joint>.<number>``;
 - the friendly names that are one direction in those numbers: ``pin J@body.x`` (the pin's
-  place in that body only), ``pivot J.x``, ``point P.x``, ``law D.field`` and ``length
-  body`` (the moved pin's place in the body along the link, exactly what `apply`'s redraw
-  does to first order);
-- ``mass``/``inertia`` of a body and ``gravity``: the kinematics does not depend on them,
-  so their sensitivities are exactly zero (the driver effort's are not computed).
+  place in that body only), ``pivot J.x``, ``point P.x``, ``law D.field``, ``ratio G``,
+  ``radius_a G``, ``radius_b G`` and ``length body`` (the moved pin's place in the body
+  along the link, exactly what `apply`'s redraw does to first order);
+- the inverse dynamics' numbers: a body's ``mass``, ``inertia`` and ``com`` (``mass
+  crank``, ``bodies.crank.com.0``), ``gravity.0``/``gravity.1``, and a load's numbers (a
+  force's ``at``, ``direction`` and closed-form law fields, a torque's law fields, a
+  spring's ``at_a``, ``at_b``, ``stiffness``, ``free_length``, ``damping``, a torsion
+  spring's ``stiffness``, ``free_angle``, ``damping``). The kinematics does not depend on
+  them: their dq/dp are exactly zero, their effort sensitivities are not.
 
-Anything else (a gear's ratio or radii, a body's drawn pose, a table or expression law)
-raises `ParameterError` naming it: vary it by differences of whole sweeps
-(`linkwork.study.central_differences`).
+Anything else (a body's drawn pose, a table, expression or Python law, a load following
+one) raises `ParameterError` naming it: vary it by differences of whole sweeps
+(`linkwork.study.central_differences`). Every load is differentiated along the motion
+whatever its law (a law is of time alone); only a number inside a law the engine cannot
+differentiate is refused.
 """
 
 from __future__ import annotations
@@ -48,7 +58,9 @@ class Sensitivities:
     ``columns`` (the model's coordinates), ``times``, ``dq``, ``dqd``, ``dqdd`` (n_steps x
     n_coords x n_params), ``points`` (name -> n_steps x 2 x n_params, the world position's;
     ``points_d`` and ``points_dd`` the velocity's and acceleration's) and ``results`` (the
-    sweep itself)."""
+    sweep itself, with its forces when ``efforts=True``). With ``efforts=True``:
+    ``dlambda`` (n_steps x n_rows x n_params, the multipliers') and ``efforts`` (driver
+    name -> n_steps x n_params, d `Results.effort` / dp); otherwise None and empty."""
 
     names: list[str]
     nominal: list[float]
@@ -61,6 +73,8 @@ class Sensitivities:
     points_d: dict[str, np.ndarray] = field(repr=False)
     points_dd: dict[str, np.ndarray] = field(repr=False)
     results: Results = field(repr=False)
+    dlambda: np.ndarray | None = field(default=None, repr=False)
+    efforts: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     def column(self, name: str, derivative: int = 0) -> np.ndarray:
         """n_steps x n_params: the sensitivities of one coordinate ("rocker.theta"), of
@@ -69,6 +83,17 @@ class Sensitivities:
             raise ParameterError(f"no coordinate {name!r}; the coordinates are {', '.join(self.columns)}")
         return (self.dq, self.dqd, self.dqdd)[derivative][:, self.columns.index(name), :]
 
+    def effort(self, driver: str) -> np.ndarray:
+        """n_steps x n_params: the sensitivities of a driver's effort (the torque or force
+        of `Results.effort`)."""
+        if self.dlambda is None:
+            raise ParameterError(
+                "no effort sensitivities here: Model.sensitivities(..., efforts=True) solves them"
+            )
+        if driver not in self.efforts:
+            raise ParameterError(f"no driver {driver!r}; the drivers are {', '.join(self.efforts) or 'none'}")
+        return self.efforts[driver]
+
 
 def _theta0(model: Model, body: str) -> float:
     return 0.0 if body == "ground" else float(model.q_start[model._column_index[f"{body}.theta"]])
@@ -76,13 +101,11 @@ def _theta0(model: Model, body: str) -> float:
 
 def engine_directions(model: Model, p: Parameter) -> dict[str, float]:
     """The engine parameters (names) and weights whose combination is ``p``: one path
-    with weight 1, or a pin's local coordinates in one body. Empty for a parameter the
-    kinematics does not depend on (a mass, an inertia, gravity). Raises `ParameterError`
-    for a parameter that is not one direction in the engine's numbers."""
+    with weight 1 (a torsion spring's numbers per degree in a file in degrees: the
+    engine's are per radian), or a pin's local coordinates in one body. Raises
+    `ParameterError` for a parameter that is not one direction in the engine's numbers."""
     if p.kind == "path":
-        if p.path[0] == "gravity" or (p.path[0] == "bodies" and p.path[-1] in ("mass", "inertia", "com")):
-            return {}
-        return {".".join(str(k) for k in p.path): 1.0}
+        return {".".join(str(k) for k in p.path): _per_engine_unit(model, p.path)}
     joint = next(j for j in model.description["joints"] if j["name"] == p.joint)
     side = "u_a" if joint["body_a"] == p.body else "u_b"
     if p.kind == "pin":
@@ -101,6 +124,18 @@ def engine_directions(model: Model, p: Parameter) -> dict[str, float]:
     return {k: v for k, v in out.items() if v != 0.0}
 
 
+def _per_engine_unit(model: Model, path: tuple[Any, ...]) -> float:
+    """d engine number / d description number: 1 but for a torsion spring's numbers in a
+    description in degrees, which the engine keeps per radian."""
+    if path[0] != "loads" or str((model.description.get("units") or {}).get("angle", "rad")) != "deg":
+        return 1.0
+    load = next(item for item in model.description["loads"] if item.get("name") == path[1])
+    if load.get("type") != "torsion_spring":
+        return 1.0
+    to_rad = math.pi / 180.0
+    return {"free_angle": to_rad, "stiffness": 1.0 / to_rad, "damping": 1.0 / to_rad}.get(str(path[2]), 1.0)
+
+
 def sensitivities(
     model: Model,
     times: Any,
@@ -108,6 +143,7 @@ def sensitivities(
     points: Sequence[str] | None = None,
     q_guess: Any = None,
     progress: Callable[[int, int], Any] | bool | None = None,
+    efforts: bool = False,
 ) -> Sensitivities:
     """See `Model.sensitivities`."""
     from .. import _args, _core
@@ -131,7 +167,14 @@ def sensitivities(
     check = max(1, min(16384, 1_000_000 // max(1, model.n_coords)))
     try:
         raw, error = _core.sensitivities(
-            model._core, t, engine, model._guess(q_guess), requests, callback, check if callback else 0
+            model._core,
+            t,
+            engine,
+            model._guess(q_guess),
+            requests,
+            callback,
+            check if callback else 0,
+            bool(efforts),
         )
     except ParameterError as e:
         # the engine names its own path: say which of the user's parameters it came from
@@ -149,6 +192,11 @@ def sensitivities(
     dq, dqd, dqdd = (combine(raw[k]) for k in ("dq", "dqd", "dqdd"))
     pts = [combine(raw[k]) for k in ("sens_points", "sens_points_d", "sens_points_dd")]
     results = Results(model, raw, None)
+    dlambda = combine(raw["dlambda"]) if efforts else None
+    drivers: dict[str, np.ndarray] = {}
+    if dlambda is not None:
+        # a driver's effort is -lambda of its row, as `Results.effort` reads it
+        drivers = {c[0]: -dlambda[:, c[4], :] for c in model.constraints if c[1] == "driver"}
     out = Sensitivities(
         [p.name for p in params],
         [p.nominal for p in params],
@@ -161,6 +209,8 @@ def sensitivities(
         {n: pts[1][:, i] for i, n in enumerate(wanted)},
         {n: pts[2][:, i] for i, n in enumerate(wanted)},
         results,
+        dlambda,
+        drivers,
     )
     if error is not None:
         setattr(error, "partial", out)  # noqa: B010 (raised from the engine's tuple)

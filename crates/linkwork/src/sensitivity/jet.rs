@@ -88,6 +88,13 @@ impl<const W: usize> Jet<W> {
     pub fn value(&self) -> f64 {
         self.v[0]
     }
+
+    /// The tau^i part as a jet of its own, constant in tau: its value and its change in
+    /// each direction (i = 1: the rate along the motion; i = 2: half the acceleration).
+    #[inline(always)]
+    pub fn coefficient(&self, i: usize) -> Jet<W> {
+        Jet { v: [self.v[i], 0.0, 0.0], e: std::array::from_fn(|k| [self.e[k][i], 0.0, 0.0]) }
+    }
 }
 
 impl<const W: usize> Add for Jet<W> {

@@ -2,15 +2,17 @@
 //! points' (`step`), by the implicit function theorem on the factorization of Phi_q, the
 //! right-hand sides written by the joints themselves over jets (`jet`, each joint's
 //! `phi_jet`): forward-mode differentiation, no differences. Parameters are named
-//! description paths or the engine's own numbers (`params`); `sweep` runs a sweep and
-//! its sensitivities step by step.
+//! description paths or the engine's own numbers (`params`); `efforts` differentiates the
+//! inverse dynamics' Lagrange multipliers (the driver efforts) likewise; `sweep` runs a
+//! sweep and its sensitivities step by step.
 #![allow(clippy::needless_range_loop)] // jets, rows and steps index several arrays by one index
 
+pub mod efforts;
 pub mod jet;
 pub mod params;
 pub mod step;
 pub mod sweep;
 
-pub use params::{Parameter, ParameterError};
+pub use params::{Dynamics, Parameter, ParameterError};
 pub use step::{PointRequest, Sensitivity};
 pub use sweep::{sensitivity_sweep, SensitivityOutput};

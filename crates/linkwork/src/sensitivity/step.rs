@@ -43,11 +43,42 @@ struct Chunk {
 }
 
 /// A constraint's numbers as constant jets, one lane per coordinate direction it has.
-enum Consts {
+pub(super) enum Consts {
     W3(Vec<Jet<3>>),
     W4(Vec<Jet<4>>),
     W6(Vec<Jet<6>>),
     W7(Vec<Jet<WC>>),
+}
+
+impl Consts {
+    /// Per constraint: its numbers `vals` as constant jets as wide as its columns `cols`.
+    pub(super) fn of(vals: &[Vec<f64>], cols: &[Vec<usize>]) -> Vec<Consts> {
+        fn jets<const WL: usize>(v: &[f64]) -> Vec<Jet<WL>> {
+            v.iter().map(|&x| Jet::cst(x)).collect()
+        }
+        vals.iter()
+            .zip(cols)
+            .map(|(v, cols)| match cols.len() {
+                3 => Consts::W3(jets(v)),
+                4 => Consts::W4(jets(v)),
+                6 => Consts::W6(jets(v)),
+                _ => Consts::W7(jets(v)),
+            })
+            .collect()
+    }
+}
+
+/// Per constraint: the column of each of its coordinate directions, in lane order (side
+/// a's x, y, theta if it moves, side b's, its extra coordinate).
+pub(super) fn coordinate_columns(model: &Model) -> Vec<Vec<usize>> {
+    model
+        .constraints
+        .iter()
+        .map(|c| {
+            let side = |b: Option<usize>| b.into_iter().flat_map(|b| [3 * b, 3 * b + 1, 3 * b + 2]);
+            side(c.body_a).chain(side(c.body_b)).chain(c.extra).collect()
+        })
+        .collect()
 }
 
 /// What one step needs, prepared once for a model, parameters and points; with the
@@ -94,7 +125,7 @@ pub struct StepOut<'a> {
 
 /// A jet frame of `f`'s lanes placed at lanes `at..at + 3` of a wider one.
 #[inline(always)]
-fn widen<const WL: usize>(f: &JetFrame<3>, at: usize) -> JetFrame<WL> {
+pub(super) fn widen<const WL: usize>(f: &JetFrame<3>, at: usize) -> JetFrame<WL> {
     let w = |x: &Jet<3>| {
         let mut y = Jet::<WL> { v: x.v, e: [[0.0; 3]; WL] };
         y.e[at..at + 3].copy_from_slice(&x.e);
@@ -134,29 +165,8 @@ impl Sensitivity {
             }
             chunks.push(Chunk { first, len, moved });
         }
-        let cols: Vec<Vec<usize>> = model
-            .constraints
-            .iter()
-            .map(|c| {
-                let side = |b: Option<usize>| b.into_iter().flat_map(|b| [3 * b, 3 * b + 1, 3 * b + 2]);
-                side(c.body_a).chain(side(c.body_b)).chain(c.extra).collect()
-            })
-            .collect();
-        let consts = vals
-            .iter()
-            .zip(&cols)
-            .map(|(v, cols)| {
-                fn jets<const WL: usize>(v: &[f64]) -> Vec<Jet<WL>> {
-                    v.iter().map(|&x| Jet::cst(x)).collect()
-                }
-                match cols.len() {
-                    3 => Consts::W3(jets(v)),
-                    4 => Consts::W4(jets(v)),
-                    6 => Consts::W6(jets(v)),
-                    _ => Consts::W7(jets(v)),
-                }
-            })
-            .collect();
+        let cols = coordinate_columns(model);
+        let consts = Consts::of(&vals, &cols);
         let point_seeds = points
             .iter()
             .map(|r| {

@@ -2,8 +2,10 @@
 //! coordinate, velocities and accelerations), then, step by step, Phi_q assembled and
 //! factored at the solved q (the structured path has no factorization of its own; the
 //! general path's last one is at the Newton iterate before the last update) and the
-//! sensitivities solved with it (`step`).
+//! sensitivities solved with it (`step`); with efforts, the sweep solves the inverse
+//! dynamics too and the multipliers' sensitivities follow (`efforts`).
 
+use super::efforts::Efforts;
 use super::params::Parameter;
 use super::step::{PointRequest, Sensitivity, StepOut};
 use crate::data::Data;
@@ -30,6 +32,11 @@ pub struct SensitivityOutput {
     pub points: Vec<f64>,
     pub points_d: Vec<f64>,
     pub points_dd: Vec<f64>,
+    /// whether the sweep solves the inverse dynamics and dlambda/dp is solved
+    pub efforts: bool,
+    /// n_steps x n_rows x n_params: dlambda/dp (empty without efforts); a driver's
+    /// effort is -lambda of its row
+    pub dlambda: Vec<f64>,
 }
 
 impl SensitivityOutput {
@@ -49,14 +56,32 @@ impl SensitivityOutput {
             points: vec![0.0; n_steps * n_points * 2 * n],
             points_d: vec![0.0; n_steps * n_points * 2 * n],
             points_dd: vec![0.0; n_steps * n_points * 2 * n],
+            efforts: false,
+            dlambda: Vec::new(),
         }
+    }
+
+    /// `new`, with the inverse dynamics in the sweep (`Request::forces`) and the
+    /// sensitivities of its multipliers, dlambda/dp.
+    pub fn with_efforts(
+        model: &Model,
+        times: &[f64],
+        params: &[Parameter],
+        n_points: usize,
+    ) -> SensitivityOutput {
+        let mut out = SensitivityOutput::new(model, times, params, n_points);
+        out.sweep = SweepOutput::with_request(model, times, Request { forces: true, ..Request::default() });
+        out.efforts = true;
+        out.dlambda = vec![0.0; times.len() * model.n_rows * params.len()];
+        out
     }
 }
 
 /// Sweeps `times` from data.q (as `crate::sweep::sweep`) and solves the sensitivities
 /// of every step to `params`, and of the body points `points`, into `out` (made by
-/// `SensitivityOutput::new` for the same times, parameters and points). On error the
-/// steps before the one at fault are kept (`out.n_done`, and the sweep's own).
+/// `SensitivityOutput::new`, or `with_efforts` for dlambda/dp too, for the same times,
+/// parameters and points). On error the steps before the one at fault are kept
+/// (`out.n_done`, and the sweep's own).
 #[allow(clippy::too_many_arguments)]
 pub fn sensitivity_sweep(
     model: &Model,
@@ -68,7 +93,7 @@ pub fn sensitivity_sweep(
     progress_every: usize,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<(), SolveError> {
-    let (n, nc, np) = (params.len(), model.n_coords, points.len());
+    let (n, nc, np, nr) = (params.len(), model.n_coords, points.len(), model.n_rows);
     assert!(
         out.n_params == n && out.n_points == np && out.dq.len() == times.len() * nc * n,
         "outputs made for other times, parameters or points"
@@ -76,6 +101,7 @@ pub fn sensitivity_sweep(
     out.n_done = 0;
     let result = crate::sweep::sweep(model, data, times, &mut out.sweep, progress_every, progress);
     let mut sens = Sensitivity::new(model, params, points);
+    let mut efforts = out.efforts.then(|| Efforts::new(model, params));
     for k in 0..out.sweep.n_done {
         let t = times[k];
         let row = k * nc..(k + 1) * nc;
@@ -98,6 +124,13 @@ pub fn sensitivity_sweep(
                 points_dd: &mut out.points_dd[p],
             },
         );
+        if let Some(efforts) = &mut efforts {
+            data.lambda.copy_from_slice(&out.sweep.lambda[k * nr..(k + 1) * nr]);
+            let s = k * nc * n..(k + 1) * nc * n;
+            let (dq, dqd, dqdd) = (&out.dq[s.clone()], &out.dqd[s.clone()], &out.dqdd[s]);
+            let dlambda = &mut out.dlambda[k * nr * n..(k + 1) * nr * n];
+            efforts.step(model, data, t, dq, dqd, dqdd, dlambda);
+        }
         out.n_done = k + 1;
     }
     result
