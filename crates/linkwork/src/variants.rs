@@ -2,7 +2,8 @@
 //! parameters, as a design study varies it, built and swept on the worker threads.
 //!
 //! A parameter (`sensitivity::Parameter`) is a direction in the joints' and drivers' own
-//! numbers (`Constraint::params_mut`) and the named points' local coordinates; a pin's
+//! numbers (`Constraint::params_mut`), the named points' local coordinates and the inverse
+//! dynamics' numbers (masses, gravity, loads: `Dynamics`); a pin's
 //! world place, a link length, a law's field all map onto these exactly (affinely), so a
 //! design is the compiled model with those numbers set and its plan re-made from the
 //! same structure: no redraw, no recompile, nothing under the GIL. Its sweep starts from
@@ -21,11 +22,15 @@ use crate::data::Data;
 use crate::error::SolveError;
 use crate::joints::Constraint;
 use crate::model::Model;
-use crate::sensitivity::Parameter;
+use crate::sensitivity::{Dynamics, Parameter};
 use crate::structure::{structure, Structure};
 use crate::sweep::{sweep, Outputs, Request, SweepOutput};
 
 /// How designs move a model's numbers: the parameters, the base numbers they start from.
+/// Each parameter moves its numbers along its direction, which is exact for every number
+/// the kinematics reads (and for masses, inertias, gravity); a force's direction, which
+/// the engine keeps normalized, moves only to first order (studies vary it by redrawing
+/// whenever forces are asked for).
 #[derive(Debug, Clone)]
 pub struct Variation {
     pub params: Vec<Parameter>,
@@ -33,6 +38,8 @@ pub struct Variation {
     base: Vec<(usize, Vec<f64>)>,
     /// the named points some parameter moves, with their base local coordinates
     base_points: Vec<(usize, [f64; 2])>,
+    /// the inverse dynamics' numbers (masses, gravity, loads), when a parameter moves one
+    dynamics: Option<Dynamics>,
     /// the base model's structure, when it has a plan (numbers do not change it)
     structure: Option<Structure>,
 }
@@ -55,7 +62,8 @@ impl Variation {
         points.dedup();
         let base_points = points.into_iter().map(|k| (k, model.points[k].local)).collect();
         let structure = model.plan.is_ok().then(|| structure(model));
-        Variation { params, base, base_points, structure }
+        let dynamics = params.iter().any(|p| !p.dynamics.is_empty()).then(|| Dynamics::new(model));
+        Variation { params, base, base_points, dynamics, structure }
     }
 
     /// Sets `variant` (a clone of the base model) to the design `delta` (one value per
@@ -85,6 +93,15 @@ impl Variation {
                 }
             }
             variant.points[k].local = u;
+        }
+        if let Some(dynamics) = &self.dynamics {
+            let mut values = dynamics.values.clone();
+            for (p, d) in self.params.iter().zip(delta) {
+                for &(i, w) in &p.dynamics {
+                    values[i] += w * d;
+                }
+            }
+            dynamics.set(variant, &values);
         }
         variant.plan = match &self.structure {
             Some(s) => Plan::from_structure(variant, s),

@@ -158,3 +158,23 @@ fn no_change_is_the_model_itself() {
     assert_eq!(a.pivot_ratio, b.pivot_ratio);
     assert!(variant.plan.is_ok(), "a variant keeps the model's plan");
 }
+
+#[test]
+fn a_variant_carries_its_masses_and_gravity() {
+    let model = Model::new(four_bar(&M, 0.3, OMEGA)).unwrap();
+    let params = ["bodies.coupler.mass", "bodies.rocker.com.1", "gravity.1"]
+        .iter()
+        .map(|name| Parameter::resolve(&model, name).unwrap())
+        .collect();
+    let variant = Variation::new(&model, params).model(&model, &[1.5, 0.02, -9.81]);
+    let coupler = model.body_index("coupler").unwrap();
+    let rocker = model.body_index("rocker").unwrap();
+    assert_eq!(variant.inertias[coupler].mass, model.inertias[coupler].mass + 1.5);
+    // the description's centre of mass is a drawn (world) point: its y moves the body's
+    // own along A(theta_0)^T e_y
+    let (s, c) = model.q_start[3 * rocker + 2].sin_cos();
+    let (com, moved) = (model.inertias[rocker].com, variant.inertias[rocker].com);
+    assert!((moved[0] - (com[0] + s * 0.02)).abs() < 1e-15 && (moved[1] - (com[1] + c * 0.02)).abs() < 1e-15);
+    assert_eq!(variant.gravity, [model.gravity[0], model.gravity[1] - 9.81]);
+    assert_eq!(variant.inertias[rocker].mass, model.inertias[rocker].mass);
+}

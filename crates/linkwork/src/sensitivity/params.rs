@@ -71,6 +71,21 @@ impl Dynamics {
         Dynamics { gravity, loads, values }
     }
 
+    /// Writes `values` (laid out as `new` reads them) into the model's mass properties,
+    /// gravity and loads: a design study's variant of the model.
+    pub fn set(&self, model: &mut Model, values: &[f64]) {
+        for (b, inertia) in model.inertias.iter_mut().enumerate() {
+            let v = &values[Dynamics::body(b, 0)..Dynamics::body(b + 1, 0)];
+            (inertia.mass, inertia.inertia, inertia.com) = (v[0], v[1], [v[2], v[3]]);
+        }
+        model.gravity = [values[self.gravity], values[self.gravity + 1]];
+        for (l, &first) in model.loads.iter_mut().zip(&self.loads) {
+            for (k, (_, v)) in l.load.params_mut().into_iter().enumerate() {
+                *v = values[first + k];
+            }
+        }
+    }
+
     /// The index of body b's mass property `i` (`Inertia::NAMES`).
     pub fn body(b: usize, i: usize) -> usize {
         Inertia::NAMES.len() * b + i
