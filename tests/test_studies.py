@@ -548,6 +548,8 @@ def test_variants_name_bad_values_as_apply_does():
     part = S.run_chunk(study.job(["length crank"]), 0, np.array([[np.nan], [0.2]]))
     assert part["error"][0].startswith("ParameterError: parameter 'length crank': the value must be a finite")
     assert part["error"][1] == "" and np.all(np.isnan(part["figures"]["path_P"][0]))
+    with pytest.raises(lw.InputError, match="variants must be True or False"):
+        study.run(S.grid({"length crank": [0.2]}), variants="no")
 
 
 def test_designs_are_redrawn_where_the_engine_cannot_vary_them():

@@ -419,7 +419,7 @@ class Study:
         set it up as a variant of the compiled model (see `job`).
         """
         designs = listed(designs) if not isinstance(designs, Designs) else designs
-        job = self.job(designs.names, variants=variants)
+        job = self.job(designs.names, variants=_args.flag(variants, "variants"))
         n = len(designs)
         if chunk is not None:
             chunk = _args.integer(chunk, "chunk", 1)
