@@ -67,7 +67,8 @@ impl Variation {
     }
 
     /// Sets `variant` (a clone of the base model) to the design `delta` (one value per
-    /// parameter: its change from the base) and re-makes its plan.
+    /// parameter: its change from the base) and re-makes its plan. Its description, drawing
+    /// and length scale stay the base's: the drawing is where its sweep assembles from.
     pub fn apply(&self, base: &Model, variant: &mut Model, delta: &[f64]) {
         for (c, nums) in &self.base {
             let mut target = nums.clone();
