@@ -2,8 +2,8 @@
 //! Its angle is the driver's value (theta = theta_base + sign f(t)), its origin follows
 //! from the pin: one angle, no equations.
 
-use super::Miss;
-use super::{body_qdd, point_acc, set_acc, set_body, set_rates, side};
+use super::{body_qdd, moved, pair, point_acc, seed_of, set_acc, set_body, set_rates, set_tangent, side};
+use super::{Miss, Numbers, Seed};
 use crate::assembly::turned;
 use crate::data::Data;
 use crate::joints::{perp, sub, Constraint, ConstraintKind};
@@ -22,6 +22,8 @@ pub struct Crank {
     known: Option<usize>,
     u_known: [f64; 2],
     u_body: [f64; 2],
+    /// the pin (constraint index) and where u_known and u_body start in its numbers
+    pin: (usize, usize, usize),
 }
 
 impl Crank {
@@ -44,14 +46,19 @@ impl Crank {
                 ConstraintKind::RelativeAngleDriver(_) if c.body_a == Some(body) => {
                     driver = Some((k, c.body_b, -1.0))
                 }
-                ConstraintKind::Revolute(j) if c.body_b == Some(body) => pin = Some((c.body_a, j.u_a, j.u_b)),
-                ConstraintKind::Revolute(j) if c.body_a == Some(body) => pin = Some((c.body_b, j.u_b, j.u_a)),
+                // a revolute's numbers: u_a at 0, 1 and u_b at 2, 3
+                ConstraintKind::Revolute(j) if c.body_b == Some(body) => {
+                    pin = Some((c.body_a, j.u_a, j.u_b, (k, 0, 2)))
+                }
+                ConstraintKind::Revolute(j) if c.body_a == Some(body) => {
+                    pin = Some((c.body_b, j.u_b, j.u_a, (k, 2, 0)))
+                }
                 _ => return None,
             }
         }
         let (driver, base, sign) = driver?;
-        let (known, u_known, u_body) = pin?;
-        Some(Crank { body, driver, base, sign, known, u_known, u_body })
+        let (known, u_known, u_body, pin) = pin?;
+        Some(Crank { body, driver, base, sign, known, u_known, u_body, pin })
     }
 
     /// Solves the body; returns (closeness 1, pin residual).
@@ -91,5 +98,49 @@ impl Crank {
             }
         }
         Ok((1.0, residual))
+    }
+
+    /// Its numbers: u_known in slots 0, 1, u_body in 2, 3; the driver's are its law's.
+    pub fn numbers(&self) -> Numbers {
+        let (c, known, own) = self.pin;
+        Numbers {
+            slots: vec![(c, known, 0), (c, known + 1, 1), (c, own, 2), (c, own + 1, 3)],
+            law: Some(self.driver),
+        }
+    }
+
+    /// dq/dp of the body (`super::tangents`), `solve` differentiated: theta = theta_base +
+    /// sign f(t; p) gives dtheta = dtheta_base + sign df/dp, and R = P - A(theta) u_body
+    /// with P = R_k + A_k u_known gives dR = dP - perp(A u_body) dtheta - A du_body.
+    #[inline]
+    pub fn tangents(&self, model: &Model, data: &Data, t: f64, seeds: &[Seed], s: &mut [f64], n: usize) {
+        let law = model.constraints[self.driver].kind.law();
+        let k = side(data, self.known);
+        let f = &data.frames[self.body];
+        let (rk, arm) = (k.rot(self.u_known), f.rot(self.u_body));
+        let mut at = 0;
+        for j in 0..n {
+            let (mut dp, _) = moved(s, n, self.known, rk, j);
+            let (_, mut dth) = moved(s, n, self.base, [0.0; 2], j);
+            let mut du = [0.0; 2];
+            if let Some(seed) = seed_of(seeds, &mut at, j) {
+                let dk = k.rot(pair(&seed.slots, 0));
+                dp = [dp[0] + dk[0], dp[1] + dk[1]];
+                du = f.rot(pair(&seed.slots, 2));
+                if let Some(law) = law {
+                    for &(i, w) in &seed.law {
+                        dth += self.sign * w * law.param_derivative(i, t)[0];
+                    }
+                }
+            }
+            set_tangent(
+                s,
+                n,
+                self.body,
+                j,
+                [dp[0] + arm[1] * dth - du[0], dp[1] - arm[0] * dth - du[1]],
+                dth,
+            );
+        }
     }
 }

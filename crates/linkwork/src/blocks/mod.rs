@@ -80,6 +80,125 @@ impl Block {
     }
 }
 
+impl Block {
+    /// The group's kind in a word or two, for messages.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Block::Crank(_) => "crank",
+            Block::Rrr(_) => "RRR dyad",
+            Block::Rrp(_) => "RRP dyad",
+            Block::Rpr(_) => "RPR dyad",
+            Block::Subst(_) => "substitution group",
+            Block::Newton(_) => "Newton block",
+        }
+    }
+
+    /// The compiled numbers the block's closed form reads, each with its slot, where the
+    /// block's sensitivities are structured (`tangents`); None where they are not.
+    pub fn numbers(&self) -> Option<Numbers> {
+        match self {
+            Block::Crank(b) => Some(b.numbers()),
+            Block::Rrr(b) => Some(b.numbers()),
+            Block::Rrp(b) => Some(b.numbers()),
+            Block::Rpr(_) | Block::Subst(_) | Block::Newton(_) => None,
+        }
+    }
+}
+
+/// Slots of a block's local numbers, at most: an RRP dyad's link (6), prismatic joint (7)
+/// and slider pin (2).
+pub const MAX_SLOTS: usize = 15;
+
+/// The compiled numbers a block's closed form reads: (constraint, index in its
+/// `params_mut`, the block's slot for it); and for a crank its driver, every number of
+/// which is its law's.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Numbers {
+    pub slots: Vec<(usize, usize, usize)>,
+    pub law: Option<usize>,
+}
+
+impl Numbers {
+    /// The slots of a dyad link's six numbers from `first` on, where a number holds them.
+    fn link(&mut self, numbers: &[Option<(usize, usize)>], first: usize) {
+        for (slot, n) in numbers.iter().enumerate() {
+            if let Some((c, i)) = *n {
+                self.slots.push((c, i, first + slot));
+            }
+        }
+    }
+}
+
+/// One parameter's move of a block's numbers: d number / d p in each slot, and the
+/// weights (index, d number / d p) of its driver law's numbers.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Seed {
+    pub param: usize,
+    pub slots: [f64; MAX_SLOTS],
+    pub law: Vec<(usize, f64)>,
+}
+
+/// Parameter k's seed, walking `seeds` (sorted by parameter) with the cursor `at`.
+#[inline(always)]
+pub(crate) fn seed_of<'a>(seeds: &'a [Seed], at: &mut usize, k: usize) -> Option<&'a Seed> {
+    let s = seeds.get(*at).filter(|s| s.param == k)?;
+    *at += 1;
+    Some(s)
+}
+
+/// A slot pair as a vector.
+#[inline(always)]
+pub(crate) fn pair(d: &[f64; MAX_SLOTS], first: usize) -> [f64; 2] {
+    [d[first], d[first + 1]]
+}
+
+/// The move, in parameter k's direction, of a point of a known side at world offset `r`
+/// from its origin, and of its angle: dR + perp(r) dtheta, dtheta (S = dq/dp is n_coords x
+/// n row-major; the ground does not move).
+#[inline(always)]
+pub(crate) fn moved(s: &[f64], n: usize, body: Option<usize>, r: [f64; 2], k: usize) -> ([f64; 2], f64) {
+    match body {
+        Some(b) => {
+            let dth = s[(3 * b + 2) * n + k];
+            ([s[3 * b * n + k] - r[1] * dth, s[(3 * b + 1) * n + k] + r[0] * dth], dth)
+        }
+        None => ([0.0; 2], 0.0),
+    }
+}
+
+/// Writes body b's (dx, dy, dtheta) in parameter k's direction.
+#[inline(always)]
+pub(crate) fn set_tangent(s: &mut [f64], n: usize, b: usize, k: usize, dr: [f64; 2], dth: f64) {
+    s[3 * b * n + k] = dr[0];
+    s[(3 * b + 1) * n + k] = dr[1];
+    s[(3 * b + 2) * n + k] = dth;
+}
+
+/// dq/dp at the configuration in data (frames current), every group in order, each by its
+/// closed form differentiated (`numbers` says which blocks have one): S (n_coords x n
+/// row-major) for the parameters whose moves of each block's numbers are `seeds[block]`.
+/// Err where a group is within `NEAR_SINGULAR` of its singular configuration (its 2 x 2
+/// system is then as ill-conditioned as Phi_q: the general path solves that step).
+pub fn tangents(
+    model: &Model,
+    plan: &Plan,
+    data: &Data,
+    t: f64,
+    seeds: &[Vec<Seed>],
+    s: &mut [f64],
+    n: usize,
+) -> Result<(), Miss> {
+    for (block, seeds) in plan.blocks.iter().zip(seeds) {
+        match block {
+            Block::Crank(b) => b.tangents(model, data, t, seeds, s, n),
+            Block::Rrr(b) => b.tangents(data, seeds, s, n)?,
+            Block::Rrp(b) => b.tangents(data, seeds, s, n)?,
+            Block::Rpr(_) | Block::Subst(_) | Block::Newton(_) => return Err(Miss::Failed),
+        }
+    }
+    Ok(())
+}
+
 /// The groups in solving order, each with its method.
 #[derive(Debug, Clone)]
 pub struct Plan {

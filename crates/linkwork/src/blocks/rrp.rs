@@ -4,12 +4,13 @@
 //! length meets it (two points, one per branch). Velocities and accelerations: B's seen
 //! from the link and from the slide (with the slide's Coriolis term when the line turns).
 
-use super::rrr::{link, Link};
+use super::rrr::{link, xy, Link};
 use super::{
     body_qdd, pinned_accelerations, pinned_rates, point_acc, set_acc, set_body, set_rates, side, Miss,
 };
+use super::{moved, pair, seed_of, set_tangent, Numbers, Seed, NEAR_SINGULAR};
 use crate::data::Data;
-use crate::joints::{dot, perp, sub, ConstraintKind, Frame};
+use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
 use crate::structure::Group;
 
@@ -29,6 +30,9 @@ pub struct Rrp {
     u_b: [f64; 2],
     e_a: [f64; 2],
     theta0: f64,
+    /// the prismatic joint (constraint index) and the numbers of u_pin (constraint, index)
+    prismatic: usize,
+    pin_numbers: [Option<(usize, usize)>; 2],
 }
 
 impl Rrp {
@@ -42,7 +46,7 @@ impl Rrp {
             let c = &model.constraints[k];
             match &c.kind {
                 ConstraintKind::Revolute(j) if inside(c.body_a) && inside(c.body_b) => {
-                    middle = Some((c.body_a?, j.u_a, c.body_b?, j.u_b))
+                    middle = Some((c.body_a?, j.u_a, c.body_b?, j.u_b, k))
                 }
                 ConstraintKind::Revolute(_) => outer_r = Some(k),
                 ConstraintKind::Prismatic(p) if !(inside(c.body_a) && inside(c.body_b)) => {
@@ -51,7 +55,7 @@ impl Rrp {
                 _ => return None,
             }
         }
-        let (ma, ua, mb, ub) = middle?;
+        let (ma, ua, mb, ub, km) = middle?;
         let (outer_r, (kp, p)) = (outer_r?, prismatic?);
         let c = &model.constraints[outer_r];
         let rod = if inside(c.body_a) { c.body_a? } else { c.body_b? };
@@ -60,7 +64,9 @@ impl Rrp {
             return None;
         }
         let (u_rod, u_pin) = if rod == ma { (ua, ub) } else { (ub, ua) };
-        let link = link(model, rod, outer_r, u_rod)?;
+        // the middle revolute's numbers: u_a at 0, 1, u_b at 2, 3
+        let (at_rod, at_pin) = if rod == ma { (0, 2) } else { (2, 0) };
+        let link = link(model, rod, outer_r, u_rod, xy(km, at_rod))?;
         let cp = &model.constraints[kp];
         let (known, line_in_known) = if cp.body_b == Some(slider) {
             (cp.body_a, true)
@@ -79,6 +85,8 @@ impl Rrp {
             u_b: p.u_b,
             e_a: p.e_a,
             theta0: p.theta0,
+            prismatic: kp,
+            pin_numbers: xy(km, at_pin),
         })
     }
 
@@ -188,5 +196,84 @@ impl Rrp {
             0.0
         };
         (sign, along.abs() / self.link.length, rate)
+    }
+
+    /// Its numbers: the link's u_known, u_outer, u_middle in slots 0..6, the prismatic
+    /// joint's u_a, u_b, e_a and theta0 in 6..13, the slider's u_pin in 13, 14.
+    pub fn numbers(&self) -> Numbers {
+        let mut out = Numbers::default();
+        out.link(&self.link.numbers, 0);
+        out.slots.extend((0..7).map(|i| (self.prismatic, i, 6 + i)));
+        out.link(&self.pin_numbers, 13);
+        out
+    }
+
+    /// dq/dp of both bodies (`super::tangents`), `solve` differentiated: the slider turns
+    /// with the known body (dtheta_s = dtheta_k +- dtheta0); B on the link's circle,
+    /// (B - A).(dB - dA) = r1 dr1, and on the line through p0 along v (`line`), n.(B - p0) =
+    /// 0 with n = perp(v): n.dB = n.dp0 - perp(dv).(B - p0); the link's body from its two
+    /// pins as in the RRR dyad, the slider from B: dR_s = dB - perp(A_s u_pin) dtheta_s -
+    /// A_s du_pin.
+    #[inline]
+    pub fn tangents(&self, data: &Data, seeds: &[Seed], s: &mut [f64], n: usize) -> Result<(), Miss> {
+        let l = &self.link;
+        let (k1, a) = l.outer(data);
+        let k = side(data, self.known);
+        let (fr, fs) = (&data.frames[l.body], &data.frames[self.slider]);
+        let b = fr.point(l.u_middle);
+        // the line's point on the known side, the slider's (u_line, u_slide), and B's line
+        let (u_line, u_slide) = if self.line_in_known { (self.u_a, self.u_b) } else { (self.u_b, self.u_a) };
+        let (lk, off) = (k.rot(u_line), fs.rot(sub(self.u_pin, u_slide)));
+        let p0 = [k.r[0] + lk[0] + off[0], k.r[1] + lk[1] + off[1]];
+        let v = if self.line_in_known { k.rot(self.e_a) } else { fs.rot(self.e_a) };
+        let nv = perp(v);
+        let ga = sub(b, a);
+        let det = cross(ga, nv);
+        // |cos| of the link against the line, `solve`'s closeness
+        let closeness = det.abs() * l.inv_length / v[0].hypot(v[1]);
+        if closeness.is_nan() || closeness < NEAR_SINGULAR {
+            return Err(Miss::NearSingular);
+        }
+        let inv_det = 1.0 / det;
+        let (g, ra) = (sub(b, p0), sub(a, k1.r));
+        let (arm, arm_s) = (fr.rot(l.u_outer), fs.rot(self.u_pin));
+        let m = sub(l.u_middle, l.u_outer);
+        let inv_l2 = l.inv_length * l.inv_length;
+        let turn = if self.line_in_known { 1.0 } else { -1.0 };
+        let mut at = 0;
+        for j in 0..n {
+            let (mut da, _) = moved(s, n, l.known, ra, j);
+            let (mut dp0, dthk) = moved(s, n, self.known, lk, j);
+            let mut dths = dthk;
+            // the parameter's own moves: the link's r dr, d(u_middle - u_outer) and du_outer
+            // in world axes; the line's point, direction and the slider's pin
+            let mut e = 0.0;
+            let (mut w, mut o, mut dv, mut dpin) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
+            if let Some(seed) = seed_of(seeds, &mut at, j) {
+                let d = &seed.slots;
+                let dk1 = k1.rot(pair(d, 0));
+                da = [da[0] + dk1[0], da[1] + dk1[1]];
+                let dm = sub(pair(d, 4), pair(d, 2));
+                (e, w, o) = (dot(m, dm), fr.rot(dm), fr.rot(pair(d, 2)));
+                dths += turn * d[12];
+                let (du_line, du_slide) =
+                    if self.line_in_known { (pair(d, 6), pair(d, 8)) } else { (pair(d, 8), pair(d, 6)) };
+                let (dl, ds) = (k.rot(du_line), fs.rot(sub(pair(d, 13), du_slide)));
+                dp0 = [dp0[0] + dl[0] + ds[0], dp0[1] + dl[1] + ds[1]];
+                dv = if self.line_in_known { k.rot(pair(d, 10)) } else { fs.rot(pair(d, 10)) };
+                dpin = fs.rot(pair(d, 13));
+            }
+            // the slider's turn moves p0's offset, and the line where it is the slider's
+            dp0 = [dp0[0] - off[1] * dths, dp0[1] + off[0] * dths];
+            let dturn = if self.line_in_known { dthk } else { dths };
+            let dv = [dv[0] + nv[0] * dturn, dv[1] + nv[1] * dturn];
+            let r = [dot(ga, da) + e, dot(nv, dp0) - cross(dv, g)];
+            let db = [(nv[1] * r[0] - ga[1] * r[1]) * inv_det, (ga[0] * r[1] - nv[0] * r[0]) * inv_det];
+            let dth = cross(ga, sub(sub(db, da), w)) * inv_l2;
+            set_tangent(s, n, l.body, j, [da[0] + arm[1] * dth - o[0], da[1] - arm[0] * dth - o[1]], dth);
+            let drs = [db[0] + arm_s[1] * dths - dpin[0], db[1] - arm_s[0] * dths - dpin[1]];
+            set_tangent(s, n, self.slider, j, drs, dths);
+        }
+        Ok(())
     }
 }

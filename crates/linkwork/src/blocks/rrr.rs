@@ -5,9 +5,10 @@
 //! seen from both links.
 
 use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
+use super::{moved, pair, seed_of, set_tangent, Numbers, Seed, NEAR_SINGULAR};
 use crate::assembly::angle_of;
 use crate::data::Data;
-use crate::joints::{dot, perp, sub, ConstraintKind, Frame};
+use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
 use crate::structure::Group;
 
@@ -25,6 +26,9 @@ pub(crate) struct Link {
     pub length: f64,
     pub inv_length: f64,
     pub dir: [f64; 2],
+    /// the compiled number each of u_known, u_outer, u_middle (x, y) is: (constraint, index
+    /// in its `params_mut`); None for a coordinate no number holds (a rod's)
+    pub numbers: [Option<(usize, usize)>; 6],
 }
 
 impl Link {
@@ -34,6 +38,7 @@ impl Link {
         u_known: [f64; 2],
         u_outer: [f64; 2],
         u_middle: [f64; 2],
+        numbers: [Option<(usize, usize)>; 6],
     ) -> Option<Link> {
         let d = sub(u_middle, u_outer);
         let length = d[0].hypot(d[1]);
@@ -46,6 +51,7 @@ impl Link {
             length,
             inv_length: 1.0 / length,
             dir: [d[0] / length, d[1] / length],
+            numbers,
         })
     }
 
@@ -77,15 +83,33 @@ impl Link {
     }
 }
 
+/// The numbers (constraint, index) of a point's x and y that sit at `first`, `first + 1`
+/// of constraint `c`'s `params_mut`.
+pub(crate) fn xy(c: usize, first: usize) -> [Option<(usize, usize)>; 2] {
+    [Some((c, first)), Some((c, first + 1))]
+}
+
 /// Reads a dyad link from its outer pin `outer` (constraint index) on `body`, and its
-/// middle pin's point in the body.
-pub(crate) fn link(model: &Model, body: usize, outer: usize, u_middle: [f64; 2]) -> Option<Link> {
+/// middle pin's point in the body, which is the number pair `middle` (constraint, first
+/// index).
+pub(crate) fn link(
+    model: &Model,
+    body: usize,
+    outer: usize,
+    u_middle: [f64; 2],
+    middle: [Option<(usize, usize)>; 2],
+) -> Option<Link> {
     let c = &model.constraints[outer];
     let ConstraintKind::Revolute(j) = &c.kind else { return None };
+    // a revolute's numbers: u_a at 0, 1 and u_b at 2, 3
+    let numbers = |known: usize, own: usize| {
+        let [k, o, m] = [xy(outer, known), xy(outer, own), middle];
+        [k[0], k[1], o[0], o[1], m[0], m[1]]
+    };
     if c.body_b == Some(body) {
-        Link::new(body, c.body_a, j.u_a, j.u_b, u_middle)
+        Link::new(body, c.body_a, j.u_a, j.u_b, u_middle, numbers(0, 2))
     } else if c.body_a == Some(body) {
-        Link::new(body, c.body_b, j.u_b, j.u_a, u_middle)
+        Link::new(body, c.body_b, j.u_b, j.u_a, u_middle, numbers(2, 0))
     } else {
         None
     }
@@ -110,16 +134,17 @@ impl Rrr {
             let c = &model.constraints[k];
             let ConstraintKind::Revolute(j) = &c.kind else { return None };
             if inside(c.body_a) && inside(c.body_b) {
-                middle = Some((c.body_a?, j.u_a, c.body_b?, j.u_b));
+                middle = Some((c.body_a?, j.u_a, c.body_b?, j.u_b, k));
             } else {
                 outer.push(k);
             }
         }
-        let (ma, ua, mb, ub) = middle?;
+        let (ma, ua, mb, ub, km) = middle?;
         if outer.len() != 2 || ma == mb {
             return None;
         }
         let u_mid = |b: usize| if b == ma { ua } else { ub };
+        let n_mid = |b: usize| xy(km, if b == ma { 0 } else { 2 });
         let body_of = |k: usize| {
             let c = &model.constraints[k];
             if inside(c.body_a) {
@@ -132,8 +157,8 @@ impl Rrr {
         if b1 == b2 {
             return None;
         }
-        let l1 = link(model, b1, outer[0], u_mid(b1))?;
-        let l2 = link(model, b2, outer[1], u_mid(b2))?;
+        let l1 = link(model, b1, outer[0], u_mid(b1), n_mid(b1))?;
+        let l2 = link(model, b2, outer[1], u_mid(b2), n_mid(b2))?;
         Some(Rrr { l1, l2, rod: false })
     }
 
@@ -149,19 +174,22 @@ impl Rrr {
             let c = &model.constraints[k];
             match &c.kind {
                 ConstraintKind::Revolute(_) => pin = Some(k),
+                // a distance joint's numbers: u_a at 0, 1, u_b at 2, 3, length at 4
                 ConstraintKind::Distance(j) if c.body_b == Some(body) && c.body_a != Some(body) => {
-                    rod = Some((c.body_a, j.u_a, j.u_b, j.length))
+                    rod = Some((c.body_a, j.u_a, j.u_b, j.length, k, 0, 2))
                 }
                 ConstraintKind::Distance(j) if c.body_a == Some(body) && c.body_b != Some(body) => {
-                    rod = Some((c.body_b, j.u_b, j.u_a, j.length))
+                    rod = Some((c.body_b, j.u_b, j.u_a, j.length, k, 2, 0))
                 }
                 _ => return None,
             }
         }
-        let (pin, (known, u_known, u_end, length)) = (pin?, rod?);
-        let l1 = link(model, body, pin, u_end)?;
+        let (pin, (known, u_known, u_end, length, kd, at_known, at_end)) = (pin?, rod?);
+        let l1 = link(model, body, pin, u_end, xy(kd, at_end))?;
         // the rod as a link from its known end, its far end at distance `length` along x
-        let l2 = Link::new(body, known, u_known, [0.0, 0.0], [length, 0.0])?;
+        let [k0, k1] = xy(kd, at_known);
+        let numbers = [k0, k1, None, None, Some((kd, 4)), None];
+        let l2 = Link::new(body, known, u_known, [0.0, 0.0], [length, 0.0], numbers)?;
         Some(Rrr { l1, l2, rod: true })
     }
 
@@ -242,5 +270,72 @@ impl Rrr {
             0.0
         };
         (sign, cross.abs() * norm, rate)
+    }
+
+    /// Its numbers: link 1's u_known, u_outer, u_middle (x, y each) in slots 0..6, link 2's
+    /// in 6..12.
+    pub fn numbers(&self) -> Numbers {
+        let mut out = Numbers::default();
+        out.link(&self.l1.numbers, 0);
+        out.link(&self.l2.numbers, 6);
+        out
+    }
+
+    /// dq/dp of both bodies (`super::tangents`), `solve` differentiated: B on both circles,
+    /// |B - A|^2 = r1^2 and |B - C|^2 = r2^2, gives (B - A).(dB - dA) = r1 dr1 and
+    /// (B - C).(dB - dC) = r2 dr2, the 2 x 2 matrix of the rate solve; each body then from
+    /// its two pins (`Link::place`): perp(B - A) dtheta = dB - dA - A1 d(u_middle - u_outer)
+    /// and dR = dA - perp(A1 u_outer) dtheta - A1 du_outer. dA, dC: the known sides' moves
+    /// and the parameter's of u_known; r dr = (u_middle - u_outer).d(u_middle - u_outer).
+    #[inline]
+    pub fn tangents(&self, data: &Data, seeds: &[Seed], s: &mut [f64], n: usize) -> Result<(), Miss> {
+        let (l1, l2) = (&self.l1, &self.l2);
+        let (k1, a) = l1.outer(data);
+        let (k2, c) = l2.outer(data);
+        // a rod's second link is the first body seen from the rod's known end
+        let (f1, f2) = (&data.frames[l1.body], &data.frames[l2.body]);
+        let b = f1.point(l1.u_middle);
+        let (ga, gc) = (sub(b, a), sub(b, c));
+        let det = cross(ga, gc);
+        // |sin| of the angle at B, `solve`'s closeness
+        let closeness = det.abs() * l1.inv_length * l2.inv_length;
+        if closeness.is_nan() || closeness < NEAR_SINGULAR {
+            return Err(Miss::NearSingular);
+        }
+        let inv_det = 1.0 / det;
+        let (ra, rc) = (sub(a, k1.r), sub(c, k2.r));
+        let (arm1, arm2) = (f1.rot(l1.u_outer), f2.rot(l2.u_outer));
+        let (m1, m2) = (sub(l1.u_middle, l1.u_outer), sub(l2.u_middle, l2.u_outer));
+        let (inv1, inv2) = (l1.inv_length * l1.inv_length, l2.inv_length * l2.inv_length);
+        let mut at = 0;
+        for j in 0..n {
+            let (mut da, _) = moved(s, n, l1.known, ra, j);
+            let (mut dc, _) = moved(s, n, l2.known, rc, j);
+            // the parameter's own moves: r dr per link, each body's d(u_middle - u_outer)
+            // and du_outer in world axes
+            let (mut e1, mut e2) = (0.0, 0.0);
+            let (mut w1, mut w2, mut o1, mut o2) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
+            if let Some(seed) = seed_of(seeds, &mut at, j) {
+                let d = &seed.slots;
+                let (dk1, dk2) = (k1.rot(pair(d, 0)), k2.rot(pair(d, 6)));
+                da = [da[0] + dk1[0], da[1] + dk1[1]];
+                dc = [dc[0] + dk2[0], dc[1] + dk2[1]];
+                let (dm1, dm2) = (sub(pair(d, 4), pair(d, 2)), sub(pair(d, 10), pair(d, 8)));
+                (e1, e2) = (dot(m1, dm1), dot(m2, dm2));
+                (w1, w2) = (f1.rot(dm1), f2.rot(dm2));
+                (o1, o2) = (f1.rot(pair(d, 2)), f2.rot(pair(d, 8)));
+            }
+            let r = [dot(ga, da) + e1, dot(gc, dc) + e2];
+            let db = [(gc[1] * r[0] - ga[1] * r[1]) * inv_det, (ga[0] * r[1] - gc[0] * r[0]) * inv_det];
+            let dth1 = cross(ga, sub(sub(db, da), w1)) * inv1;
+            let dr1 = [da[0] + arm1[1] * dth1 - o1[0], da[1] - arm1[0] * dth1 - o1[1]];
+            set_tangent(s, n, l1.body, j, dr1, dth1);
+            if !self.rod {
+                let dth2 = cross(gc, sub(sub(db, dc), w2)) * inv2;
+                let dr2 = [dc[0] + arm2[1] * dth2 - o2[0], dc[1] - arm2[0] * dth2 - o2[1]];
+                set_tangent(s, n, l2.body, j, dr2, dth2);
+            }
+        }
+        Ok(())
     }
 }
