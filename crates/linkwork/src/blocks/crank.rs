@@ -2,8 +2,8 @@
 //! Its angle is the driver's value (theta = theta_base + sign f(t)), its origin follows
 //! from the pin: one angle, no equations.
 
-use super::{body_qdd, moved, pair, point_acc, seed_of, set_acc, set_body, set_rates, set_tangent, side};
-use super::{Miss, Numbers, Seed};
+use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates, side, split, BodyRows};
+use super::{Entry, Miss, Numbers};
 use crate::assembly::turned;
 use crate::data::Data;
 use crate::joints::{perp, sub, Constraint, ConstraintKind};
@@ -100,47 +100,86 @@ impl Crank {
         Ok((1.0, residual))
     }
 
-    /// Its numbers: u_known in slots 0, 1, u_body in 2, 3; the driver's are its law's.
+    /// Its numbers: u_known in slots 0, 1, u_body in 2, 3; the driver's are its law's, law
+    /// number i in slot 4 + i.
     pub fn numbers(&self) -> Numbers {
         let (c, known, own) = self.pin;
         Numbers {
             slots: vec![(c, known, 0), (c, known + 1, 1), (c, own, 2), (c, own + 1, 3)],
-            law: Some(self.driver),
+            law: Some((self.driver, 4)),
         }
     }
 
     /// dq/dp of the body (`super::tangents`), `solve` differentiated: theta = theta_base +
     /// sign f(t; p) gives dtheta = dtheta_base + sign df/dp, and R = P - A(theta) u_body
     /// with P = R_k + A_k u_known gives dR = dP - perp(A u_body) dtheta - A du_body.
+    /// `zeros`: the ground's rows (n zeros).
+    #[allow(clippy::too_many_arguments)]
     #[inline]
-    pub fn tangents(&self, model: &Model, data: &Data, t: f64, seeds: &[Seed], s: &mut [f64], n: usize) {
+    pub fn tangents(
+        &self,
+        model: &Model,
+        data: &Data,
+        t: f64,
+        entries: &[Entry],
+        s: &mut [f64],
+        n: usize,
+        zeros: &[f64],
+    ) {
         let law = model.constraints[self.driver].kind.law();
         let k = side(data, self.known);
         let f = &data.frames[self.body];
         let (rk, arm) = (k.rot(self.u_known), f.rot(self.u_body));
-        let mut at = 0;
-        for j in 0..n {
-            let (mut dp, _) = moved(s, n, self.known, rk, j);
-            let (_, mut dth) = moved(s, n, self.base, [0.0; 2], j);
-            let mut du = [0.0; 2];
-            if let Some(seed) = seed_of(seeds, &mut at, j) {
-                let dk = k.rot(pair(&seed.slots, 0));
-                dp = [dp[0] + dk[0], dp[1] + dk[1]];
-                du = f.rot(pair(&seed.slots, 2));
-                if let Some(law) = law {
-                    for &(i, w) in &seed.law {
-                        dth += self.sign * w * law.param_derivative(i, t)[0];
-                    }
-                }
-            }
-            set_tangent(
-                s,
-                n,
-                self.body,
-                j,
-                [dp[0] + arm[1] * dth - du[0], dp[1] - arm[0] * dth - du[1]],
-                dth,
-            );
+        // the body's move for a move dP of the pin and dtheta
+        let respond = |dp: [f64; 2], dth: f64| [dp[0] + arm[1] * dth, dp[1] - arm[0] * dth, dth];
+        let (mut body, _, rest) = split(s, n, self.body, None);
+        // the known sides' moves, for every parameter (a side on the ground moves nothing)
+        let (k_rows, b_rows) = (rest.known(self.known, zeros), rest.known(self.base, zeros));
+        let rows = (&mut body, rk, arm);
+        match (self.known.is_some(), self.base.is_some()) {
+            (true, true) => known::<true, true>(n, k_rows, b_rows, rows),
+            (true, false) => known::<true, false>(n, k_rows, b_rows, rows),
+            (false, true) => known::<false, true>(n, k_rows, b_rows, rows),
+            (false, false) => known::<false, false>(n, k_rows, b_rows, rows),
         }
+        // each parameter's own moves of the pin (u_known, u_body) and of the law
+        for e in entries {
+            let d = match e.slot {
+                0 | 1 => respond(column(&k, e.slot), 0.0),
+                2 | 3 => {
+                    let c = column(f, e.slot - 2);
+                    [-c[0], -c[1], 0.0]
+                }
+                i => respond([0.0; 2], law.map_or(0.0, |l| self.sign * l.param_derivative(i - 4, t)[0])),
+            };
+            add_move(&mut body, e.param, e.w, d);
+        }
+    }
+}
+
+/// The crank's rows for its known sides' moves (`k`: the pin's side, `b`: the angle's
+/// base; `K`, `B`: whether they move, else they are the ground and are not read), every
+/// parameter at once; `rk` the pin about the known side's origin, `arm` about the body's.
+#[inline(always)]
+fn known<const K: bool, const B: bool>(
+    n: usize,
+    k: [&[f64]; 3],
+    b: [&[f64]; 3],
+    (rows, rk, arm): (&mut BodyRows, [f64; 2], [f64; 2]),
+) {
+    // rows cut to n: no bounds checks in the loop
+    let ([kx, ky, kt], bt) = (k.map(|r| &r[..n]), &b[2][..n]);
+    let [x, y, th] = rows;
+    let (x, y, th) = (&mut x[..n], &mut y[..n], &mut th[..n]);
+    for j in 0..n {
+        // the terms of a side that does not move left out (a product with 0 is not 0)
+        let (mut dx, mut dy, mut dth) = (0.0, 0.0, 0.0);
+        if K {
+            (dx, dy) = (kx[j] - rk[1] * kt[j], ky[j] + rk[0] * kt[j]);
+        }
+        if B {
+            (dx, dy, dth) = (dx + arm[1] * bt[j], dy - arm[0] * bt[j], bt[j]);
+        }
+        [x[j], y[j], th[j]] = [dx, dy, dth];
     }
 }

@@ -5,10 +5,10 @@
 //! from the link and from the slide (with the slide's Coriolis term when the line turns).
 
 use super::rrr::{link, xy, Link};
+use super::{add_move, column, split, Entry, Numbers, NEAR_SINGULAR};
 use super::{
     body_qdd, pinned_accelerations, pinned_rates, point_acc, set_acc, set_body, set_rates, side, Miss,
 };
-use super::{moved, pair, seed_of, set_tangent, Numbers, Seed, NEAR_SINGULAR};
 use crate::data::Data;
 use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
@@ -210,12 +210,20 @@ impl Rrp {
 
     /// dq/dp of both bodies (`super::tangents`), `solve` differentiated: the slider turns
     /// with the known body (dtheta_s = dtheta_k +- dtheta0); B on the link's circle,
-    /// (B - A).(dB - dA) = r1 dr1, and on the line through p0 along v (`line`), n.(B - p0) =
-    /// 0 with n = perp(v): n.dB = n.dp0 - perp(dv).(B - p0); the link's body from its two
-    /// pins as in the RRR dyad, the slider from B: dR_s = dB - perp(A_s u_pin) dtheta_s -
-    /// A_s du_pin.
+    /// (B - A).(dB - dA) = r1 dr1 =: s1 - (B - A).dA, and on the line through p0 along v
+    /// (`line`), n.(B - p0) = 0 with n = perp(v): n.dB = n.dp0 - perp(dv).(B - p0) =: s2;
+    /// dB = M^-1 (s1, s2). The link's body from its two pins as in the RRR dyad, the slider
+    /// from B: dR_s = dB - perp(A_s u_pin) dtheta_s - A_s du_pin.
+    /// `zeros`: the ground's rows (n zeros).
     #[inline]
-    pub fn tangents(&self, data: &Data, seeds: &[Seed], s: &mut [f64], n: usize) -> Result<(), Miss> {
+    pub fn tangents(
+        &self,
+        data: &Data,
+        entries: &[Entry],
+        s: &mut [f64],
+        n: usize,
+        zeros: &[f64],
+    ) -> Result<(), Miss> {
         let l = &self.link;
         let (k1, a) = l.outer(data);
         let k = side(data, self.known);
@@ -225,7 +233,8 @@ impl Rrp {
         let (u_line, u_slide) = if self.line_in_known { (self.u_a, self.u_b) } else { (self.u_b, self.u_a) };
         let (lk, off) = (k.rot(u_line), fs.rot(sub(self.u_pin, u_slide)));
         let p0 = [k.r[0] + lk[0] + off[0], k.r[1] + lk[1] + off[1]];
-        let v = if self.line_in_known { k.rot(self.e_a) } else { fs.rot(self.e_a) };
+        // the line's direction turns with the known body, or with the slider
+        let (fv, v) = if self.line_in_known { (&k, k.rot(self.e_a)) } else { (fs, fs.rot(self.e_a)) };
         let nv = perp(v);
         let ga = sub(b, a);
         let det = cross(ga, nv);
@@ -234,46 +243,97 @@ impl Rrp {
         if closeness.is_nan() || closeness < NEAR_SINGULAR {
             return Err(Miss::NearSingular);
         }
+        // M^-1's columns u, w; the link's angle's coefficients
         let inv_det = 1.0 / det;
-        let (g, ra) = (sub(b, p0), sub(a, k1.r));
-        let (arm, arm_s) = (fr.rot(l.u_outer), fs.rot(self.u_pin));
-        let m = sub(l.u_middle, l.u_outer);
+        let (mu, mw) = ([nv[1] * inv_det, -nv[0] * inv_det], [-ga[1] * inv_det, ga[0] * inv_det]);
         let inv_l2 = l.inv_length * l.inv_length;
-        let turn = if self.line_in_known { 1.0 } else { -1.0 };
-        let mut at = 0;
-        for j in 0..n {
-            let (mut da, _) = moved(s, n, l.known, ra, j);
-            let (mut dp0, dthk) = moved(s, n, self.known, lk, j);
-            let mut dths = dthk;
-            // the parameter's own moves: the link's r dr, d(u_middle - u_outer) and du_outer
-            // in world axes; the line's point, direction and the slider's pin
-            let mut e = 0.0;
-            let (mut w, mut o, mut dv, mut dpin) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
-            if let Some(seed) = seed_of(seeds, &mut at, j) {
-                let d = &seed.slots;
-                let dk1 = k1.rot(pair(d, 0));
-                da = [da[0] + dk1[0], da[1] + dk1[1]];
-                let dm = sub(pair(d, 4), pair(d, 2));
-                (e, w, o) = (dot(m, dm), fr.rot(dm), fr.rot(pair(d, 2)));
-                dths += turn * d[12];
-                let (du_line, du_slide) =
-                    if self.line_in_known { (pair(d, 6), pair(d, 8)) } else { (pair(d, 8), pair(d, 6)) };
-                let (dl, ds) = (k.rot(du_line), fs.rot(sub(pair(d, 13), du_slide)));
-                dp0 = [dp0[0] + dl[0] + ds[0], dp0[1] + dl[1] + ds[1]];
-                dv = if self.line_in_known { k.rot(pair(d, 10)) } else { fs.rot(pair(d, 10)) };
-                dpin = fs.rot(pair(d, 13));
+        let cl = [-ga[1] * inv_l2, ga[0] * inv_l2];
+        let (a1, a2) = (dot(cl, mu), dot(cl, mw));
+        // dtheta = gl.dA + a1 e + a2 s2 + (own)
+        let gl = [a1 * ga[0] - cl[0], a1 * ga[1] - cl[1]];
+        let g = sub(b, p0);
+        // s2's coefficients of the slider's turn (moving p0's offset) and the line's
+        let (n_off, n_turn) = (dot(nv, perp(off)), cross(nv, g));
+        let (ra, arm, arm_s) = (sub(a, k1.r), fr.rot(l.u_outer), fs.rot(self.u_pin));
+        // the bodies' moves for the moves (`Inputs`): of A, of p0 along n and the slider's
+        // turn; the link's r dr and its angle's own part
+        let respond = |m: Inputs| {
+            let dturn = if self.line_in_known { m.dthk } else { m.dths };
+            let s1 = dot(ga, m.da) + m.e;
+            let s2 = m.x + n_off * m.dths - n_turn * dturn;
+            let db = [mu[0] * s1 + mw[0] * s2, mu[1] * s1 + mw[1] * s2];
+            let dth = dot(gl, m.da) + a1 * m.e + a2 * s2 + m.t;
+            let rod = [m.da[0] + arm[1] * dth, m.da[1] - arm[0] * dth, dth];
+            (rod, [db[0] + arm_s[1] * m.dths, db[1] - arm_s[0] * m.dths, m.dths])
+        };
+        let (mut rod, slider, rest) = split(s, n, l.body, Some(self.slider));
+        let mut slider = slider.expect("the dyad's slider");
+        {
+            // the known sides' moves, for every parameter (the slider turns with the known body)
+            let ([x1, y1, t1], [xk, yk, tk]) = (rest.known(l.known, zeros), rest.known(self.known, zeros));
+            let ([xr, yr, tr], [xs, ys, ts]) = (&mut rod, &mut slider);
+            // rows cut to n: no bounds checks
+            let (x1, y1, t1, xk, yk, tk) = (&x1[..n], &y1[..n], &t1[..n], &xk[..n], &yk[..n], &tk[..n]);
+            let (xr, yr, tr, xs, ys, ts) =
+                (&mut xr[..n], &mut yr[..n], &mut tr[..n], &mut xs[..n], &mut ys[..n], &mut ts[..n]);
+            for j in 0..n {
+                let da = [x1[j] - ra[1] * t1[j], y1[j] + ra[0] * t1[j]];
+                let dp0 = [xk[j] - lk[1] * tk[j], yk[j] + lk[0] * tk[j]];
+                let (dthk, x) = (tk[j], dot(nv, dp0));
+                let (r, sl) = respond(Inputs { da, x, dthk, dths: dthk, ..Inputs::default() });
+                (xr[j], yr[j], tr[j]) = (r[0], r[1], r[2]);
+                (xs[j], ys[j], ts[j]) = (sl[0], sl[1], sl[2]);
             }
-            // the slider's turn moves p0's offset, and the line where it is the slider's
-            dp0 = [dp0[0] - off[1] * dths, dp0[1] + off[0] * dths];
-            let dturn = if self.line_in_known { dthk } else { dths };
-            let dv = [dv[0] + nv[0] * dturn, dv[1] + nv[1] * dturn];
-            let r = [dot(ga, da) + e, dot(nv, dp0) - cross(dv, g)];
-            let db = [(nv[1] * r[0] - ga[1] * r[1]) * inv_det, (ga[0] * r[1] - nv[0] * r[0]) * inv_det];
-            let dth = cross(ga, sub(sub(db, da), w)) * inv_l2;
-            set_tangent(s, n, l.body, j, [da[0] + arm[1] * dth - o[0], da[1] - arm[0] * dth - o[1]], dth);
-            let drs = [db[0] + arm_s[1] * dths - dpin[0], db[1] - arm_s[0] * dths - dpin[1]];
-            set_tangent(s, n, self.slider, j, drs, dths);
+        }
+        // each parameter's own moves of the pins, the line and the slide's turn
+        let m = sub(l.u_middle, l.u_outer);
+        let turn = if self.line_in_known { 1.0 } else { -1.0 };
+        for entry in entries {
+            let (slot, i) = (entry.slot, entry.slot % 2);
+            let none = Inputs::default();
+            // x or y of a pair starting at an even slot (u_pin, at 13, has its own); the
+            // link's own moves: r dr (e), -cl.(A d(u_middle - u_outer)) (t), A du_outer (o)
+            let (input, o, dpin) = match slot {
+                0 | 1 => (Inputs { da: column(&k1, i), ..none }, [0.0; 2], [0.0; 2]),
+                2 | 3 => {
+                    let fc = column(fr, i);
+                    (Inputs { e: -m[i], t: dot(cl, fc), ..none }, fc, [0.0; 2])
+                }
+                4 | 5 => (Inputs { e: m[i], t: -dot(cl, column(fr, i)), ..none }, [0.0; 2], [0.0; 2]),
+                // u_a, u_b: the line's point in the known body, or the slider's
+                6..=9 => {
+                    let on_line = (slot < 8) == self.line_in_known;
+                    let sign = if on_line { 1.0 } else { -1.0 };
+                    (
+                        Inputs { x: sign * dot(nv, column(if on_line { &k } else { fs }, i)), ..none },
+                        [0.0; 2],
+                        [0.0; 2],
+                    )
+                }
+                10 | 11 => (Inputs { x: -cross(column(fv, i), g), ..none }, [0.0; 2], [0.0; 2]),
+                12 => (Inputs { dths: turn, ..none }, [0.0; 2], [0.0; 2]),
+                _ => {
+                    let fc = column(fs, slot - 13);
+                    (Inputs { x: dot(nv, fc), ..none }, [0.0; 2], fc)
+                }
+            };
+            let (r, sl) = respond(input);
+            add_move(&mut rod, entry.param, entry.w, [r[0] - o[0], r[1] - o[1], r[2]]);
+            add_move(&mut slider, entry.param, entry.w, [sl[0] - dpin[0], sl[1] - dpin[1], sl[2]]);
         }
         Ok(())
     }
+}
+
+/// The inputs an RRP dyad's bodies answer: of A (da), of p0 along n and the line's own
+/// (x), the known body's turn (dthk) and the slider's (dths), the link's r dr (e) and its
+/// angle's own part (t).
+#[derive(Debug, Clone, Copy, Default)]
+struct Inputs {
+    da: [f64; 2],
+    x: f64,
+    dthk: f64,
+    dths: f64,
+    e: f64,
+    t: f64,
 }

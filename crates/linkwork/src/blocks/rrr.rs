@@ -4,8 +4,8 @@
 //! two pins. Velocities and accelerations: the 2 x 2 system of B's velocity (acceleration)
 //! seen from both links.
 
+use super::{add_move, column, split, BodyRows, Entry, Numbers, NEAR_SINGULAR};
 use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
-use super::{moved, pair, seed_of, set_tangent, Numbers, Seed, NEAR_SINGULAR};
 use crate::assembly::angle_of;
 use crate::data::Data;
 use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
@@ -282,13 +282,24 @@ impl Rrr {
     }
 
     /// dq/dp of both bodies (`super::tangents`), `solve` differentiated: B on both circles,
-    /// |B - A|^2 = r1^2 and |B - C|^2 = r2^2, gives (B - A).(dB - dA) = r1 dr1 and
-    /// (B - C).(dB - dC) = r2 dr2, the 2 x 2 matrix of the rate solve; each body then from
-    /// its two pins (`Link::place`): perp(B - A) dtheta = dB - dA - A1 d(u_middle - u_outer)
-    /// and dR = dA - perp(A1 u_outer) dtheta - A1 du_outer. dA, dC: the known sides' moves
-    /// and the parameter's of u_known; r dr = (u_middle - u_outer).d(u_middle - u_outer).
+    /// |B - A|^2 = r1^2 and |B - C|^2 = r2^2, gives (B - A).(dB - dA) = r1 dr1 =: s1 and
+    /// (B - C).(dB - dC) = r2 dr2 =: s2, the 2 x 2 matrix M of the rate solve; each body
+    /// then from its two pins (`Link::place`): with w1 = A1 (du_middle - du_outer),
+    /// perp(B - A) dtheta1 = dB - dA - w1 and dR1 = dA - perp(A1 u_outer) dtheta1 - A1
+    /// du_outer. dA, dC: the known sides' moves and the parameter's of u_known; r1 dr1 =
+    /// (u_middle - u_outer).(du_middle - du_outer). With dB = M^-1 (s1, s2) eliminated,
+    /// dtheta1 = a11 s1 + a12 s2 - c1.(dA + w1), and likewise dtheta2: a, c and their
+    /// products with B - A and B - C formed once a step.
+    /// `zeros`: the ground's rows (n zeros).
     #[inline]
-    pub fn tangents(&self, data: &Data, seeds: &[Seed], s: &mut [f64], n: usize) -> Result<(), Miss> {
+    pub fn tangents(
+        &self,
+        data: &Data,
+        entries: &[Entry],
+        s: &mut [f64],
+        n: usize,
+        zeros: &[f64],
+    ) -> Result<(), Miss> {
         let (l1, l2) = (&self.l1, &self.l2);
         let (k1, a) = l1.outer(data);
         let (k2, c) = l2.outer(data);
@@ -302,40 +313,151 @@ impl Rrr {
         if closeness.is_nan() || closeness < NEAR_SINGULAR {
             return Err(Miss::NearSingular);
         }
+        // M^-1's columns u, v; the angles' coefficients
         let inv_det = 1.0 / det;
-        let (ra, rc) = (sub(a, k1.r), sub(c, k2.r));
-        let (arm1, arm2) = (f1.rot(l1.u_outer), f2.rot(l2.u_outer));
-        let (m1, m2) = (sub(l1.u_middle, l1.u_outer), sub(l2.u_middle, l2.u_outer));
+        let (u, v) = ([gc[1] * inv_det, -gc[0] * inv_det], [-ga[1] * inv_det, ga[0] * inv_det]);
         let (inv1, inv2) = (l1.inv_length * l1.inv_length, l2.inv_length * l2.inv_length);
-        let mut at = 0;
-        for j in 0..n {
-            let (mut da, _) = moved(s, n, l1.known, ra, j);
-            let (mut dc, _) = moved(s, n, l2.known, rc, j);
-            // the parameter's own moves: r dr per link, each body's d(u_middle - u_outer)
-            // and du_outer in world axes
-            let (mut e1, mut e2) = (0.0, 0.0);
-            let (mut w1, mut w2, mut o1, mut o2) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
-            if let Some(seed) = seed_of(seeds, &mut at, j) {
-                let d = &seed.slots;
-                let (dk1, dk2) = (k1.rot(pair(d, 0)), k2.rot(pair(d, 6)));
-                da = [da[0] + dk1[0], da[1] + dk1[1]];
-                dc = [dc[0] + dk2[0], dc[1] + dk2[1]];
-                let (dm1, dm2) = (sub(pair(d, 4), pair(d, 2)), sub(pair(d, 10), pair(d, 8)));
-                (e1, e2) = (dot(m1, dm1), dot(m2, dm2));
-                (w1, w2) = (f1.rot(dm1), f2.rot(dm2));
-                (o1, o2) = (f1.rot(pair(d, 2)), f2.rot(pair(d, 8)));
+        let (c1, c2) = ([-ga[1] * inv1, ga[0] * inv1], [-gc[1] * inv2, gc[0] * inv2]);
+        let (a11, a12, a21, a22) = (dot(c1, u), dot(c1, v), dot(c2, u), dot(c2, v));
+        // dtheta1 = g1a.dA + g1c.dC + (own), dtheta2 = g2a.dA + g2c.dC + (own)
+        let lin = Lin {
+            g1a: [a11 * ga[0] - c1[0], a11 * ga[1] - c1[1]],
+            g1c: [a12 * gc[0], a12 * gc[1]],
+            g2a: [a21 * ga[0], a21 * ga[1]],
+            g2c: [a22 * gc[0] - c2[0], a22 * gc[1] - c2[1]],
+            ra: sub(a, k1.r),
+            rc: sub(c, k2.r),
+            arm1: f1.rot(l1.u_outer),
+            arm2: f2.rot(l2.u_outer),
+        };
+        // a rod's second link is no body of its own
+        let (mut out1, mut out2, rest) = split(s, n, l1.body, (!self.rod).then_some(l2.body));
+        // the known sides' moves, for every parameter (a side on the ground moves nothing)
+        let (a_rows, c_rows) = (rest.known(l1.known, zeros), rest.known(l2.known, zeros));
+        let moving = (l1.known.is_some(), l2.known.is_some());
+        let (o1, o2) = (&mut out1, out2.as_mut());
+        match moving {
+            (true, true) => lin.known::<true, true>(n, a_rows, c_rows, o1, o2),
+            (true, false) => lin.known::<true, false>(n, a_rows, c_rows, o1, o2),
+            (false, true) => lin.known::<false, true>(n, a_rows, c_rows, o1, o2),
+            (false, false) => lin.known::<false, false>(n, a_rows, c_rows, o1, o2),
+        }
+        // each parameter's own moves of the links' pins
+        let (m1, m2) = (sub(l1.u_middle, l1.u_outer), sub(l2.u_middle, l2.u_outer));
+        for entry in entries {
+            // link 1's u_known, u_outer, u_middle in slots 0..6, link 2's in 6..12
+            let (slot, w) = (entry.slot, entry.w);
+            let (i, second, kind) = (slot % 2, slot >= 6, (slot / 2) % 3);
+            let (k, f, m, cl, b1, b2) =
+                if second { (&k2, f2, m2, c2, a12, a22) } else { (&k1, f1, m1, c1, a11, a21) };
+            // the known pin's move (d); for d(u_middle - u_outer), r dr moves both angles
+            // through M^-1 (x) and this link's own by -c.A d(u_middle - u_outer), and
+            // u_outer moves its body's origin by -A du_outer (o)
+            let (mut d, mut x, mut o) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+            if kind == 0 {
+                d = column(k, i);
+            } else {
+                let (sign, fc) = (if kind == 1 { -1.0 } else { 1.0 }, column(f, i));
+                let e = sign * m[i];
+                x = [b1 * e, b2 * e];
+                x[second as usize] -= sign * dot(cl, fc);
+                if kind == 1 {
+                    o = fc;
+                }
             }
-            let r = [dot(ga, da) + e1, dot(gc, dc) + e2];
-            let db = [(gc[1] * r[0] - ga[1] * r[1]) * inv_det, (ga[0] * r[1] - gc[0] * r[0]) * inv_det];
-            let dth1 = cross(ga, sub(sub(db, da), w1)) * inv1;
-            let dr1 = [da[0] + arm1[1] * dth1 - o1[0], da[1] - arm1[0] * dth1 - o1[1]];
-            set_tangent(s, n, l1.body, j, dr1, dth1);
-            if !self.rod {
-                let dth2 = cross(gc, sub(sub(db, dc), w2)) * inv2;
-                let dr2 = [dc[0] + arm2[1] * dth2 - o2[0], dc[1] - arm2[0] * dth2 - o2[1]];
-                set_tangent(s, n, l2.body, j, dr2, dth2);
+            let (da, dc) = if second { ([0.0; 2], d) } else { (d, [0.0; 2]) };
+            let (o1, o2) = if second { ([0.0; 2], o) } else { (o, [0.0; 2]) };
+            let d1 = lin.body1(da, dc, x[0]);
+            add_move(&mut out1, entry.param, w, [d1[0] - o1[0], d1[1] - o1[1], d1[2]]);
+            if let Some(out2) = &mut out2 {
+                let d2 = lin.body2(da, dc, x[1]);
+                add_move(out2, entry.param, w, [d2[0] - o2[0], d2[1] - o2[1], d2[2]]);
             }
         }
         Ok(())
+    }
+}
+
+/// An RRR dyad's derivative at one step: the angles' coefficients of dA and dC (g), the
+/// outer pins about the known sides' origins (ra, rc) and about the bodies' (arm).
+struct Lin {
+    g1a: [f64; 2],
+    g1c: [f64; 2],
+    g2a: [f64; 2],
+    g2c: [f64; 2],
+    ra: [f64; 2],
+    rc: [f64; 2],
+    arm1: [f64; 2],
+    arm2: [f64; 2],
+}
+
+impl Lin {
+    /// Body 1's move for moves dA, dC and its angle's own part x1.
+    #[inline(always)]
+    fn body1(&self, da: [f64; 2], dc: [f64; 2], x1: f64) -> [f64; 3] {
+        let th = dot(self.g1a, da) + dot(self.g1c, dc) + x1;
+        [da[0] + self.arm1[1] * th, da[1] - self.arm1[0] * th, th]
+    }
+
+    /// Body 2's move for moves dA, dC and its angle's own part x2.
+    #[inline(always)]
+    fn body2(&self, da: [f64; 2], dc: [f64; 2], x2: f64) -> [f64; 3] {
+        let th = dot(self.g2a, da) + dot(self.g2c, dc) + x2;
+        [dc[0] + self.arm2[1] * th, dc[1] - self.arm2[0] * th, th]
+    }
+
+    /// The angles' moves for moves dA (`A`: if A moves) and dC (`C`), the terms of a side
+    /// that does not move left out (-0.0 is the sum's identity; a product with 0 is not).
+    #[inline(always)]
+    fn angles<const A: bool, const C: bool>(&self, da: [f64; 2], dc: [f64; 2]) -> (f64, f64) {
+        let (mut th1, mut th2) = (-0.0, -0.0);
+        if A {
+            (th1, th2) = (th1 + dot(self.g1a, da), th2 + dot(self.g2a, da));
+        }
+        if C {
+            (th1, th2) = (th1 + dot(self.g1c, dc), th2 + dot(self.g2c, dc));
+        }
+        (th1, th2)
+    }
+
+    /// The bodies' rows for the known sides' moves (`a`, `c`: their rows; `A`, `C`: whether
+    /// they move, else they are the ground and are not read), every parameter at once.
+    #[inline(always)]
+    fn known<const A: bool, const C: bool>(
+        &self,
+        n: usize,
+        a: [&[f64]; 3],
+        c: [&[f64]; 3],
+        out1: &mut BodyRows,
+        out2: Option<&mut BodyRows>,
+    ) {
+        // rows cut to n: no bounds checks in the loops
+        let ([x1, y1, t1], [x2, y2, t2]) = (a.map(|r| &r[..n]), c.map(|r| &r[..n]));
+        let moves = |j: usize| {
+            let da = if A { [x1[j] - self.ra[1] * t1[j], y1[j] + self.ra[0] * t1[j]] } else { [-0.0; 2] };
+            let dc = if C { [x2[j] - self.rc[1] * t2[j], y2[j] + self.rc[0] * t2[j]] } else { [-0.0; 2] };
+            (da, dc)
+        };
+        let ([a1, a2], [b1, b2]) = (self.arm1, self.arm2);
+        let [bx1, by1, bt1] = out1;
+        let (bx1, by1, bt1) = (&mut bx1[..n], &mut by1[..n], &mut bt1[..n]);
+        match out2 {
+            Some([bx2, by2, bt2]) => {
+                let (bx2, by2, bt2) = (&mut bx2[..n], &mut by2[..n], &mut bt2[..n]);
+                for j in 0..n {
+                    let (da, dc) = moves(j);
+                    let (th1, th2) = self.angles::<A, C>(da, dc);
+                    [bx1[j], by1[j], bt1[j]] = [da[0] + a2 * th1, da[1] - a1 * th1, th1];
+                    [bx2[j], by2[j], bt2[j]] = [dc[0] + b2 * th2, dc[1] - b1 * th2, th2];
+                }
+            }
+            None => {
+                for j in 0..n {
+                    let (da, dc) = moves(j);
+                    let (th1, _) = self.angles::<A, C>(da, dc);
+                    [bx1[j], by1[j], bt1[j]] = [da[0] + a2 * th1, da[1] - a1 * th1, th1];
+                }
+            }
+        }
     }
 }

@@ -9,7 +9,7 @@
 //! (`step::Sensitivity`); both give the implicit function theorem's dq/dp.
 
 use super::params::Parameter;
-use crate::blocks::{self, Miss, Seed, MAX_SLOTS};
+use crate::blocks::{self, Entry, Miss};
 use crate::data::Data;
 use crate::model::Model;
 
@@ -36,8 +36,10 @@ impl SensitivityPath {
 #[derive(Debug, Clone)]
 pub struct Structured {
     n_params: usize,
-    /// per block of the plan: one seed per parameter that moves its numbers, by parameter
-    seeds: Vec<Vec<Seed>>,
+    /// n_params zeros: the ground's rows of dq/dp
+    zeros: Vec<f64>,
+    /// per block of the plan: the parameters' moves of its numbers, by parameter
+    entries: Vec<Vec<Entry>>,
 }
 
 /// The structured path for dq/dp (`derivatives` 0) to `params`, or why the general path
@@ -60,15 +62,13 @@ pub fn choose(
         .iter()
         .map(|b| b.numbers().ok_or_else(|| format!("a {} has no structured sensitivities", b.name())))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut seeds: Vec<Vec<Seed>> = vec![Vec::new(); plan.blocks.len()];
+    let mut entries: Vec<Vec<Entry>> = vec![Vec::new(); plan.blocks.len()];
     for (j, p) in params.iter().enumerate() {
         for &(c, i, w) in &p.seeds {
-            // the group reading constraint c's number i, and its slot (None: a law's number)
-            let found = numbers.iter().enumerate().find_map(|(b, nb)| {
-                if nb.law == Some(c) {
-                    return Some((b, None));
-                }
-                nb.slots.iter().find(|s| s.0 == c && s.1 == i).map(|s| (b, Some(s.2)))
+            // the group reading constraint c's number i, and its slot there
+            let found = numbers.iter().enumerate().find_map(|(b, nb)| match nb.law {
+                Some((driver, first)) if driver == c => Some((b, first + i)),
+                _ => nb.slots.iter().find(|s| s.0 == c && s.1 == i).map(|s| (b, s.2)),
             });
             let Some((b, slot)) = found else {
                 return Err(format!(
@@ -76,18 +76,10 @@ pub fn choose(
                     p.name, model.constraints[c].name
                 ));
             };
-            let list = &mut seeds[b];
-            if list.last().is_none_or(|s| s.param != j) {
-                list.push(Seed { param: j, slots: [0.0; MAX_SLOTS], law: Vec::new() });
-            }
-            let seed = list.last_mut().expect("pushed above");
-            match slot {
-                Some(slot) => seed.slots[slot] += w,
-                None => seed.law.push((i, w)),
-            }
+            entries[b].push(Entry { param: j, slot, w });
         }
     }
-    Ok(Structured { n_params: params.len(), seeds })
+    Ok(Structured { n_params: params.len(), zeros: vec![0.0; params.len()], entries })
 }
 
 impl Structured {
@@ -95,6 +87,6 @@ impl Structured {
     /// (q at t, frames current). Err: a group is next to its singular configuration.
     pub fn step(&self, model: &Model, data: &Data, t: f64, s: &mut [f64]) -> Result<(), Miss> {
         let Ok(plan) = model.plan.as_ref() else { return Err(Miss::Failed) };
-        blocks::tangents(model, plan, data, t, &self.seeds, s, self.n_params)
+        blocks::tangents(model, plan, data, t, &self.entries, s, self.n_params, &self.zeros)
     }
 }

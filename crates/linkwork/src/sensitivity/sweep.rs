@@ -1,10 +1,11 @@
 //! A sweep with its sensitivities: the ordinary sweep (`crate::sweep::sweep`, every
-//! coordinate, and the velocities and accelerations the sensitivities need), then, step
-//! by step, the sensitivities at the solved q. On the structured path (`structured`:
-//! dq/dp only, a plan of cranks and dyads) each group's closed form differentiated; on the
-//! general path Phi_q assembled and factored at the solved q (the structured sweep has no
-//! factorization of its own; the general sweep's last one is at the Newton iterate before
-//! the last update) and the sensitivities solved with it (`step`).
+//! coordinate, and the velocities and accelerations the sensitivities need) and, step by
+//! step, the sensitivities at the solved q. On the structured path (`structured`: dq/dp
+//! only, a plan of cranks and dyads) each group's closed form differentiated, as the sweep
+//! leaves each step (its frames current); on the general path, after the sweep, Phi_q
+//! assembled and factored at the solved q (the structured sweep has no factorization of
+//! its own; the general sweep's last one is at the Newton iterate before the last update)
+//! and the sensitivities solved with it (`step`).
 
 use std::ops::Range;
 
@@ -140,9 +141,38 @@ pub fn sensitivity_sweep(
         ),
         Err(why) => (SensitivityPath::General, why.clone()),
     };
-    let result = crate::sweep::sweep(model, data, times, &mut out.sweep, progress_every, progress);
     let mut sens = Sensitivity::new(model, params, points);
+    // the steps the general path solves after the sweep: all of them, or on the structured
+    // path those next to a singular configuration
+    let mut general = vec![structured.is_err(); times.len()];
+    let result = match &structured {
+        Ok(st) => {
+            let (dq, dr, sens) = (&mut out.dq, &mut out.points, &sens);
+            let mut each = |data: &Data, t: f64, k: usize| {
+                let (s, p) = (k * nc * n..(k + 1) * nc * n, k * np * 2 * n..(k + 1) * np * 2 * n);
+                match st.step(model, data, t, &mut dq[s.clone()]) {
+                    Ok(()) => sens.points_of(data, &dq[s], &mut dr[p]),
+                    Err(_) => general[k] = true,
+                }
+                Ok(())
+            };
+            crate::sweep::sweep_observed(
+                model,
+                data,
+                times,
+                &mut out.sweep,
+                progress_every,
+                progress,
+                &mut each,
+            )
+        }
+        Err(_) => crate::sweep::sweep(model, data, times, &mut out.sweep, progress_every, progress),
+    };
     for k in 0..out.sweep.n_done {
+        if !general[k] {
+            out.n_done = k + 1;
+            continue;
+        }
         let t = times[k];
         let row = k * nc..(k + 1) * nc;
         data.q.copy_from_slice(&out.sweep.q[row.clone()]);
@@ -156,34 +186,23 @@ pub fn sensitivity_sweep(
             _ => data.qdd.copy_from_slice(&out.sweep.qdd[row]),
         }
         let (s, p) = (k * nc * n..(k + 1) * nc * n, k * np * 2 * n..(k + 1) * np * 2 * n);
-        let by_blocks = match &structured {
-            Ok(st) => {
-                crate::assembly::update_frames(data);
-                st.step(model, data, t, &mut out.dq[s.clone()]).is_ok()
-            }
-            Err(_) => false,
-        };
-        if by_blocks {
-            sens.points_of(data, &out.dq[s], &mut out.points[p]);
-        } else {
-            out.general_steps += structured.is_ok() as usize;
-            crate::assembly::position(model, data, t);
-            crate::position::factor(model, data, t, k)?;
-            sens.step_to(
-                model,
-                data,
-                t,
-                d,
-                StepOut {
-                    dq: &mut out.dq[s.clone()],
-                    dqd: rows(&mut out.dqd, s.clone()),
-                    dqdd: rows(&mut out.dqdd, s),
-                    points: &mut out.points[p.clone()],
-                    points_d: rows(&mut out.points_d, p.clone()),
-                    points_dd: rows(&mut out.points_dd, p),
-                },
-            );
-        }
+        out.general_steps += structured.is_ok() as usize;
+        crate::assembly::position(model, data, t);
+        crate::position::factor(model, data, t, k)?;
+        sens.step_to(
+            model,
+            data,
+            t,
+            d,
+            StepOut {
+                dq: &mut out.dq[s.clone()],
+                dqd: rows(&mut out.dqd, s.clone()),
+                dqdd: rows(&mut out.dqdd, s),
+                points: &mut out.points[p.clone()],
+                points_d: rows(&mut out.points_d, p.clone()),
+                points_dd: rows(&mut out.points_dd, p),
+            },
+        );
         out.n_done = k + 1;
     }
     result
