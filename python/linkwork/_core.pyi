@@ -57,6 +57,7 @@ def sensitivities(
     points: list[tuple[int, float, float, int]] | None = None,
     progress: Callable[[int, int], Any] | None = None,
     progress_every: int = 0,
+    derivatives: int = 2,
 ) -> tuple[dict[str, Any], BaseException | None]: ...
 def parse_expression(text: str, variable: str = "t") -> None: ...
 def evaluate_law(

@@ -46,28 +46,41 @@ __all__ = ["Sensitivities", "sensitivities", "engine_directions"]
 class Sensitivities:
     """A sweep's exact sensitivities: ``names`` (the parameters, as given), ``nominal``,
     ``columns`` (the model's coordinates), ``times``, ``dq``, ``dqd``, ``dqdd`` (n_steps x
-    n_coords x n_params), ``points`` (name -> n_steps x 2 x n_params, the world position's;
-    ``points_d`` and ``points_dd`` the velocity's and acceleration's) and ``results`` (the
-    sweep itself)."""
+    n_coords x n_params; ``dqd`` and ``dqdd`` None unless ``derivatives`` asked for them),
+    ``points`` (name -> n_steps x 2 x n_params, the world position's; ``points_d`` and
+    ``points_dd`` the velocity's and acceleration's, empty unless asked for), ``results``
+    (the sweep itself), ``derivatives`` (0, 1 or 2), and how they were solved: ``path``
+    ("structured": each group of the mechanism's closed form differentiated, for dq/dp of
+    cranks and dyads; "general": Phi_q factored at every step), ``path_reason``, and
+    ``general_steps`` (on the structured path, the steps next to a singular configuration
+    the general path solved)."""
 
     names: list[str]
     nominal: list[float]
     columns: list[str]
     times: np.ndarray
     dq: np.ndarray = field(repr=False)
-    dqd: np.ndarray = field(repr=False)
-    dqdd: np.ndarray = field(repr=False)
+    dqd: np.ndarray | None = field(repr=False)
+    dqdd: np.ndarray | None = field(repr=False)
     points: dict[str, np.ndarray] = field(repr=False)
     points_d: dict[str, np.ndarray] = field(repr=False)
     points_dd: dict[str, np.ndarray] = field(repr=False)
     results: Results = field(repr=False)
+    derivatives: int = 2
+    path: str = "general"
+    path_reason: str = ""
+    general_steps: int = 0
 
     def column(self, name: str, derivative: int = 0) -> np.ndarray:
         """n_steps x n_params: the sensitivities of one coordinate ("rocker.theta"), of
         its rate (``derivative=1``) or its acceleration (2)."""
         if name not in self.columns:
             raise ParameterError(f"no coordinate {name!r}; the coordinates are {', '.join(self.columns)}")
-        return (self.dq, self.dqd, self.dqdd)[derivative][:, self.columns.index(name), :]
+        a = (self.dq, self.dqd, self.dqdd)[derivative]
+        if a is None:
+            solved = f"derivatives={self.derivatives}"
+            raise ParameterError(f"derivative {derivative} of the sensitivities was not solved ({solved})")
+        return a[:, self.columns.index(name), :]
 
 
 def _theta0(model: Model, body: str) -> float:
@@ -108,6 +121,7 @@ def sensitivities(
     points: Sequence[str] | None = None,
     q_guess: Any = None,
     progress: Callable[[int, int], Any] | bool | None = None,
+    derivatives: int = 2,
 ) -> Sensitivities:
     """See `Model.sensitivities`."""
     from .. import _args, _core
@@ -115,6 +129,7 @@ def sensitivities(
     from ..results import Results
 
     t = _args.times(times)
+    derivatives = _args.integer(derivatives, "derivatives", 0, 2)
     params = parameters(model.description, names)
     directions = [engine_directions(model, p) for p in params]
     engine = sorted({k for d in directions for k in d})
@@ -131,7 +146,14 @@ def sensitivities(
     check = max(1, min(16384, 1_000_000 // max(1, model.n_coords)))
     try:
         raw, error = _core.sensitivities(
-            model._core, t, engine, model._guess(q_guess), requests, callback, check if callback else 0
+            model._core,
+            t,
+            engine,
+            model._guess(q_guess),
+            requests,
+            callback,
+            check if callback else 0,
+            derivatives,
         )
     except ParameterError as e:
         # the engine names its own path: say which of the user's parameters it came from
@@ -143,12 +165,18 @@ def sensitivities(
         for path, w in d.items():
             weights[engine.index(path), j] = w
 
-    def combine(a: np.ndarray) -> np.ndarray:
-        return np.asarray(a @ weights)
+    def combine(a: np.ndarray | None) -> np.ndarray | None:
+        # a derivative not asked for: None
+        return None if a is None else np.asarray(a @ weights)
 
     dq, dqd, dqdd = (combine(raw[k]) for k in ("dq", "dqd", "dqdd"))
     pts = [combine(raw[k]) for k in ("sens_points", "sens_points_d", "sens_points_dd")]
+
+    def per_point(a: np.ndarray | None) -> dict[str, np.ndarray]:
+        return {} if a is None else {n: a[:, i] for i, n in enumerate(wanted)}
+
     results = Results(model, raw, None)
+    assert dq is not None  # the positions' are always solved
     out = Sensitivities(
         [p.name for p in params],
         [p.nominal for p in params],
@@ -157,10 +185,14 @@ def sensitivities(
         dq,
         dqd,
         dqdd,
-        {n: pts[0][:, i] for i, n in enumerate(wanted)},
-        {n: pts[1][:, i] for i, n in enumerate(wanted)},
-        {n: pts[2][:, i] for i, n in enumerate(wanted)},
+        per_point(pts[0]),
+        per_point(pts[1]),
+        per_point(pts[2]),
         results,
+        int(raw["derivatives"]),
+        str(raw["path"]),
+        str(raw["path_reason"]),
+        int(raw["general_steps"]),
     )
     if error is not None:
         setattr(error, "partial", out)  # noqa: B010 (raised from the engine's tuple)
