@@ -2,7 +2,7 @@
 //! Its angle is the driver's value (theta = theta_base + sign f(t)), its origin follows
 //! from the pin: one angle, no equations.
 
-use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates, side, split, BodyRows};
+use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates, side, split};
 use super::{Entry, Miss, Numbers};
 use crate::assembly::turned;
 use crate::data::Data;
@@ -135,12 +135,18 @@ impl Crank {
         let (mut body, _, rest) = split(s, n, self.body, None);
         // the known sides' moves, for every parameter (a side on the ground moves nothing)
         let (k_rows, b_rows) = (rest.known(self.known, zeros), rest.known(self.base, zeros));
-        let rows = (&mut body, rk, arm);
+        let [x, y, th] = &mut body;
+        let (x, y, th) = (&mut x[..n], &mut y[..n], &mut th[..n]);
         match (self.known.is_some(), self.base.is_some()) {
-            (true, true) => known::<true, true>(n, k_rows, b_rows, rows),
-            (true, false) => known::<true, false>(n, k_rows, b_rows, rows),
-            (false, true) => known::<false, true>(n, k_rows, b_rows, rows),
-            (false, false) => known::<false, false>(n, k_rows, b_rows, rows),
+            (true, true) => known::<true, true>(k_rows, b_rows, (rk, arm), x, y, th),
+            (true, false) => known::<true, false>(k_rows, b_rows, (rk, arm), x, y, th),
+            (false, true) => known::<false, true>(k_rows, b_rows, (rk, arm), x, y, th),
+            // nothing moves the crank's known sides
+            (false, false) => {
+                for row in [x, y, th] {
+                    row.fill(0.0);
+                }
+            }
         }
         // each parameter's own moves of the pin (u_known, u_body) and of the law
         for e in entries {
@@ -160,17 +166,21 @@ impl Crank {
 /// The crank's rows for its known sides' moves (`k`: the pin's side, `b`: the angle's
 /// base; `K`, `B`: whether they move, else they are the ground and are not read), every
 /// parameter at once; `rk` the pin about the known side's origin, `arm` about the body's.
-#[inline(always)]
+/// Each output row a reference of its own (an argument by itself), which the compiler then
+/// knows not to overlap the others: it may take several parameters at once.
+#[inline(never)]
 fn known<const K: bool, const B: bool>(
-    n: usize,
     k: [&[f64]; 3],
     b: [&[f64]; 3],
-    (rows, rk, arm): (&mut BodyRows, [f64; 2], [f64; 2]),
+    (rk, arm): ([f64; 2], [f64; 2]),
+    x: &mut [f64],
+    y: &mut [f64],
+    th: &mut [f64],
 ) {
+    let n = x.len();
     // rows cut to n: no bounds checks in the loop
     let ([kx, ky, kt], bt) = (k.map(|r| &r[..n]), &b[2][..n]);
-    let [x, y, th] = rows;
-    let (x, y, th) = (&mut x[..n], &mut y[..n], &mut th[..n]);
+    let (y, th) = (&mut y[..n], &mut th[..n]);
     for j in 0..n {
         // the terms of a side that does not move left out (a product with 0 is not 0)
         let (mut dx, mut dy, mut dth) = (0.0, 0.0, 0.0);

@@ -340,7 +340,12 @@ impl Rrr {
             (true, true) => lin.known::<true, true>(n, a_rows, c_rows, o1, o2),
             (true, false) => lin.known::<true, false>(n, a_rows, c_rows, o1, o2),
             (false, true) => lin.known::<false, true>(n, a_rows, c_rows, o1, o2),
-            (false, false) => lin.known::<false, false>(n, a_rows, c_rows, o1, o2),
+            // nothing moves the dyad's known sides
+            (false, false) => {
+                for row in o1.iter_mut().chain(o2.into_iter().flatten()) {
+                    row.fill(0.0);
+                }
+            }
         }
         // each parameter's own moves of the links' pins
         let (m1, m2) = (sub(l1.u_middle, l1.u_outer), sub(l2.u_middle, l2.u_outer));
@@ -438,18 +443,12 @@ impl Lin {
             let dc = if C { [x2[j] - self.rc[1] * t2[j], y2[j] + self.rc[0] * t2[j]] } else { [-0.0; 2] };
             (da, dc)
         };
-        let ([a1, a2], [b1, b2]) = (self.arm1, self.arm2);
+        let [a1, a2] = self.arm1;
         let [bx1, by1, bt1] = out1;
         let (bx1, by1, bt1) = (&mut bx1[..n], &mut by1[..n], &mut bt1[..n]);
         match out2 {
             Some([bx2, by2, bt2]) => {
-                let (bx2, by2, bt2) = (&mut bx2[..n], &mut by2[..n], &mut bt2[..n]);
-                for j in 0..n {
-                    let (da, dc) = moves(j);
-                    let (th1, th2) = self.angles::<A, C>(da, dc);
-                    [bx1[j], by1[j], bt1[j]] = [da[0] + a2 * th1, da[1] - a1 * th1, th1];
-                    [bx2[j], by2[j], bt2[j]] = [dc[0] + b2 * th2, dc[1] - b1 * th2, th2];
-                }
+                self.both::<A, C>([x1, y1, t1, x2, y2, t2], bx1, by1, bt1, bx2, by2, bt2)
             }
             None => {
                 for j in 0..n {
@@ -458,6 +457,36 @@ impl Lin {
                     [bx1[j], by1[j], bt1[j]] = [da[0] + a2 * th1, da[1] - a1 * th1, th1];
                 }
             }
+        }
+    }
+
+    /// `known` for both bodies, each output row a reference of its own (an argument by
+    /// itself, not in a tuple or array), which the compiler then knows not to overlap the
+    /// others: it may take several parameters at once.
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn both<const A: bool, const C: bool>(
+        &self,
+        ins: [&[f64]; 6],
+        bx1: &mut [f64],
+        by1: &mut [f64],
+        bt1: &mut [f64],
+        bx2: &mut [f64],
+        by2: &mut [f64],
+        bt2: &mut [f64],
+    ) {
+        let n = bx1.len();
+        // every row cut to n: no bounds checks in the loop
+        let [x1, y1, t1, x2, y2, t2] = ins.map(|r| &r[..n]);
+        let (by1, bt1, bx2, by2, bt2) =
+            (&mut by1[..n], &mut bt1[..n], &mut bx2[..n], &mut by2[..n], &mut bt2[..n]);
+        let ([a1, a2], [b1, b2]) = (self.arm1, self.arm2);
+        for j in 0..n {
+            let da = if A { [x1[j] - self.ra[1] * t1[j], y1[j] + self.ra[0] * t1[j]] } else { [-0.0; 2] };
+            let dc = if C { [x2[j] - self.rc[1] * t2[j], y2[j] + self.rc[0] * t2[j]] } else { [-0.0; 2] };
+            let (th1, th2) = self.angles::<A, C>(da, dc);
+            [bx1[j], by1[j], bt1[j]] = [da[0] + a2 * th1, da[1] - a1 * th1, th1];
+            [bx2[j], by2[j], bt2[j]] = [dc[0] + b2 * th2, dc[1] - b1 * th2, th2];
         }
     }
 }
