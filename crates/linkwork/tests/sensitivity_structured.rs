@@ -100,8 +100,8 @@ fn with_point(mut d: Description, body: &str, at: [f64; 2]) -> Description {
 // Tolerance: both paths solve the same linear equations at the same q, the general one
 // by a pivoted LU of the scaled Phi_q, the structured one by 2 x 2 Cramer's rule group by
 // group, so they differ by round-off times the conditioning, which these sweeps keep
-// moderate (no step within NEAR_SINGULAR: `general_steps` is 0). Measured: 3e-15 of each
-// parameter's largest entry; 4.4e-13 for the columns that are round-off alone (1e-16 held
+// moderate (no step within NEAR_SINGULAR: `general_steps` is 0). Measured: 9e-15 of each
+// parameter's largest entry; 5e-13 for the columns that are round-off alone (1e-16 held
 // to 1e-3 of the array's largest entry). A wrong term in any block is off by O(1).
 const TOL: f64 = 1e-12;
 
@@ -184,6 +184,8 @@ fn slider_crank_and_inverted_sliders() {
         let times: Vec<f64> = (0..61).map(|k| 0.4 * k as f64 / 60.0).collect();
         let label = format!("slider on the crank, line in {side_a}");
         agree(&label, &model, &times, &Parameter::all(&model), TOL);
+        let off = from_json(&off_pins_json(desc.clone()));
+        agree(&format!("{label}, frames off the pins"), &off, &times, &Parameter::all(&off), TOL);
         // (the slide's own place moves nothing: its line and its sliding point move together)
         let params: Vec<Parameter> = ["joints.B.at.0", "joints.G.at.1"]
             .iter()
@@ -308,4 +310,99 @@ fn steps_next_to_a_singular_configuration_go_to_the_general_path() {
     want.drain(at);
     let worst = relative_errors(&got, &want, params.len()).into_iter().fold(0.0f64, f64::max);
     assert!(worst <= TOL, "worst relative error {worst:e}");
+}
+
+#[test]
+fn a_crank_on_a_moving_arm() {
+    // an arm turned about the origin carries a crank at its tip, turned relative to the arm
+    // (or absolutely); an RRR dyad closes the crank's tip to the ground pivot O4: the crank's
+    // pin and, in the first case, its angle's base move with the arm
+    let (tha, phi, arm, crank, coupler, rocker, o4) = (0.3f64, 0.5f64, 0.1, 0.08, 0.35, 0.3, [0.35, 0.0]);
+    let p = [arm * tha.cos(), arm * tha.sin()];
+    let q = [p[0] + crank * (tha + phi).cos(), p[1] + crank * (tha + phi).sin()];
+    // B: circles (Q, coupler) and (O4, rocker), left of Q -> O4
+    let (dx, dy) = (o4[0] - q[0], o4[1] - q[1]);
+    let d = dx.hypot(dy);
+    let along = (coupler * coupler - rocker * rocker + d * d) / (2.0 * d);
+    let up = (coupler * coupler - along * along).sqrt();
+    let b = [q[0] + (along * dx - up * dy) / d, q[1] + (along * dy + up * dx) / d];
+    let angle = |from: [f64; 2], to: [f64; 2]| (to[1] - from[1]).atan2(to[0] - from[0]);
+    let linear = |value: f64, rate: f64| json!({"type": "linear", "value": value, "rate": rate});
+    for relative in [true, false] {
+        let crank_driver = if relative {
+            json!({"type": "relative_angle", "name": "turn", "body_a": "arm", "body_b": "crank", "law": linear(phi, 3.0)})
+        } else {
+            json!({"type": "angle", "name": "turn", "body": "crank", "law": linear(tha + phi, 4.0)})
+        };
+        let desc = json!({
+            "bodies": [
+                {"name": "arm", "x": 0.0, "y": 0.0, "theta": tha},
+                // the crank's origin at its tip, away from its pin: its pin's arm turns too
+                {"name": "crank", "x": q[0], "y": q[1], "theta": tha + phi},
+                {"name": "coupler", "x": q[0], "y": q[1], "theta": angle(q, b)},
+                {"name": "rocker", "x": o4[0], "y": o4[1], "theta": angle(o4, b)},
+            ],
+            "joints": [
+                {"type": "revolute", "name": "O", "body_a": "ground", "body_b": "arm", "at": [0.0, 0.0]},
+                {"type": "revolute", "name": "P", "body_a": "arm", "body_b": "crank", "at": p},
+                {"type": "revolute", "name": "Q", "body_a": "crank", "body_b": "coupler", "at": q},
+                {"type": "revolute", "name": "B", "body_a": "coupler", "body_b": "rocker", "at": b},
+                {"type": "revolute", "name": "O4", "body_a": "rocker", "body_b": "ground", "at": o4},
+            ],
+            "drivers": [{"type": "angle", "name": "swing", "body": "arm", "law": linear(tha, 1.0)}, crank_driver],
+        });
+        let model = from_json(&desc);
+        let times: Vec<f64> = (0..61).map(|k| 1.5 * k as f64 / 60.0).collect();
+        let label = if relative { "crank turned relative to its arm" } else { "crank on an arm" };
+        agree(label, &model, &times, &Parameter::all(&model), TOL);
+    }
+}
+
+/// The description with every body's frame drawn away from its pins (shifted and turned):
+/// the same mechanism, whose pins now have arms in their bodies.
+fn off_pins(mut d: Description) -> Description {
+    for (k, b) in d.bodies.iter_mut().enumerate() {
+        let k = k as f64 + 1.0;
+        (b.x, b.y, b.theta) = (b.x + 0.03 * k, b.y - 0.02 * k, b.theta + 0.4 * k);
+    }
+    d
+}
+
+fn off_pins_json(mut d: Value) -> Value {
+    for (k, b) in d["bodies"].as_array_mut().unwrap().iter_mut().enumerate() {
+        let k = k as f64 + 1.0;
+        for (key, by) in [("x", 0.03 * k), ("y", -0.02 * k), ("theta", 0.4 * k)] {
+            b[key] = json!(b[key].as_f64().unwrap() + by);
+        }
+    }
+    d
+}
+
+#[test]
+fn bodies_drawn_away_from_their_pins() {
+    // every pin then has an arm in its body, which each block's derivative turns
+    let times = turn(91);
+    for (label, desc) in [
+        ("four-bar", four_bar(&TEXTBOOK, 0.0, 5.0)),
+        ("slider-crank", slider_crank(&SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 }, 0.0, 5.0)),
+        ("Stephenson six-bar", six_bar_stephenson(0.0, 5.0)),
+        ("chain", chain(&TEXTBOOK, 3, 0.0, 5.0, -0.8644, 0.5)),
+    ] {
+        let model = Model::new(off_pins(desc)).unwrap();
+        agree(&format!("{label}, frames off the pins"), &model, &times, &Parameter::all(&model), TOL);
+    }
+    let (a, b) = ([0.2 * 0.3f64.cos(), 0.2 * 0.3f64.sin()], [0.517365536421962, 0.1857115430397069]);
+    let tie_rod = json!({
+        "bodies": [{"name": "crank", "x": 0.0, "y": 0.0, "theta": 0.3},
+                   {"name": "rocker", "x": 0.35, "y": 0.0, "theta": 2.2}],
+        "joints": [
+            {"type": "revolute", "name": "O2", "body_a": "ground", "body_b": "crank", "at": [0.0, 0.0]},
+            {"type": "revolute", "name": "O4", "body_a": "ground", "body_b": "rocker", "at": [0.35, 0.0]},
+            {"type": "distance", "name": "AB", "body_a": "crank", "at_a": a, "body_b": "rocker", "at_b": b},
+        ],
+        "drivers": [{"type": "angle", "name": "input", "body": "crank",
+                     "law": {"type": "linear", "value": 0.3, "rate": 5.0}}],
+    });
+    let model = from_json(&off_pins_json(tie_rod));
+    agree("tie rod, frames off the pins", &model, &times, &Parameter::all(&model), TOL);
 }

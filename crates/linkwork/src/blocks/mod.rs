@@ -78,9 +78,7 @@ impl Block {
             Block::Newton(b) => format!("Newton on its own {n} x {n} block", n = b.n),
         }
     }
-}
 
-impl Block {
     /// The group's kind in a word or two, for messages.
     pub fn name(&self) -> &'static str {
         match self {
@@ -218,8 +216,9 @@ pub(crate) fn add_move(rows: &mut BodyRows, j: usize, w: f64, d: [f64; 3]) {
 /// `entries[block]`. Each block's derivative is linear in its known sides' moves and its
 /// numbers': its coefficients are formed once a step, then applied to the known sides'
 /// rows for every parameter, and to each parameter's own moves (`entries`). `zeros`: n
-/// zeros (the ground's rows: it does not move). Err where a group is within `NEAR_SINGULAR` of its singular configuration (its 2 x 2
-/// system is then as ill-conditioned as Phi_q: the general path solves that step).
+/// zeros (the ground's rows: it does not move). Err where a group is within
+/// `NEAR_SINGULAR` of its singular configuration (its 2 x 2 system is then as
+/// ill-conditioned as Phi_q: the general path solves that step).
 #[allow(clippy::too_many_arguments)]
 pub fn tangents(
     model: &Model,
