@@ -93,6 +93,28 @@ def test_the_sweep_comes_with_them_and_a_column_reads_one_coordinate():
         s.column("rocker.phi")
 
 
+def test_positions_alone_take_the_structured_path_and_agree():
+    # dq/dp alone of a crank and a dyad: each group's closed form differentiated, against
+    # the general path (every derivative, checked against differences above) at the same
+    # steps; both solve the same equations, so they agree to round-off (1e-12 of each
+    # parameter's largest entry)
+    times = np.linspace(0.0, TURN, 41)
+    m = lw.Model(four_bar())
+    s0 = m.sensitivities(times, PARAMS, derivatives=0)
+    s2 = m.sensitivities(times, PARAMS)
+    assert (s0.path, s0.general_steps, s0.derivatives) == ("structured", 0, 0), s0.path_reason
+    assert (s2.path, s2.derivatives) == ("general", 2) and "dqd/dp" in s2.path_reason
+    assert s0.dqd is None and s0.dqdd is None and s0.points_d == {} and s0.results.qd is None
+    assert np.array_equal(s0.results.q, s2.results.q)
+    for got, want in [(s0.dq, s2.dq), (s0.points["P"], s2.points["P"])]:
+        scale = np.maximum(np.abs(want).max(axis=(0, 1)), 1e-3 * np.abs(want).max())
+        assert np.all(np.abs(got - want).max(axis=(0, 1)) <= 1e-12 * scale)
+    with pytest.raises(lw.ParameterError, match="derivatives=0"):
+        s0.column("rocker.theta", derivative=1)
+    with pytest.raises(lw.InputError, match="derivatives"):
+        m.sensitivities(times, PARAMS, derivatives=3)
+
+
 @pytest.mark.parametrize(
     "name, says",
     [

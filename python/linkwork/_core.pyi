@@ -58,6 +58,7 @@ def sensitivities(
     points: list[tuple[int, float, float, int]] | None = None,
     progress: Callable[[int, int], Any] | None = None,
     progress_every: int = 0,
+    derivatives: int = 2,
     efforts: bool = False,
 ) -> tuple[dict[str, Any], BaseException | None]: ...
 def sweep_variants(

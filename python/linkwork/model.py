@@ -515,6 +515,7 @@ class Model:
         points: Sequence[str] | None = None,
         q_guess: Sequence[float] | np.ndarray | None = None,
         progress: Callable[[int, int], Any] | bool | None = None,
+        derivatives: int = 2,
         efforts: bool = False,
     ) -> Any:
         """A sweep over ``times`` and, at every step, the exact sensitivities of the
@@ -522,19 +523,23 @@ class Model:
         n_coords x n_params) and of the named ``points`` (default: all) to the design
         ``parameters``, named as in `linkwork.study.parameters` (``joints.B.at.0``,
         ``drivers.crank_angle.law.rate``, ``pin A@crank.x``, ``length crank``, ``ratio
-        G1``, ``mass coupler``, ...). From the implicit function theorem on the
-        factorization of Phi_q at each solved step, every joint's rows differentiated
-        exactly: no differences. With ``efforts=True`` the sweep solves the inverse
-        dynamics too (its ``results`` has the forces) and the multipliers' sensitivities
-        follow, dlambda/dp (n_steps x n_rows x n_params), and each driver's effort's
-        (``.effort(driver)``); masses, inertias, centres of mass, gravity and the loads'
-        numbers move those alone. The GIL is released meanwhile. A parameter that is not
-        one of the engine's numbers (see `linkwork.study.sensitivities`) raises
-        `ParameterError` naming it. Returns a `linkwork.study.Sensitivities`.
+        G1``, ``mass coupler``, ...). ``derivatives``: 0 for dq/dp alone (and the sweep's
+        positions), 1 with dqd/dp, 2 (the default) with dqdd/dp too. The implicit function
+        theorem, every joint's rows differentiated exactly: no differences. dq/dp alone of
+        a mechanism of cranks and dyads is solved group by group, each closed form
+        differentiated (``path`` "structured"); otherwise on the factorization of Phi_q at
+        each solved step ("general"). With ``efforts=True`` (and derivatives 2) the sweep
+        solves the inverse dynamics too (its ``results`` has the forces) and the
+        multipliers' sensitivities follow, dlambda/dp (n_steps x n_rows x n_params), and
+        each driver's effort's (``.effort(driver)``); masses, inertias, centres of mass,
+        gravity and the loads' numbers move those alone. The GIL is released meanwhile. A
+        parameter that is not one of the engine's numbers (see
+        `linkwork.study.sensitivities`) raises `ParameterError` naming it. Returns a
+        `linkwork.study.Sensitivities` (its ``results`` is the sweep).
         """
         from .study.sensitivities import sensitivities
 
-        return sensitivities(self, times, parameters, points, q_guess, progress, efforts)
+        return sensitivities(self, times, parameters, points, q_guess, progress, derivatives, efforts)
 
 
 @dataclass(frozen=True)

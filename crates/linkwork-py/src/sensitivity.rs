@@ -1,6 +1,8 @@
 //! Exact sensitivities of a sweep to design parameters, as NumPy arrays.
 
-use linkwork::sensitivity::{sensitivity_sweep, Parameter, PointRequest, SensitivityOutput};
+use linkwork::sensitivity::{
+    sensitivity_sweep, Parameter, PointRequest, SensitivityOutput, SensitivityRequest,
+};
 use linkwork::Data;
 use numpy::ndarray::{Array3, Array4};
 use numpy::{IntoPyArray, PyReadonlyArray1};
@@ -11,17 +13,20 @@ use crate::{guard, laws, output_dict, poll_progress, InputError, PyModel};
 
 pyo3::import_exception!(linkwork.errors, ParameterError);
 
-/// Sweeps `times` and solves, at every step, dq/dp, dqd/dp and dqdd/dp for each named
-/// parameter (description paths or engine names), and the world position, velocity and
-/// acceleration sensitivities of `points` ((body index, -1 the ground; u_x, u_y; named
-/// point index or -1)). With `efforts`, the sweep solves the inverse dynamics too and
-/// dlambda/dp follows. The GIL is released meanwhile. Returns (dict, error or None): the
-/// sweep's outputs (its forces with `efforts`) and "names", "nominal", "dq", "dqd", "dqdd"
-/// (n_steps x n_coords x n_params), "points", "points_d", "points_dd" (n_steps x n_points
-/// x 2 x n_params) and, with `efforts`, "dlambda" (n_steps x n_rows x n_params), the
-/// steps before a failure kept.
+/// Sweeps `times` and solves, at every step, dq/dp (and with `derivatives` 1 dqd/dp, 2
+/// dqdd/dp too) for each named parameter (description paths or engine names), and the
+/// world position (velocity, acceleration) sensitivities of `points` ((body index, -1 the
+/// ground; u_x, u_y; named point index or -1)). With `efforts` (derivatives 2), the sweep
+/// solves the inverse dynamics too and dlambda/dp follows. The GIL is released meanwhile.
+/// Returns (dict, error or None): the sweep's outputs (its forces with `efforts`) and
+/// "names", "nominal", "dq", "dqd", "dqdd" (n_steps x n_coords x n_params; None where not
+/// asked for), "sens_points", "sens_points_d", "sens_points_dd" (n_steps x n_points x 2 x
+/// n_params; None likewise), with `efforts` "dlambda" (n_steps x n_rows x n_params),
+/// "derivatives", the "path" that solved them ("structured" or "general"), "path_reason"
+/// and "general_steps", the steps before a failure kept.
 #[pyfunction]
-#[pyo3(signature = (model, times, parameters, q_guess=None, points=None, progress=None, progress_every=0, efforts=false))]
+#[pyo3(signature = (model, times, parameters, q_guess=None, points=None, progress=None, progress_every=0,
+                    derivatives=2, efforts=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sensitivities<'py>(
     py: Python<'py>,
@@ -32,8 +37,12 @@ pub(crate) fn sensitivities<'py>(
     points: Option<Vec<(i64, f64, f64, i64)>>,
     progress: Option<Py<PyAny>>,
     progress_every: usize,
+    derivatives: u8,
     efforts: bool,
 ) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
+    if derivatives > 2 {
+        return Err(InputError::new_err(format!("derivatives must be 0, 1 or 2, not {derivatives}")));
+    }
     let m = std::sync::Arc::clone(&model.model);
     let params = parameters
         .iter()
@@ -60,10 +69,16 @@ pub(crate) fn sensitivities<'py>(
     let times = times.as_slice()?;
     let mut data = Data::new(&m);
     data.q = model.start_q(py, q_guess, times)?;
+    if efforts && derivatives != 2 {
+        return Err(InputError::new_err(format!(
+            "the efforts' sensitivities need dqdd/dp: derivatives=2 with efforts=True, not {derivatives}"
+        )));
+    }
+    let request = SensitivityRequest { derivatives, ..SensitivityRequest::default() };
     let mut out = if efforts {
         SensitivityOutput::with_efforts(&m, times, &params, requests.len())
     } else {
-        SensitivityOutput::new(&m, times, &params, requests.len())
+        SensitivityOutput::with_request(&m, times, &params, requests.len(), request)
     };
     let total = times.len();
     laws::clear(&model.failures);
@@ -95,7 +110,11 @@ pub(crate) fn sensitivities<'py>(
         names,
         n_params,
         n_points,
+        request,
         n_done,
+        path,
+        path_reason,
+        general_steps,
         dq,
         dqd,
         dqdd,
@@ -108,24 +127,35 @@ pub(crate) fn sensitivities<'py>(
     sweep.truncate();
     let nc = m.n_coords;
     let d = output_dict(py, sweep)?;
-    let per_step = |mut v: Vec<f64>| {
-        v.truncate(n_done * nc * n_params);
-        Array3::from_shape_vec((n_done, nc, n_params), v).expect("steps x coords x params").into_pyarray(py)
+    // an array of a derivative not asked for is empty: None
+    let per_step = |mut v: Vec<f64>, order: u8| {
+        (request.derivatives >= order).then(|| {
+            v.truncate(n_done * nc * n_params);
+            Array3::from_shape_vec((n_done, nc, n_params), v)
+                .expect("steps x coords x params")
+                .into_pyarray(py)
+        })
     };
-    let per_point = |mut v: Vec<f64>| {
-        v.truncate(n_done * n_points * 2 * n_params);
-        Array4::from_shape_vec((n_done, n_points, 2, n_params), v)
-            .expect("steps x points x 2 x params")
-            .into_pyarray(py)
+    let per_point = |mut v: Vec<f64>, order: u8| {
+        (request.derivatives >= order).then(|| {
+            v.truncate(n_done * n_points * 2 * n_params);
+            Array4::from_shape_vec((n_done, n_points, 2, n_params), v)
+                .expect("steps x points x 2 x params")
+                .into_pyarray(py)
+        })
     };
     d.set_item("names", names)?;
     d.set_item("nominal", params.iter().map(|p| p.nominal).collect::<Vec<f64>>())?;
-    d.set_item("dq", per_step(dq))?;
-    d.set_item("dqd", per_step(dqd))?;
-    d.set_item("dqdd", per_step(dqdd))?;
-    d.set_item("sens_points", per_point(points))?;
-    d.set_item("sens_points_d", per_point(points_d))?;
-    d.set_item("sens_points_dd", per_point(points_dd))?;
+    d.set_item("dq", per_step(dq, 0))?;
+    d.set_item("dqd", per_step(dqd, 1))?;
+    d.set_item("dqdd", per_step(dqdd, 2))?;
+    d.set_item("sens_points", per_point(points, 0))?;
+    d.set_item("sens_points_d", per_point(points_d, 1))?;
+    d.set_item("sens_points_dd", per_point(points_dd, 2))?;
+    d.set_item("derivatives", request.derivatives)?;
+    d.set_item("path", path.label())?;
+    d.set_item("path_reason", path_reason)?;
+    d.set_item("general_steps", general_steps)?;
     if efforts {
         let nr = m.n_rows;
         let mut v = dlambda;

@@ -413,17 +413,36 @@ pub fn sweep(
     progress_every: usize,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<(), SolveError> {
+    sweep_observed(model, data, times, out, progress_every, progress, &mut |_, _, _| Ok(()))
+}
+
+/// What `sweep_observed` calls after each kept row: (data at the step, its time, the row).
+pub(crate) type Observer<'a> = dyn FnMut(&Data, f64, usize) -> Result<(), SolveError> + 'a;
+
+/// `sweep`, calling `after(data, t, row)` once row `row` is stored, while data holds its
+/// step (q, qd, qdd as solved; with a plan, the frames of q too: the groups set them, or
+/// `blocks::resync` after the general path). An Err from `after` stops the sweep there.
+pub(crate) fn sweep_observed(
+    model: &Model,
+    data: &mut Data,
+    times: &[f64],
+    out: &mut SweepOutput,
+    progress_every: usize,
+    progress: &mut dyn FnMut(usize) -> bool,
+    after: &mut Observer,
+) -> Result<(), SolveError> {
     check_times(model, times)?;
     let req = out.request;
     out.n_done = 0;
     out.events.clear();
     data.with_velocity = solved_derivatives(model, &req) >= 1;
     let mut tracker = Tracker::new(model, req.on_singular, req.locks);
-    let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress);
+    let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress, after);
     out.events = std::mem::take(&mut tracker.events);
     result
 }
 
+#[allow(clippy::too_many_arguments)]
 fn sweep_steps(
     model: &Model,
     data: &mut Data,
@@ -432,6 +451,7 @@ fn sweep_steps(
     tracker: &mut Tracker,
     progress_every: usize,
     progress: &mut dyn FnMut(usize) -> bool,
+    after: &mut Observer,
 ) -> Result<(), SolveError> {
     let req = out.request;
     // the structure-aware cheap path, where the model has a plan
@@ -603,6 +623,7 @@ fn sweep_steps(
             out.det_sign[row] = info.det_sign;
             out.n_done = row + 1;
             (iterations, residual, pivot_ratio) = (0, 0.0, f64::INFINITY);
+            after(data, t, row)?;
         }
     }
     Ok(())

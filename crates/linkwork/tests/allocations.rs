@@ -1,10 +1,14 @@
 //! The per-step loop allocates nothing: a sweep of 2,000 steps makes exactly as many
 //! heap allocations as a sweep of 20 (all of them before the loop or at the first
 //! factorization), counted by a global allocator, per thread; the fixed-sequence LU keeps
-//! its first pivot sequence through them.
+//! its first pivot sequence through them. Likewise a sweep with its sensitivities, on
+//! either path.
 
 mod common;
 use common::*;
+use linkwork::sensitivity::{
+    sensitivity_sweep, Parameter, SensitivityOutput, SensitivityPath, SensitivityRequest,
+};
 use linkwork::{sweep, Data, LinearKind, Model, Options, SweepOutput};
 
 #[path = "common/counting.rs"]
@@ -55,5 +59,36 @@ fn the_fixed_pivot_sequence_replays_without_allocating() {
         let (many, choices_many) = allocations_and_pivot_choices(&model, 2_000);
         assert_eq!((choices_few, choices_many), (1, 1), "{name}: pivots chosen more than once");
         assert_eq!(few, many, "{name}: {few} allocations for 20 steps, {many} for 2000");
+    }
+}
+
+/// Allocations of a sweep of n steps of 1 ms with the sensitivities `request` asks for, to
+/// every engine parameter, and the path that solved them.
+fn allocations_of_sensitivities(
+    model: &Model,
+    request: SensitivityRequest,
+    n: usize,
+) -> (usize, SensitivityPath) {
+    let times: Vec<f64> = (0..n).map(|k| k as f64 * 1e-3).collect();
+    let params = Parameter::all(model);
+    let mut data = Data::new(model);
+    let mut out = SensitivityOutput::with_request(model, &times, &params, 0, request);
+    let before = allocations();
+    sensitivity_sweep(model, &mut data, &times, &params, &[], &mut out, 0, &mut |_| true).unwrap();
+    (allocations() - before, out.path)
+}
+
+#[test]
+fn the_sensitivity_loop_allocates_nothing_per_step() {
+    let desc = four_bar(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 0.0, 5.0);
+    let model = Model::new(desc).unwrap();
+    let structured = SensitivityRequest { derivatives: 0, general: false };
+    for (request, path) in
+        [(structured, SensitivityPath::Structured), (SensitivityRequest::default(), SensitivityPath::General)]
+    {
+        let (few, p) = allocations_of_sensitivities(&model, request, 20);
+        let (many, _) = allocations_of_sensitivities(&model, request, 2_000);
+        assert_eq!(p, path);
+        assert_eq!(few, many, "{path:?}: {few} allocations for 20 steps, {many} for 2000");
     }
 }

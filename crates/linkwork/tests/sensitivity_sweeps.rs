@@ -1,7 +1,8 @@
 //! Exact sensitivities of whole sweeps (dq/dp, dqd/dp, dqdd/dp and the points') against
 //! differences of whole sweeps with the parameter moved, on mechanisms that hold every
 //! joint type and every driver kind, for every engine parameter they have
-//! (`Parameter::all`), and for the description paths a study names.
+//! (`Parameter::all`), and for the description paths a study names; and dq/dp alone (the
+//! positions' sensitivities, on the structured path where the model's groups allow it).
 //!
 //! The differences are the fourth-order central ones, (f(-2h) - 8 f(-h) + 8 f(h) -
 //! f(2h)) / 12h, with h = 1e-4 (1e-4 of the model's size for lengths): truncation
@@ -11,7 +12,9 @@
 //! absolute floor of 1e-9 for the sensitivities that vanish).
 
 use linkwork::joints::Constraint;
-use linkwork::sensitivity::{sensitivity_sweep, Parameter, PointRequest, SensitivityOutput};
+use linkwork::sensitivity::{
+    sensitivity_sweep, Parameter, PointRequest, SensitivityOutput, SensitivityPath, SensitivityRequest,
+};
 use linkwork::{Data, Model, Options, SolverKind};
 use serde_json::{json, Value};
 
@@ -116,6 +119,10 @@ fn compare(
         (&out.points_dd, np2),
     ];
     for (a, (v, m)) in arrays.iter().enumerate() {
+        // a derivative not asked for
+        if v.is_empty() {
+            continue;
+        }
         for i in 0..*m {
             let got = v[(k * m + i) * n + j];
             let want = fd[a][i];
@@ -142,6 +149,14 @@ fn check(label: &str, desc: Value, times: &[f64], paths: &[&str]) {
     let mut out = SensitivityOutput::new(&model, times, &params, pts.len());
     sensitivity_sweep(&model, &mut data, times, &params, &pts, &mut out, 0, &mut |_| true).unwrap();
     assert_eq!(out.n_done, times.len());
+    assert_eq!(out.path, SensitivityPath::General, "{label}: {}", out.path_reason);
+    // dq/dp alone: the structured path where every group is a crank or a dyad
+    let mut data = Data::new(&model);
+    let request = SensitivityRequest { derivatives: 0, ..SensitivityRequest::default() };
+    let mut out0 = SensitivityOutput::with_request(&model, times, &params, pts.len(), request);
+    sensitivity_sweep(&model, &mut data, times, &params, &pts, &mut out0, 0, &mut |_| true).unwrap();
+    assert_eq!(out0.n_done, times.len());
+    assert!(out0.dqd.is_empty() && out0.points_dd.is_empty(), "{label}: rates solved unasked");
     let size = model.length_scale;
     for (j, p) in params.iter().enumerate() {
         let h = 1e-4 * if p.nominal.abs() > 0.0 { p.nominal.abs().max(0.1 * size) } else { size };
@@ -156,10 +171,11 @@ fn check(label: &str, desc: Value, times: &[f64], paths: &[&str]) {
             }
         };
         let fd = differences(&moved, h, times);
-        let mut worst = [0.0f64; 6];
+        let (mut worst, mut worst0) = ([0.0f64; 6], [0.0f64; 6]);
         let mut scale = [0.0f64; 6];
         for (k, row) in fd.iter().enumerate() {
             compare(&format!("{label} {}", p.name), &out, j, row, k, &mut worst);
+            compare(&format!("{label} {}, positions only", p.name), &out0, j, row, k, &mut worst0);
             for a in 0..6 {
                 scale[a] = scale[a].max(row[a].iter().fold(0.0f64, |m, x| m.max(x.abs())));
             }
@@ -171,6 +187,14 @@ fn check(label: &str, desc: Value, times: &[f64], paths: &[&str]) {
                 "{label}: d{what}/d{}: worst error {:e} against differences as large as {:e}",
                 p.name,
                 worst[a],
+                scale[a]
+            );
+            assert!(
+                worst0[a] <= 1e-8 * scale[a] + 1e-9,
+                "{label}: d{what}/d{} alone ({} path): worst error {:e} against differences as large as {:e}",
+                p.name,
+                out0.path.label(),
+                worst0[a],
                 scale[a]
             );
         }

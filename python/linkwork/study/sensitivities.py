@@ -56,32 +56,45 @@ __all__ = ["Sensitivities", "sensitivities", "engine_directions"]
 class Sensitivities:
     """A sweep's exact sensitivities: ``names`` (the parameters, as given), ``nominal``,
     ``columns`` (the model's coordinates), ``times``, ``dq``, ``dqd``, ``dqdd`` (n_steps x
-    n_coords x n_params), ``points`` (name -> n_steps x 2 x n_params, the world position's;
-    ``points_d`` and ``points_dd`` the velocity's and acceleration's) and ``results`` (the
-    sweep itself, with its forces when ``efforts=True``). With ``efforts=True``:
-    ``dlambda`` (n_steps x n_rows x n_params, the multipliers') and ``efforts`` (driver
-    name -> n_steps x n_params, d `Results.effort` / dp); otherwise None and empty."""
+    n_coords x n_params; ``dqd`` and ``dqdd`` None unless ``derivatives`` asked for them),
+    ``points`` (name -> n_steps x 2 x n_params, the world position's; ``points_d`` and
+    ``points_dd`` the velocity's and acceleration's, empty unless asked for), ``results``
+    (the sweep itself), ``derivatives`` (0, 1 or 2), and how they were solved: ``path``
+    ("structured": each group of the mechanism's closed form differentiated, for dq/dp of
+    cranks and dyads; "general": Phi_q factored at every step), ``path_reason``, and
+    ``general_steps`` (on the structured path, the steps next to a singular configuration
+    the general path solved). With ``efforts=True``: ``dlambda`` (n_steps x n_rows x
+    n_params, the multipliers') and ``efforts`` (driver name -> n_steps x n_params, d
+    `Results.effort` / dp), and ``results`` has its forces; otherwise None and empty."""
 
     names: list[str]
     nominal: list[float]
     columns: list[str]
     times: np.ndarray
     dq: np.ndarray = field(repr=False)
-    dqd: np.ndarray = field(repr=False)
-    dqdd: np.ndarray = field(repr=False)
+    dqd: np.ndarray | None = field(repr=False)
+    dqdd: np.ndarray | None = field(repr=False)
     points: dict[str, np.ndarray] = field(repr=False)
     points_d: dict[str, np.ndarray] = field(repr=False)
     points_dd: dict[str, np.ndarray] = field(repr=False)
     results: Results = field(repr=False)
     dlambda: np.ndarray | None = field(default=None, repr=False)
     efforts: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    derivatives: int = 2
+    path: str = "general"
+    path_reason: str = ""
+    general_steps: int = 0
 
     def column(self, name: str, derivative: int = 0) -> np.ndarray:
         """n_steps x n_params: the sensitivities of one coordinate ("rocker.theta"), of
         its rate (``derivative=1``) or its acceleration (2)."""
         if name not in self.columns:
             raise ParameterError(f"no coordinate {name!r}; the coordinates are {', '.join(self.columns)}")
-        return (self.dq, self.dqd, self.dqdd)[derivative][:, self.columns.index(name), :]
+        a = (self.dq, self.dqd, self.dqdd)[derivative]
+        if a is None:
+            solved = f"derivatives={self.derivatives}"
+            raise ParameterError(f"derivative {derivative} of the sensitivities was not solved ({solved})")
+        return a[:, self.columns.index(name), :]
 
     def effort(self, driver: str) -> np.ndarray:
         """n_steps x n_params: the sensitivities of a driver's effort (the torque or force
@@ -143,6 +156,7 @@ def sensitivities(
     points: Sequence[str] | None = None,
     q_guess: Any = None,
     progress: Callable[[int, int], Any] | bool | None = None,
+    derivatives: int = 2,
     efforts: bool = False,
 ) -> Sensitivities:
     """See `Model.sensitivities`."""
@@ -151,6 +165,7 @@ def sensitivities(
     from ..results import Results
 
     t = _args.times(times)
+    derivatives = _args.integer(derivatives, "derivatives", 0, 2)
     params = parameters(model.description, names)
     directions = [engine_directions(model, p) for p in params]
     engine = sorted({k for d in directions for k in d})
@@ -174,6 +189,7 @@ def sensitivities(
             requests,
             callback,
             check if callback else 0,
+            derivatives,
             bool(efforts),
         )
     except ParameterError as e:
@@ -186,12 +202,18 @@ def sensitivities(
         for path, w in d.items():
             weights[engine.index(path), j] = w
 
-    def combine(a: np.ndarray) -> np.ndarray:
-        return np.asarray(a @ weights)
+    def combine(a: np.ndarray | None) -> np.ndarray | None:
+        # a derivative not asked for: None
+        return None if a is None else np.asarray(a @ weights)
 
     dq, dqd, dqdd = (combine(raw[k]) for k in ("dq", "dqd", "dqdd"))
     pts = [combine(raw[k]) for k in ("sens_points", "sens_points_d", "sens_points_dd")]
+
+    def per_point(a: np.ndarray | None) -> dict[str, np.ndarray]:
+        return {} if a is None else {n: a[:, i] for i, n in enumerate(wanted)}
+
     results = Results(model, raw, None)
+    assert dq is not None  # the positions' are always solved
     dlambda = combine(raw["dlambda"]) if efforts else None
     drivers: dict[str, np.ndarray] = {}
     if dlambda is not None:
@@ -205,12 +227,16 @@ def sensitivities(
         dq,
         dqd,
         dqdd,
-        {n: pts[0][:, i] for i, n in enumerate(wanted)},
-        {n: pts[1][:, i] for i, n in enumerate(wanted)},
-        {n: pts[2][:, i] for i, n in enumerate(wanted)},
+        per_point(pts[0]),
+        per_point(pts[1]),
+        per_point(pts[2]),
         results,
         dlambda,
         drivers,
+        int(raw["derivatives"]),
+        str(raw["path"]),
+        str(raw["path_reason"]),
+        int(raw["general_steps"]),
     )
     if error is not None:
         setattr(error, "partial", out)  # noqa: B010 (raised from the engine's tuple)

@@ -2,8 +2,8 @@
 //! Its angle is the driver's value (theta = theta_base + sign f(t)), its origin follows
 //! from the pin: one angle, no equations.
 
-use super::Miss;
-use super::{body_qdd, point_acc, set_acc, set_body, set_rates, side};
+use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates, side, split};
+use super::{Entry, Miss, Numbers};
 use crate::assembly::turned;
 use crate::data::Data;
 use crate::joints::{perp, sub, Constraint, ConstraintKind};
@@ -22,6 +22,8 @@ pub struct Crank {
     known: Option<usize>,
     u_known: [f64; 2],
     u_body: [f64; 2],
+    /// the pin (constraint index) and where u_known and u_body start in its numbers
+    pin: (usize, usize, usize),
 }
 
 impl Crank {
@@ -44,14 +46,19 @@ impl Crank {
                 ConstraintKind::RelativeAngleDriver(_) if c.body_a == Some(body) => {
                     driver = Some((k, c.body_b, -1.0))
                 }
-                ConstraintKind::Revolute(j) if c.body_b == Some(body) => pin = Some((c.body_a, j.u_a, j.u_b)),
-                ConstraintKind::Revolute(j) if c.body_a == Some(body) => pin = Some((c.body_b, j.u_b, j.u_a)),
+                // a revolute's numbers: u_a at 0, 1 and u_b at 2, 3
+                ConstraintKind::Revolute(j) if c.body_b == Some(body) => {
+                    pin = Some((c.body_a, j.u_a, j.u_b, (k, 0, 2)))
+                }
+                ConstraintKind::Revolute(j) if c.body_a == Some(body) => {
+                    pin = Some((c.body_b, j.u_b, j.u_a, (k, 2, 0)))
+                }
                 _ => return None,
             }
         }
         let (driver, base, sign) = driver?;
-        let (known, u_known, u_body) = pin?;
-        Some(Crank { body, driver, base, sign, known, u_known, u_body })
+        let (known, u_known, u_body, pin) = pin?;
+        Some(Crank { body, driver, base, sign, known, u_known, u_body, pin })
     }
 
     /// Solves the body; returns (closeness 1, pin residual).
@@ -91,5 +98,98 @@ impl Crank {
             }
         }
         Ok((1.0, residual))
+    }
+
+    /// Its numbers: u_known in slots 0, 1, u_body in 2, 3; the driver's are its law's, law
+    /// number i in slot 4 + i.
+    pub fn numbers(&self) -> Numbers {
+        let (c, known, own) = self.pin;
+        Numbers {
+            slots: vec![(c, known, 0), (c, known + 1, 1), (c, own, 2), (c, own + 1, 3)],
+            law: Some((self.driver, 4)),
+        }
+    }
+
+    /// dq/dp of the body (`super::tangents`), `solve` differentiated: theta = theta_base +
+    /// sign f(t; p) gives dtheta = dtheta_base + sign df/dp, and R = P - A(theta) u_body
+    /// with P = R_k + A_k u_known gives dR = dP - perp(A u_body) dtheta - A du_body.
+    /// `zeros`: the ground's rows (n zeros).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn tangents(
+        &self,
+        model: &Model,
+        data: &Data,
+        t: f64,
+        entries: &[Entry],
+        s: &mut [f64],
+        n: usize,
+        zeros: &[f64],
+    ) {
+        let law = model.constraints[self.driver].kind.law();
+        let k = side(data, self.known);
+        let f = &data.frames[self.body];
+        let (rk, arm) = (k.rot(self.u_known), f.rot(self.u_body));
+        // the body's move for a move dP of the pin and dtheta
+        let respond = |dp: [f64; 2], dth: f64| [dp[0] + arm[1] * dth, dp[1] - arm[0] * dth, dth];
+        let (mut body, _, rest) = split(s, n, self.body, None);
+        // the known sides' moves, for every parameter (a side on the ground moves nothing)
+        let (k_rows, b_rows) = (rest.known(self.known, zeros), rest.known(self.base, zeros));
+        let [x, y, th] = &mut body;
+        let (x, y, th) = (&mut x[..n], &mut y[..n], &mut th[..n]);
+        match (self.known.is_some(), self.base.is_some()) {
+            (true, true) => known::<true, true>(k_rows, b_rows, (rk, arm), x, y, th),
+            (true, false) => known::<true, false>(k_rows, b_rows, (rk, arm), x, y, th),
+            (false, true) => known::<false, true>(k_rows, b_rows, (rk, arm), x, y, th),
+            // nothing moves the crank's known sides
+            (false, false) => {
+                for row in [x, y, th] {
+                    row.fill(0.0);
+                }
+            }
+        }
+        // each parameter's own moves of the pin (u_known, u_body) and of the law
+        for e in entries {
+            let d = match e.slot {
+                0 | 1 => respond(column(&k, e.slot), 0.0),
+                2 | 3 => {
+                    let c = column(f, e.slot - 2);
+                    [-c[0], -c[1], 0.0]
+                }
+                i => respond([0.0; 2], law.map_or(0.0, |l| self.sign * l.param_derivative(i - 4, t)[0])),
+            };
+            add_move(&mut body, e.param, e.w, d);
+        }
+    }
+}
+
+/// The crank's rows for its known sides' moves (`k`: the pin's side, `b`: the angle's
+/// base; `K`, `B`: whether they move, else they are the ground and are not read), every
+/// parameter at once; `rk` the pin about the known side's origin, `arm` about the body's.
+/// Each output row a reference of its own (an argument by itself), which the compiler then
+/// knows not to overlap the others: it may take several parameters at once.
+#[inline(never)]
+fn known<const K: bool, const B: bool>(
+    k: [&[f64]; 3],
+    b: [&[f64]; 3],
+    (rk, arm): ([f64; 2], [f64; 2]),
+    x: &mut [f64],
+    y: &mut [f64],
+    th: &mut [f64],
+) {
+    let n = x.len();
+    // rows cut to n: no bounds checks in the loop
+    let ([kx, ky, kt], bt) = (k.map(|r| &r[..n]), &b[2][..n]);
+    let (y, th) = (&mut y[..n], &mut th[..n]);
+    for j in 0..n {
+        // the terms of a side that does not move left out (a product with 0 is not 0)
+        let (mut dx, mut dy, mut dth) = (0.0, 0.0, 0.0);
+        if K {
+            (dx, dy) = (kx[j] - rk[1] * kt[j], ky[j] + rk[0] * kt[j]);
+        }
+        if B {
+            (dx, dy, dth) = (dx + arm[1] * bt[j], dy - arm[0] * bt[j], bt[j]);
+        }
+        [x[j], y[j], th[j]] = [dx, dy, dth];
     }
 }

@@ -78,6 +78,167 @@ impl Block {
             Block::Newton(b) => format!("Newton on its own {n} x {n} block", n = b.n),
         }
     }
+
+    /// The group's kind in a word or two, for messages.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Block::Crank(_) => "crank",
+            Block::Rrr(_) => "RRR dyad",
+            Block::Rrp(_) => "RRP dyad",
+            Block::Rpr(_) => "RPR dyad",
+            Block::Subst(_) => "substitution group",
+            Block::Newton(_) => "Newton block",
+        }
+    }
+
+    /// The compiled numbers the block's closed form reads, each with its slot, where the
+    /// block's sensitivities are structured (`tangents`); None where they are not.
+    pub fn numbers(&self) -> Option<Numbers> {
+        match self {
+            Block::Crank(b) => Some(b.numbers()),
+            Block::Rrr(b) => Some(b.numbers()),
+            Block::Rrp(b) => Some(b.numbers()),
+            Block::Rpr(_) | Block::Subst(_) | Block::Newton(_) => None,
+        }
+    }
+}
+
+/// The compiled numbers a block's closed form reads: (constraint, index in its
+/// `params_mut`, the block's slot for it); and for a crank its driver, every number i of
+/// which is its law's, in slot `first + i`: (driver, first).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Numbers {
+    pub slots: Vec<(usize, usize, usize)>,
+    pub law: Option<(usize, usize)>,
+}
+
+impl Numbers {
+    /// The slots of a dyad link's six numbers from `first` on, where a number holds them.
+    fn link(&mut self, numbers: &[Option<(usize, usize)>], first: usize) {
+        for (slot, n) in numbers.iter().enumerate() {
+            if let Some((c, i)) = *n {
+                self.slots.push((c, i, first + slot));
+            }
+        }
+    }
+}
+
+/// One parameter's move of one of a block's numbers: d number / d p in its slot.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Entry {
+    pub param: usize,
+    pub slot: usize,
+    pub w: f64,
+}
+
+/// A frame's rotation of the unit vector e_i: column i of A.
+#[inline(always)]
+pub(crate) fn column(f: &Frame, i: usize) -> [f64; 2] {
+    if i == 0 {
+        [f.c, f.s]
+    } else {
+        [-f.s, f.c]
+    }
+}
+
+/// One body's rows of dq/dp: its x, y, theta, for the n parameters.
+pub(crate) type BodyRows<'a> = [&'a mut [f64]; 3];
+
+/// S (n_coords x n row-major) split around a block's bodies (`split`): the rest, from
+/// which the known sides' rows are read.
+pub(crate) struct Rest<'a> {
+    n: usize,
+    /// the bodies' indices in order (the same twice for one body)
+    lo: usize,
+    hi: usize,
+    /// the rows before the first body, between the two, after the last
+    pieces: [&'a [f64]; 3],
+}
+
+impl<'a> Rest<'a> {
+    /// The rows (x, y, theta) of a known side, or `zeros` (n) for the ground.
+    #[inline(always)]
+    pub(crate) fn known(&self, side: Option<usize>, zeros: &'a [f64]) -> [&'a [f64]; 3] {
+        let n = self.n;
+        let Some(b) = side else { return [&zeros[..n], &zeros[..n], &zeros[..n]] };
+        let rows = if b < self.lo {
+            &self.pieces[0][3 * b * n..]
+        } else if b < self.hi {
+            &self.pieces[1][3 * (b - self.lo - 1) * n..]
+        } else {
+            &self.pieces[2][3 * (b - self.hi - 1) * n..]
+        };
+        [&rows[..n], &rows[n..2 * n], &rows[2 * n..3 * n]]
+    }
+}
+
+fn body_rows(c: &mut [f64], n: usize) -> BodyRows<'_> {
+    let (x, rest) = c.split_at_mut(n);
+    let (y, t) = rest.split_at_mut(n);
+    [x, y, t]
+}
+
+/// The rows in S of a block's bodies `first` and `second` (distinct, none of its known
+/// sides), to write, and the rest of S, to read.
+#[inline(always)]
+pub(crate) fn split(
+    s: &mut [f64],
+    n: usize,
+    first: usize,
+    second: Option<usize>,
+) -> (BodyRows<'_>, Option<BodyRows<'_>>, Rest<'_>) {
+    let w = 3 * n;
+    let (lo, hi) = second.map_or((first, first), |b| (first.min(b), first.max(b)));
+    let (p0, rest) = s.split_at_mut(lo * w);
+    let (c_lo, rest) = rest.split_at_mut(w);
+    let (p1, rest) = rest.split_at_mut(hi.saturating_sub(lo + 1) * w);
+    let (c_hi, p2) = if hi > lo { rest.split_at_mut(w) } else { (&mut [][..], rest) };
+    let (c1, c2) = match second {
+        None => (c_lo, None),
+        Some(_) if first == lo => (c_lo, Some(c_hi)),
+        Some(_) => (c_hi, Some(c_lo)),
+    };
+    let rest = Rest { n, lo, hi, pieces: [p0, p1, p2] };
+    (body_rows(c1, n), c2.map(|c| body_rows(c, n)), rest)
+}
+
+/// Adds w (dx, dy, dtheta) to a body's rows in parameter j's direction.
+#[inline(always)]
+pub(crate) fn add_move(rows: &mut BodyRows, j: usize, w: f64, d: [f64; 3]) {
+    rows[0][j] += w * d[0];
+    rows[1][j] += w * d[1];
+    rows[2][j] += w * d[2];
+}
+
+/// dq/dp at the configuration in data (frames current), every group in order, each by its
+/// closed form differentiated (`numbers` says which blocks have one): S (n_coords x n
+/// row-major) for the parameters whose moves of each block's numbers are
+/// `entries[block]`. Each block's derivative is linear in its known sides' moves and its
+/// numbers': its coefficients are formed once a step, then applied to the known sides'
+/// rows for every parameter, and to each parameter's own moves (`entries`). `zeros`: n
+/// zeros (the ground's rows: it does not move). Err where a group is within
+/// `NEAR_SINGULAR` of its singular configuration (its 2 x 2 system is then as
+/// ill-conditioned as Phi_q: the general path solves that step).
+#[allow(clippy::too_many_arguments)]
+pub fn tangents(
+    model: &Model,
+    plan: &Plan,
+    data: &Data,
+    t: f64,
+    entries: &[Vec<Entry>],
+    s: &mut [f64],
+    n: usize,
+    zeros: &[f64],
+) -> Result<(), Miss> {
+    for (block, entries) in plan.blocks.iter().zip(entries) {
+        match block {
+            Block::Crank(b) => b.tangents(model, data, t, entries, s, n, zeros),
+            Block::Rrr(b) => b.tangents(data, entries, s, n, zeros)?,
+            Block::Rrp(b) => b.tangents(data, entries, s, n, zeros)?,
+            Block::Rpr(_) | Block::Subst(_) | Block::Newton(_) => return Err(Miss::Failed),
+        }
+    }
+    Ok(())
 }
 
 /// The groups in solving order, each with its method.

@@ -4,12 +4,13 @@
 //! length meets it (two points, one per branch). Velocities and accelerations: B's seen
 //! from the link and from the slide (with the slide's Coriolis term when the line turns).
 
-use super::rrr::{link, Link};
+use super::rrr::{link, xy, Link};
+use super::{add_move, column, split, Entry, Numbers, NEAR_SINGULAR};
 use super::{
     body_qdd, pinned_accelerations, pinned_rates, point_acc, set_acc, set_body, set_rates, side, Miss,
 };
 use crate::data::Data;
-use crate::joints::{dot, perp, sub, ConstraintKind, Frame};
+use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
 use crate::structure::Group;
 
@@ -29,6 +30,9 @@ pub struct Rrp {
     u_b: [f64; 2],
     e_a: [f64; 2],
     theta0: f64,
+    /// the prismatic joint (constraint index) and the numbers of u_pin (constraint, index)
+    prismatic: usize,
+    pin_numbers: [Option<(usize, usize)>; 2],
 }
 
 impl Rrp {
@@ -42,7 +46,7 @@ impl Rrp {
             let c = &model.constraints[k];
             match &c.kind {
                 ConstraintKind::Revolute(j) if inside(c.body_a) && inside(c.body_b) => {
-                    middle = Some((c.body_a?, j.u_a, c.body_b?, j.u_b))
+                    middle = Some((c.body_a?, j.u_a, c.body_b?, j.u_b, k))
                 }
                 ConstraintKind::Revolute(_) => outer_r = Some(k),
                 ConstraintKind::Prismatic(p) if !(inside(c.body_a) && inside(c.body_b)) => {
@@ -51,7 +55,7 @@ impl Rrp {
                 _ => return None,
             }
         }
-        let (ma, ua, mb, ub) = middle?;
+        let (ma, ua, mb, ub, km) = middle?;
         let (outer_r, (kp, p)) = (outer_r?, prismatic?);
         let c = &model.constraints[outer_r];
         let rod = if inside(c.body_a) { c.body_a? } else { c.body_b? };
@@ -60,7 +64,9 @@ impl Rrp {
             return None;
         }
         let (u_rod, u_pin) = if rod == ma { (ua, ub) } else { (ub, ua) };
-        let link = link(model, rod, outer_r, u_rod)?;
+        // the middle revolute's numbers: u_a at 0, 1, u_b at 2, 3
+        let (at_rod, at_pin) = if rod == ma { (0, 2) } else { (2, 0) };
+        let link = link(model, rod, outer_r, u_rod, xy(km, at_rod))?;
         let cp = &model.constraints[kp];
         let (known, line_in_known) = if cp.body_b == Some(slider) {
             (cp.body_a, true)
@@ -79,6 +85,8 @@ impl Rrp {
             u_b: p.u_b,
             e_a: p.e_a,
             theta0: p.theta0,
+            prismatic: kp,
+            pin_numbers: xy(km, at_pin),
         })
     }
 
@@ -189,4 +197,143 @@ impl Rrp {
         };
         (sign, along.abs() / self.link.length, rate)
     }
+
+    /// Its numbers: the link's u_known, u_outer, u_middle in slots 0..6, the prismatic
+    /// joint's u_a, u_b, e_a and theta0 in 6..13, the slider's u_pin in 13, 14.
+    pub fn numbers(&self) -> Numbers {
+        let mut out = Numbers::default();
+        out.link(&self.link.numbers, 0);
+        out.slots.extend((0..7).map(|i| (self.prismatic, i, 6 + i)));
+        out.link(&self.pin_numbers, 13);
+        out
+    }
+
+    /// dq/dp of both bodies (`super::tangents`), `solve` differentiated: the slider turns
+    /// with the known body (dtheta_s = dtheta_k +- dtheta0); B on the link's circle,
+    /// (B - A).(dB - dA) = r1 dr1 =: s1 - (B - A).dA, and on the line through p0 along v
+    /// (`line`), n.(B - p0) = 0 with n = perp(v): n.dB = n.dp0 - perp(dv).(B - p0) =: s2;
+    /// dB = M^-1 (s1, s2). The link's body from its two pins as in the RRR dyad, the slider
+    /// from B: dR_s = dB - perp(A_s u_pin) dtheta_s - A_s du_pin.
+    /// `zeros`: the ground's rows (n zeros).
+    #[inline]
+    pub fn tangents(
+        &self,
+        data: &Data,
+        entries: &[Entry],
+        s: &mut [f64],
+        n: usize,
+        zeros: &[f64],
+    ) -> Result<(), Miss> {
+        let l = &self.link;
+        let (k1, a) = l.outer(data);
+        let k = side(data, self.known);
+        let (fr, fs) = (&data.frames[l.body], &data.frames[self.slider]);
+        let b = fr.point(l.u_middle);
+        // the line's point on the known side, the slider's (u_line, u_slide), and B's line
+        let (u_line, u_slide) = if self.line_in_known { (self.u_a, self.u_b) } else { (self.u_b, self.u_a) };
+        let (lk, off) = (k.rot(u_line), fs.rot(sub(self.u_pin, u_slide)));
+        let p0 = [k.r[0] + lk[0] + off[0], k.r[1] + lk[1] + off[1]];
+        // the line's direction turns with the known body, or with the slider
+        let (fv, v) = if self.line_in_known { (&k, k.rot(self.e_a)) } else { (fs, fs.rot(self.e_a)) };
+        let nv = perp(v);
+        let ga = sub(b, a);
+        let det = cross(ga, nv);
+        // |cos| of the link against the line, `solve`'s closeness
+        let closeness = det.abs() * l.inv_length / v[0].hypot(v[1]);
+        if closeness.is_nan() || closeness < NEAR_SINGULAR {
+            return Err(Miss::NearSingular);
+        }
+        // M^-1's columns u, w; the link's angle's coefficients
+        let inv_det = 1.0 / det;
+        let (mu, mw) = ([nv[1] * inv_det, -nv[0] * inv_det], [-ga[1] * inv_det, ga[0] * inv_det]);
+        let inv_l2 = l.inv_length * l.inv_length;
+        let cl = [-ga[1] * inv_l2, ga[0] * inv_l2];
+        let (a1, a2) = (dot(cl, mu), dot(cl, mw));
+        // dtheta = gl.dA + a1 e + a2 s2 + (own)
+        let gl = [a1 * ga[0] - cl[0], a1 * ga[1] - cl[1]];
+        let g = sub(b, p0);
+        // s2's coefficients of the slider's turn (moving p0's offset) and the line's
+        let (n_off, n_turn) = (dot(nv, perp(off)), cross(nv, g));
+        let (ra, arm, arm_s) = (sub(a, k1.r), fr.rot(l.u_outer), fs.rot(self.u_pin));
+        // the bodies' moves for the moves (`Inputs`): of A, of p0 along n and the slider's
+        // turn; the link's r dr and its angle's own part
+        let respond = |m: Inputs| {
+            let dturn = if self.line_in_known { m.dthk } else { m.dths };
+            let s1 = dot(ga, m.da) + m.e;
+            let s2 = m.x + n_off * m.dths - n_turn * dturn;
+            let db = [mu[0] * s1 + mw[0] * s2, mu[1] * s1 + mw[1] * s2];
+            let dth = dot(gl, m.da) + a1 * m.e + a2 * s2 + m.t;
+            let rod = [m.da[0] + arm[1] * dth, m.da[1] - arm[0] * dth, dth];
+            (rod, [db[0] + arm_s[1] * m.dths, db[1] - arm_s[0] * m.dths, m.dths])
+        };
+        let (mut rod, slider, rest) = split(s, n, l.body, Some(self.slider));
+        let mut slider = slider.expect("the dyad's slider");
+        {
+            // the known sides' moves, for every parameter (the slider turns with the known body)
+            let ([x1, y1, t1], [xk, yk, tk]) = (rest.known(l.known, zeros), rest.known(self.known, zeros));
+            let ([xr, yr, tr], [xs, ys, ts]) = (&mut rod, &mut slider);
+            // rows cut to n: no bounds checks
+            let (x1, y1, t1, xk, yk, tk) = (&x1[..n], &y1[..n], &t1[..n], &xk[..n], &yk[..n], &tk[..n]);
+            let (xr, yr, tr, xs, ys, ts) =
+                (&mut xr[..n], &mut yr[..n], &mut tr[..n], &mut xs[..n], &mut ys[..n], &mut ts[..n]);
+            for j in 0..n {
+                let da = [x1[j] - ra[1] * t1[j], y1[j] + ra[0] * t1[j]];
+                let dp0 = [xk[j] - lk[1] * tk[j], yk[j] + lk[0] * tk[j]];
+                let (dthk, x) = (tk[j], dot(nv, dp0));
+                let (r, sl) = respond(Inputs { da, x, dthk, dths: dthk, ..Inputs::default() });
+                (xr[j], yr[j], tr[j]) = (r[0], r[1], r[2]);
+                (xs[j], ys[j], ts[j]) = (sl[0], sl[1], sl[2]);
+            }
+        }
+        // each parameter's own moves of the pins, the line and the slide's turn
+        let m = sub(l.u_middle, l.u_outer);
+        let turn = if self.line_in_known { 1.0 } else { -1.0 };
+        for entry in entries {
+            let (slot, i) = (entry.slot, entry.slot % 2);
+            let none = Inputs::default();
+            // x or y of a pair starting at an even slot (u_pin, at 13, has its own); the
+            // link's own moves: r dr (e), -cl.(A d(u_middle - u_outer)) (t), A du_outer (o)
+            let (input, o, dpin) = match slot {
+                0 | 1 => (Inputs { da: column(&k1, i), ..none }, [0.0; 2], [0.0; 2]),
+                2 | 3 => {
+                    let fc = column(fr, i);
+                    (Inputs { e: -m[i], t: dot(cl, fc), ..none }, fc, [0.0; 2])
+                }
+                4 | 5 => (Inputs { e: m[i], t: -dot(cl, column(fr, i)), ..none }, [0.0; 2], [0.0; 2]),
+                // u_a, u_b: the line's point in the known body, or the slider's
+                6..=9 => {
+                    let on_line = (slot < 8) == self.line_in_known;
+                    let sign = if on_line { 1.0 } else { -1.0 };
+                    (
+                        Inputs { x: sign * dot(nv, column(if on_line { &k } else { fs }, i)), ..none },
+                        [0.0; 2],
+                        [0.0; 2],
+                    )
+                }
+                10 | 11 => (Inputs { x: -cross(column(fv, i), g), ..none }, [0.0; 2], [0.0; 2]),
+                12 => (Inputs { dths: turn, ..none }, [0.0; 2], [0.0; 2]),
+                _ => {
+                    let fc = column(fs, slot - 13);
+                    (Inputs { x: dot(nv, fc), ..none }, [0.0; 2], fc)
+                }
+            };
+            let (r, sl) = respond(input);
+            add_move(&mut rod, entry.param, entry.w, [r[0] - o[0], r[1] - o[1], r[2]]);
+            add_move(&mut slider, entry.param, entry.w, [sl[0] - dpin[0], sl[1] - dpin[1], sl[2]]);
+        }
+        Ok(())
+    }
+}
+
+/// The inputs an RRP dyad's bodies answer: of A (da), of p0 along n and the line's own
+/// (x), the known body's turn (dthk) and the slider's (dths), the link's r dr (e) and its
+/// angle's own part (t).
+#[derive(Debug, Clone, Copy, Default)]
+struct Inputs {
+    da: [f64; 2],
+    x: f64,
+    dthk: f64,
+    dths: f64,
+    e: f64,
+    t: f64,
 }

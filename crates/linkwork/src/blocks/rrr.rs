@@ -4,10 +4,11 @@
 //! two pins. Velocities and accelerations: the 2 x 2 system of B's velocity (acceleration)
 //! seen from both links.
 
+use super::{add_move, column, split, BodyRows, Entry, Numbers, NEAR_SINGULAR};
 use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
 use crate::assembly::angle_of;
 use crate::data::Data;
-use crate::joints::{dot, perp, sub, ConstraintKind, Frame};
+use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
 use crate::model::Model;
 use crate::structure::Group;
 
@@ -25,6 +26,9 @@ pub(crate) struct Link {
     pub length: f64,
     pub inv_length: f64,
     pub dir: [f64; 2],
+    /// the compiled number each of u_known, u_outer, u_middle (x, y) is: (constraint, index
+    /// in its `params_mut`); None for a coordinate no number holds (a rod's)
+    pub numbers: [Option<(usize, usize)>; 6],
 }
 
 impl Link {
@@ -34,6 +38,7 @@ impl Link {
         u_known: [f64; 2],
         u_outer: [f64; 2],
         u_middle: [f64; 2],
+        numbers: [Option<(usize, usize)>; 6],
     ) -> Option<Link> {
         let d = sub(u_middle, u_outer);
         let length = d[0].hypot(d[1]);
@@ -46,6 +51,7 @@ impl Link {
             length,
             inv_length: 1.0 / length,
             dir: [d[0] / length, d[1] / length],
+            numbers,
         })
     }
 
@@ -77,15 +83,33 @@ impl Link {
     }
 }
 
+/// The numbers (constraint, index) of a point's x and y that sit at `first`, `first + 1`
+/// of constraint `c`'s `params_mut`.
+pub(crate) fn xy(c: usize, first: usize) -> [Option<(usize, usize)>; 2] {
+    [Some((c, first)), Some((c, first + 1))]
+}
+
 /// Reads a dyad link from its outer pin `outer` (constraint index) on `body`, and its
-/// middle pin's point in the body.
-pub(crate) fn link(model: &Model, body: usize, outer: usize, u_middle: [f64; 2]) -> Option<Link> {
+/// middle pin's point in the body, which is the number pair `middle` (constraint, first
+/// index).
+pub(crate) fn link(
+    model: &Model,
+    body: usize,
+    outer: usize,
+    u_middle: [f64; 2],
+    middle: [Option<(usize, usize)>; 2],
+) -> Option<Link> {
     let c = &model.constraints[outer];
     let ConstraintKind::Revolute(j) = &c.kind else { return None };
+    // a revolute's numbers: u_a at 0, 1 and u_b at 2, 3
+    let numbers = |known: usize, own: usize| {
+        let [k, o, m] = [xy(outer, known), xy(outer, own), middle];
+        [k[0], k[1], o[0], o[1], m[0], m[1]]
+    };
     if c.body_b == Some(body) {
-        Link::new(body, c.body_a, j.u_a, j.u_b, u_middle)
+        Link::new(body, c.body_a, j.u_a, j.u_b, u_middle, numbers(0, 2))
     } else if c.body_a == Some(body) {
-        Link::new(body, c.body_b, j.u_b, j.u_a, u_middle)
+        Link::new(body, c.body_b, j.u_b, j.u_a, u_middle, numbers(2, 0))
     } else {
         None
     }
@@ -110,16 +134,17 @@ impl Rrr {
             let c = &model.constraints[k];
             let ConstraintKind::Revolute(j) = &c.kind else { return None };
             if inside(c.body_a) && inside(c.body_b) {
-                middle = Some((c.body_a?, j.u_a, c.body_b?, j.u_b));
+                middle = Some((c.body_a?, j.u_a, c.body_b?, j.u_b, k));
             } else {
                 outer.push(k);
             }
         }
-        let (ma, ua, mb, ub) = middle?;
+        let (ma, ua, mb, ub, km) = middle?;
         if outer.len() != 2 || ma == mb {
             return None;
         }
         let u_mid = |b: usize| if b == ma { ua } else { ub };
+        let n_mid = |b: usize| xy(km, if b == ma { 0 } else { 2 });
         let body_of = |k: usize| {
             let c = &model.constraints[k];
             if inside(c.body_a) {
@@ -132,8 +157,8 @@ impl Rrr {
         if b1 == b2 {
             return None;
         }
-        let l1 = link(model, b1, outer[0], u_mid(b1))?;
-        let l2 = link(model, b2, outer[1], u_mid(b2))?;
+        let l1 = link(model, b1, outer[0], u_mid(b1), n_mid(b1))?;
+        let l2 = link(model, b2, outer[1], u_mid(b2), n_mid(b2))?;
         Some(Rrr { l1, l2, rod: false })
     }
 
@@ -149,19 +174,22 @@ impl Rrr {
             let c = &model.constraints[k];
             match &c.kind {
                 ConstraintKind::Revolute(_) => pin = Some(k),
+                // a distance joint's numbers: u_a at 0, 1, u_b at 2, 3, length at 4
                 ConstraintKind::Distance(j) if c.body_b == Some(body) && c.body_a != Some(body) => {
-                    rod = Some((c.body_a, j.u_a, j.u_b, j.length))
+                    rod = Some((c.body_a, j.u_a, j.u_b, j.length, k, 0, 2))
                 }
                 ConstraintKind::Distance(j) if c.body_a == Some(body) && c.body_b != Some(body) => {
-                    rod = Some((c.body_b, j.u_b, j.u_a, j.length))
+                    rod = Some((c.body_b, j.u_b, j.u_a, j.length, k, 2, 0))
                 }
                 _ => return None,
             }
         }
-        let (pin, (known, u_known, u_end, length)) = (pin?, rod?);
-        let l1 = link(model, body, pin, u_end)?;
+        let (pin, (known, u_known, u_end, length, kd, at_known, at_end)) = (pin?, rod?);
+        let l1 = link(model, body, pin, u_end, xy(kd, at_end))?;
         // the rod as a link from its known end, its far end at distance `length` along x
-        let l2 = Link::new(body, known, u_known, [0.0, 0.0], [length, 0.0])?;
+        let [k0, k1] = xy(kd, at_known);
+        let numbers = [k0, k1, None, None, Some((kd, 4)), None];
+        let l2 = Link::new(body, known, u_known, [0.0, 0.0], [length, 0.0], numbers)?;
         Some(Rrr { l1, l2, rod: true })
     }
 
@@ -242,5 +270,223 @@ impl Rrr {
             0.0
         };
         (sign, cross.abs() * norm, rate)
+    }
+
+    /// Its numbers: link 1's u_known, u_outer, u_middle (x, y each) in slots 0..6, link 2's
+    /// in 6..12.
+    pub fn numbers(&self) -> Numbers {
+        let mut out = Numbers::default();
+        out.link(&self.l1.numbers, 0);
+        out.link(&self.l2.numbers, 6);
+        out
+    }
+
+    /// dq/dp of both bodies (`super::tangents`), `solve` differentiated: B on both circles,
+    /// |B - A|^2 = r1^2 and |B - C|^2 = r2^2, gives (B - A).(dB - dA) = r1 dr1 =: s1 and
+    /// (B - C).(dB - dC) = r2 dr2 =: s2, the 2 x 2 matrix M of the rate solve; each body
+    /// then from its two pins (`Link::place`): with w1 = A1 (du_middle - du_outer),
+    /// perp(B - A) dtheta1 = dB - dA - w1 and dR1 = dA - perp(A1 u_outer) dtheta1 - A1
+    /// du_outer. dA, dC: the known sides' moves and the parameter's of u_known; r1 dr1 =
+    /// (u_middle - u_outer).(du_middle - du_outer). With dB = M^-1 (s1, s2) eliminated,
+    /// dtheta1 = a11 s1 + a12 s2 - c1.(dA + w1), and likewise dtheta2: a, c and their
+    /// products with B - A and B - C formed once a step.
+    /// `zeros`: the ground's rows (n zeros).
+    #[inline]
+    pub fn tangents(
+        &self,
+        data: &Data,
+        entries: &[Entry],
+        s: &mut [f64],
+        n: usize,
+        zeros: &[f64],
+    ) -> Result<(), Miss> {
+        let (l1, l2) = (&self.l1, &self.l2);
+        let (k1, a) = l1.outer(data);
+        let (k2, c) = l2.outer(data);
+        // a rod's second link is the first body seen from the rod's known end
+        let (f1, f2) = (&data.frames[l1.body], &data.frames[l2.body]);
+        let b = f1.point(l1.u_middle);
+        let (ga, gc) = (sub(b, a), sub(b, c));
+        let det = cross(ga, gc);
+        // |sin| of the angle at B, `solve`'s closeness
+        let closeness = det.abs() * l1.inv_length * l2.inv_length;
+        if closeness.is_nan() || closeness < NEAR_SINGULAR {
+            return Err(Miss::NearSingular);
+        }
+        // M^-1's columns u, v; the angles' coefficients
+        let inv_det = 1.0 / det;
+        let (u, v) = ([gc[1] * inv_det, -gc[0] * inv_det], [-ga[1] * inv_det, ga[0] * inv_det]);
+        let (inv1, inv2) = (l1.inv_length * l1.inv_length, l2.inv_length * l2.inv_length);
+        let (c1, c2) = ([-ga[1] * inv1, ga[0] * inv1], [-gc[1] * inv2, gc[0] * inv2]);
+        let (a11, a12, a21, a22) = (dot(c1, u), dot(c1, v), dot(c2, u), dot(c2, v));
+        // dtheta1 = g1a.dA + g1c.dC + (own), dtheta2 = g2a.dA + g2c.dC + (own)
+        let lin = Lin {
+            g1a: [a11 * ga[0] - c1[0], a11 * ga[1] - c1[1]],
+            g1c: [a12 * gc[0], a12 * gc[1]],
+            g2a: [a21 * ga[0], a21 * ga[1]],
+            g2c: [a22 * gc[0] - c2[0], a22 * gc[1] - c2[1]],
+            ra: sub(a, k1.r),
+            rc: sub(c, k2.r),
+            arm1: f1.rot(l1.u_outer),
+            arm2: f2.rot(l2.u_outer),
+        };
+        // a rod's second link is no body of its own
+        let (mut out1, mut out2, rest) = split(s, n, l1.body, (!self.rod).then_some(l2.body));
+        // the known sides' moves, for every parameter (a side on the ground moves nothing)
+        let (a_rows, c_rows) = (rest.known(l1.known, zeros), rest.known(l2.known, zeros));
+        let moving = (l1.known.is_some(), l2.known.is_some());
+        let (o1, o2) = (&mut out1, out2.as_mut());
+        match moving {
+            (true, true) => lin.known::<true, true>(n, a_rows, c_rows, o1, o2),
+            (true, false) => lin.known::<true, false>(n, a_rows, c_rows, o1, o2),
+            (false, true) => lin.known::<false, true>(n, a_rows, c_rows, o1, o2),
+            // nothing moves the dyad's known sides
+            (false, false) => {
+                for row in o1.iter_mut().chain(o2.into_iter().flatten()) {
+                    row.fill(0.0);
+                }
+            }
+        }
+        // each parameter's own moves of the links' pins
+        let (m1, m2) = (sub(l1.u_middle, l1.u_outer), sub(l2.u_middle, l2.u_outer));
+        for entry in entries {
+            // link 1's u_known, u_outer, u_middle in slots 0..6, link 2's in 6..12
+            let (slot, w) = (entry.slot, entry.w);
+            let (i, second, kind) = (slot % 2, slot >= 6, (slot / 2) % 3);
+            let (k, f, m, cl, b1, b2) =
+                if second { (&k2, f2, m2, c2, a12, a22) } else { (&k1, f1, m1, c1, a11, a21) };
+            // the known pin's move (d); for d(u_middle - u_outer), r dr moves both angles
+            // through M^-1 (x) and this link's own by -c.A d(u_middle - u_outer), and
+            // u_outer moves its body's origin by -A du_outer (o)
+            let (mut d, mut x, mut o) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+            if kind == 0 {
+                d = column(k, i);
+            } else {
+                let (sign, fc) = (if kind == 1 { -1.0 } else { 1.0 }, column(f, i));
+                let e = sign * m[i];
+                x = [b1 * e, b2 * e];
+                x[second as usize] -= sign * dot(cl, fc);
+                if kind == 1 {
+                    o = fc;
+                }
+            }
+            let (da, dc) = if second { ([0.0; 2], d) } else { (d, [0.0; 2]) };
+            let (o1, o2) = if second { ([0.0; 2], o) } else { (o, [0.0; 2]) };
+            let d1 = lin.body1(da, dc, x[0]);
+            add_move(&mut out1, entry.param, w, [d1[0] - o1[0], d1[1] - o1[1], d1[2]]);
+            if let Some(out2) = &mut out2 {
+                let d2 = lin.body2(da, dc, x[1]);
+                add_move(out2, entry.param, w, [d2[0] - o2[0], d2[1] - o2[1], d2[2]]);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An RRR dyad's derivative at one step: the angles' coefficients of dA and dC (g), the
+/// outer pins about the known sides' origins (ra, rc) and about the bodies' (arm).
+struct Lin {
+    g1a: [f64; 2],
+    g1c: [f64; 2],
+    g2a: [f64; 2],
+    g2c: [f64; 2],
+    ra: [f64; 2],
+    rc: [f64; 2],
+    arm1: [f64; 2],
+    arm2: [f64; 2],
+}
+
+impl Lin {
+    /// Body 1's move for moves dA, dC and its angle's own part x1.
+    #[inline(always)]
+    fn body1(&self, da: [f64; 2], dc: [f64; 2], x1: f64) -> [f64; 3] {
+        let th = dot(self.g1a, da) + dot(self.g1c, dc) + x1;
+        [da[0] + self.arm1[1] * th, da[1] - self.arm1[0] * th, th]
+    }
+
+    /// Body 2's move for moves dA, dC and its angle's own part x2.
+    #[inline(always)]
+    fn body2(&self, da: [f64; 2], dc: [f64; 2], x2: f64) -> [f64; 3] {
+        let th = dot(self.g2a, da) + dot(self.g2c, dc) + x2;
+        [dc[0] + self.arm2[1] * th, dc[1] - self.arm2[0] * th, th]
+    }
+
+    /// The angles' moves for moves dA (`A`: if A moves) and dC (`C`), the terms of a side
+    /// that does not move left out (-0.0 is the sum's identity; a product with 0 is not).
+    #[inline(always)]
+    fn angles<const A: bool, const C: bool>(&self, da: [f64; 2], dc: [f64; 2]) -> (f64, f64) {
+        let (mut th1, mut th2) = (-0.0, -0.0);
+        if A {
+            (th1, th2) = (th1 + dot(self.g1a, da), th2 + dot(self.g2a, da));
+        }
+        if C {
+            (th1, th2) = (th1 + dot(self.g1c, dc), th2 + dot(self.g2c, dc));
+        }
+        (th1, th2)
+    }
+
+    /// The bodies' rows for the known sides' moves (`a`, `c`: their rows; `A`, `C`: whether
+    /// they move, else they are the ground and are not read), every parameter at once.
+    #[inline(always)]
+    fn known<const A: bool, const C: bool>(
+        &self,
+        n: usize,
+        a: [&[f64]; 3],
+        c: [&[f64]; 3],
+        out1: &mut BodyRows,
+        out2: Option<&mut BodyRows>,
+    ) {
+        // rows cut to n: no bounds checks in the loops
+        let ([x1, y1, t1], [x2, y2, t2]) = (a.map(|r| &r[..n]), c.map(|r| &r[..n]));
+        let moves = |j: usize| {
+            let da = if A { [x1[j] - self.ra[1] * t1[j], y1[j] + self.ra[0] * t1[j]] } else { [-0.0; 2] };
+            let dc = if C { [x2[j] - self.rc[1] * t2[j], y2[j] + self.rc[0] * t2[j]] } else { [-0.0; 2] };
+            (da, dc)
+        };
+        let [a1, a2] = self.arm1;
+        let [bx1, by1, bt1] = out1;
+        let (bx1, by1, bt1) = (&mut bx1[..n], &mut by1[..n], &mut bt1[..n]);
+        match out2 {
+            Some([bx2, by2, bt2]) => {
+                self.both::<A, C>([x1, y1, t1, x2, y2, t2], bx1, by1, bt1, bx2, by2, bt2)
+            }
+            None => {
+                for j in 0..n {
+                    let (da, dc) = moves(j);
+                    let (th1, _) = self.angles::<A, C>(da, dc);
+                    [bx1[j], by1[j], bt1[j]] = [da[0] + a2 * th1, da[1] - a1 * th1, th1];
+                }
+            }
+        }
+    }
+
+    /// `known` for both bodies, each output row a reference of its own (an argument by
+    /// itself, not in a tuple or array), which the compiler then knows not to overlap the
+    /// others: it may take several parameters at once.
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn both<const A: bool, const C: bool>(
+        &self,
+        ins: [&[f64]; 6],
+        bx1: &mut [f64],
+        by1: &mut [f64],
+        bt1: &mut [f64],
+        bx2: &mut [f64],
+        by2: &mut [f64],
+        bt2: &mut [f64],
+    ) {
+        let n = bx1.len();
+        // every row cut to n: no bounds checks in the loop
+        let [x1, y1, t1, x2, y2, t2] = ins.map(|r| &r[..n]);
+        let (by1, bt1, bx2, by2, bt2) =
+            (&mut by1[..n], &mut bt1[..n], &mut bx2[..n], &mut by2[..n], &mut bt2[..n]);
+        let ([a1, a2], [b1, b2]) = (self.arm1, self.arm2);
+        for j in 0..n {
+            let da = if A { [x1[j] - self.ra[1] * t1[j], y1[j] + self.ra[0] * t1[j]] } else { [-0.0; 2] };
+            let dc = if C { [x2[j] - self.rc[1] * t2[j], y2[j] + self.rc[0] * t2[j]] } else { [-0.0; 2] };
+            let (th1, th2) = self.angles::<A, C>(da, dc);
+            [bx1[j], by1[j], bt1[j]] = [da[0] + a2 * th1, da[1] - a1 * th1, th1];
+            [bx2[j], by2[j], bt2[j]] = [dc[0] + b2 * th2, dc[1] - b1 * th2, th2];
+        }
     }
 }

@@ -308,19 +308,32 @@ impl Sensitivity {
     /// S, S', S'' (and the points') at the step data holds: data.q, qd, qdd solved at t
     /// and Phi_q factored at data.q (in data.factor).
     pub fn step(&mut self, model: &Model, data: &mut Data, t: f64, out: StepOut) {
+        self.step_to(model, data, t, 2, out);
+    }
+
+    /// `step` up to the derivative `derivatives`: 0 S (out.dq, out.points), 1 and S'
+    /// (out.dqd, out.points_d), 2 and S''; the outputs of the others are not touched
+    /// (they may be empty), nor are data.qd (data.qdd) read below 1 (2).
+    pub fn step_to(&mut self, model: &Model, data: &mut Data, t: f64, derivatives: u8, out: StepOut) {
         let n = self.n_params;
         if n == 0 {
             return;
         }
         self.update_frames(data);
-        self.rates_of_phi_q(model, data, t);
+        if derivatives >= 1 {
+            self.rates_of_phi_q(model, data, t);
+        }
         self.rates_of_phi_p(model, data, t);
         self.stage(model, data, 0, 1.0);
-        self.stage(model, data, 1, 1.0);
-        self.stage(model, data, 2, 2.0);
         out.dq.copy_from_slice(&self.s);
-        out.dqd.copy_from_slice(&self.sd);
-        out.dqdd.copy_from_slice(&self.sdd);
+        if derivatives >= 1 {
+            self.stage(model, data, 1, 1.0);
+            out.dqd.copy_from_slice(&self.sd);
+        }
+        if derivatives >= 2 {
+            self.stage(model, data, 2, 2.0);
+            out.dqdd.copy_from_slice(&self.sdd);
+        }
         for (r, req) in self.points.iter().enumerate() {
             for k in 0..n {
                 let du = self.point_seeds[r][k];
@@ -328,9 +341,35 @@ impl Sensitivity {
                 for axis in 0..2 {
                     let at = (r * 2 + axis) * n + k;
                     out.points[at] = d[axis];
-                    out.points_d[at] = dd[axis];
-                    out.points_dd[at] = ddd[axis];
+                    if derivatives >= 1 {
+                        out.points_d[at] = dd[axis];
+                    }
+                    if derivatives >= 2 {
+                        out.points_dd[at] = ddd[axis];
+                    }
                 }
+            }
+        }
+    }
+
+    /// The points' position sensitivities (n_points x 2 x n_params) from S = `dq` (n_coords
+    /// x n_params) at data.q (its frames current): dr = dR + B u dtheta + A du.
+    pub fn points_of(&self, data: &Data, dq: &[f64], points: &mut [f64]) {
+        let n = self.n_params;
+        for (r, req) in self.points.iter().enumerate() {
+            for k in 0..n {
+                let du = self.point_seeds[r][k];
+                let d = match req.body {
+                    None => du,
+                    Some(b) => {
+                        let f = &data.frames[b];
+                        let dth = dq[(3 * b + 2) * n + k];
+                        let (bu, adu) = (f.rot_d(req.local), f.rot(du));
+                        [0, 1].map(|i| dq[(3 * b + i) * n + k] + bu[i] * dth + adu[i])
+                    }
+                };
+                points[r * 2 * n + k] = d[0];
+                points[(r * 2 + 1) * n + k] = d[1];
             }
         }
     }

@@ -1,34 +1,64 @@
 //! A sweep with its sensitivities: the ordinary sweep (`crate::sweep::sweep`, every
-//! coordinate, velocities and accelerations), then, step by step, Phi_q assembled and
-//! factored at the solved q (the structured path has no factorization of its own; the
-//! general path's last one is at the Newton iterate before the last update) and the
-//! sensitivities solved with it (`step`); with efforts, the sweep solves the inverse
-//! dynamics too and the multipliers' sensitivities follow (`efforts`).
+//! coordinate, and the velocities and accelerations the sensitivities need) and, step by
+//! step, the sensitivities at the solved q. On the structured path (`structured`: dq/dp
+//! only, a plan of cranks and dyads) each group's closed form differentiated, as the sweep
+//! leaves each step (its frames current); on the general path, after the sweep, Phi_q
+//! assembled and factored at the solved q (the structured sweep has no factorization of
+//! its own; the general sweep's last one is at the Newton iterate before the last update)
+//! and the sensitivities solved with it (`step`); with efforts (the general path), the
+//! sweep solves the inverse dynamics too and the multipliers' sensitivities follow
+//! (`efforts`).
+
+use std::ops::Range;
 
 use super::efforts::Efforts;
 use super::params::Parameter;
 use super::step::{PointRequest, Sensitivity, StepOut};
+use super::structured::{choose, SensitivityPath};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::model::Model;
 use crate::sweep::{Request, SweepOutput};
 
+/// What a sensitivity sweep solves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SensitivityRequest {
+    /// 0: dq/dp only; 1: and dqd/dp; 2: and dqdd/dp (the sweep solves as many)
+    pub derivatives: u8,
+    /// the general path even where the structured one applies (a cross-check)
+    pub general: bool,
+}
+
+impl Default for SensitivityRequest {
+    fn default() -> Self {
+        SensitivityRequest { derivatives: 2, general: false }
+    }
+}
+
 /// A sweep and its sensitivities: row-major arrays, the first `n_done` steps valid.
 #[derive(Debug, Clone, Default)]
 pub struct SensitivityOutput {
-    /// the sweep itself (every coordinate; velocities and accelerations)
+    /// the sweep itself (every coordinate; the velocities and accelerations asked for)
     pub sweep: SweepOutput,
     pub names: Vec<String>,
     pub n_params: usize,
     pub n_points: usize,
+    pub request: SensitivityRequest,
     /// steps whose sensitivities are solved
     pub n_done: usize,
-    /// n_steps x n_coords x n_params: dq/dp, dqd/dp, dqdd/dp
+    /// the path that solved them (`structured::choose`), and why that one
+    pub path: SensitivityPath,
+    pub path_reason: String,
+    /// on the structured path: the steps next to a singular configuration that the
+    /// general path solved
+    pub general_steps: usize,
+    /// n_steps x n_coords x n_params: dq/dp, dqd/dp, dqdd/dp (the last two empty unless
+    /// asked for)
     pub dq: Vec<f64>,
     pub dqd: Vec<f64>,
     pub dqdd: Vec<f64>,
     /// n_steps x n_points x 2 x n_params: the points' world position, velocity and
-    /// acceleration, differentiated
+    /// acceleration, differentiated (as the derivatives asked for)
     pub points: Vec<f64>,
     pub points_d: Vec<f64>,
     pub points_dd: Vec<f64>,
@@ -41,21 +71,39 @@ pub struct SensitivityOutput {
 
 impl SensitivityOutput {
     /// Preallocated outputs of a sweep over `times` with the sensitivities to `params`
-    /// and of `n_points` body points.
+    /// and of `n_points` body points: dq/dp, dqd/dp and dqdd/dp.
     pub fn new(model: &Model, times: &[f64], params: &[Parameter], n_points: usize) -> SensitivityOutput {
+        SensitivityOutput::with_request(model, times, params, n_points, SensitivityRequest::default())
+    }
+
+    /// As `new`, of the derivatives `request` asks for.
+    pub fn with_request(
+        model: &Model,
+        times: &[f64],
+        params: &[Parameter],
+        n_points: usize,
+        request: SensitivityRequest,
+    ) -> SensitivityOutput {
+        let d = request.derivatives.min(2);
+        let request = SensitivityRequest { derivatives: d, ..request };
         let (n_steps, n, nc) = (times.len(), params.len(), model.n_coords);
+        let sized = |on: bool, len: usize| if on { vec![0.0; len] } else { Vec::new() };
         SensitivityOutput {
-            sweep: SweepOutput::with_request(model, times, Request::default()),
+            sweep: SweepOutput::with_request(model, times, Request { derivatives: d, ..Request::default() }),
             names: params.iter().map(|p| p.name.clone()).collect(),
             n_params: n,
             n_points,
+            request,
             n_done: 0,
+            path: SensitivityPath::General,
+            path_reason: String::new(),
+            general_steps: 0,
             dq: vec![0.0; n_steps * nc * n],
-            dqd: vec![0.0; n_steps * nc * n],
-            dqdd: vec![0.0; n_steps * nc * n],
+            dqd: sized(d >= 1, n_steps * nc * n),
+            dqdd: sized(d >= 2, n_steps * nc * n),
             points: vec![0.0; n_steps * n_points * 2 * n],
-            points_d: vec![0.0; n_steps * n_points * 2 * n],
-            points_dd: vec![0.0; n_steps * n_points * 2 * n],
+            points_d: sized(d >= 1, n_steps * n_points * 2 * n),
+            points_dd: sized(d >= 2, n_steps * n_points * 2 * n),
             efforts: false,
             dlambda: Vec::new(),
         }
@@ -77,11 +125,20 @@ impl SensitivityOutput {
     }
 }
 
+/// `v[r]`, or `v` itself where it is empty (an output not asked for).
+fn rows(v: &mut [f64], r: Range<usize>) -> &mut [f64] {
+    if v.is_empty() {
+        v
+    } else {
+        &mut v[r]
+    }
+}
+
 /// Sweeps `times` from data.q (as `crate::sweep::sweep`) and solves the sensitivities
 /// of every step to `params`, and of the body points `points`, into `out` (made by
-/// `SensitivityOutput::new`, or `with_efforts` for dlambda/dp too, for the same times,
-/// parameters and points). On error the steps before the one at fault are kept
-/// (`out.n_done`, and the sweep's own).
+/// `SensitivityOutput::new`, `with_request` (its request says which derivatives) or
+/// `with_efforts` (dlambda/dp too), for the same times, parameters and points). On error
+/// the steps before the one at fault are kept (`out.n_done`, and the sweep's own).
 #[allow(clippy::too_many_arguments)]
 pub fn sensitivity_sweep(
     model: &Model,
@@ -98,30 +155,78 @@ pub fn sensitivity_sweep(
         out.n_params == n && out.n_points == np && out.dq.len() == times.len() * nc * n,
         "outputs made for other times, parameters or points"
     );
+    let d = out.request.derivatives;
     out.n_done = 0;
-    let result = crate::sweep::sweep(model, data, times, &mut out.sweep, progress_every, progress);
+    out.general_steps = 0;
+    let structured = choose(model, params, d, out.request.general);
+    (out.path, out.path_reason) = match &structured {
+        Ok(_) => (
+            SensitivityPath::Structured,
+            "every group is a crank or a dyad, whose closed form is differentiated".into(),
+        ),
+        Err(why) => (SensitivityPath::General, why.clone()),
+    };
     let mut sens = Sensitivity::new(model, params, points);
     let mut efforts = out.efforts.then(|| Efforts::new(model, params));
+    // the steps the general path solves after the sweep: all of them, or on the structured
+    // path those next to a singular configuration
+    let mut general = vec![structured.is_err(); times.len()];
+    let result = match &structured {
+        Ok(st) => {
+            let (dq, dr, sens) = (&mut out.dq, &mut out.points, &sens);
+            let mut each = |data: &Data, t: f64, k: usize| {
+                let (s, p) = (k * nc * n..(k + 1) * nc * n, k * np * 2 * n..(k + 1) * np * 2 * n);
+                match st.step(model, data, t, &mut dq[s.clone()]) {
+                    Ok(()) => sens.points_of(data, &dq[s], &mut dr[p]),
+                    Err(_) => general[k] = true,
+                }
+                Ok(())
+            };
+            crate::sweep::sweep_observed(
+                model,
+                data,
+                times,
+                &mut out.sweep,
+                progress_every,
+                progress,
+                &mut each,
+            )
+        }
+        Err(_) => crate::sweep::sweep(model, data, times, &mut out.sweep, progress_every, progress),
+    };
     for k in 0..out.sweep.n_done {
+        if !general[k] {
+            out.n_done = k + 1;
+            continue;
+        }
         let t = times[k];
         let row = k * nc..(k + 1) * nc;
         data.q.copy_from_slice(&out.sweep.q[row.clone()]);
-        data.qd.copy_from_slice(&out.sweep.qd[row.clone()]);
-        data.qdd.copy_from_slice(&out.sweep.qdd[row]);
+        // the general path's jets read the rates solved; none below the derivatives asked for
+        match d {
+            0 => data.qd.fill(0.0),
+            _ => data.qd.copy_from_slice(&out.sweep.qd[row.clone()]),
+        }
+        match d {
+            0 | 1 => data.qdd.fill(0.0),
+            _ => data.qdd.copy_from_slice(&out.sweep.qdd[row]),
+        }
+        let (s, p) = (k * nc * n..(k + 1) * nc * n, k * np * 2 * n..(k + 1) * np * 2 * n);
+        out.general_steps += structured.is_ok() as usize;
         crate::assembly::position(model, data, t);
         crate::position::factor(model, data, t, k)?;
-        let (s, p) = (k * nc * n..(k + 1) * nc * n, k * np * 2 * n..(k + 1) * np * 2 * n);
-        sens.step(
+        sens.step_to(
             model,
             data,
             t,
+            d,
             StepOut {
                 dq: &mut out.dq[s.clone()],
-                dqd: &mut out.dqd[s.clone()],
-                dqdd: &mut out.dqdd[s],
+                dqd: rows(&mut out.dqd, s.clone()),
+                dqdd: rows(&mut out.dqdd, s),
                 points: &mut out.points[p.clone()],
-                points_d: &mut out.points_d[p.clone()],
-                points_dd: &mut out.points_dd[p],
+                points_d: rows(&mut out.points_d, p.clone()),
+                points_dd: rows(&mut out.points_dd, p),
             },
         );
         if let Some(efforts) = &mut efforts {
