@@ -24,6 +24,7 @@ pub enum SensitivityPath {
 }
 
 impl SensitivityPath {
+    /// "structured" or "general", as the Python results name it.
     pub fn label(self) -> &'static str {
         match self {
             SensitivityPath::Structured => "structured",
