@@ -151,10 +151,13 @@ def _base_model(job: Job) -> Any:
     return cached[1]
 
 
-def _run_variants(job: Job, start: int, values: np.ndarray, threads: int | None) -> dict[str, Any]:
+def _run_variants(
+    job: Job, start: int, values: np.ndarray, threads: int | None, progress: Any = None
+) -> dict[str, Any]:
     """`run_chunk` for designs that are variants of the compiled model: the engine sets
     each design's numbers, sweeps it and keeps its figures on its threads, the GIL
-    released; here only the values are checked and the figures placed."""
+    released; here only the values are checked and the figures placed. ``progress(done,
+    total)`` counts the designs swept."""
     from .. import _core
     from ..errors import LinkworkError
 
@@ -196,7 +199,7 @@ def _run_variants(job: Job, start: int, values: np.ndarray, threads: int | None)
     begin = time.perf_counter()
     raw = _core.sweep_variants(
         model._core, list(job.variants.names), deltas, times, coords, points,
-        job.derivatives, job.on_singular, threads or 0,
+        job.derivatives, job.on_singular, threads or 0, progress,
     )  # fmt: skip
     sweep = time.perf_counter() - begin
     begin = time.perf_counter()
@@ -204,16 +207,19 @@ def _run_variants(job: Job, start: int, values: np.ndarray, threads: int | None)
         errors[good[j]] = f"{type(e).__name__}: {e}"
     swept = np.array([not errors[i] for i in good], dtype=bool)
     rows = np.array(good, dtype=np.intp)[swept]
-    figures = {o.key: o.empty(n, n_steps) for o in job.outputs}
+    figures = {}
     for o in job.outputs:
         if o.kind == "path":
-            figures[o.key][rows] = raw["points"][swept, :, slots[o.key], :]
+            src = raw["points"][:, :, slots[o.key], :]
         elif o.kind in ("angle", "coordinate"):
-            figures[o.key][rows] = raw["q"][swept, :, slots[o.key]]
-        elif o.kind == "events":
-            figures[o.key][rows] = raw["events"][swept]
+            src = raw["q"][:, :, slots[o.key]]
         else:
-            figures[o.key][rows] = raw["pivot_min"][swept]
+            src = raw["events"] if o.kind == "events" else raw["pivot_min"]
+        if len(rows) == n:  # every design swept: the engine's array as it is (no copy)
+            figures[o.key] = src.astype(o.dtype, copy=False)
+        else:
+            figures[o.key] = o.empty(n, n_steps)
+            figures[o.key][rows] = src[swept]
     phases = {"build": build, "sweep": sweep, "reduce": time.perf_counter() - begin}
     return {
         "start": start,
@@ -426,7 +432,8 @@ class Study:
         threads = _args.optional_integer(threads, "threads", 0)
         begin = time.perf_counter()
         if scheduler is None:
-            chunk = chunk or _default_chunk(n, threads or os.cpu_count() or 1, cluster=False)
+            # variants: all at once (no Python work to overlap with the sweeps)
+            chunk = chunk or (max(1, n) if job.variants is not None else _default_chunk(n, 1, cluster=False))
             parts = _run_local(job, designs.values, chunk, threads, progress)
             where = "in-process"
         else:
@@ -449,8 +456,9 @@ def _outputs_of(model: Any, names: Sequence[Any]) -> list[Output]:
 
 
 def _default_chunk(n: int, workers: int, cluster: bool) -> int:
-    """Designs per task. In-process, the next chunk is built while the engine's threads
-    sweep one: 256 (small enough to overlap well and pace the progress bar). On a
+    """Designs per task. In-process, for designs redrawn in Python, the next chunk is built
+    while the engine's threads sweep one: 256 (small enough to overlap well and pace the
+    progress bar); variants go to the engine all at once. On a
     cluster, big enough that a task (~0.3-1 ms a design) dwarfs the scheduler's few ms per
     task, small enough that every worker gets several (load balance, and little to redo
     when a worker is lost)."""
@@ -518,17 +526,27 @@ def _chunks(n: int, chunk: int) -> list[tuple[int, int]]:
 def _run_local(
     job: Job, values: np.ndarray, chunk: int, threads: int | None, progress: Any
 ) -> list[dict[str, Any]]:
-    """In-process: while the engine's threads sweep one chunk (the GIL released), this
-    thread builds the next and reduces the last; the results are those of `run_chunk`."""
+    """In-process: variants go to the engine's threads (all at once unless ``chunk`` says
+    otherwise); designs redrawn in Python are built a chunk ahead: while the engine's
+    threads sweep one (the GIL released), this thread builds the next and reduces the
+    last. The results are those of `run_chunk`."""
     from concurrent.futures import ThreadPoolExecutor
 
     bar = _Bar(len(values), progress, "designs")
     parts = []
     if job.variants is not None:
         try:
-            for s, e in _chunks(len(values), chunk):
-                parts.append(_run_variants(job, s, values[s:e], threads))
-                bar.add(e - s)
+            chunks = _chunks(len(values), chunk)
+
+            def count(done: int, _: int) -> None:
+                if done > bar.done:
+                    bar.add(done - bar.done)
+
+            for s, e in chunks:
+                # one chunk (the default): the engine counts the designs as its threads finish them
+                parts.append(_run_variants(job, s, values[s:e], threads, count if len(chunks) == 1 else None))
+                if e > bar.done:
+                    bar.add(e - bar.done)
         finally:
             bar.close()
         return parts
