@@ -20,7 +20,7 @@
 mod common;
 
 use common::*;
-use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
+use criterion::{criterion_group, criterion_main, BatchSize, Bencher, BenchmarkId, Criterion, Throughput};
 use linkwork::sensitivity::{
     sensitivity_sweep, Parameter, SensitivityOutput, SensitivityPath, SensitivityRequest,
 };
@@ -31,6 +31,43 @@ use std::time::Duration;
 
 const STEPS: usize = 100_000;
 const N_PARAMS: usize = 10;
+
+/// Times a plain sweep into `out`, reading `last` of it.
+fn time_sweep(
+    b: &mut Bencher,
+    model: &Model,
+    times: &[f64],
+    out: &mut SweepOutput,
+    last: fn(&SweepOutput) -> f64,
+) {
+    b.iter_batched_ref(
+        || Data::new(model),
+        |data| {
+            sweep(model, data, black_box(times), out, 0, &mut |_| true).unwrap();
+            black_box(last(out))
+        },
+        BatchSize::LargeInput,
+    )
+}
+
+/// Times a sweep with its sensitivities to `params` into `out`, reading `last` of it.
+fn time_sensitivities(
+    b: &mut Bencher,
+    model: &Model,
+    times: &[f64],
+    params: &[Parameter],
+    out: &mut SensitivityOutput,
+    last: fn(&SensitivityOutput) -> f64,
+) {
+    b.iter_batched_ref(
+        || Data::new(model),
+        |data| {
+            sensitivity_sweep(model, data, black_box(times), params, &[], out, 0, &mut |_| true).unwrap();
+            black_box(last(out))
+        },
+        BatchSize::LargeInput,
+    )
+}
 
 fn sensitivities(c: &mut Criterion) {
     let desc = four_bar(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 0.0, 5.0);
@@ -43,41 +80,17 @@ fn sensitivities(c: &mut Criterion) {
         let model = Model::with_options(desc.clone(), Options { solver, ..Options::default() }).unwrap();
         let params: Vec<Parameter> = Parameter::all(&model).into_iter().take(N_PARAMS).collect();
         for (what, derivatives) in [("sweep", 2), ("sweep_positions", 0)] {
+            let mut out =
+                SweepOutput::with_request(&model, &times, Request { derivatives, ..Request::default() });
             g.bench_function(BenchmarkId::new(name, what), |b| {
-                let request = Request { derivatives, ..Request::default() };
-                let mut out = SweepOutput::with_request(&model, &times, request);
-                b.iter_batched_ref(
-                    || Data::new(&model),
-                    |data| {
-                        sweep(&model, data, black_box(&times), &mut out, 0, &mut |_| true).unwrap();
-                        black_box(out.q.last().copied())
-                    },
-                    BatchSize::LargeInput,
-                )
+                time_sweep(b, &model, &times, &mut out, |o| o.q[o.q.len() - 1])
             });
         }
         for (what, derivatives) in [("sweep_and_10_sensitivities", 2), ("sweep_positions_and_10_dq", 0)] {
             let request = SensitivityRequest { derivatives, ..SensitivityRequest::default() };
             let mut out = SensitivityOutput::with_request(&model, &times, &params, 0, request);
             g.bench_function(BenchmarkId::new(name, what), |b| {
-                b.iter_batched_ref(
-                    || Data::new(&model),
-                    |data| {
-                        sensitivity_sweep(
-                            &model,
-                            data,
-                            black_box(&times),
-                            &params,
-                            &[],
-                            &mut out,
-                            0,
-                            &mut |_| true,
-                        )
-                        .unwrap();
-                        black_box(out.dq.last().copied())
-                    },
-                    BatchSize::LargeInput,
-                )
+                time_sensitivities(b, &model, &times, &params, &mut out, |o| o.dq[o.dq.len() - 1])
             });
             // the path measured is the one the table names
             let structured = solver == SolverKind::Auto && derivatives == 0;
@@ -101,38 +114,14 @@ fn efforts(c: &mut Criterion) {
     g.sample_size(10).measurement_time(Duration::from_secs(20));
     for (name, solver) in [("structured", SolverKind::Auto), ("general", SolverKind::General)] {
         let model = Model::with_options(desc.clone(), Options { solver, ..Options::default() }).unwrap();
+        let mut out = SweepOutput::with_forces(&model, &times);
         g.bench_function(BenchmarkId::new(name, "sweep_with_forces"), |b| {
-            let mut out = SweepOutput::with_forces(&model, &times);
-            b.iter_batched_ref(
-                || Data::new(&model),
-                |data| {
-                    sweep(&model, data, black_box(&times), &mut out, 0, &mut |_| true).unwrap();
-                    black_box(out.lambda.last().copied())
-                },
-                BatchSize::LargeInput,
-            )
+            time_sweep(b, &model, &times, &mut out, |o| o.lambda[o.lambda.len() - 1])
         });
         let params: Vec<Parameter> = Parameter::all(&model).into_iter().take(N_PARAMS).collect();
+        let mut out = SensitivityOutput::with_efforts(&model, &times, &params, 0);
         g.bench_function(BenchmarkId::new(name, "sweep_and_10_sensitivities_with_efforts"), |b| {
-            let mut out = SensitivityOutput::with_efforts(&model, &times, &params, 0);
-            b.iter_batched_ref(
-                || Data::new(&model),
-                |data| {
-                    sensitivity_sweep(
-                        &model,
-                        data,
-                        black_box(&times),
-                        &params,
-                        &[],
-                        &mut out,
-                        0,
-                        &mut |_| true,
-                    )
-                    .unwrap();
-                    black_box(out.dlambda.last().copied())
-                },
-                BatchSize::LargeInput,
-            )
+            time_sensitivities(b, &model, &times, &params, &mut out, |o| o.dlambda[o.dlambda.len() - 1])
         });
     }
     g.finish();

@@ -16,6 +16,9 @@
 //! term (a velocity term, a centre of mass's lever, the (dPhi_q/dp)^T lambda part) is off
 //! by 1e-3 or more.
 
+mod common;
+
+use common::with_number;
 use linkwork::joints::Constraint;
 use linkwork::sensitivity::{sensitivity_sweep, Parameter, SensitivityOutput};
 use linkwork::{Data, Model, Options, SolverKind, SweepOutput};
@@ -50,24 +53,6 @@ fn multipliers(desc: &Value, engine: Option<(usize, usize, f64)>, times: &[f64])
     out.lambda
 }
 
-/// The description with the number at `path` (keys and indices; items by name) moved by d.
-fn moved(desc: &Value, path: &str, d: f64) -> Value {
-    let mut out = desc.clone();
-    let keys: Vec<&str> = path.split('.').collect();
-    let mut node = &mut out;
-    for (k, key) in keys.iter().enumerate() {
-        node = if k == 1 && keys[0] != "gravity" {
-            node.as_array_mut().unwrap().iter_mut().find(|i| i["name"] == *key).unwrap()
-        } else if let Ok(i) = key.parse::<usize>() {
-            &mut node[i]
-        } else {
-            &mut node[*key]
-        };
-    }
-    *node = json!(node.as_f64().unwrap() + d);
-    out
-}
-
 /// dlambda/dp of every parameter (the engine's numbers of every joint and driver, and
 /// the description paths `paths`) against differences of whole sweeps; the kinematic
 /// sensitivities of the dynamics' parameters are exactly zero.
@@ -89,7 +74,7 @@ fn check(label: &str, desc: Value, times: &[f64], paths: &[&str], h_rel: f64) {
                 let (c, i, _) = p.seeds[0];
                 multipliers(&desc, Some((c, i, d)), times)
             } else {
-                multipliers(&moved(&desc, &p.name, d), None, times)
+                multipliers(&with_number(&desc, &p.name, |v| v + d), None, times)
             }
         };
         let f: Vec<Vec<f64>> = [-2.0, -1.0, 1.0, 2.0].iter().map(|k| run(k * h)).collect();

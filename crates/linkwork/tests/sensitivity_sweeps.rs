@@ -11,6 +11,9 @@
 //! agreement 1e-8 is then asked of every array (against its largest entry, with an
 //! absolute floor of 1e-9 for the sensitivities that vanish).
 
+mod common;
+
+use common::with_number;
 use linkwork::joints::Constraint;
 use linkwork::sensitivity::{
     sensitivity_sweep, Parameter, PointRequest, SensitivityOutput, SensitivityPath, SensitivityRequest,
@@ -167,7 +170,7 @@ fn check(label: &str, desc: Value, times: &[f64], paths: &[&str]) {
                 *m.constraints[c].kind.params_mut()[i].1 += d;
                 m
             } else {
-                general(&set_path(&desc, &p.name, p.nominal + d))
+                general(&with_number(&desc, &p.name, |_| p.nominal + d))
             }
         };
         let fd = differences(&moved, h, times);
@@ -199,24 +202,6 @@ fn check(label: &str, desc: Value, times: &[f64], paths: &[&str]) {
             );
         }
     }
-}
-
-/// The description with the number at `path` (keys and indices; items by name) set.
-fn set_path(desc: &Value, path: &str, value: f64) -> Value {
-    let mut out = desc.clone();
-    let keys: Vec<&str> = path.split('.').collect();
-    let mut node = &mut out;
-    for (k, key) in keys.iter().enumerate() {
-        node = if k == 1 {
-            node.as_array_mut().unwrap().iter_mut().find(|i| i["name"] == *key).unwrap()
-        } else if let Ok(i) = key.parse::<usize>() {
-            &mut node[i]
-        } else {
-            &mut node[*key]
-        };
-    }
-    *node = json!(value);
-    out
 }
 
 fn steps(t_end: f64, n: usize) -> Vec<f64> {

@@ -355,3 +355,22 @@ pub fn translating_cam(
         close: None,
     }
 }
+
+/// The description (as JSON) with the number at `path` (keys and list indices; items of
+/// `bodies`, `joints`, ... by name; `gravity.1`) replaced by `f` of it.
+pub fn with_number(desc: &serde_json::Value, path: &str, f: impl FnOnce(f64) -> f64) -> serde_json::Value {
+    let mut out = desc.clone();
+    let keys: Vec<&str> = path.split('.').collect();
+    let mut node = &mut out;
+    for (k, key) in keys.iter().enumerate() {
+        node = if k == 1 && keys[0] != "gravity" {
+            node.as_array_mut().unwrap().iter_mut().find(|i| i["name"] == *key).unwrap()
+        } else if let Ok(i) = key.parse::<usize>() {
+            &mut node[i]
+        } else {
+            &mut node[*key]
+        };
+    }
+    *node = serde_json::json!(f(node.as_f64().unwrap()));
+    out
+}
