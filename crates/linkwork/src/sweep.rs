@@ -474,8 +474,27 @@ fn sweep_steps(
     let mut ratio_prev = f64::INFINITY;
     // worst diagnostics since the last kept row
     let (mut iterations, mut residual, mut pivot_ratio) = (0u32, 0.0f64, f64::INFINITY);
-    for (k, &t) in times.iter().enumerate() {
-        if progress_every > 0 && k % progress_every == 0 && k > 0 && !progress(k) {
+    // the run of steps in one loop (`closed_run`): the plan's groups are all closed forms
+    // that set every coordinate and its rates, and nothing else is asked of a step
+    let run = plan.filter(|p| fast_closed && solved == 2 && !req.forces && !req.locks && Run::fits(p));
+    // where the run stopped: the step it handed back
+    let mut handoff: Option<Handoff> = None;
+    let mut k = 0;
+    while k < times.len() {
+        if let Some(plan) = run.filter(|_| k > 0 && !tracker.spanning()) {
+            let mut worst = (&mut iterations, &mut residual, &mut pivot_ratio);
+            let mut ctx = Run { model, plan, times, out, progress_every, worst: &mut worst };
+            match ctx.steps(data, tracker, k, &mut ratio_prev, progress, after)? {
+                None => break,
+                Some(h) => {
+                    k = h.k;
+                    handoff = Some(h);
+                }
+            }
+        }
+        let t = times[k];
+        // a run's hand-back has checked progress at its step already
+        if progress_every > 0 && k % progress_every == 0 && k > 0 && handoff.is_none() && !progress(k) {
             return Err(SolveError::Cancelled { step: k });
         }
         // cancellation polled inside the careful path too (a step there can take many solves)
@@ -487,12 +506,24 @@ fn sweep_steps(
         let info = if k == 0 {
             solve_position(model, data, t, k, true)?
         } else {
-            tracker.q_prev.copy_from_slice(&data.q);
-            let fast = match plan {
-                Some(plan) if fast_closed && !tracker.spanning() => {
-                    closed_step(model, plan, data, times, k, solved, &tracker.q_prev)
+            let fast = match handoff.take() {
+                // the run tried this step: its groups' solution (data holds it; q_prev set
+                // by the run) or their miss (data back at the previous step)
+                Some(h) => {
+                    if h.solved.is_none() {
+                        tracker.q_prev.copy_from_slice(&data.q);
+                    }
+                    h.solved
                 }
-                _ => None,
+                None => {
+                    tracker.q_prev.copy_from_slice(&data.q);
+                    match plan {
+                        Some(plan) if fast_closed && !tracker.spanning() => {
+                            closed_step(model, plan, data, times, k, solved, &tracker.q_prev)
+                        }
+                        _ => None,
+                    }
+                }
             };
             if let Some(info) = fast {
                 by_blocks = true;
@@ -625,8 +656,109 @@ fn sweep_steps(
             (iterations, residual, pivot_ratio) = (0, 0.0, f64::INFINITY);
             after(data, t, row)?;
         }
+        k += 1;
     }
     Ok(())
+}
+
+/// The step a run (`Run::steps`) handed back to the step-by-step loop.
+struct Handoff {
+    k: usize,
+    /// Some: the groups solved step k (data holds it, and the history has moved on as
+    /// `closed_step` leaves it) but it failed the two-way check; None: the groups missed,
+    /// and data is back at step k-1
+    solved: Option<PositionInfo>,
+}
+
+/// A run of steps that the plan's closed forms take one after another, as the
+/// step-by-step loop takes them (`closed_step`, the two-way check, the store), without
+/// its per-step dispatch and copies: each coordinate's rates are written by its group,
+/// so the previous step's rates become the history by a swap of buffers, not a copy.
+struct Run<'a, 'w> {
+    model: &'a Model,
+    plan: &'a blocks::Plan,
+    times: &'a [f64],
+    out: &'a mut SweepOutput,
+    progress_every: usize,
+    /// the worst iterations, residual and pivot ratio since the last kept row
+    worst: &'w mut (&'a mut u32, &'a mut f64, &'a mut f64),
+}
+
+impl Run<'_, '_> {
+    /// Plans whose groups each set every coordinate of their bodies, with rates and
+    /// accelerations, from the groups before them only (the substitutions and Newton
+    /// blocks read the step's rates as they go).
+    fn fits(plan: &blocks::Plan) -> bool {
+        plan.blocks
+            .iter()
+            .all(|b| matches!(b, Block::Crank(_) | Block::Rrr(_) | Block::Rrp(_) | Block::Rpr(_)))
+    }
+
+    /// Steps k0, k0 + 1, ... until one is not taken (handed back) or the times end (None).
+    fn steps(
+        &mut self,
+        data: &mut Data,
+        tracker: &mut Tracker,
+        k0: usize,
+        ratio_prev: &mut f64,
+        progress: &mut dyn FnMut(usize) -> bool,
+        after: &mut Observer,
+    ) -> Result<Option<Handoff>, SolveError> {
+        let (model, times) = (self.model, self.times);
+        let every = self.out.request.every;
+        for k in k0..times.len() {
+            if self.progress_every > 0 && k % self.progress_every == 0 && !progress(k) {
+                return Err(SolveError::Cancelled { step: k });
+            }
+            let (t, h) = (times[k], times[k] - times[k - 1]);
+            // the history as `closed_step` moves it: q_{k-1} first, the rates swapped in
+            data.hist_q.rotate_right(1);
+            data.hist_q[0].copy_from_slice(&data.q);
+            std::mem::swap(&mut data.qd, &mut data.hist_qd);
+            std::mem::swap(&mut data.qdd, &mut data.hist_qdd);
+            let s = match blocks::step(model, self.plan, data, t, 2, h) {
+                Ok(s) => s,
+                Err(_) => {
+                    data.q.copy_from_slice(&data.hist_q[0]);
+                    data.hist_q.rotate_left(1);
+                    std::mem::swap(&mut data.qd, &mut data.hist_qd);
+                    std::mem::swap(&mut data.qdd, &mut data.hist_qdd);
+                    return Ok(Some(Handoff { k, solved: None }));
+                }
+            };
+            let info = PositionInfo {
+                iterations: s.iterations,
+                residual: s.residual,
+                pivot_ratio: s.closeness,
+                det_sign: s.det_sign,
+                correction: s.correction,
+            };
+            let q_prev = &data.hist_q[0];
+            if !continues(&data.inv_col_scale, h, q_prev, &data.hist_qd, &data.q, &data.qd, Some(&data.qdd)) {
+                tracker.q_prev.copy_from_slice(q_prev);
+                return Ok(Some(Handoff { k, solved: Some(info) }));
+            }
+            tracker.det_prev = info.det_sign;
+            *ratio_prev = info.pivot_ratio;
+            let w = &mut *self.worst;
+            *w.0 = (*w.0).max(info.iterations as u32);
+            *w.1 = w.1.max(info.residual);
+            *w.2 = w.2.min(info.pivot_ratio);
+            if k % every == 0 {
+                let row = k / every;
+                let out = &mut *self.out;
+                out.store(model, data, t, row, true);
+                out.iterations[row] = *w.0;
+                out.residual[row] = *w.1;
+                out.pivot_ratio[row] = *w.2;
+                out.det_sign[row] = info.det_sign;
+                out.n_done = row + 1;
+                (*w.0, *w.1, *w.2) = (0, 0.0, f64::INFINITY);
+                after(data, t, row)?;
+            }
+        }
+        Ok(None)
+    }
 }
 
 /// The derivatives a sweep solves: those asked for, and velocities and accelerations where

@@ -395,9 +395,22 @@ pub(crate) fn point_acc(f: &Frame, qdd: [f64; 3], r: [f64; 2]) -> [f64; 2] {
 #[inline(always)]
 pub(crate) fn body_qdd(data: &Data, body: Option<usize>) -> [f64; 3] {
     match body {
-        Some(b) => [data.qdd[3 * b], data.qdd[3 * b + 1], data.qdd[3 * b + 2]],
+        Some(b) => triple(&data.qdd, b),
         None => [0.0; 3],
     }
+}
+
+/// A body's three entries of q, qd or qdd (one bounds check for the three).
+#[inline(always)]
+fn triple(v: &[f64], b: usize) -> [f64; 3] {
+    let t = &v[3 * b..3 * b + 3];
+    [t[0], t[1], t[2]]
+}
+
+/// Writes a body's three entries of q, qd or qdd (one bounds check for the three).
+#[inline(always)]
+fn set_triple(v: &mut [f64], b: usize, x: [f64; 3]) {
+    v[3 * b..3 * b + 3].copy_from_slice(&x);
 }
 
 /// The frame of a side (the ground's identity for None).
@@ -424,19 +437,16 @@ pub(crate) fn continued(raw: f64, near: f64) -> f64 {
 /// Writes a body's pose and rates into q, qd, qdd and its frame.
 #[inline(always)]
 pub(crate) fn set_body(data: &mut Data, b: usize, r: [f64; 2], theta: f64, c: f64, s: f64) {
-    data.q[3 * b] = r[0];
-    data.q[3 * b + 1] = r[1];
-    data.q[3 * b + 2] = theta;
+    set_triple(&mut data.q, b, [r[0], r[1], theta]);
     data.frames[b] = Frame { r, theta, c, s, rd: [0.0; 2], thetad: 0.0 };
 }
 
 #[inline(always)]
 pub(crate) fn set_rates(data: &mut Data, b: usize, rd: [f64; 2], thetad: f64) {
-    data.qd[3 * b] = rd[0];
-    data.qd[3 * b + 1] = rd[1];
-    data.qd[3 * b + 2] = thetad;
-    data.frames[b].rd = rd;
-    data.frames[b].thetad = thetad;
+    set_triple(&mut data.qd, b, [rd[0], rd[1], thetad]);
+    let f = &mut data.frames[b];
+    f.rd = rd;
+    f.thetad = thetad;
 }
 
 /// A body's origin velocity from that of its point at p (vp) and its angular rate w.
@@ -469,9 +479,7 @@ pub(crate) fn pinned_accelerations(
 
 #[inline(always)]
 pub(crate) fn set_acc(data: &mut Data, b: usize, rdd: [f64; 2], thetadd: f64) {
-    data.qdd[3 * b] = rdd[0];
-    data.qdd[3 * b + 1] = rdd[1];
-    data.qdd[3 * b + 2] = thetadd;
+    set_triple(&mut data.qdd, b, [rdd[0], rdd[1], thetadd]);
 }
 
 /// One step of the plan at time t: every group's positions (and with `derivatives` >= 1

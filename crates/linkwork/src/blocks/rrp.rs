@@ -33,7 +33,12 @@ pub struct Rrp {
     /// the prismatic joint (constraint index) and the numbers of u_pin (constraint, index)
     prismatic: usize,
     pin_numbers: [Option<(usize, usize)>; 2],
+    /// on the ground, the line and the slider's angle never move: `line` once, at compile
+    ground_line: Option<Line>,
 }
+
+/// The slider's angle, cos, sin; a point of B's line and its unit direction.
+type Line = (f64, f64, f64, [f64; 2], [f64; 2]);
 
 impl Rrp {
     pub fn new(model: &Model, g: &Group) -> Option<Rrp> {
@@ -75,7 +80,7 @@ impl Rrp {
         } else {
             return None;
         };
-        Some(Rrp {
+        let mut rrp = Rrp {
             link,
             slider,
             known,
@@ -87,12 +92,17 @@ impl Rrp {
             theta0: p.theta0,
             prismatic: kp,
             pin_numbers: xy(km, at_pin),
-        })
+            ground_line: None,
+        };
+        if known.is_none() {
+            rrp.ground_line = Some(rrp.line(&Frame::GROUND, &mut [f64::NAN, 1.0, 0.0]));
+        }
+        Some(rrp)
     }
 
     /// The slider's angle, cos, sin; a point of B's line and its unit direction.
     #[inline(always)]
-    fn line(&self, k: &Frame, turn: &mut [f64; 3]) -> (f64, f64, f64, [f64; 2], [f64; 2]) {
+    fn line(&self, k: &Frame, turn: &mut [f64; 3]) -> Line {
         let theta = if self.line_in_known { k.theta + self.theta0 } else { k.theta - self.theta0 };
         let (c, s) = crate::assembly::turned(theta, turn);
         let rot = |u: [f64; 2]| [c * u[0] - s * u[1], s * u[0] + c * u[1]];
@@ -113,9 +123,15 @@ impl Rrp {
     pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
         let (k1, a) = self.link.outer(data);
         let k = side(data, self.known);
-        let mut turn = data.frame_base[self.slider];
-        let (theta_s, cs, ss, p0, dir) = self.line(&k, &mut turn);
-        data.frame_base[self.slider] = turn;
+        let (theta_s, cs, ss, p0, dir) = match self.ground_line {
+            Some(line) => line,
+            None => {
+                let mut turn = data.frame_base[self.slider];
+                let line = self.line(&k, &mut turn);
+                data.frame_base[self.slider] = turn;
+                line
+            }
+        };
         let r1 = self.link.length;
         let p = sub(a, p0);
         let s0 = dot(p, dir);

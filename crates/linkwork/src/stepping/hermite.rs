@@ -84,16 +84,32 @@ pub fn continues(
     qd: &[f64],
     qdd: Option<&[f64]>,
 ) -> bool {
+    // the largest of each over the coordinates; a NaN term is passed over (as f64::max
+    // does), one comparison each: this runs at every step of a sweep
     let (mut motion, mut misfit) = (0.0f64, 0.0f64);
-    for i in 0..q.len() {
-        let s = inv_col_scale[i];
-        let acc = match qdd {
-            Some(qdd) => qdd[i],
-            None => (qd[i] - qd_prev[i]) / h,
-        };
-        let backward = q[i] - h * (qd[i] - 0.5 * h * acc);
-        motion = motion.max((q[i] - q_prev[i]).abs() * s);
-        misfit = misfit.max((q_prev[i] - backward).abs() * s);
+    let mut one = |s: f64, q: f64, q_prev: f64, qd: f64, acc: f64| {
+        let backward = q - h * (qd - 0.5 * h * acc);
+        let (m, f) = ((q - q_prev).abs() * s, (q_prev - backward).abs() * s);
+        if m > motion {
+            motion = m;
+        }
+        if f > misfit {
+            misfit = f;
+        }
+    };
+    let n = q.len();
+    let (s, q_prev, qd) = (&inv_col_scale[..n], &q_prev[..n], &qd[..n]);
+    match qdd {
+        Some(qdd) => {
+            for ((((&s, &q), &p), &v), &a) in s.iter().zip(q).zip(q_prev).zip(qd).zip(&qdd[..n]) {
+                one(s, q, p, v, a);
+            }
+        }
+        None => {
+            for ((((&s, &q), &p), &v), &v0) in s.iter().zip(q).zip(q_prev).zip(qd).zip(&qd_prev[..n]) {
+                one(s, q, p, v, (v - v0) / h);
+            }
+        }
     }
     misfit <= CONSISTENCY * motion + CONSISTENCY_FLOOR
 }
