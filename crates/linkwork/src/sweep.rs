@@ -437,7 +437,7 @@ pub(crate) fn sweep_observed(
     out.events.clear();
     data.with_velocity = solved_derivatives(model, &req) >= 1;
     let mut tracker = Tracker::new(model, req.on_singular, req.locks);
-    let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress, after);
+    let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress, after, true);
     out.events = std::mem::take(&mut tracker.events);
     result
 }
@@ -452,6 +452,7 @@ fn sweep_steps(
     progress_every: usize,
     progress: &mut dyn FnMut(usize) -> bool,
     after: &mut Observer,
+    runs: bool,
 ) -> Result<(), SolveError> {
     let req = out.request;
     // the structure-aware cheap path, where the model has a plan
@@ -476,7 +477,8 @@ fn sweep_steps(
     let (mut iterations, mut residual, mut pivot_ratio) = (0u32, 0.0f64, f64::INFINITY);
     // the run of steps in one loop (`closed_run`): the plan's groups are all closed forms
     // that set every coordinate and its rates, and nothing else is asked of a step
-    let run = plan.filter(|p| fast_closed && solved == 2 && !req.forces && !req.locks && Run::fits(p));
+    let run =
+        plan.filter(|p| runs && fast_closed && solved == 2 && !req.forces && !req.locks && Run::fits(p));
     // where the run stopped: the step it handed back
     let mut handoff: Option<Handoff> = None;
     let mut k = 0;
@@ -711,21 +713,24 @@ impl Run<'_, '_> {
                 return Err(SolveError::Cancelled { step: k });
             }
             let (t, h) = (times[k], times[k] - times[k - 1]);
-            // the history as `closed_step` moves it: q_{k-1} first, the rates swapped in
-            data.hist_q.rotate_right(1);
-            data.hist_q[0].copy_from_slice(&data.q);
-            std::mem::swap(&mut data.qd, &mut data.hist_qd);
-            std::mem::swap(&mut data.qdd, &mut data.hist_qdd);
+            // the history as `closed_step` moves it, with buffers swapped where it copies:
+            // the groups write every rate of this step into a spare buffer, the previous
+            // rates kept aside (the history on success, put back on a miss)
+            tracker.q_prev.copy_from_slice(&data.q);
+            let aside = &mut data.blocks;
+            std::mem::swap(&mut data.qd, &mut aside.qd_prev);
+            std::mem::swap(&mut data.qdd, &mut aside.qdd_prev);
             let s = match blocks::step(model, self.plan, data, t, 2, h) {
                 Ok(s) => s,
                 Err(_) => {
-                    data.q.copy_from_slice(&data.hist_q[0]);
-                    data.hist_q.rotate_left(1);
-                    std::mem::swap(&mut data.qd, &mut data.hist_qd);
-                    std::mem::swap(&mut data.qdd, &mut data.hist_qdd);
+                    data.q.copy_from_slice(&tracker.q_prev);
+                    std::mem::swap(&mut data.qd, &mut data.blocks.qd_prev);
+                    std::mem::swap(&mut data.qdd, &mut data.blocks.qdd_prev);
                     return Ok(Some(Handoff { k, solved: None }));
                 }
             };
+            std::mem::swap(&mut data.hist_qd, &mut data.blocks.qd_prev);
+            std::mem::swap(&mut data.hist_qdd, &mut data.blocks.qdd_prev);
             let info = PositionInfo {
                 iterations: s.iterations,
                 residual: s.residual,
@@ -733,11 +738,14 @@ impl Run<'_, '_> {
                 det_sign: s.det_sign,
                 correction: s.correction,
             };
-            let q_prev = &data.hist_q[0];
+            data.hist_q.rotate_right(1);
+            let q_prev = &tracker.q_prev;
             if !continues(&data.inv_col_scale, h, q_prev, &data.hist_qd, &data.q, &data.qd, Some(&data.qdd)) {
-                tracker.q_prev.copy_from_slice(q_prev);
+                data.hist_q[0].copy_from_slice(q_prev);
                 return Ok(Some(Handoff { k, solved: Some(info) }));
             }
+            // q_{k-1} into the history by a swap: q_prev is set again before it is read
+            std::mem::swap(&mut data.hist_q[0], &mut tracker.q_prev);
             tracker.det_prev = info.det_sign;
             *ratio_prev = info.pivot_ratio;
             let w = &mut *self.worst;
@@ -877,4 +885,94 @@ pub fn solve(model: &Model, data: &mut Data, t: f64) -> Result<crate::position::
     solve_velocity(model, data, t, 0)?;
     solve_acceleration(model, data, t, 0)?;
     Ok(info)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stepping::tracking::OnSingular;
+
+    /// A sweep with the runs of closed-form steps or one step at a time.
+    fn swept(
+        model: &Model,
+        times: &[f64],
+        req: Request,
+        outputs: Outputs,
+        runs: bool,
+    ) -> (SweepOutput, bool) {
+        let mut data = Data::new(model);
+        let mut out = SweepOutput::with_outputs(model, times, req, outputs);
+        let mut tracker = Tracker::new(model, req.on_singular, req.locks);
+        let mut progress = |_| true;
+        let r = sweep_steps(
+            model,
+            &mut data,
+            times,
+            &mut out,
+            &mut tracker,
+            7,
+            &mut progress,
+            &mut |_, _, _| Ok(()),
+            runs,
+        );
+        out.events = std::mem::take(&mut tracker.events);
+        (out, r.is_ok())
+    }
+
+    /// The runs take the steps the step-by-step loop takes, as it takes them: every
+    /// shipped example whose plan they fit, swept over a fine and a coarse grid (where
+    /// steps are handed back: near singular configurations, branch checks), every k-th
+    /// row kept or some coordinates and a point, gives the same bits both ways.
+    #[test]
+    fn runs_take_the_steps_the_loop_takes() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+        let mut fitted = 0;
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|x| x != "toml") {
+                continue;
+            }
+            let model = Model::new(crate::files::read_path(&path).unwrap().description).unwrap();
+            if !model.plan.as_ref().is_ok_and(Run::fits) {
+                continue;
+            }
+            fitted += 1;
+            let (lo, hi) = model.time_domain;
+            let t0 = 0.0f64.max(lo);
+            for (n, span) in [(2000usize, 2.0f64), (60, 40.0)] {
+                let t1 = (t0 + span).min(hi);
+                let times: Vec<f64> = (0..=n).map(|k| t0 + (t1 - t0) * k as f64 / n as f64).collect();
+                let point = Outputs {
+                    coords: Some(vec![model.n_coords - 1, 0]),
+                    points: vec![(Some(0), [0.1, 0.02])],
+                };
+                for (req, outputs) in [
+                    (Request::default(), Outputs::all()),
+                    (Request { derivatives: 0, every: 3, ..Request::default() }, Outputs::all()),
+                    (Request { on_singular: OnSingular::Stop, ..Request::default() }, point),
+                ] {
+                    let (a, ok_a) = swept(&model, &times, req, outputs.clone(), true);
+                    let (b, ok_b) = swept(&model, &times, req, outputs, false);
+                    let name = path.display();
+                    assert_eq!((ok_a, a.n_done), (ok_b, b.n_done), "{name}");
+                    let pairs = [
+                        ("q", &a.q, &b.q),
+                        ("qd", &a.qd, &b.qd),
+                        ("qdd", &a.qdd, &b.qdd),
+                        ("points", &a.points, &b.points),
+                        ("residual", &a.residual, &b.residual),
+                        ("pivot ratio", &a.pivot_ratio, &b.pivot_ratio),
+                        ("det sign", &a.det_sign, &b.det_sign),
+                    ];
+                    for (what, x, y) in pairs {
+                        let first = x.iter().zip(y.iter()).position(|(u, v)| u.to_bits() != v.to_bits());
+                        assert_eq!(first, None, "{name}, {n} steps, {req:?}: {what} differs");
+                    }
+                    assert_eq!(a.iterations, b.iterations, "{name}");
+                    assert_eq!(format!("{:?}", a.events), format!("{:?}", b.events), "{name}");
+                }
+            }
+        }
+        assert!(fitted >= 6, "only {fitted} examples have a plan the runs fit");
+    }
 }
