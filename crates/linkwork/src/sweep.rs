@@ -475,17 +475,16 @@ fn sweep_steps(
     let mut ratio_prev = f64::INFINITY;
     // worst diagnostics since the last kept row
     let (mut iterations, mut residual, mut pivot_ratio) = (0u32, 0.0f64, f64::INFINITY);
-    // the run of steps in one loop (`closed_run`): the plan's groups are all closed forms
-    // that set every coordinate and its rates, and nothing else is asked of a step
-    let run =
-        plan.filter(|p| runs && fast_closed && solved == 2 && !req.forces && !req.locks && Run::fits(p));
+    // the run of steps in one loop (`Run`): every group is a closed form, and nothing else
+    // is asked of a step
+    let run = plan.filter(|_| runs && fast_closed && !req.forces && !req.locks);
     // where the run stopped: the step it handed back
     let mut handoff: Option<Handoff> = None;
     let mut k = 0;
     while k < times.len() {
         if let Some(plan) = run.filter(|_| k > 0 && !tracker.spanning()) {
             let mut worst = (&mut iterations, &mut residual, &mut pivot_ratio);
-            let mut ctx = Run { model, plan, times, out, progress_every, worst: &mut worst };
+            let mut ctx = Run { model, plan, times, out, progress_every, solved, worst: &mut worst };
             match ctx.steps(data, tracker, k, &mut ratio_prev, progress, after)? {
                 None => break,
                 Some(h) => {
@@ -509,14 +508,9 @@ fn sweep_steps(
             solve_position(model, data, t, k, true)?
         } else {
             let fast = match handoff.take() {
-                // the run tried this step: its groups' solution (data holds it; q_prev set
-                // by the run) or their miss (data back at the previous step)
-                Some(h) => {
-                    if h.solved.is_none() {
-                        tracker.q_prev.copy_from_slice(&data.q);
-                    }
-                    h.solved
-                }
+                // the run tried this step (q_prev set): its groups' solution (data holds
+                // it) or their miss (data back at the previous step)
+                Some(h) => h.solved,
                 None => {
                     tracker.q_prev.copy_from_slice(&data.q);
                     match plan {
@@ -674,28 +668,20 @@ struct Handoff {
 
 /// A run of steps that the plan's closed forms take one after another, as the
 /// step-by-step loop takes them (`closed_step`, the two-way check, the store), without
-/// its per-step dispatch and copies: each coordinate's rates are written by its group,
-/// so the previous step's rates become the history by a swap of buffers, not a copy.
+/// its per-step dispatch among the paths: the first step they do not take is handed back.
 struct Run<'a, 'w> {
     model: &'a Model,
     plan: &'a blocks::Plan,
     times: &'a [f64],
     out: &'a mut SweepOutput,
     progress_every: usize,
+    /// the derivatives each step solves (`solved_derivatives`)
+    solved: u8,
     /// the worst iterations, residual and pivot ratio since the last kept row
     worst: &'w mut (&'a mut u32, &'a mut f64, &'a mut f64),
 }
 
 impl Run<'_, '_> {
-    /// Plans whose groups each set every coordinate of their bodies, with rates and
-    /// accelerations, from the groups before them only (the substitutions and Newton
-    /// blocks read the step's rates as they go).
-    fn fits(plan: &blocks::Plan) -> bool {
-        plan.blocks
-            .iter()
-            .all(|b| matches!(b, Block::Crank(_) | Block::Rrr(_) | Block::Rrp(_) | Block::Rpr(_)))
-    }
-
     /// Steps k0, k0 + 1, ... until one is not taken (handed back) or the times end (None).
     fn steps(
         &mut self,
@@ -713,39 +699,15 @@ impl Run<'_, '_> {
                 return Err(SolveError::Cancelled { step: k });
             }
             let (t, h) = (times[k], times[k] - times[k - 1]);
-            // the history as `closed_step` moves it, with buffers swapped where it copies:
-            // the groups write every rate of this step into a spare buffer, the previous
-            // rates kept aside (the history on success, put back on a miss)
             tracker.q_prev.copy_from_slice(&data.q);
-            let aside = &mut data.blocks;
-            std::mem::swap(&mut data.qd, &mut aside.qd_prev);
-            std::mem::swap(&mut data.qdd, &mut aside.qdd_prev);
-            let s = match blocks::step(model, self.plan, data, t, 2, h) {
-                Ok(s) => s,
-                Err(_) => {
-                    data.q.copy_from_slice(&tracker.q_prev);
-                    std::mem::swap(&mut data.qd, &mut data.blocks.qd_prev);
-                    std::mem::swap(&mut data.qdd, &mut data.blocks.qdd_prev);
-                    return Ok(Some(Handoff { k, solved: None }));
-                }
+            let solved = self.solved;
+            let Some(info) = closed_step(model, self.plan, data, times, k, solved, &tracker.q_prev) else {
+                return Ok(Some(Handoff { k, solved: None }));
             };
-            std::mem::swap(&mut data.hist_qd, &mut data.blocks.qd_prev);
-            std::mem::swap(&mut data.hist_qdd, &mut data.blocks.qdd_prev);
-            let info = PositionInfo {
-                iterations: s.iterations,
-                residual: s.residual,
-                pivot_ratio: s.closeness,
-                det_sign: s.det_sign,
-                correction: s.correction,
-            };
-            data.hist_q.rotate_right(1);
-            let q_prev = &tracker.q_prev;
-            if !continues(&data.inv_col_scale, h, q_prev, &data.hist_qd, &data.q, &data.qd, Some(&data.qdd)) {
-                data.hist_q[0].copy_from_slice(q_prev);
+            let qdd = (solved >= 2).then_some(&data.qdd[..]);
+            if !continues(&data.inv_col_scale, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
                 return Ok(Some(Handoff { k, solved: Some(info) }));
             }
-            // q_{k-1} into the history by a swap: q_prev is set again before it is read
-            std::mem::swap(&mut data.hist_q[0], &mut tracker.q_prev);
             tracker.det_prev = info.det_sign;
             *ratio_prev = info.pivot_ratio;
             let w = &mut *self.worst;
@@ -920,7 +882,7 @@ mod tests {
     }
 
     /// The runs take the steps the step-by-step loop takes, as it takes them: every
-    /// shipped example whose plan they fit, swept over a fine and a coarse grid (where
+    /// shipped example whose plan is all closed forms, swept over a fine and a coarse grid (where
     /// steps are handed back: near singular configurations, branch checks), every k-th
     /// row kept or some coordinates and a point, gives the same bits both ways.
     #[test]
@@ -933,7 +895,8 @@ mod tests {
                 continue;
             }
             let model = Model::new(crate::files::read_path(&path).unwrap().description).unwrap();
-            if !model.plan.as_ref().is_ok_and(Run::fits) {
+            let closed = |p: &blocks::Plan| !p.blocks.iter().any(|b| matches!(b, Block::Newton(_)));
+            if !model.plan.as_ref().is_ok_and(closed) {
                 continue;
             }
             fitted += 1;
@@ -973,6 +936,6 @@ mod tests {
                 }
             }
         }
-        assert!(fitted >= 6, "only {fitted} examples have a plan the runs fit");
+        assert!(fitted >= 6, "only {fitted} examples have a plan of closed forms");
     }
 }
