@@ -332,6 +332,28 @@ impl SweepOutput {
         }
     }
 
+    /// Stores the state in `data` as row `row` (`store`) with the worst diagnostics since
+    /// the last kept row, which start again.
+    #[allow(clippy::too_many_arguments)]
+    fn keep(
+        &mut self,
+        model: &Model,
+        data: &Data,
+        t: f64,
+        row: usize,
+        frames_set: bool,
+        worst: &mut Worst,
+        det_sign: f64,
+    ) {
+        self.store(model, data, t, row, frames_set);
+        self.iterations[row] = worst.iterations;
+        self.residual[row] = worst.residual;
+        self.pivot_ratio[row] = worst.pivot_ratio;
+        self.det_sign[row] = det_sign;
+        self.n_done = row + 1;
+        *worst = Worst::default();
+    }
+
     /// The kept points' world position R + A u, velocity Rd + thetad B u and
     /// acceleration Rdd + thetadd B u - thetad^2 A u, as row `row`.
     fn store_points(&mut self, data: &Data, row: usize, frames_set: bool) {
@@ -474,7 +496,7 @@ fn sweep_steps(
     // the pivot ratio (closeness to singular on the structured path) of the last step
     let mut ratio_prev = f64::INFINITY;
     // worst diagnostics since the last kept row
-    let (mut iterations, mut residual, mut pivot_ratio) = (0u32, 0.0f64, f64::INFINITY);
+    let mut worst = Worst::default();
     // the run of steps in one loop (`Run`): every group is a closed form, and nothing else
     // is asked of a step
     let run = plan.filter(|_| runs && fast_closed && !req.forces && !req.locks);
@@ -483,7 +505,6 @@ fn sweep_steps(
     let mut k = 0;
     while k < times.len() {
         if let Some(plan) = run.filter(|_| k > 0 && !tracker.spanning()) {
-            let mut worst = (&mut iterations, &mut residual, &mut pivot_ratio);
             let mut ctx = Run { model, plan, times, out, progress_every, solved, worst: &mut worst };
             match ctx.steps(data, tracker, k, &mut ratio_prev, progress, after)? {
                 None => break,
@@ -631,9 +652,7 @@ fn sweep_steps(
         } else if req.locks {
             tracker.after_velocity(model, data, times[k - 1], t, k)?;
         }
-        iterations = iterations.max(info.iterations as u32);
-        residual = residual.max(info.residual);
-        pivot_ratio = pivot_ratio.min(info.pivot_ratio);
+        worst.add(&info);
         if k % req.every == 0 {
             if req.forces {
                 if by_blocks {
@@ -643,18 +662,33 @@ fn sweep_steps(
                 solve_forces(model, data, t, k)?;
             }
             let row = k / req.every;
-            out.store(model, data, t, row, by_blocks);
-            out.iterations[row] = iterations;
-            out.residual[row] = residual;
-            out.pivot_ratio[row] = pivot_ratio;
-            out.det_sign[row] = info.det_sign;
-            out.n_done = row + 1;
-            (iterations, residual, pivot_ratio) = (0, 0.0, f64::INFINITY);
+            out.keep(model, data, t, row, by_blocks, &mut worst, info.det_sign);
             after(data, t, row)?;
         }
         k += 1;
     }
     Ok(())
+}
+
+/// The worst diagnostics of the steps since the last kept row: each kept row reports them.
+struct Worst {
+    iterations: u32,
+    residual: f64,
+    pivot_ratio: f64,
+}
+
+impl Default for Worst {
+    fn default() -> Self {
+        Worst { iterations: 0, residual: 0.0, pivot_ratio: f64::INFINITY }
+    }
+}
+
+impl Worst {
+    fn add(&mut self, info: &PositionInfo) {
+        self.iterations = self.iterations.max(info.iterations as u32);
+        self.residual = self.residual.max(info.residual);
+        self.pivot_ratio = self.pivot_ratio.min(info.pivot_ratio);
+    }
 }
 
 /// The step a run (`Run::steps`) handed back to the step-by-step loop.
@@ -677,8 +711,7 @@ struct Run<'a, 'w> {
     progress_every: usize,
     /// the derivatives each step solves (`solved_derivatives`)
     solved: u8,
-    /// the worst iterations, residual and pivot ratio since the last kept row
-    worst: &'w mut (&'a mut u32, &'a mut f64, &'a mut f64),
+    worst: &'w mut Worst,
 }
 
 impl Run<'_, '_> {
@@ -710,20 +743,10 @@ impl Run<'_, '_> {
             }
             tracker.det_prev = info.det_sign;
             *ratio_prev = info.pivot_ratio;
-            let w = &mut *self.worst;
-            *w.0 = (*w.0).max(info.iterations as u32);
-            *w.1 = w.1.max(info.residual);
-            *w.2 = w.2.min(info.pivot_ratio);
+            self.worst.add(&info);
             if k % every == 0 {
                 let row = k / every;
-                let out = &mut *self.out;
-                out.store(model, data, t, row, true);
-                out.iterations[row] = *w.0;
-                out.residual[row] = *w.1;
-                out.pivot_ratio[row] = *w.2;
-                out.det_sign[row] = info.det_sign;
-                out.n_done = row + 1;
-                (*w.0, *w.1, *w.2) = (0, 0.0, f64::INFINITY);
+                self.out.keep(model, data, t, row, true, self.worst, info.det_sign);
                 after(data, t, row)?;
             }
         }
