@@ -776,6 +776,9 @@ fn solved_derivatives(model: &Model, req: &Request) -> u8 {
 /// Step k by a plan whose groups are all closed forms, before any prediction (they need
 /// none): on success the predictor's history moves on as `predict` would have moved it;
 /// on a miss q, qd, qdd of step k-1 are put back for the prediction and the general path.
+/// A successful step writes every coordinate's rates it solves (each body is in one group,
+/// and a closed form writes its bodies' q, and qd, qdd where asked): step k-1's rates are
+/// set aside by swapping buffers with the plan's spares, not copied.
 fn closed_step(
     model: &Model,
     plan: &blocks::Plan,
@@ -785,19 +788,25 @@ fn closed_step(
     derivatives: u8,
     q_prev: &[f64],
 ) -> Option<PositionInfo> {
-    let rates = derivatives >= 1;
+    let (rates, accelerations) = (derivatives >= 1, derivatives >= 2);
     if rates {
-        data.blocks.qd_prev.copy_from_slice(&data.qd);
-        data.blocks.qdd_prev.copy_from_slice(&data.qdd);
+        std::mem::swap(&mut data.qd, &mut data.blocks.qd_prev);
+    }
+    if accelerations {
+        std::mem::swap(&mut data.qdd, &mut data.blocks.qdd_prev);
     }
     let (t, h) = (times[k], times[k] - times[k - 1]);
     match blocks::step(model, plan, data, t, derivatives, h) {
         Ok(s) => {
+            // step k-1's rates become the history (the history's old ones the spares)
             if rates {
                 std::mem::swap(&mut data.hist_qd, &mut data.blocks.qd_prev);
-                std::mem::swap(&mut data.hist_qdd, &mut data.blocks.qdd_prev);
             } else {
                 data.hist_qd.copy_from_slice(&data.qd);
+            }
+            if accelerations {
+                std::mem::swap(&mut data.hist_qdd, &mut data.blocks.qdd_prev);
+            } else {
                 data.hist_qdd.copy_from_slice(&data.qdd);
             }
             data.hist_q.rotate_right(1);
@@ -811,10 +820,13 @@ fn closed_step(
             })
         }
         Err(_) => {
+            // step k-1's back; the spares take this step's partial rates
             data.q.copy_from_slice(q_prev);
             if rates {
-                data.qd.copy_from_slice(&data.blocks.qd_prev);
-                data.qdd.copy_from_slice(&data.blocks.qdd_prev);
+                std::mem::swap(&mut data.qd, &mut data.blocks.qd_prev);
+            }
+            if accelerations {
+                std::mem::swap(&mut data.qdd, &mut data.blocks.qdd_prev);
             }
             None
         }

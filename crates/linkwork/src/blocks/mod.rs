@@ -331,8 +331,9 @@ pub struct Work {
     pub det_factor: f64,
     /// n_coords: the sweep's predicted q, restored when a structured step misses
     pub q_pred: Vec<f64>,
-    /// n_coords each: qd, qdd of the previous step, while a closed-form step is tried
-    /// (restored on a miss; the predictor's history on success)
+    /// n_coords each: spare buffers swapped with qd, qdd while a closed-form step is tried,
+    /// holding the previous step's (swapped back on a miss; the predictor's history on
+    /// success); between steps their contents mean nothing
     pub qd_prev: Vec<f64>,
     pub qdd_prev: Vec<f64>,
 }
