@@ -6,7 +6,7 @@ use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates,
 use super::{Entry, Miss, Numbers};
 use crate::assembly::turned;
 use crate::data::Data;
-use crate::joints::{perp, sub, Constraint, ConstraintKind};
+use crate::joints::{perp, sub, Constraint, ConstraintKind, Frame};
 use crate::model::Model;
 use crate::structure::Group;
 
@@ -22,6 +22,8 @@ pub struct Crank {
     known: Option<usize>,
     u_known: [f64; 2],
     u_body: [f64; 2],
+    /// the pin where the known side is the ground (`Frame::GROUND.point(u_known)`)
+    fixed: [f64; 2],
     /// the pin (constraint index) and where u_known and u_body start in its numbers
     pin: (usize, usize, usize),
 }
@@ -58,12 +60,32 @@ impl Crank {
         }
         let (driver, base, sign) = driver?;
         let (known, u_known, u_body, pin) = pin?;
-        Some(Crank { body, driver, base, sign, known, u_known, u_body, pin })
+        let fixed = Frame::GROUND.point(u_known);
+        Some(Crank { body, driver, base, sign, known, u_known, u_body, fixed, pin })
     }
 
     /// Solves the body; returns (closeness 1, pin residual).
     #[inline]
     pub fn solve(&self, model: &Model, data: &mut Data, t: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
+        // a known side or base on the ground folded in: fixed, at rest
+        match (self.known.is_some(), self.base.is_some()) {
+            (true, true) => self.solve_on::<true, true>(model, data, t, derivatives),
+            (true, false) => self.solve_on::<true, false>(model, data, t, derivatives),
+            (false, true) => self.solve_on::<false, true>(model, data, t, derivatives),
+            (false, false) => self.solve_on::<false, false>(model, data, t, derivatives),
+        }
+    }
+
+    /// `solve` with `K`, `B`: whether the pin's known side, the angle's base is a body.
+    /// The ground's pin is `fixed` and at rest (the bits `Frame::GROUND` gives).
+    #[inline(always)]
+    fn solve_on<const K: bool, const B: bool>(
+        &self,
+        model: &Model,
+        data: &mut Data,
+        t: f64,
+        derivatives: u8,
+    ) -> Result<(f64, f64), Miss> {
         let Some(law) = model.constraints[self.driver].kind.law() else { return Err(Miss::Failed) };
         let f = law.eval(t);
         // a law outside its domain: the general path names it (value, nu or gamma)
@@ -71,27 +93,24 @@ impl Crank {
             return Err(Miss::Failed);
         }
         let b = self.body;
-        let base = side(data, self.base);
+        let base = if B { side(data, self.base) } else { Frame::GROUND };
         let theta = base.theta + self.sign * f[0];
         let (c, s) = turned(theta, &mut data.frame_base[b]);
-        let k = side(data, self.known);
-        let p = k.point(self.u_known);
+        let k = if K { side(data, self.known) } else { Frame::GROUND };
+        let p = if K { k.point(self.u_known) } else { self.fixed };
         let arm = [c * self.u_body[0] - s * self.u_body[1], s * self.u_body[0] + c * self.u_body[1]];
         let r = sub(p, arm);
-        set_body(data, b, r, theta, c, s);
-        let residual = {
-            let back = data.frames[b].point(self.u_body);
-            (back[0] - p[0]).abs().max((back[1] - p[1]).abs())
-        };
+        let back = set_body(data, b, r, theta, c, s).point(self.u_body);
+        let residual = (back[0] - p[0]).abs().max((back[1] - p[1]).abs());
         if derivatives >= 1 {
             let thetad = base.thetad + self.sign * f[1];
-            let vp = k.point_velocity(self.u_known);
+            let vp = if K { k.point_velocity(self.u_known) } else { [0.0; 2] };
             let ba = perp(arm);
             set_rates(data, b, [vp[0] - ba[0] * thetad, vp[1] - ba[1] * thetad], thetad);
             if derivatives >= 2 {
-                let base_qdd = body_qdd(data, self.base);
+                let base_qdd = if B { body_qdd(data, self.base) } else { [0.0; 3] };
                 let thetadd = base_qdd[2] + self.sign * f[2];
-                let ap = point_acc(&k, body_qdd(data, self.known), sub(p, k.r));
+                let ap = if K { point_acc(&k, body_qdd(data, self.known), sub(p, k.r)) } else { [0.0; 2] };
                 // the pin's acceleration seen from the body: a_p = Rdd + thetadd B u - thetad^2 A u
                 let own = point_acc(&data.frames[b], [0.0, 0.0, thetadd], arm);
                 set_acc(data, b, [ap[0] - own[0], ap[1] - own[1]], thetadd);

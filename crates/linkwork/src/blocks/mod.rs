@@ -435,11 +435,14 @@ pub(crate) fn continued(raw: f64, near: f64) -> f64 {
     }
 }
 
-/// Writes a body's pose and rates into q, qd, qdd and its frame.
+/// Writes a body's pose into q and its frame (its rates zero until `set_rates`); the
+/// frame, to read back.
 #[inline(always)]
-pub(crate) fn set_body(data: &mut Data, b: usize, r: [f64; 2], theta: f64, c: f64, s: f64) {
+pub(crate) fn set_body(data: &mut Data, b: usize, r: [f64; 2], theta: f64, c: f64, s: f64) -> &Frame {
     set_triple(&mut data.q, b, [r[0], r[1], theta]);
-    data.frames[b] = Frame { r, theta, c, s, rd: [0.0; 2], thetad: 0.0 };
+    let f = &mut data.frames[b];
+    *f = Frame { r, theta, c, s, rd: [0.0; 2], thetad: 0.0 };
+    f
 }
 
 #[inline(always)]

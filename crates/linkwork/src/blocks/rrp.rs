@@ -121,11 +121,31 @@ impl Rrp {
 
     #[inline]
     pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
-        let (k1, a) = self.link.outer(data);
-        let k = side(data, self.known);
-        let (theta_s, cs, ss, p0, dir) = match self.ground_line {
-            Some(line) => line,
-            None => {
+        // a known side on the ground folded in: the link's pin fixed, the slide's line
+        // formed at compile, both at rest
+        match (self.link.known.is_some(), self.ground_line) {
+            (true, None) => self.solve_on::<true, true>(data, sign, derivatives, None),
+            (true, line) => self.solve_on::<true, false>(data, sign, derivatives, line),
+            (false, None) => self.solve_on::<false, true>(data, sign, derivatives, None),
+            (false, line) => self.solve_on::<false, false>(data, sign, derivatives, line),
+        }
+    }
+
+    /// `solve` with `K`: whether the link's known side is a body, `S`: whether the slide's
+    /// is (else its line is `ground_line`).
+    #[inline(always)]
+    fn solve_on<const K: bool, const S: bool>(
+        &self,
+        data: &mut Data,
+        sign: f64,
+        derivatives: u8,
+        ground_line: Option<Line>,
+    ) -> Result<(f64, f64), Miss> {
+        let (k1, a) = self.link.outer_on::<K>(data);
+        let k = if S { side(data, self.known) } else { Frame::GROUND };
+        let (theta_s, cs, ss, p0, dir) = match ground_line {
+            Some(line) if !S => line,
+            _ => {
                 let mut turn = data.frame_base[self.slider];
                 let line = self.line(&k, &mut turn);
                 data.frame_base[self.slider] = turn;
@@ -152,8 +172,8 @@ impl Rrp {
             let pab = perp(rab);
             // B moving with the known body, plus the slide u along dir
             let rk = sub(b, k.r);
-            let vk = [k.rd[0] - k.thetad * rk[1], k.rd[1] + k.thetad * rk[0]];
-            let va = k1.point_velocity(self.link.u_known);
+            let vk = if S { [k.rd[0] - k.thetad * rk[1], k.rd[1] + k.thetad * rk[0]] } else { [0.0; 2] };
+            let va = self.link.outer_velocity::<K>(&k1);
             // w pab - u dir = vk - va
             let inv_det = 1.0 / (dir[0] * pab[1] - dir[1] * pab[0]);
             let rhs = sub(vk, va);
@@ -165,9 +185,9 @@ impl Rrp {
             let prs = perp(rs);
             set_rates(data, self.slider, [vb[0] + k.thetad * prs[0], vb[1] + k.thetad * prs[1]], k.thetad);
             if derivatives >= 2 {
-                let qk = body_qdd(data, self.known);
-                let ak = point_acc(&k, qk, sub(b, k.r));
-                let aa = point_acc(&k1, body_qdd(data, self.link.known), sub(a, k1.r));
+                let qk = if S { body_qdd(data, self.known) } else { [0.0; 3] };
+                let ak = if S { point_acc(&k, qk, sub(b, k.r)) } else { [0.0; 2] };
+                let aa = self.link.outer_acceleration::<K>(data, &k1, a);
                 let pd = perp(dir);
                 let cor = 2.0 * k.thetad * u;
                 let rhs = [

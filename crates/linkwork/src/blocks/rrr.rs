@@ -26,6 +26,9 @@ pub(crate) struct Link {
     pub length: f64,
     pub inv_length: f64,
     pub dir: [f64; 2],
+    /// the outer pin where the known side is the ground (`Frame::GROUND.point(u_known)`):
+    /// placed once, at compile
+    pub fixed: [f64; 2],
     /// the compiled number each of u_known, u_outer, u_middle (x, y) is: (constraint, index
     /// in its `params_mut`); None for a coordinate no number holds (a rod's)
     pub numbers: [Option<(usize, usize)>; 6],
@@ -51,6 +54,7 @@ impl Link {
             length,
             inv_length: 1.0 / length,
             dir: [d[0] / length, d[1] / length],
+            fixed: Frame::GROUND.point(u_known),
             numbers,
         })
     }
@@ -69,8 +73,7 @@ impl Link {
         let theta = angle_of(c, s, data.q[3 * self.body + 2], &mut data.frame_base[self.body]);
         let arm = [c * self.u_outer[0] - s * self.u_outer[1], s * self.u_outer[0] + c * self.u_outer[1]];
         let r = sub(a, arm);
-        set_body(data, self.body, r, theta, c, s);
-        let m = data.frames[self.body].point(self.u_middle);
+        let m = set_body(data, self.body, r, theta, c, s).point(self.u_middle);
         (m[0] - b[0]).abs().max((m[1] - b[1]).abs())
     }
 
@@ -80,6 +83,40 @@ impl Link {
         let k = side(data, self.known);
         let p = k.point(self.u_known);
         (k, p)
+    }
+
+    /// `outer` where `K` says whether the known side is a body; the ground's pin is
+    /// `fixed` (the same bits: the ground's frame is the identity).
+    #[inline(always)]
+    pub fn outer_on<const K: bool>(&self, data: &Data) -> (Frame, [f64; 2]) {
+        match self.known {
+            Some(b) if K => {
+                let k = data.frames[b];
+                let p = k.point(self.u_known);
+                (k, p)
+            }
+            _ => (Frame::GROUND, self.fixed),
+        }
+    }
+
+    /// The outer pin's velocity (`K` as in `outer_on`; the ground's pin is at rest, +0).
+    #[inline(always)]
+    pub fn outer_velocity<const K: bool>(&self, k: &Frame) -> [f64; 2] {
+        if K {
+            k.point_velocity(self.u_known)
+        } else {
+            [0.0; 2]
+        }
+    }
+
+    /// The outer pin's acceleration, the pin at `p` (`K` as in `outer_on`).
+    #[inline(always)]
+    pub fn outer_acceleration<const K: bool>(&self, data: &Data, k: &Frame, p: [f64; 2]) -> [f64; 2] {
+        if K {
+            point_acc(k, body_qdd(data, self.known), sub(p, k.r))
+        } else {
+            [0.0; 2]
+        }
     }
 }
 
@@ -196,8 +233,25 @@ impl Rrr {
     /// B on the branch `sign`; returns (closeness, residual) or the miss.
     #[inline]
     pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
-        let (k1, a) = self.l1.outer(data);
-        let (k2, c) = self.l2.outer(data);
+        // a known side on the ground folded in: its pin fixed, at rest
+        match (self.l1.known.is_some(), self.l2.known.is_some()) {
+            (true, true) => self.solve_on::<true, true>(data, sign, derivatives),
+            (true, false) => self.solve_on::<true, false>(data, sign, derivatives),
+            (false, true) => self.solve_on::<false, true>(data, sign, derivatives),
+            (false, false) => self.solve_on::<false, false>(data, sign, derivatives),
+        }
+    }
+
+    /// `solve` with `K1`, `K2`: whether link 1's, link 2's known side is a body.
+    #[inline(always)]
+    fn solve_on<const K1: bool, const K2: bool>(
+        &self,
+        data: &mut Data,
+        sign: f64,
+        derivatives: u8,
+    ) -> Result<(f64, f64), Miss> {
+        let (k1, a) = self.l1.outer_on::<K1>(data);
+        let (k2, c) = self.l2.outer_on::<K2>(data);
         let (r1, r2) = (self.l1.length, self.l2.length);
         let d = sub(c, a);
         let dd = dot(d, d);
@@ -223,8 +277,8 @@ impl Rrr {
             let (pab, pcb) = (perp(rab), perp(rcb));
             // w1 perp(rab) - w2 perp(rcb) = vC - vA
             let inv_det = 1.0 / (pcb[0] * pab[1] - pcb[1] * pab[0]);
-            let va = k1.point_velocity(self.l1.u_known);
-            let vc = k2.point_velocity(self.l2.u_known);
+            let va = self.l1.outer_velocity::<K1>(&k1);
+            let vc = self.l2.outer_velocity::<K2>(&k2);
             let rhs = sub(vc, va);
             let w1 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) * inv_det;
             let w2 = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det;
@@ -233,8 +287,8 @@ impl Rrr {
                 pinned_rates(data, self.l2.body, c, vc, w2);
             }
             if derivatives >= 2 {
-                let aa = point_acc(&k1, body_qdd(data, self.l1.known), sub(a, k1.r));
-                let ac = point_acc(&k2, body_qdd(data, self.l2.known), sub(c, k2.r));
+                let aa = self.l1.outer_acceleration::<K1>(data, &k1, a);
+                let ac = self.l2.outer_acceleration::<K2>(data, &k2, c);
                 let rhs = [
                     ac[0] - aa[0] - w2 * w2 * rcb[0] + w1 * w1 * rab[0],
                     ac[1] - aa[1] - w2 * w2 * rcb[1] + w1 * w1 * rab[1],
