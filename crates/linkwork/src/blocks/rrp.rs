@@ -123,11 +123,11 @@ impl Rrp {
     pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
         // a known side on the ground folded in: the link's pin fixed, the slide's line
         // formed at compile, both at rest
-        match (self.link.known.is_some(), self.ground_line) {
-            (true, None) => self.solve_on::<true, true>(data, sign, derivatives, None),
-            (true, line) => self.solve_on::<true, false>(data, sign, derivatives, line),
-            (false, None) => self.solve_on::<false, true>(data, sign, derivatives, None),
-            (false, line) => self.solve_on::<false, false>(data, sign, derivatives, line),
+        match (self.link.known.is_some(), self.ground_line.is_none()) {
+            (true, true) => self.solve_on::<true, true>(data, sign, derivatives),
+            (true, false) => self.solve_on::<true, false>(data, sign, derivatives),
+            (false, true) => self.solve_on::<false, true>(data, sign, derivatives),
+            (false, false) => self.solve_on::<false, false>(data, sign, derivatives),
         }
     }
 
@@ -139,11 +139,10 @@ impl Rrp {
         data: &mut Data,
         sign: f64,
         derivatives: u8,
-        ground_line: Option<Line>,
     ) -> Result<(f64, f64), Miss> {
         let (k1, a) = self.link.outer_on::<K>(data);
         let k = if S { side(data, self.known) } else { Frame::GROUND };
-        let (theta_s, cs, ss, p0, dir) = match ground_line {
+        let (theta_s, cs, ss, p0, dir) = match self.ground_line {
             Some(line) if !S => line,
             _ => {
                 let mut turn = data.frame_base[self.slider];

@@ -5,7 +5,7 @@
 //! seen from both links.
 
 use super::{add_move, column, split, BodyRows, Entry, Numbers, NEAR_SINGULAR};
-use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
+use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, Miss};
 use crate::assembly::angle_of;
 use crate::data::Data;
 use crate::joints::{cross, dot, perp, sub, ConstraintKind, Frame};
@@ -77,16 +77,14 @@ impl Link {
         (m[0] - b[0]).abs().max((m[1] - b[1]).abs())
     }
 
-    /// The known outer pin's position, velocity and acceleration.
+    /// The known side's frame and the outer pin's position.
     #[inline(always)]
     pub fn outer(&self, data: &Data) -> (Frame, [f64; 2]) {
-        let k = side(data, self.known);
-        let p = k.point(self.u_known);
-        (k, p)
+        self.outer_on::<true>(data)
     }
 
-    /// `outer` where `K` says whether the known side is a body; the ground's pin is
-    /// `fixed` (the same bits: the ground's frame is the identity).
+    /// `outer` where `K` says whether the known side may be a body (false: it is the
+    /// ground); the ground's pin is `fixed`, the bits its identity frame gives.
     #[inline(always)]
     pub fn outer_on<const K: bool>(&self, data: &Data) -> (Frame, [f64; 2]) {
         match self.known {
