@@ -159,25 +159,30 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
         lines += [
             "",
             "The floor: a hand-written closed-form loop that computes and stores what the sweep stores "
-            "(every body's x, y, theta and, for p+v+a, their derivatives), against the engine's two "
-            "paths, us per step:",
+            "(every body's x, y, theta and, for p+v+a, their derivatives; the four-bar's angles by "
+            "atan2, the slider-crank's rod by asin), against the engine's two paths, us per step. "
+            "The guarded loop (p+v+a) also does by hand what the engine checks and keeps at every "
+            "step: the closeness to singular and its trend, the two-way check of every coordinate, "
+            "the pins' residuals, and the residual and closeness stored per row:",
             "",
             "| mechanism | computes | general path (fixed-sequence LU) | structured (groups in closed form) "
-            "| closed-form loop | general / floor | structured / floor |",
-            "|---|---|---:|---:|---:|---:|---:|",
+            "| closed-form loop | guarded loop | general / floor | structured / floor | structured / guarded |",
+            "|---|---|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for mech in ("four_bar", "slider_crank"):
             for what, label in (("pva", "p+v+a"), ("p", "p")):
                 engine = us_per_step(found.get((mech, "refactor", what)))
                 structured = us_per_step(found.get((mech, "structured", what)))
                 closed = us_per_step(floor.get((mech, what)))
+                guarded = us_per_step(floor.get((mech, what + "_guarded")))
                 if closed is None:
                     continue
                 r_general = cell(engine / closed if engine else None, 2)
                 r_structured = cell(structured / closed if structured else None, 2)
+                r_guarded = cell(structured / guarded if structured and guarded else None, 2)
                 lines.append(
-                    f"| {mech} | {label} | {cell(engine)} | {cell(structured)} | {cell(closed)} "
-                    f"| {r_general} | {r_structured} |"
+                    f"| {mech} | {label} | {cell(engine)} | {cell(structured)} | {cell(closed)} | {cell(guarded)} "
+                    f"| {r_general} | {r_structured} | {r_guarded} |"
                 )
     return "\n".join(lines)
 

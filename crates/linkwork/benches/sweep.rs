@@ -17,8 +17,11 @@
 //!   coordinates kept), against `.../structured/pva`, the full output.
 //! - `floor`: the four-bar and the slider-crank by a hand-written closed-form loop that
 //!   computes and stores what the engine's sweep stores (every body's x, y, theta and,
-//!   for "pva", their first and second derivatives, row-major per step): the floor a
-//!   structure-aware engine is measured against.
+//!   for "pva", their first and second derivatives, row-major per step), as such a loop
+//!   is written (one sine and cosine of the crank, one square root, the angles by atan2
+//!   or asin): the floor a structure-aware engine is measured against. `pva_guarded`: the
+//!   same with what the engine checks and keeps at every step (`Guard`), the price of
+//!   "every step right or an explicit event" written by hand.
 //!
 //! Every sweep steps at h = one crank revolution / 100,000 (as `benches/compare.py`), so
 //! the Newton work per step is the same at every K. Run:
@@ -238,6 +241,192 @@ fn batch(c: &mut Criterion) {
     g.finish();
 }
 
+/// The four-bar's loop at crank angle theta2 (its sine and cosine), turning at `w2`
+/// steadily, as a hand-written loop would do it: B where the circles about A (coupler)
+/// and O4 (rocker) meet, one square root; the two angles by atan2; the rates and
+/// accelerations (with `derivatives` 2) by Cramer's rule on B's velocity (acceleration)
+/// seen from both links. The same branch as `four_bar_closed` (checked in `floor`).
+#[inline(always)]
+fn four_bar_floor(
+    fb: &FourBar,
+    s2: f64,
+    c2: f64,
+    w2: f64,
+    derivatives: u8,
+) -> ([f64; 2], [f64; 2], [f64; 2]) {
+    let a = [fb.r2 * c2, fb.r2 * s2];
+    let d = [fb.r1 - a[0], -a[1]];
+    let dd = d[0] * d[0] + d[1] * d[1];
+    let along = 0.5 * (dd + fb.r3 * fb.r3 - fb.r4 * fb.r4) / dd;
+    let height = (fb.r3 * fb.r3 / dd - along * along).sqrt();
+    let b = [a[0] + along * d[0] - height * d[1], a[1] + along * d[1] + height * d[0]];
+    let (rab, rcb) = ([b[0] - a[0], b[1] - a[1]], [b[0] - fb.r1, b[1]]);
+    let (th3, th4) = (rab[1].atan2(rab[0]), rcb[1].atan2(rcb[0]));
+    if derivatives == 0 {
+        return ([th3, th4], [0.0; 2], [0.0; 2]);
+    }
+    // w3 perp(rab) - w4 perp(rcb) = -vA, vA = w2 perp(A)
+    let inv_det = 1.0 / (rab[0] * rcb[1] - rab[1] * rcb[0]);
+    let solve =
+        |r: [f64; 2]| ((r[1] * rcb[1] + r[0] * rcb[0]) * inv_det, (r[1] * rab[1] + r[0] * rab[0]) * inv_det);
+    let (w3, w4) = solve([w2 * a[1], -w2 * a[0]]);
+    // a3 perp(rab) - a4 perp(rcb) = -aA + w3^2 rab - w4^2 rcb, aA = -w2^2 A
+    let rhs = [
+        w2 * w2 * a[0] + w3 * w3 * rab[0] - w4 * w4 * rcb[0],
+        w2 * w2 * a[1] + w3 * w3 * rab[1] - w4 * w4 * rcb[1],
+    ];
+    let (a3, a4) = solve(rhs);
+    ([th3, th4], [w3, w4], [a3, a4])
+}
+
+/// `four_bar_floor` with what the engine checks: the closeness to singular (|sin| of the
+/// angle at B) and the largest pin residual of the coupler and the rocker placed from
+/// their pins.
+struct Guarded {
+    theta: [f64; 2],
+    omega: [f64; 2],
+    alpha: [f64; 2],
+    closeness: f64,
+    residual: f64,
+}
+
+#[inline(always)]
+fn four_bar_guarded(fb: &FourBar, s2: f64, c2: f64, w2: f64) -> Guarded {
+    let a = [fb.r2 * c2, fb.r2 * s2];
+    let d = [fb.r1 - a[0], -a[1]];
+    let dd = d[0] * d[0] + d[1] * d[1];
+    let along = 0.5 * (dd + fb.r3 * fb.r3 - fb.r4 * fb.r4) / dd;
+    let height = (fb.r3 * fb.r3 / dd - along * along).sqrt();
+    let b = [a[0] + along * d[0] - height * d[1], a[1] + along * d[1] + height * d[0]];
+    let (rab, rcb) = ([b[0] - a[0], b[1] - a[1]], [b[0] - fb.r1, b[1]]);
+    let (th3, th4) = (rab[1].atan2(rab[0]), rcb[1].atan2(rcb[0]));
+    // each body's pose from its pins, and its far pin placed back from that pose
+    let (u3, u4) = ([rab[0] / fb.r3, rab[1] / fb.r3], [rcb[0] / fb.r4, rcb[1] / fb.r4]);
+    let back3 = [a[0] + fb.r3 * u3[0], a[1] + fb.r3 * u3[1]];
+    let back4 = [fb.r1 + fb.r4 * u4[0], fb.r4 * u4[1]];
+    let residual = (back3[0] - b[0])
+        .abs()
+        .max((back3[1] - b[1]).abs())
+        .max((back4[0] - b[0]).abs())
+        .max((back4[1] - b[1]).abs());
+    let closeness = height.abs() * dd / (fb.r3 * fb.r4);
+    let inv_det = 1.0 / (rab[0] * rcb[1] - rab[1] * rcb[0]);
+    let solve =
+        |r: [f64; 2]| ((r[1] * rcb[1] + r[0] * rcb[0]) * inv_det, (r[1] * rab[1] + r[0] * rab[0]) * inv_det);
+    let (w3, w4) = solve([w2 * a[1], -w2 * a[0]]);
+    let rhs = [
+        w2 * w2 * a[0] + w3 * w3 * rab[0] - w4 * w4 * rcb[0],
+        w2 * w2 * a[1] + w3 * w3 * rab[1] - w4 * w4 * rcb[1],
+    ];
+    let (a3, a4) = solve(rhs);
+    Guarded { theta: [th3, th4], omega: [w3, w4], alpha: [a3, a4], closeness, residual }
+}
+
+/// The slider-crank as a hand-written loop with what the engine checks: B where the rod's
+/// circle about A meets the slide's line y = e, the rod's direction (c3, s3) from its
+/// pins and its angle by asin; the rates and accelerations of `slider_crank_closed`;
+/// the closeness (cos of the rod's angle to the line) and the rod's pin residual.
+/// Returns A and (rod angle, slider x), their rates, accelerations.
+#[inline(always)]
+fn slider_crank_guarded(sc: &SliderCrank, s2: f64, c2: f64, w2: f64) -> ([f64; 2], Guarded) {
+    let a = [sc.r2 * c2, sc.r2 * s2];
+    let off = sc.e - a[1];
+    let along = (sc.r3 * sc.r3 - off * off).sqrt();
+    let (c3, s3) = (along / sc.r3, off / sc.r3);
+    let bx = a[0] + along;
+    let back = [a[0] + sc.r3 * c3, a[1] + sc.r3 * s3];
+    let residual = (back[0] - bx).abs().max((back[1] - sc.e).abs());
+    let w3 = -sc.r2 * w2 * c2 / (sc.r3 * c3);
+    let vx = -sc.r2 * w2 * s2 - sc.r3 * w3 * s3;
+    let a3 = (sc.r2 * w2 * w2 * s2 + sc.r3 * w3 * w3 * s3) / (sc.r3 * c3);
+    let ax = -sc.r2 * w2 * w2 * c2 - sc.r3 * a3 * s3 - sc.r3 * w3 * w3 * c3;
+    let g = Guarded { theta: [s3.asin(), bx], omega: [w3, vx], alpha: [a3, ax], closeness: c3, residual };
+    (a, g)
+}
+
+/// What the engine checks and keeps at every step of a closed-form sweep, for a
+/// hand-written loop of 3 bodies: the closeness to singular against the near-singular
+/// threshold and its trend reaching zero within the step; the two-way check of every
+/// coordinate (q - h (qd - h qdd / 2) back at the last step's q, scaled by the model's
+/// length for x and y); q, qd, qdd and the residual and closeness stored per row.
+struct Guard {
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    residual: Vec<f64>,
+    closeness: Vec<f64>,
+    scale: [f64; 9],
+    inv_l: f64,
+    prev: [f64; 9],
+    close: [f64; 2],
+}
+
+impl Guard {
+    fn new(steps: usize, length: f64) -> Guard {
+        let inv_l = 1.0 / length;
+        Guard {
+            q: vec![0.0; 9 * steps],
+            qd: vec![0.0; 9 * steps],
+            qdd: vec![0.0; 9 * steps],
+            residual: vec![0.0; steps],
+            closeness: vec![0.0; steps],
+            scale: [inv_l, inv_l, 1.0, inv_l, inv_l, 1.0, inv_l, inv_l, 1.0],
+            inv_l,
+            prev: [0.0; 9],
+            close: [0.0; 2],
+        }
+    }
+
+    fn start(&mut self) {
+        (self.prev, self.close) = ([0.0; 9], [0.0; 2]);
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn step(
+        &mut self,
+        k: usize,
+        times: &[f64],
+        q: [f64; 9],
+        qd: [f64; 9],
+        qdd: [f64; 9],
+        closeness: f64,
+        residual: f64,
+    ) {
+        if k == 0 {
+            self.close = [closeness, 0.0]; // the start's, as the engine reads it there
+        } else {
+            let h = times[k] - times[k - 1];
+            let [c1, rate] = self.close;
+            // the engine hands such a step to its careful path: these loops never come near
+            assert!(
+                closeness >= 1e-3 && c1 + rate * h >= 0.25 * c1 && closeness >= 0.25 * c1,
+                "near singular at step {k}"
+            );
+            self.close = [closeness, (closeness - c1) / h];
+            let (mut motion, mut misfit) = (0.0f64, 0.0f64);
+            for i in 0..9 {
+                let back = q[i] - h * (qd[i] - 0.5 * h * qdd[i]);
+                motion = motion.max((q[i] - self.prev[i]).abs() * self.scale[i]);
+                misfit = misfit.max((self.prev[i] - back).abs() * self.scale[i]);
+            }
+            assert!(misfit <= 0.1 * motion + 1e-9, "the two-way check at step {k}");
+        }
+        self.prev = q;
+        let row = 9 * k;
+        self.q[row..row + 9].copy_from_slice(&q);
+        self.qd[row..row + 9].copy_from_slice(&qd);
+        self.qdd[row..row + 9].copy_from_slice(&qdd);
+        self.residual[k] = residual * self.inv_l;
+        self.closeness[k] = closeness;
+    }
+
+    fn last(&self) -> (f64, f64, f64, f64, f64) {
+        let n = self.q.len() - 1;
+        (self.q[n], self.qd[n], self.qdd[n], self.residual[n / 9], self.closeness[0])
+    }
+}
+
 /// The closed-form floor: per step, the crank angle from its law, the loop's angles, rates
 /// and accelerations (tests/common's closed forms), the body frames' poses and their
 /// derivatives, stored row-major into preallocated q, qd, qdd (n_steps x 9).
@@ -245,6 +434,29 @@ fn floor(c: &mut Criterion) {
     const STEPS: usize = 10_000;
     const OMEGA: f64 = 5.0;
     let times = times(STEPS);
+    // the floor's four-bar is the closed form's, on its branch, over a revolution
+    for i in 0..720 {
+        let th2 = i as f64 * PI / 360.0;
+        let (s2, c2) = th2.sin_cos();
+        let (p, v, a) = four_bar_floor(&textbook(), s2, c2, OMEGA, 2);
+        let (pe, ve, ae) = four_bar_closed(&textbook(), th2, OMEGA, 0.0);
+        for j in 0..2 {
+            let turn = (p[j] - pe[j]) / (2.0 * PI);
+            assert!((turn - turn.round()).abs() * 2.0 * PI < 1e-12, "floor theta at {th2}");
+            assert!((v[j] - ve[j]).abs() < 1e-11 && (a[j] - ae[j]).abs() < 1e-9, "floor rates at {th2}");
+        }
+    }
+    let sc = SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 };
+    for i in 0..720 {
+        let th2 = i as f64 * PI / 360.0;
+        let (s2, c2) = th2.sin_cos();
+        let (_, g) = slider_crank_guarded(&sc, s2, c2, OMEGA);
+        let (pe, ve, ae) = slider_crank_closed(&sc, th2, OMEGA, 0.0);
+        for j in 0..2 {
+            assert!((g.theta[j] - pe[j]).abs() < 1e-12 && (g.omega[j] - ve[j]).abs() < 1e-11, "at {th2}");
+            assert!((g.alpha[j] - ae[j]).abs() < 1e-9, "slider-crank accelerations at {th2}");
+        }
+    }
     let mut g = c.benchmark_group("floor");
     g.throughput(Throughput::Elements(STEPS as u64));
     for derivatives in [2u8, 0] {
@@ -255,8 +467,8 @@ fn floor(c: &mut Criterion) {
             b.iter(|| {
                 for (k, &t) in black_box(&times).iter().enumerate() {
                     let th2 = OMEGA * t;
-                    let ([th3, th4], [w3, w4], [a3, a4]) = four_bar_closed(&fb, th2, OMEGA, 0.0);
                     let (s2, c2) = th2.sin_cos();
+                    let ([th3, th4], [w3, w4], [a3, a4]) = four_bar_floor(&fb, s2, c2, OMEGA, derivatives);
                     let row = 9 * k;
                     q[row..row + 9].copy_from_slice(&[
                         0.0,
@@ -288,7 +500,6 @@ fn floor(c: &mut Criterion) {
                 black_box((q[9 * STEPS - 1], qd[9 * STEPS - 1], qdd[9 * STEPS - 1]))
             })
         });
-        let sc = SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 };
         g.bench_function(BenchmarkId::new("slider_crank", id), |b| {
             let (mut q, mut qd, mut qdd) = (vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS]);
             b.iter(|| {
@@ -338,6 +549,42 @@ fn floor(c: &mut Criterion) {
             })
         });
     }
+    // the same loops with the checks the engine makes at every step, by hand (`Guard`)
+    let fb = textbook();
+    g.bench_function(BenchmarkId::new("four_bar", "pva_guarded"), |b| {
+        let mut guard = Guard::new(STEPS, fb.r1);
+        b.iter(|| {
+            guard.start();
+            for (k, &t) in black_box(&times).iter().enumerate() {
+                let th2 = OMEGA * t;
+                let (s2, c2) = th2.sin_cos();
+                let g = four_bar_guarded(&fb, s2, c2, OMEGA);
+                let (u, v) = (fb.r2 * OMEGA, -fb.r2 * OMEGA * OMEGA);
+                let q = [0.0, 0.0, th2, fb.r2 * c2, fb.r2 * s2, g.theta[0], fb.r1, 0.0, g.theta[1]];
+                let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], 0.0, 0.0, g.omega[1]];
+                let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], 0.0, 0.0, g.alpha[1]];
+                guard.step(k, &times, q, qd, qdd, g.closeness, g.residual);
+            }
+            guard.last()
+        })
+    });
+    g.bench_function(BenchmarkId::new("slider_crank", "pva_guarded"), |b| {
+        let mut guard = Guard::new(STEPS, sc.r2 + sc.r3);
+        b.iter(|| {
+            guard.start();
+            for (k, &t) in black_box(&times).iter().enumerate() {
+                let th2 = OMEGA * t;
+                let (s2, c2) = th2.sin_cos();
+                let (a, g) = slider_crank_guarded(&sc, s2, c2, OMEGA);
+                let (u, v) = (sc.r2 * OMEGA, -sc.r2 * OMEGA * OMEGA);
+                let q = [0.0, 0.0, th2, a[0], a[1], g.theta[0], g.theta[1], sc.e, 0.0];
+                let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], g.omega[1], 0.0, 0.0];
+                let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], g.alpha[1], 0.0, 0.0];
+                guard.step(k, &times, q, qd, qdd, g.closeness, g.residual);
+            }
+            guard.last()
+        })
+    });
     g.finish();
 }
 
