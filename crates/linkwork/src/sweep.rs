@@ -12,7 +12,7 @@ use crate::memory::zeroed;
 use crate::model::Model;
 use crate::position::solve_position;
 use crate::position::PositionInfo;
-use crate::stepping::hermite::continues;
+use crate::stepping::hermite::{continues, continues_storing, Row};
 use crate::stepping::predict::{predict, Predictor};
 use crate::stepping::singular::Event;
 use crate::stepping::tracking::JUMP_RATIO;
@@ -286,9 +286,8 @@ impl SweepOutput {
         self.det_sign.truncate(k);
     }
 
-    /// Stores the state in `data` as row `row`. `frames_set`: data.frames hold the
-    /// poses (and, as solved, the rates) of data.q, as a structured step leaves them.
-    fn store(&mut self, model: &Model, data: &Data, t: f64, row: usize, frames_set: bool) {
+    /// Stores row `row` of the kept coordinates' q, qd, qdd (as the request keeps them).
+    fn store_coords(&mut self, data: &Data, row: usize) {
         let d = self.request.derivatives;
         let m = self.n_kept;
         let cells = row * m..(row + 1) * m;
@@ -317,6 +316,27 @@ impl SweepOutput {
                 }
             }
         }
+    }
+
+    /// Where a run of closed-form steps writes row `row` as it checks the step, where every
+    /// coordinate is kept (`continues_storing`); None where only some are.
+    fn coord_row(&mut self, row: usize) -> Option<Row<'_>> {
+        if self.outputs.coords.is_some() {
+            return None;
+        }
+        let (d, m) = (self.request.derivatives, self.n_kept);
+        let cells = row * m..(row + 1) * m;
+        Some(Row {
+            q: &mut self.q[cells.clone()],
+            qd: (d >= 1).then(|| &mut self.qd[cells.clone()]),
+            qdd: (d >= 2).then(|| &mut self.qdd[cells]),
+        })
+    }
+
+    /// Stores the rest of row `row` after its coordinates: the points, the forces.
+    /// `frames_set`: data.frames hold the poses (and, as solved, the rates) of data.q, as a
+    /// structured step leaves them.
+    fn store_rest(&mut self, model: &Model, data: &Data, t: f64, row: usize, frames_set: bool) {
         if !self.outputs.points.is_empty() {
             self.store_points(data, row, frames_set);
         }
@@ -345,7 +365,23 @@ impl SweepOutput {
         worst: &mut Worst,
         det_sign: f64,
     ) {
-        self.store(model, data, t, row, frames_set);
+        self.store_coords(data, row);
+        self.keep_rest(model, data, t, row, frames_set, worst, det_sign);
+    }
+
+    /// `keep` where row `row`'s coordinates are written already (`coord_row`).
+    #[allow(clippy::too_many_arguments)]
+    fn keep_rest(
+        &mut self,
+        model: &Model,
+        data: &Data,
+        t: f64,
+        row: usize,
+        frames_set: bool,
+        worst: &mut Worst,
+        det_sign: f64,
+    ) {
+        self.store_rest(model, data, t, row, frames_set);
         self.iterations[row] = worst.iterations;
         self.residual[row] = worst.residual;
         self.pivot_ratio[row] = worst.pivot_ratio;
@@ -737,16 +773,36 @@ impl Run<'_, '_> {
             let Some(info) = closed_step(model, self.plan, data, times, k, solved, &tracker.q_prev) else {
                 return Ok(Some(Handoff { k, solved: None }));
             };
-            let qdd = (solved >= 2).then_some(&data.qdd[..]);
-            if !continues(&data.inv_col_scale, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
+            // a kept step's coordinates are written as they are checked, where every one is kept
+            let row = (k % every == 0).then_some(k / every);
+            let stored = match row.filter(|_| solved >= 2).and_then(|r| self.out.coord_row(r)) {
+                Some(out) => Some(continues_storing(
+                    &data.inv_col_scale,
+                    h,
+                    &tracker.q_prev,
+                    &data.q,
+                    &data.qd,
+                    &data.qdd,
+                    out,
+                )),
+                None => None,
+            };
+            let ok = stored.unwrap_or_else(|| {
+                let qdd = (solved >= 2).then_some(&data.qdd[..]);
+                continues(&data.inv_col_scale, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd)
+            });
+            if !ok {
                 return Ok(Some(Handoff { k, solved: Some(info) }));
             }
             tracker.det_prev = info.det_sign;
             *ratio_prev = info.pivot_ratio;
             self.worst.add(&info);
-            if k % every == 0 {
-                let row = k / every;
-                self.out.keep(model, data, t, row, true, self.worst, info.det_sign);
+            if let Some(row) = row {
+                if stored.is_some() {
+                    self.out.keep_rest(model, data, t, row, true, self.worst, info.det_sign);
+                } else {
+                    self.out.keep(model, data, t, row, true, self.worst, info.det_sign);
+                }
                 after(data, t, row)?;
             }
         }

@@ -114,6 +114,84 @@ pub fn continues(
     misfit <= CONSISTENCY * motion + CONSISTENCY_FLOOR
 }
 
+/// Where a step's row is written as the step is checked (`continues_storing`): row `row`
+/// of the output's q, and of qd, qdd where they are kept (None where not).
+pub struct Row<'a> {
+    pub q: &'a mut [f64],
+    pub qd: Option<&'a mut [f64]>,
+    pub qdd: Option<&'a mut [f64]>,
+}
+
+/// `continues` with accelerations, writing q, qd, qdd into `row` as it reads them: one
+/// pass over the coordinates where a run of closed-form steps keeps every coordinate,
+/// instead of the check's pass and the store's copies. The same comparisons in the same
+/// order, so the same answer. The row is written whatever the answer: a step that fails
+/// the check is solved again and its row written again, or the sweep ends before it
+/// (rows past `n_done` are not results).
+pub fn continues_storing(
+    inv_col_scale: &[f64],
+    h: f64,
+    q_prev: &[f64],
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    row: Row,
+) -> bool {
+    match (row.qd, row.qdd) {
+        (Some(od), Some(odd)) => {
+            checked_into::<true, true>(inv_col_scale, h, q_prev, q, qd, qdd, row.q, od, odd)
+        }
+        (Some(od), None) => {
+            checked_into::<true, false>(inv_col_scale, h, q_prev, q, qd, qdd, row.q, od, &mut [])
+        }
+        (None, _) => {
+            checked_into::<false, false>(inv_col_scale, h, q_prev, q, qd, qdd, row.q, &mut [], &mut [])
+        }
+    }
+}
+
+/// `continues_storing` with `D`, `DD`: whether qd, qdd are kept.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn checked_into<const D: bool, const DD: bool>(
+    inv_col_scale: &[f64],
+    h: f64,
+    q_prev: &[f64],
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    out_q: &mut [f64],
+    out_qd: &mut [f64],
+    out_qdd: &mut [f64],
+) -> bool {
+    let n = q.len();
+    let (s, q_prev, qd, qdd, out_q) =
+        (&inv_col_scale[..n], &q_prev[..n], &qd[..n], &qdd[..n], &mut out_q[..n]);
+    let out_qd = if D { &mut out_qd[..n] } else { out_qd };
+    let out_qdd = if DD { &mut out_qdd[..n] } else { out_qdd };
+    // as in `continues`: a NaN term is passed over, one comparison each
+    let (mut motion, mut misfit) = (0.0f64, 0.0f64);
+    for i in 0..n {
+        let (v, a) = (qd[i], qdd[i]);
+        let backward = q[i] - h * (v - 0.5 * h * a);
+        let (m, f) = ((q[i] - q_prev[i]).abs() * s[i], (q_prev[i] - backward).abs() * s[i]);
+        if m > motion {
+            motion = m;
+        }
+        if f > misfit {
+            misfit = f;
+        }
+        out_q[i] = q[i];
+        if D {
+            out_qd[i] = v;
+        }
+        if DD {
+            out_qdd[i] = a;
+        }
+    }
+    misfit <= CONSISTENCY * motion + CONSISTENCY_FLOOR
+}
+
 /// The quintic Hermite interpolant of `a` and `b` at t: q, and qd, qdd where given.
 pub fn interpolate(
     a: &State,
@@ -147,6 +225,37 @@ pub fn interpolate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The check that stores as it reads answers as `continues` does (on a step that
+    /// continues, one that jumps, and one with a NaN) and writes the row it read, qd and
+    /// qdd where kept.
+    #[test]
+    fn continues_storing_is_continues_and_a_store() {
+        let h = 1e-3;
+        let s = [1.0 / 0.35, 1.0 / 0.35, 1.0];
+        let q_prev = [0.1, 0.2, 0.3];
+        let (qd, qdd) = ([2.0, -1.0, 5.0], [0.5, 0.25, -3.0]);
+        let smooth: Vec<f64> = (0..3).map(|i| q_prev[i] + h * (qd[i] + 0.5 * h * qdd[i])).collect();
+        let jumped = [smooth[0], smooth[1] + 0.01, smooth[2]];
+        let nan = [smooth[0], f64::NAN, smooth[2]];
+        for q in [&smooth[..], &jumped[..], &nan[..]] {
+            let expected = continues(&s, h, &q_prev, &[0.0; 3], q, &qd, Some(&qdd));
+            for kept in 0..3 {
+                let (mut oq, mut oqd, mut oqdd) = ([9.0; 3], [9.0; 3], [9.0; 3]);
+                let row = Row {
+                    q: &mut oq,
+                    qd: (kept >= 1).then_some(&mut oqd[..]),
+                    qdd: (kept >= 2).then_some(&mut oqdd[..]),
+                };
+                assert_eq!(continues_storing(&s, h, &q_prev, q, &qd, &qdd, row), expected);
+                assert!(oq.iter().zip(q).all(|(a, b)| a.to_bits() == b.to_bits()));
+                assert_eq!(oqd, if kept >= 1 { qd } else { [9.0; 3] });
+                assert_eq!(oqdd, if kept >= 2 { qdd } else { [9.0; 3] });
+            }
+        }
+        assert!(continues(&s, h, &q_prev, &[0.0; 3], &smooth, &qd, Some(&qdd)));
+        assert!(!continues(&s, h, &q_prev, &[0.0; 3], &jumped, &qd, Some(&qdd)));
+    }
 
     fn state(t: f64, q: f64, qd: f64, qdd: f64) -> State {
         let info =
