@@ -2,8 +2,14 @@
 criterion sweeps, summed per source file (inlined code counts where it was written) and
 per function.
 
-    python benches/profile.py                   # the four-bar (p+v+a, p); the K = 1000 chain, both LUs
+    python benches/profile.py                   # the four-bar and slider-crank on both paths, the
+                                                # floors, the K = 1000 chain; instructions per step
     python benches/profile.py chain/sparse/100      # any criterion benchmark id of benches/sweep.rs
+
+Instructions per step are the inclusive count of the function that runs a benchmark's
+sweep (`sweep_observed`) or loop (the floors' `floor_*`, `guarded_*`) over its calls and
+the steps of each (as `benches/sweep.rs` sets them): a measure of the work a step does
+that the shared machine's noise does not move, beside criterion's times.
 
 Needs valgrind. Builds the bench with line tables (in `<target>/callgrind`, so the normal
 build is left alone) and runs it for a few seconds of criterion's --profile-time under
@@ -24,7 +30,41 @@ from collections import defaultdict
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-DEFAULT = ["four_bar/refactor/pva", "four_bar/refactor/p", "chain/refactor/1000", "chain/sparse/1000"]
+DEFAULT = [
+    "four_bar/structured/pva",
+    "four_bar/structured/p",
+    "slider_crank/structured/pva",
+    "slider_crank/structured/p",
+    "floor/four_bar/pva",
+    "floor/four_bar/p",
+    "floor/four_bar/pva_guarded",
+    "floor/slider_crank/pva",
+    "floor/slider_crank/p",
+    "floor/slider_crank/pva_guarded",
+    "four_bar/refactor/pva",
+    "four_bar/refactor/p",
+    "chain/structured/1000",
+    "chain/refactor/1000",
+]
+# steps per sweep or loop and bodies, as benches/sweep.rs sets them (`mechanisms`, `chains`,
+# `floor`)
+MECHANISM_STEPS = 10_000
+BODIES = {"four_bar": 3, "slider_crank": 3, "six_bar_stephenson": 5}
+
+
+def per_call(bench: str) -> tuple[str, int, int] | None:
+    """The function a benchmark's calls run, its steps per call and the mechanism's bodies;
+    None where not known."""
+    parts = bench.split("/")
+    if parts[0] == "floor" and len(parts) == 3:
+        kind = "guarded_" if parts[2].endswith("_guarded") else "floor_"
+        return "::" + kind + parts[1], MECHANISM_STEPS, 3
+    if parts[0] == "chain" and len(parts) == 3 and parts[2].isdigit():
+        loops = int(parts[2])
+        return "linkwork::sweep::sweep_observed", max(10_000 // loops, 500), 3 * loops
+    if parts[0] in BODIES:
+        return "linkwork::sweep::sweep_observed", MECHANISM_STEPS, BODIES[parts[0]]
+    return None
 
 
 def build() -> str:
@@ -45,8 +85,9 @@ def build() -> str:
     raise SystemExit("no bench executable built")
 
 
-def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int]:
-    """Self cost (Ir) by source file and by function from a callgrind output file.
+def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int, dict[str, int], dict[str, int]]:
+    """Self cost (Ir) by source file and by function from a callgrind output file, and by
+    function its inclusive cost and the calls it received.
 
     The standard library's code (slices, iterators, f64 methods) inlined into a linkwork
     function counts for the last other file seen in that function (linkwork's own or a
@@ -59,6 +100,9 @@ def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int]:
     fl = fi = fn = "?"
     last_own = None
     skip_next = False
+    callee = "?"
+    inclusive: dict[str, int] = defaultdict(int)
+    calls: dict[str, int] = defaultdict(int)
 
     def name(kind: str, rest: str) -> str:
         m = re.match(r"\((\d+)\)(?: (.*))?", rest)
@@ -87,13 +131,17 @@ def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int]:
             elif key in ("cfi", "cfl"):
                 name("file", rest)
             elif key == "cfn":
-                name("fn", rest)
+                callee = name("fn", rest)
             elif key == "calls":
                 skip_next = True  # the next cost line is the call's inclusive cost
+                calls[callee] += int(rest.split()[0])
             continue
         if line[0] in "0123456789+-*":
             if skip_next:
                 skip_next = False
+                parts = line.split()
+                if len(parts) >= 2 and callee != fn:
+                    inclusive[fn] += int(parts[1])
                 continue
             parts = line.split()
             if len(parts) >= 2:
@@ -101,8 +149,9 @@ def parse(path: Path) -> tuple[dict[str, int], dict[str, int], int]:
                 own = fn.startswith(("linkwork::", "<linkwork::")) and last_own is not None
                 by_file[last_own if own and crate_of(fi) == "std" else fi] += cost
                 by_fn[fn] += cost
+                inclusive[fn] += cost
     total = sum(by_file.values())
-    return by_file, by_fn, total
+    return by_file, by_fn, total, inclusive, calls
 
 
 def short(path: str) -> str:
@@ -138,6 +187,7 @@ def main() -> None:
     args = parser.parse_args()
     exe = build()
     lines: list[str] = []
+    per_step: list[tuple[str, float, float]] = []
 
     def emit(text: str) -> None:
         print(text)
@@ -167,7 +217,15 @@ def main() -> None:
                     break
             else:
                 raise SystemExit(f"{bench}: {run.stderr.decode(errors='replace')[-2000:]}")
-            by_file, by_fn, total = parse(out)
+            by_file, by_fn, total, inclusive, calls = parse(out)
+            target = per_call(bench)
+            if target is not None:
+                suffix, steps, bodies = target
+                found = [f for f in inclusive if f.endswith(suffix) and calls.get(f)]
+                if found:
+                    f = found[0]
+                    step = inclusive[f] / (calls[f] * steps)
+                    per_step.append((bench, step, step / bodies))
             emit(f"== {bench}: {total:,} instructions")
             crates: dict[str, int] = defaultdict(int)
             for f, c in by_file.items():
@@ -181,6 +239,15 @@ def main() -> None:
             for f, c in _top(by_fn, 6):
                 emit(f"     {100 * c / total:5.1f}%  {f[:100]}")
             emit("")
+    if per_step:
+        table = [
+            "Instructions per step (inclusive, over the calls and steps of the sweep or the loop):",
+            "",
+            "| benchmark | per step | per body per step |",
+            "|---|---:|---:|",
+        ]
+        table += [f"| {b} | {s:,.0f} | {p:,.0f} |" for b, s, p in per_step]
+        print("\n".join(table))
     if args.write:
         import platform
         import time
@@ -190,8 +257,11 @@ def main() -> None:
         begin, end = "<!-- profile.py begin -->", "<!-- profile.py end -->"
         block = (
             f"{begin}\nMeasured {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} on {platform.machine()} "
-            f"at `{revision()}` with `python benches/profile.py --write` (callgrind instruction counts):"
-            "\n\n```\n" + "\n".join(lines).rstrip() + f"\n```\n{end}"
+            f"at `{revision()}` with `python benches/profile.py --write` (callgrind instruction counts)."
+            + ("\n\n" + "\n".join(table) if per_step else "")
+            + "\n\n```\n"
+            + "\n".join(lines).rstrip()
+            + f"\n```\n{end}"
         )
         if begin in text:
             text = text[: text.index(begin)] + block + text[text.index(end) + len(end) :]

@@ -431,9 +431,7 @@ impl Guard {
 /// and accelerations (tests/common's closed forms), the body frames' poses and their
 /// derivatives, stored row-major into preallocated q, qd, qdd (n_steps x 9).
 fn floor(c: &mut Criterion) {
-    const STEPS: usize = 10_000;
-    const OMEGA: f64 = 5.0;
-    let times = times(STEPS);
+    let times = times(FLOOR_STEPS);
     // the floor's four-bar is the closed form's, on its branch, over a revolution
     for i in 0..720 {
         let th2 = i as f64 * PI / 360.0;
@@ -446,146 +444,131 @@ fn floor(c: &mut Criterion) {
             assert!((v[j] - ve[j]).abs() < 1e-11 && (a[j] - ae[j]).abs() < 1e-9, "floor rates at {th2}");
         }
     }
-    let sc = SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 };
     for i in 0..720 {
         let th2 = i as f64 * PI / 360.0;
         let (s2, c2) = th2.sin_cos();
-        let (_, g) = slider_crank_guarded(&sc, s2, c2, OMEGA);
-        let (pe, ve, ae) = slider_crank_closed(&sc, th2, OMEGA, 0.0);
+        let (_, g) = slider_crank_guarded(&SLIDER_CRANK, s2, c2, OMEGA);
+        let (pe, ve, ae) = slider_crank_closed(&SLIDER_CRANK, th2, OMEGA, 0.0);
         for j in 0..2 {
             assert!((g.theta[j] - pe[j]).abs() < 1e-12 && (g.omega[j] - ve[j]).abs() < 1e-11, "at {th2}");
             assert!((g.alpha[j] - ae[j]).abs() < 1e-9, "slider-crank accelerations at {th2}");
         }
     }
     let mut g = c.benchmark_group("floor");
-    g.throughput(Throughput::Elements(STEPS as u64));
+    g.throughput(Throughput::Elements(FLOOR_STEPS as u64));
+    let rows = || (vec![0.0; 9 * FLOOR_STEPS], vec![0.0; 9 * FLOOR_STEPS], vec![0.0; 9 * FLOOR_STEPS]);
     for derivatives in [2u8, 0] {
         let id = if derivatives == 2 { "pva" } else { "p" };
-        let fb = textbook();
         g.bench_function(BenchmarkId::new("four_bar", id), |b| {
-            let (mut q, mut qd, mut qdd) = (vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS]);
+            let (mut q, mut qd, mut qdd) = rows();
             b.iter(|| {
-                for (k, &t) in black_box(&times).iter().enumerate() {
-                    let th2 = OMEGA * t;
-                    let (s2, c2) = th2.sin_cos();
-                    let ([th3, th4], [w3, w4], [a3, a4]) = four_bar_floor(&fb, s2, c2, OMEGA, derivatives);
-                    let row = 9 * k;
-                    q[row..row + 9].copy_from_slice(&[
-                        0.0,
-                        0.0,
-                        th2,
-                        fb.r2 * c2,
-                        fb.r2 * s2,
-                        th3,
-                        fb.r1,
-                        0.0,
-                        th4,
-                    ]);
-                    if derivatives == 2 {
-                        let (v, a) = (fb.r2 * OMEGA, -fb.r2 * OMEGA * OMEGA);
-                        qd[row..row + 9].copy_from_slice(&[
-                            0.0,
-                            0.0,
-                            OMEGA,
-                            -v * s2,
-                            v * c2,
-                            w3,
-                            0.0,
-                            0.0,
-                            w4,
-                        ]);
-                        qdd[row..row + 9].copy_from_slice(&[0.0, 0.0, 0.0, a * c2, a * s2, a3, 0.0, 0.0, a4]);
-                    }
-                }
-                black_box((q[9 * STEPS - 1], qd[9 * STEPS - 1], qdd[9 * STEPS - 1]))
+                floor_four_bar(black_box(&times), derivatives, &mut q, &mut qd, &mut qdd);
+                black_box((q[9 * FLOOR_STEPS - 1], qd[9 * FLOOR_STEPS - 1], qdd[9 * FLOOR_STEPS - 1]))
             })
         });
         g.bench_function(BenchmarkId::new("slider_crank", id), |b| {
-            let (mut q, mut qd, mut qdd) = (vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS], vec![0.0; 9 * STEPS]);
+            let (mut q, mut qd, mut qdd) = rows();
             b.iter(|| {
-                for (k, &t) in black_box(&times).iter().enumerate() {
-                    let th2 = OMEGA * t;
-                    let ([th3, x], [w3, v], [a3, acc]) = slider_crank_closed(&sc, th2, OMEGA, 0.0);
-                    let (s2, c2) = th2.sin_cos();
-                    let row = 9 * k;
-                    q[row..row + 9].copy_from_slice(&[
-                        0.0,
-                        0.0,
-                        th2,
-                        sc.r2 * c2,
-                        sc.r2 * s2,
-                        th3,
-                        x,
-                        sc.e,
-                        0.0,
-                    ]);
-                    if derivatives == 2 {
-                        let (u, a) = (sc.r2 * OMEGA, -sc.r2 * OMEGA * OMEGA);
-                        qd[row..row + 9].copy_from_slice(&[
-                            0.0,
-                            0.0,
-                            OMEGA,
-                            -u * s2,
-                            u * c2,
-                            w3,
-                            v,
-                            0.0,
-                            0.0,
-                        ]);
-                        qdd[row..row + 9].copy_from_slice(&[
-                            0.0,
-                            0.0,
-                            0.0,
-                            a * c2,
-                            a * s2,
-                            a3,
-                            acc,
-                            0.0,
-                            0.0,
-                        ]);
-                    }
-                }
-                black_box((q[9 * STEPS - 1], qd[9 * STEPS - 1], qdd[9 * STEPS - 1]))
+                floor_slider_crank(black_box(&times), derivatives, &mut q, &mut qd, &mut qdd);
+                black_box((q[9 * FLOOR_STEPS - 1], qd[9 * FLOOR_STEPS - 1], qdd[9 * FLOOR_STEPS - 1]))
             })
         });
     }
     // the same loops with the checks the engine makes at every step, by hand (`Guard`)
-    let fb = textbook();
     g.bench_function(BenchmarkId::new("four_bar", "pva_guarded"), |b| {
-        let mut guard = Guard::new(STEPS, fb.r1);
+        let mut guard = Guard::new(FLOOR_STEPS, textbook().r1);
         b.iter(|| {
-            guard.start();
-            for (k, &t) in black_box(&times).iter().enumerate() {
-                let th2 = OMEGA * t;
-                let (s2, c2) = th2.sin_cos();
-                let g = four_bar_guarded(&fb, s2, c2, OMEGA);
-                let (u, v) = (fb.r2 * OMEGA, -fb.r2 * OMEGA * OMEGA);
-                let q = [0.0, 0.0, th2, fb.r2 * c2, fb.r2 * s2, g.theta[0], fb.r1, 0.0, g.theta[1]];
-                let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], 0.0, 0.0, g.omega[1]];
-                let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], 0.0, 0.0, g.alpha[1]];
-                guard.step(k, &times, q, qd, qdd, g.closeness, g.residual);
-            }
+            guarded_four_bar(black_box(&times), &mut guard);
             guard.last()
         })
     });
     g.bench_function(BenchmarkId::new("slider_crank", "pva_guarded"), |b| {
-        let mut guard = Guard::new(STEPS, sc.r2 + sc.r3);
+        let mut guard = Guard::new(FLOOR_STEPS, SLIDER_CRANK.r2 + SLIDER_CRANK.r3);
         b.iter(|| {
-            guard.start();
-            for (k, &t) in black_box(&times).iter().enumerate() {
-                let th2 = OMEGA * t;
-                let (s2, c2) = th2.sin_cos();
-                let (a, g) = slider_crank_guarded(&sc, s2, c2, OMEGA);
-                let (u, v) = (sc.r2 * OMEGA, -sc.r2 * OMEGA * OMEGA);
-                let q = [0.0, 0.0, th2, a[0], a[1], g.theta[0], g.theta[1], sc.e, 0.0];
-                let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], g.omega[1], 0.0, 0.0];
-                let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], g.alpha[1], 0.0, 0.0];
-                guard.step(k, &times, q, qd, qdd, g.closeness, g.residual);
-            }
+            guarded_slider_crank(black_box(&times), &mut guard);
             guard.last()
         })
     });
     g.finish();
+}
+
+/// Steps of a floor benchmark, and the crank's steady rate.
+const FLOOR_STEPS: usize = 10_000;
+const OMEGA: f64 = 5.0;
+/// The floor's slider-crank (the engine's bench sweeps the same).
+const SLIDER_CRANK: SliderCrank = SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 };
+
+// The floor's loops, each a function of its own (never inlined) so that an instruction
+// count of the benchmark can divide by its calls (`benches/profile.py`).
+
+/// The four-bar's floor over `times`: q (and with `derivatives` 2, qd, qdd) row-major.
+#[inline(never)]
+fn floor_four_bar(times: &[f64], derivatives: u8, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+    let fb = textbook();
+    for (k, &t) in times.iter().enumerate() {
+        let th2 = OMEGA * t;
+        let (s2, c2) = th2.sin_cos();
+        let ([th3, th4], [w3, w4], [a3, a4]) = four_bar_floor(&fb, s2, c2, OMEGA, derivatives);
+        let row = 9 * k;
+        q[row..row + 9].copy_from_slice(&[0.0, 0.0, th2, fb.r2 * c2, fb.r2 * s2, th3, fb.r1, 0.0, th4]);
+        if derivatives == 2 {
+            let (v, a) = (fb.r2 * OMEGA, -fb.r2 * OMEGA * OMEGA);
+            qd[row..row + 9].copy_from_slice(&[0.0, 0.0, OMEGA, -v * s2, v * c2, w3, 0.0, 0.0, w4]);
+            qdd[row..row + 9].copy_from_slice(&[0.0, 0.0, 0.0, a * c2, a * s2, a3, 0.0, 0.0, a4]);
+        }
+    }
+}
+
+/// The slider-crank's floor over `times` (`slider_crank_closed`: its rod by asin).
+#[inline(never)]
+fn floor_slider_crank(times: &[f64], derivatives: u8, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+    let sc = SLIDER_CRANK;
+    for (k, &t) in times.iter().enumerate() {
+        let th2 = OMEGA * t;
+        let ([th3, x], [w3, v], [a3, acc]) = slider_crank_closed(&sc, th2, OMEGA, 0.0);
+        let (s2, c2) = th2.sin_cos();
+        let row = 9 * k;
+        q[row..row + 9].copy_from_slice(&[0.0, 0.0, th2, sc.r2 * c2, sc.r2 * s2, th3, x, sc.e, 0.0]);
+        if derivatives == 2 {
+            let (u, a) = (sc.r2 * OMEGA, -sc.r2 * OMEGA * OMEGA);
+            qd[row..row + 9].copy_from_slice(&[0.0, 0.0, OMEGA, -u * s2, u * c2, w3, v, 0.0, 0.0]);
+            qdd[row..row + 9].copy_from_slice(&[0.0, 0.0, 0.0, a * c2, a * s2, a3, acc, 0.0, 0.0]);
+        }
+    }
+}
+
+/// The four-bar's floor with the engine's per-step checks (`Guard`), p+v+a.
+#[inline(never)]
+fn guarded_four_bar(times: &[f64], guard: &mut Guard) {
+    let fb = textbook();
+    guard.start();
+    for (k, &t) in times.iter().enumerate() {
+        let th2 = OMEGA * t;
+        let (s2, c2) = th2.sin_cos();
+        let g = four_bar_guarded(&fb, s2, c2, OMEGA);
+        let (u, v) = (fb.r2 * OMEGA, -fb.r2 * OMEGA * OMEGA);
+        let q = [0.0, 0.0, th2, fb.r2 * c2, fb.r2 * s2, g.theta[0], fb.r1, 0.0, g.theta[1]];
+        let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], 0.0, 0.0, g.omega[1]];
+        let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], 0.0, 0.0, g.alpha[1]];
+        guard.step(k, times, q, qd, qdd, g.closeness, g.residual);
+    }
+}
+
+/// The slider-crank's floor with the engine's per-step checks (`Guard`), p+v+a.
+#[inline(never)]
+fn guarded_slider_crank(times: &[f64], guard: &mut Guard) {
+    let sc = SLIDER_CRANK;
+    guard.start();
+    for (k, &t) in times.iter().enumerate() {
+        let th2 = OMEGA * t;
+        let (s2, c2) = th2.sin_cos();
+        let (a, g) = slider_crank_guarded(&sc, s2, c2, OMEGA);
+        let (u, v) = (sc.r2 * OMEGA, -sc.r2 * OMEGA * OMEGA);
+        let q = [0.0, 0.0, th2, a[0], a[1], g.theta[0], g.theta[1], sc.e, 0.0];
+        let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], g.omega[1], 0.0, 0.0];
+        let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], g.alpha[1], 0.0, 0.0];
+        guard.step(k, times, q, qd, qdd, g.closeness, g.residual);
+    }
 }
 
 criterion_group! {
