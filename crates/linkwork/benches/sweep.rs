@@ -241,30 +241,35 @@ fn batch(c: &mut Criterion) {
     g.finish();
 }
 
-/// The four-bar's loop at crank angle theta2 (its sine and cosine), turning at `w2`
-/// steadily, as a hand-written loop would do it: B where the circles about A (coupler)
-/// and O4 (rocker) meet, one square root; the two angles by atan2; the rates and
-/// accelerations (with `derivatives` 2) by Cramer's rule on B's velocity (acceleration)
-/// seen from both links. The same branch as `four_bar_closed` (checked in `floor`).
+/// The four-bar's pins at crank angle theta2 (its sine and cosine), as a hand-written
+/// loop finds them: A; B where the circles about A (coupler) and O4 (rocker) meet, one
+/// square root; B - A, B - O4; |O4 - A|^2 and B's height over A -> O4 in its units. The
+/// same branch as `four_bar_closed` (checked in `floor`).
+struct Pins {
+    a: [f64; 2],
+    b: [f64; 2],
+    rab: [f64; 2],
+    rcb: [f64; 2],
+    dd: f64,
+    height: f64,
+}
+
 #[inline(always)]
-fn four_bar_floor(
-    fb: &FourBar,
-    s2: f64,
-    c2: f64,
-    w2: f64,
-    derivatives: u8,
-) -> ([f64; 2], [f64; 2], [f64; 2]) {
+fn four_bar_pins(fb: &FourBar, s2: f64, c2: f64) -> Pins {
     let a = [fb.r2 * c2, fb.r2 * s2];
     let d = [fb.r1 - a[0], -a[1]];
     let dd = d[0] * d[0] + d[1] * d[1];
     let along = 0.5 * (dd + fb.r3 * fb.r3 - fb.r4 * fb.r4) / dd;
     let height = (fb.r3 * fb.r3 / dd - along * along).sqrt();
     let b = [a[0] + along * d[0] - height * d[1], a[1] + along * d[1] + height * d[0]];
-    let (rab, rcb) = ([b[0] - a[0], b[1] - a[1]], [b[0] - fb.r1, b[1]]);
-    let (th3, th4) = (rab[1].atan2(rab[0]), rcb[1].atan2(rcb[0]));
-    if derivatives == 0 {
-        return ([th3, th4], [0.0; 2], [0.0; 2]);
-    }
+    Pins { a, b, rab: [b[0] - a[0], b[1] - a[1]], rcb: [b[0] - fb.r1, b[1]], dd, height }
+}
+
+/// The coupler's and the rocker's rates and accelerations, the crank turning steadily at
+/// `w2`: Cramer's rule on B's velocity (acceleration) seen from both links.
+#[inline(always)]
+fn four_bar_rates(p: &Pins, w2: f64) -> ([f64; 2], [f64; 2]) {
+    let (a, rab, rcb) = (p.a, p.rab, p.rcb);
     // w3 perp(rab) - w4 perp(rcb) = -vA, vA = w2 perp(A)
     let inv_det = 1.0 / (rab[0] * rcb[1] - rab[1] * rcb[0]);
     let solve =
@@ -276,12 +281,31 @@ fn four_bar_floor(
         w2 * w2 * a[1] + w3 * w3 * rab[1] - w4 * w4 * rcb[1],
     ];
     let (a3, a4) = solve(rhs);
-    ([th3, th4], [w3, w4], [a3, a4])
+    ([w3, w4], [a3, a4])
 }
 
-/// `four_bar_floor` with what the engine checks: the closeness to singular (|sin| of the
-/// angle at B) and the largest pin residual of the coupler and the rocker placed from
-/// their pins.
+/// The four-bar's loop at crank angle theta2 as a hand-written loop would do it: the pins,
+/// the two angles by atan2, and with `derivatives` 2 the rates and accelerations.
+#[inline(always)]
+fn four_bar_floor(
+    fb: &FourBar,
+    s2: f64,
+    c2: f64,
+    w2: f64,
+    derivatives: u8,
+) -> ([f64; 2], [f64; 2], [f64; 2]) {
+    let p = four_bar_pins(fb, s2, c2);
+    let angles = [p.rab[1].atan2(p.rab[0]), p.rcb[1].atan2(p.rcb[0])];
+    if derivatives == 0 {
+        return (angles, [0.0; 2], [0.0; 2]);
+    }
+    let (omega, alpha) = four_bar_rates(&p, w2);
+    (angles, omega, alpha)
+}
+
+/// A loop's two unknown angles (or an angle and a slide), their rates and accelerations,
+/// with what the engine checks: the closeness to singular and the largest pin residual of
+/// the bodies placed from their pins.
 struct Guarded {
     theta: [f64; 2],
     omega: [f64; 2],
@@ -290,17 +314,13 @@ struct Guarded {
     residual: f64,
 }
 
+/// `four_bar_floor` (p+v+a) with the closeness (|sin| of the angle at B) and the coupler's
+/// and the rocker's far pins placed back from their poses.
 #[inline(always)]
 fn four_bar_guarded(fb: &FourBar, s2: f64, c2: f64, w2: f64) -> Guarded {
-    let a = [fb.r2 * c2, fb.r2 * s2];
-    let d = [fb.r1 - a[0], -a[1]];
-    let dd = d[0] * d[0] + d[1] * d[1];
-    let along = 0.5 * (dd + fb.r3 * fb.r3 - fb.r4 * fb.r4) / dd;
-    let height = (fb.r3 * fb.r3 / dd - along * along).sqrt();
-    let b = [a[0] + along * d[0] - height * d[1], a[1] + along * d[1] + height * d[0]];
-    let (rab, rcb) = ([b[0] - a[0], b[1] - a[1]], [b[0] - fb.r1, b[1]]);
-    let (th3, th4) = (rab[1].atan2(rab[0]), rcb[1].atan2(rcb[0]));
-    // each body's pose from its pins, and its far pin placed back from that pose
+    let p = four_bar_pins(fb, s2, c2);
+    let (a, b, rab, rcb) = (p.a, p.b, p.rab, p.rcb);
+    let theta = [rab[1].atan2(rab[0]), rcb[1].atan2(rcb[0])];
     let (u3, u4) = ([rab[0] / fb.r3, rab[1] / fb.r3], [rcb[0] / fb.r4, rcb[1] / fb.r4]);
     let back3 = [a[0] + fb.r3 * u3[0], a[1] + fb.r3 * u3[1]];
     let back4 = [fb.r1 + fb.r4 * u4[0], fb.r4 * u4[1]];
@@ -309,17 +329,9 @@ fn four_bar_guarded(fb: &FourBar, s2: f64, c2: f64, w2: f64) -> Guarded {
         .max((back3[1] - b[1]).abs())
         .max((back4[0] - b[0]).abs())
         .max((back4[1] - b[1]).abs());
-    let closeness = height.abs() * dd / (fb.r3 * fb.r4);
-    let inv_det = 1.0 / (rab[0] * rcb[1] - rab[1] * rcb[0]);
-    let solve =
-        |r: [f64; 2]| ((r[1] * rcb[1] + r[0] * rcb[0]) * inv_det, (r[1] * rab[1] + r[0] * rab[0]) * inv_det);
-    let (w3, w4) = solve([w2 * a[1], -w2 * a[0]]);
-    let rhs = [
-        w2 * w2 * a[0] + w3 * w3 * rab[0] - w4 * w4 * rcb[0],
-        w2 * w2 * a[1] + w3 * w3 * rab[1] - w4 * w4 * rcb[1],
-    ];
-    let (a3, a4) = solve(rhs);
-    Guarded { theta: [th3, th4], omega: [w3, w4], alpha: [a3, a4], closeness, residual }
+    let closeness = p.height.abs() * p.dd / (fb.r3 * fb.r4);
+    let (omega, alpha) = four_bar_rates(&p, w2);
+    Guarded { theta, omega, alpha, closeness, residual }
 }
 
 /// The slider-crank as a hand-written loop with what the engine checks: B where the rod's
