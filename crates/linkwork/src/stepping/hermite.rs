@@ -84,34 +84,51 @@ pub fn continues(
     qd: &[f64],
     qdd: Option<&[f64]>,
 ) -> bool {
-    // the largest of each over the coordinates; a NaN term is passed over (as f64::max
-    // does), one comparison each: this runs at every step of a sweep
-    let (mut motion, mut misfit) = (0.0f64, 0.0f64);
-    let mut one = |s: f64, q: f64, q_prev: f64, qd: f64, acc: f64| {
-        let backward = q - h * (qd - 0.5 * h * acc);
-        let (m, f) = ((q - q_prev).abs() * s, (q_prev - backward).abs() * s);
-        if m > motion {
-            motion = m;
-        }
-        if f > misfit {
-            misfit = f;
-        }
-    };
+    let mut check = TwoWay::default();
     let n = q.len();
     let (s, q_prev, qd) = (&inv_col_scale[..n], &q_prev[..n], &qd[..n]);
     match qdd {
         Some(qdd) => {
             for ((((&s, &q), &p), &v), &a) in s.iter().zip(q).zip(q_prev).zip(qd).zip(&qdd[..n]) {
-                one(s, q, p, v, a);
+                check.add(h, s, q, p, v, a);
             }
         }
         None => {
             for ((((&s, &q), &p), &v), &v0) in s.iter().zip(q).zip(q_prev).zip(qd).zip(&qd_prev[..n]) {
-                one(s, q, p, v, (v - v0) / h);
+                check.add(h, s, q, p, v, (v - v0) / h);
             }
         }
     }
-    misfit <= CONSISTENCY * motion + CONSISTENCY_FLOOR
+    check.passes()
+}
+
+/// The two-way check's largest motion and misfit over the coordinates so far (scaled). A
+/// NaN term is passed over (as f64::max does), one comparison each: this runs at every
+/// step of a sweep.
+#[derive(Default)]
+struct TwoWay {
+    motion: f64,
+    misfit: f64,
+}
+
+impl TwoWay {
+    /// One coordinate: q now, q_prev at the step before, qd and qdd (acc) now; s its
+    /// inverse scale.
+    #[inline(always)]
+    fn add(&mut self, h: f64, s: f64, q: f64, q_prev: f64, qd: f64, acc: f64) {
+        let backward = q - h * (qd - 0.5 * h * acc);
+        let (m, f) = ((q - q_prev).abs() * s, (q_prev - backward).abs() * s);
+        if m > self.motion {
+            self.motion = m;
+        }
+        if f > self.misfit {
+            self.misfit = f;
+        }
+    }
+
+    fn passes(&self) -> bool {
+        self.misfit <= CONSISTENCY * self.motion + CONSISTENCY_FLOOR
+    }
 }
 
 /// Where a step's row is written as the step is checked (`continues_storing`): row `row`
@@ -169,18 +186,10 @@ fn checked_into<const D: bool, const DD: bool>(
         (&inv_col_scale[..n], &q_prev[..n], &qd[..n], &qdd[..n], &mut out_q[..n]);
     let out_qd = if D { &mut out_qd[..n] } else { out_qd };
     let out_qdd = if DD { &mut out_qdd[..n] } else { out_qdd };
-    // as in `continues`: a NaN term is passed over, one comparison each
-    let (mut motion, mut misfit) = (0.0f64, 0.0f64);
+    let mut check = TwoWay::default();
     for i in 0..n {
         let (v, a) = (qd[i], qdd[i]);
-        let backward = q[i] - h * (v - 0.5 * h * a);
-        let (m, f) = ((q[i] - q_prev[i]).abs() * s[i], (q_prev[i] - backward).abs() * s[i]);
-        if m > motion {
-            motion = m;
-        }
-        if f > misfit {
-            misfit = f;
-        }
+        check.add(h, s[i], q[i], q_prev[i], v, a);
         out_q[i] = q[i];
         if D {
             out_qd[i] = v;
@@ -189,7 +198,7 @@ fn checked_into<const D: bool, const DD: bool>(
             out_qdd[i] = a;
         }
     }
-    misfit <= CONSISTENCY * motion + CONSISTENCY_FLOOR
+    check.passes()
 }
 
 /// The quintic Hermite interpolant of `a` and `b` at t: q, and qd, qdd where given.
