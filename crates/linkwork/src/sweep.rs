@@ -763,9 +763,20 @@ impl Run<'_, '_> {
     ) -> Result<Option<Handoff>, SolveError> {
         let (model, times) = (self.model, self.times);
         let every = self.out.request.every;
+        // the next kept row and the step it is (k % every == 0), and the next step that
+        // calls `progress`, counted on rather than found by dividing at every step
+        let mut row_next = k0.div_ceil(every);
+        let mut kept_at = row_next * every;
+        let mut progress_at = match self.progress_every {
+            0 => usize::MAX,
+            n => k0.next_multiple_of(n),
+        };
         for k in k0..times.len() {
-            if self.progress_every > 0 && k % self.progress_every == 0 && !progress(k) {
-                return Err(SolveError::Cancelled { step: k });
+            if k == progress_at {
+                progress_at += self.progress_every;
+                if !progress(k) {
+                    return Err(SolveError::Cancelled { step: k });
+                }
             }
             let (t, h) = (times[k], times[k] - times[k - 1]);
             tracker.q_prev.copy_from_slice(&data.q);
@@ -774,7 +785,7 @@ impl Run<'_, '_> {
                 return Ok(Some(Handoff { k, solved: None }));
             };
             // a kept step's coordinates are written as they are checked, where every one is kept
-            let row = (k % every == 0).then_some(k / every);
+            let row = (k == kept_at).then_some(row_next);
             let stored = match row.filter(|_| solved >= 2).and_then(|r| self.out.coord_row(r)) {
                 Some(out) => Some(continues_storing(
                     &data.inv_col_scale,
@@ -798,6 +809,7 @@ impl Run<'_, '_> {
             *ratio_prev = info.pivot_ratio;
             self.worst.add(&info);
             if let Some(row) = row {
+                (row_next, kept_at) = (row + 1, kept_at + every);
                 if stored.is_some() {
                     self.out.keep_rest(model, data, t, row, true, self.worst, info.det_sign);
                 } else {
