@@ -352,26 +352,11 @@ impl SweepOutput {
         }
     }
 
-    /// Stores the state in `data` as row `row` (`store`) with the worst diagnostics since
-    /// the last kept row, which start again.
+    /// Keeps row `row` after its coordinates (`store_coords`, or written as the step was
+    /// checked: `coord_row`): the rest of the state in `data` and the worst diagnostics
+    /// since the last kept row, which start again.
     #[allow(clippy::too_many_arguments)]
     fn keep(
-        &mut self,
-        model: &Model,
-        data: &Data,
-        t: f64,
-        row: usize,
-        frames_set: bool,
-        worst: &mut Worst,
-        det_sign: f64,
-    ) {
-        self.store_coords(data, row);
-        self.keep_rest(model, data, t, row, frames_set, worst, det_sign);
-    }
-
-    /// `keep` where row `row`'s coordinates are written already (`coord_row`).
-    #[allow(clippy::too_many_arguments)]
-    fn keep_rest(
         &mut self,
         model: &Model,
         data: &Data,
@@ -698,6 +683,7 @@ fn sweep_steps(
                 solve_forces(model, data, t, k)?;
             }
             let row = k / req.every;
+            out.store_coords(data, row);
             out.keep(model, data, t, row, by_blocks, &mut worst, info.det_sign);
             after(data, t, row)?;
         }
@@ -810,11 +796,10 @@ impl Run<'_, '_> {
             self.worst.add(&info);
             if let Some(row) = row {
                 (row_next, kept_at) = (row + 1, kept_at + every);
-                if stored.is_some() {
-                    self.out.keep_rest(model, data, t, row, true, self.worst, info.det_sign);
-                } else {
-                    self.out.keep(model, data, t, row, true, self.worst, info.det_sign);
+                if stored.is_none() {
+                    self.out.store_coords(data, row);
                 }
+                self.out.keep(model, data, t, row, true, self.worst, info.det_sign);
                 after(data, t, row)?;
             }
         }
