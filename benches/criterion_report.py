@@ -163,12 +163,15 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
             "atan2, the slider-crank's rod by asin), against the engine's two paths, us per step. "
             "The guarded loop (p+v+a) also does by hand what the engine checks and keeps at every "
             "step: the closeness to singular and its trend, the two-way check of every coordinate, "
-            "the pins' residuals, and the residual and closeness stored per row:",
+            "the pins' residuals, and the residual and closeness stored per row. The continued loop "
+            "(four-bar) is the guarded loop with its angles continued as the engine continues them "
+            "(`turned`, `angle_of`: no sine, cosine or atan2 in most steps), its rates solved for the "
+            "check and kept (p+v+a) or not (p): the least a step that keeps the engine's promise costs:",
             "",
             "| mechanism | computes | general path (fixed-sequence LU) | structured (groups in closed form) "
-            "| closed-form loop | guarded loop | general / floor | structured / floor "
-            "| structured / guarded |",
-            "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+            "| closed-form loop | guarded loop | continued loop | general / floor | structured / floor "
+            "| structured / guarded | structured / continued |",
+            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for mech in ("four_bar", "slider_crank"):
             for what, label in (("pva", "p+v+a"), ("p", "p")):
@@ -176,14 +179,17 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
                 structured = us_per_step(found.get((mech, "structured", what)))
                 closed = us_per_step(floor.get((mech, what)))
                 guarded = us_per_step(floor.get((mech, what + "_guarded")))
+                continued = us_per_step(floor.get((mech, what + "_continued")))
                 if closed is None:
                     continue
                 r_general = cell(engine / closed if engine else None, 2)
                 r_structured = cell(structured / closed if structured else None, 2)
                 r_guarded = cell(structured / guarded if structured and guarded else None, 2)
+                r_continued = cell(structured / continued if structured and continued else None, 2)
                 lines.append(
                     f"| {mech} | {label} | {cell(engine)} | {cell(structured)} | {cell(closed)} "
-                    f"| {cell(guarded)} | {r_general} | {r_structured} | {r_guarded} |"
+                    f"| {cell(guarded)} | {cell(continued)} | {r_general} | {r_structured} | {r_guarded} "
+                    f"| {r_continued} |"
                 )
     return "\n".join(lines)
 

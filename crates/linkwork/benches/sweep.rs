@@ -21,7 +21,10 @@
 //!   is written (one sine and cosine of the crank, one square root, the angles by atan2
 //!   or asin): the floor a structure-aware engine is measured against. `pva_guarded`: the
 //!   same with what the engine checks and keeps at every step (`Guard`), the price of
-//!   "every step right or an explicit event" written by hand.
+//!   "every step right or an explicit event" written by hand. `pva_continued`,
+//!   `p_continued` (four-bar): the guarded loop with its angles continued as the engine
+//!   continues them (`turned`, `angle_of`), every coordinate's rates solved for the check
+//!   and kept (pva) or not (p): the least a step that keeps the promise costs.
 //!
 //! Every sweep steps at h = one crank revolution / 100,000 (as `benches/compare.py`), so
 //! the Newton work per step is the same at every K. Run:
@@ -33,6 +36,7 @@ mod common;
 
 use common::*;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
+use linkwork::assembly::{angle_of, turned};
 use linkwork::{
     sweep, sweep_batch, Data, Description, LinearKind, Model, Options, Outputs, Request, SolverKind,
     SweepOutput,
@@ -315,12 +319,23 @@ struct Guarded {
 }
 
 /// `four_bar_floor` (p+v+a) with the closeness (|sin| of the angle at B) and the coupler's
-/// and the rocker's far pins placed back from their poses.
+/// and the rocker's far pins placed back from their poses. The angles by atan2, or with
+/// `bases` (the last angles and the bases of their series) continued as the engine
+/// continues them (`angle_of`).
 #[inline(always)]
-fn four_bar_guarded(fb: &FourBar, s2: f64, c2: f64, w2: f64) -> Guarded {
+fn four_bar_guarded(fb: &FourBar, s2: f64, c2: f64, w2: f64, bases: Option<&mut Bases>) -> Guarded {
     let p = four_bar_pins(fb, s2, c2);
     let (a, b, rab, rcb) = (p.a, p.b, p.rab, p.rcb);
-    let theta = [rab[1].atan2(rab[0]), rcb[1].atan2(rcb[0])];
+    let theta = match bases {
+        None => [rab[1].atan2(rab[0]), rcb[1].atan2(rcb[0])],
+        Some(Bases { theta, base, .. }) => {
+            *theta = [
+                angle_of(rab[0], rab[1], theta[0], &mut base[0]),
+                angle_of(rcb[0], rcb[1], theta[1], &mut base[1]),
+            ];
+            *theta
+        }
+    };
     let (u3, u4) = ([rab[0] / fb.r3, rab[1] / fb.r3], [rcb[0] / fb.r4, rcb[1] / fb.r4]);
     let back3 = [a[0] + fb.r3 * u3[0], a[1] + fb.r3 * u3[1]];
     let back4 = [fb.r1 + fb.r4 * u4[0], fb.r4 * u4[1]];
@@ -332,6 +347,22 @@ fn four_bar_guarded(fb: &FourBar, s2: f64, c2: f64, w2: f64) -> Guarded {
     let closeness = p.height.abs() * p.dd / (fb.r3 * fb.r4);
     let (omega, alpha) = four_bar_rates(&p, w2);
     Guarded { theta, omega, alpha, closeness, residual }
+}
+
+/// What a loop that continues its angles as the engine does keeps from step to step: the
+/// coupler's and the rocker's last angles, and the crank's and their series' bases
+/// (angle, cos, sin of the last angle computed in full; `turned`, `angle_of`).
+struct Bases {
+    theta: [f64; 2],
+    base: [[f64; 3]; 2],
+    crank: [f64; 3],
+}
+
+impl Bases {
+    /// Nothing computed yet: the first step computes every angle in full.
+    fn new() -> Bases {
+        Bases { theta: [0.0; 2], base: [[f64::NAN; 3]; 2], crank: [f64::NAN; 3] }
+    }
 }
 
 /// The slider-crank as a hand-written loop with what the engine checks: B where the rod's
@@ -404,6 +435,7 @@ impl Guard {
         qdd: [f64; 9],
         closeness: f64,
         residual: f64,
+        rates: bool,
     ) {
         if k == 0 {
             self.close = [closeness, 0.0]; // the start's, as the engine reads it there
@@ -427,8 +459,10 @@ impl Guard {
         self.prev = q;
         let row = 9 * k;
         self.q[row..row + 9].copy_from_slice(&q);
-        self.qd[row..row + 9].copy_from_slice(&qd);
-        self.qdd[row..row + 9].copy_from_slice(&qdd);
+        if rates {
+            self.qd[row..row + 9].copy_from_slice(&qd);
+            self.qdd[row..row + 9].copy_from_slice(&qdd);
+        }
         self.residual[k] = residual * self.inv_l;
         self.closeness[k] = closeness;
     }
@@ -466,6 +500,19 @@ fn floor(c: &mut Criterion) {
             assert!((g.alpha[j] - ae[j]).abs() < 1e-9, "slider-crank accelerations at {th2}");
         }
     }
+    // the continued angles are atan2's to round-off: the loop against the closed form
+    let mut guard = Guard::new(FLOOR_STEPS, textbook().r1);
+    continued_four_bar(&times, &mut guard, true);
+    for (k, &t) in times.iter().enumerate() {
+        let (pe, ve, ae) = four_bar_closed(&textbook(), OMEGA * t, OMEGA, 0.0);
+        let row = 9 * k;
+        for (j, i) in [5, 8].into_iter().enumerate() {
+            let turn = (guard.q[row + i] - pe[j]) / (2.0 * PI);
+            assert!((turn - turn.round()).abs() * 2.0 * PI < 1e-12, "continued theta at step {k}");
+            assert!((guard.qd[row + i] - ve[j]).abs() < 1e-11, "continued omega at step {k}");
+            assert!((guard.qdd[row + i] - ae[j]).abs() < 1e-9, "continued alpha at step {k}");
+        }
+    }
     let mut g = c.benchmark_group("floor");
     g.throughput(Throughput::Elements(FLOOR_STEPS as u64));
     let rows = || (vec![0.0; 9 * FLOOR_STEPS], vec![0.0; 9 * FLOOR_STEPS], vec![0.0; 9 * FLOOR_STEPS]);
@@ -494,6 +541,16 @@ fn floor(c: &mut Criterion) {
             guard.last()
         })
     });
+    // and with the angles continued as the engine continues them, p+v+a and p kept
+    for (rates, id) in [(true, "pva_continued"), (false, "p_continued")] {
+        g.bench_function(BenchmarkId::new("four_bar", id), |b| {
+            let mut guard = Guard::new(FLOOR_STEPS, textbook().r1);
+            b.iter(|| {
+                continued_four_bar(black_box(&times), &mut guard, rates);
+                guard.last()
+            })
+        });
+    }
     g.bench_function(BenchmarkId::new("slider_crank", "pva_guarded"), |b| {
         let mut guard = Guard::new(FLOOR_STEPS, SLIDER_CRANK.r2 + SLIDER_CRANK.r3);
         b.iter(|| {
@@ -557,13 +614,47 @@ fn guarded_four_bar(times: &[f64], guard: &mut Guard) {
     for (k, &t) in times.iter().enumerate() {
         let th2 = OMEGA * t;
         let (s2, c2) = th2.sin_cos();
-        let g = four_bar_guarded(&fb, s2, c2, OMEGA);
-        let (u, v) = (fb.r2 * OMEGA, -fb.r2 * OMEGA * OMEGA);
-        let q = [0.0, 0.0, th2, fb.r2 * c2, fb.r2 * s2, g.theta[0], fb.r1, 0.0, g.theta[1]];
-        let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], 0.0, 0.0, g.omega[1]];
-        let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], 0.0, 0.0, g.alpha[1]];
-        guard.step(k, times, q, qd, qdd, g.closeness, g.residual);
+        let g = four_bar_guarded(&fb, s2, c2, OMEGA, None);
+        four_bar_rows(&fb, k, times, th2, s2, c2, &g, guard, true);
     }
+}
+
+/// `guarded_four_bar` with the angles continued as the engine continues them (the crank's
+/// cos and sin by `turned`, the coupler's and the rocker's angles by `angle_of`): the least
+/// a loop pays for the engine's promise with its arithmetic. `rates`: velocities and
+/// accelerations kept (else solved for the check and not kept, as a positions-only sweep).
+#[inline(never)]
+fn continued_four_bar(times: &[f64], guard: &mut Guard, rates: bool) {
+    let fb = textbook();
+    guard.start();
+    let mut bases = Bases::new();
+    for (k, &t) in times.iter().enumerate() {
+        let th2 = OMEGA * t;
+        let (c2, s2) = turned(th2, &mut bases.crank);
+        let g = four_bar_guarded(&fb, s2, c2, OMEGA, Some(&mut bases));
+        four_bar_rows(&fb, k, times, th2, s2, c2, &g, guard, rates);
+    }
+}
+
+/// The four-bar's q, qd, qdd at step k (the crank at th2 turning steadily) through `guard`.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn four_bar_rows(
+    fb: &FourBar,
+    k: usize,
+    times: &[f64],
+    th2: f64,
+    s2: f64,
+    c2: f64,
+    g: &Guarded,
+    guard: &mut Guard,
+    rates: bool,
+) {
+    let (u, v) = (fb.r2 * OMEGA, -fb.r2 * OMEGA * OMEGA);
+    let q = [0.0, 0.0, th2, fb.r2 * c2, fb.r2 * s2, g.theta[0], fb.r1, 0.0, g.theta[1]];
+    let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], 0.0, 0.0, g.omega[1]];
+    let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], 0.0, 0.0, g.alpha[1]];
+    guard.step(k, times, q, qd, qdd, g.closeness, g.residual, rates);
 }
 
 /// The slider-crank's floor with the engine's per-step checks (`Guard`), p+v+a.
@@ -579,7 +670,7 @@ fn guarded_slider_crank(times: &[f64], guard: &mut Guard) {
         let q = [0.0, 0.0, th2, a[0], a[1], g.theta[0], g.theta[1], sc.e, 0.0];
         let qd = [0.0, 0.0, OMEGA, -u * s2, u * c2, g.omega[0], g.omega[1], 0.0, 0.0];
         let qdd = [0.0, 0.0, 0.0, v * c2, v * s2, g.alpha[0], g.alpha[1], 0.0, 0.0];
-        guard.step(k, times, q, qd, qdd, g.closeness, g.residual);
+        guard.step(k, times, q, qd, qdd, g.closeness, g.residual, true);
     }
 }
 

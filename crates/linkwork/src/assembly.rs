@@ -35,7 +35,7 @@ pub(crate) fn update_frames(data: &mut Data) {
 /// cos and sin of `theta`: turned from `base` (theta0, cos theta0, sin theta0) when
 /// theta is within `SMALL_TURN` of theta0, else in full, and then `base` becomes theta's.
 #[inline(always)]
-pub(crate) fn turned(theta: f64, base: &mut [f64; 3]) -> (f64, f64) {
+pub fn turned(theta: f64, base: &mut [f64; 3]) -> (f64, f64) {
     let [theta0, c0, s0] = *base;
     let d = theta - theta0;
     if d.abs() < SMALL_TURN {
@@ -60,7 +60,7 @@ pub(crate) fn turned(theta: f64, base: &mut [f64; 3]) -> (f64, f64) {
 /// else atan2 in full, which becomes the base. Saves the atan2 of nearly every step of a
 /// dyad's two bodies.
 #[inline(always)]
-pub(crate) fn angle_of(c: f64, s: f64, near: f64, base: &mut [f64; 3]) -> f64 {
+pub fn angle_of(c: f64, s: f64, near: f64, base: &mut [f64; 3]) -> f64 {
     let [theta0, c0, s0] = *base;
     // the turn from the base: |base| |(c, s)| (cos d, sin d); their ratio is tan d whatever the norms
     let (cd, sd) = (c0 * c + s0 * s, c0 * s - s0 * c);
