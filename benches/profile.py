@@ -7,7 +7,8 @@ per function.
     python benches/profile.py chain/sparse/100      # any criterion benchmark id of benches/sweep.rs
 
 Instructions per step are the inclusive count of the function that runs a benchmark's
-sweep (`sweep_observed`) or loop (the floors' `floor_*`, `guarded_*`, `continued_*`) over its calls and
+sweep (`sweep_observed`) or loop (the floors' `floor_*`, `guarded_*`, `continued_*`,
+`general_*`) over its calls and
 the steps of each (as `benches/sweep.rs` sets them): a measure of the work a step does
 that the shared machine's noise does not move, beside criterion's times.
 
@@ -40,6 +41,7 @@ DEFAULT = [
     "floor/four_bar/pva_guarded",
     "floor/four_bar/pva_continued",
     "floor/four_bar/p_continued",
+    "floor/four_bar/pva_general",
     "floor/slider_crank/pva",
     "floor/slider_crank/p",
     "floor/slider_crank/pva_guarded",
@@ -59,7 +61,7 @@ def per_call(bench: str) -> tuple[str, int, int] | None:
     None where not known."""
     parts = bench.split("/")
     if parts[0] == "floor" and len(parts) == 3:
-        kind = next((k + "_" for k in ("guarded", "continued") if parts[2].endswith("_" + k)), "floor_")
+        kind = next((k + "_" for k in ("guarded", "continued", "general") if parts[2].endswith("_" + k)), "floor_")
         return "::" + kind + parts[1], MECHANISM_STEPS, 3
     if parts[0] == "chain" and len(parts) == 3 and parts[2].isdigit():
         loops = int(parts[2])

@@ -37,6 +37,7 @@ mod common;
 use common::*;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
 use linkwork::assembly::{angle_of, turned};
+use linkwork::joints::Frame;
 use linkwork::{
     sweep, sweep_batch, Data, Description, LinearKind, Model, Options, Outputs, Request, SolverKind,
     SweepOutput,
@@ -513,6 +514,18 @@ fn floor(c: &mut Criterion) {
             assert!((guard.qdd[row + i] - ae[j]).abs() < 1e-9, "continued alpha at step {k}");
         }
     }
+    // and the general loop's (its origins at pins: the same q as the continued loop's)
+    let mut general = Guard::new(FLOOR_STEPS, textbook().r1);
+    general_four_bar(&times, &mut general, &General::textbook());
+    for (i, (x, e)) in general.q.iter().zip(&guard.q).enumerate() {
+        assert!((x - e).abs() < 1e-12, "general q[{i}]: {x} against {e}");
+    }
+    for (i, (x, e)) in general.qd.iter().zip(&guard.qd).enumerate() {
+        assert!((x - e).abs() < 1e-11, "general qd[{i}]: {x} against {e}");
+    }
+    for (i, (x, e)) in general.qdd.iter().zip(&guard.qdd).enumerate() {
+        assert!((x - e).abs() < 1e-9, "general qdd[{i}]: {x} against {e}");
+    }
     let mut g = c.benchmark_group("floor");
     g.throughput(Throughput::Elements(FLOOR_STEPS as u64));
     let rows = || (vec![0.0; 9 * FLOOR_STEPS], vec![0.0; 9 * FLOOR_STEPS], vec![0.0; 9 * FLOOR_STEPS]);
@@ -551,6 +564,15 @@ fn floor(c: &mut Criterion) {
             })
         });
     }
+    // and the engine's general arithmetic for its two groups, in one function
+    g.bench_function(BenchmarkId::new("four_bar", "pva_general"), |b| {
+        let mut guard = Guard::new(FLOOR_STEPS, textbook().r1);
+        let geometry = black_box(General::textbook());
+        b.iter(|| {
+            general_four_bar(black_box(&times), &mut guard, &geometry);
+            guard.last()
+        })
+    });
     g.bench_function(BenchmarkId::new("slider_crank", "pva_guarded"), |b| {
         let mut guard = Guard::new(FLOOR_STEPS, SLIDER_CRANK.r2 + SLIDER_CRANK.r3);
         b.iter(|| {
@@ -633,6 +655,138 @@ fn continued_four_bar(times: &[f64], guard: &mut Guard, rates: bool) {
         let (c2, s2) = turned(th2, &mut bases.crank);
         let g = four_bar_guarded(&fb, s2, c2, OMEGA, Some(&mut bases));
         four_bar_rows(&fb, k, times, th2, s2, c2, &g, guard, rates);
+    }
+}
+
+/// One link of the general loop's dyad, as the engine holds it (`blocks::rrr::Link`): the
+/// outer pin on the known side and on the body, the middle pin on the body, the length.
+struct GeneralLink {
+    u_known: [f64; 2],
+    u_outer: [f64; 2],
+    u_middle: [f64; 2],
+    length: f64,
+    inv_length: f64,
+    dir: [f64; 2],
+}
+
+impl GeneralLink {
+    fn new(u_known: [f64; 2], u_outer: [f64; 2], u_middle: [f64; 2]) -> GeneralLink {
+        let d = [u_middle[0] - u_outer[0], u_middle[1] - u_outer[1]];
+        let length = d[0].hypot(d[1]);
+        GeneralLink {
+            u_known,
+            u_outer,
+            u_middle,
+            length,
+            inv_length: 1.0 / length,
+            dir: [d[0] / length, d[1] / length],
+        }
+    }
+
+    /// The body's frame with its outer pin at `a` and middle pin at `b` (the engine's
+    /// `Link::place`), its angle continued; and the middle pin's residual.
+    #[inline(always)]
+    fn place(&self, a: [f64; 2], b: [f64; 2], theta: &mut f64, base: &mut [f64; 3]) -> (Frame, f64) {
+        let w = [(b[0] - a[0]) * self.inv_length, (b[1] - a[1]) * self.inv_length];
+        let c = self.dir[0] * w[0] + self.dir[1] * w[1];
+        let s = self.dir[0] * w[1] - self.dir[1] * w[0];
+        *theta = angle_of(c, s, *theta, base);
+        let arm = [c * self.u_outer[0] - s * self.u_outer[1], s * self.u_outer[0] + c * self.u_outer[1]];
+        let f = Frame { r: [a[0] - arm[0], a[1] - arm[1]], theta: *theta, c, s, rd: [0.0; 2], thetad: 0.0 };
+        let m = f.point(self.u_middle);
+        (f, (m[0] - b[0]).abs().max((m[1] - b[1]).abs()))
+    }
+}
+
+/// The four-bar as the engine's groups hold it, for `general_four_bar`: the crank's pin on
+/// it and the ground pivots, each dyad link's pins in its body's frame (the built-in
+/// example's: every origin at a pin, x along the bar).
+struct General {
+    o2: [f64; 2],
+    o4: [f64; 2],
+    u_crank: [f64; 2],
+    l1: GeneralLink,
+    l2: GeneralLink,
+}
+
+impl General {
+    fn textbook() -> General {
+        let fb = textbook();
+        General {
+            o2: [0.0, 0.0],
+            o4: [fb.r1, 0.0],
+            u_crank: [0.0, 0.0],
+            l1: GeneralLink::new([fb.r2, 0.0], [0.0, 0.0], [fb.r3, 0.0]),
+            l2: GeneralLink::new([0.0, 0.0], [0.0, 0.0], [fb.r4, 0.0]),
+        }
+    }
+}
+
+/// A point's acceleration on a body turning at `w` with angular acceleration `alpha`,
+/// `r` from the origin, whose origin accelerates at `rdd` (the engine's `point_acc`).
+#[inline(always)]
+fn point_acceleration(rdd: [f64; 2], w: f64, alpha: f64, r: [f64; 2]) -> [f64; 2] {
+    [rdd[0] - alpha * r[1] - w * w * r[0], rdd[1] + alpha * r[0] - w * w * r[1]]
+}
+
+/// The engine's arithmetic for the four-bar's two groups (`Crank::solve_on`,
+/// `Rrr::solve_on`, both known sides of the dyad as the four-bar has them), body by body
+/// with every origin wherever its body's pins put it, and the engine's checks (`Guard`),
+/// in one function whose values stay local: no frames kept for later groups, no dispatch
+/// among group kinds, no predictor's history, no row of diagnostics. The difference to
+/// `continued_four_bar` is the general geometry; the difference to the engine, what the
+/// engine does around its arithmetic.
+#[inline(never)]
+fn general_four_bar(times: &[f64], guard: &mut Guard, g: &General) {
+    guard.start();
+    let (mut crank_base, mut bases, mut theta) = ([f64::NAN; 3], [[f64::NAN; 3]; 2], [0.0f64; 2]);
+    for (k, &t) in times.iter().enumerate() {
+        // the crank: its angle from the driver's law, its origin from its ground pin
+        let th2 = OMEGA * t;
+        let (c, s) = turned(th2, &mut crank_base);
+        let arm = [c * g.u_crank[0] - s * g.u_crank[1], s * g.u_crank[0] + c * g.u_crank[1]];
+        let mut f2 =
+            Frame { r: [g.o2[0] - arm[0], g.o2[1] - arm[1]], theta: th2, c, s, rd: [0.0; 2], thetad: 0.0 };
+        let back = f2.point(g.u_crank);
+        let mut residual = (back[0] - g.o2[0]).abs().max((back[1] - g.o2[1]).abs());
+        (f2.rd, f2.thetad) = ([arm[1] * OMEGA, -arm[0] * OMEGA], OMEGA);
+        let own = point_acceleration([0.0; 2], OMEGA, 0.0, arm);
+        let rdd2 = [-own[0], -own[1]];
+        // the dyad: A on the crank, C on the ground
+        let a = f2.point(g.l1.u_known);
+        let c4 = g.o4;
+        let (r1, r2) = (g.l1.length, g.l2.length);
+        let d = [c4[0] - a[0], c4[1] - a[1]];
+        let dd = d[0] * d[0] + d[1] * d[1];
+        let inv_dd = 1.0 / dd;
+        let along = 0.5 * (dd + r1 * r1 - r2 * r2) * inv_dd;
+        let height = (r1 * r1 * inv_dd - along * along).sqrt();
+        let b = [a[0] + along * d[0] - height * d[1], a[1] + along * d[1] + height * d[0]];
+        let (f3, res3) = g.l1.place(a, b, &mut theta[0], &mut bases[0]);
+        let (f4, res4) = g.l2.place(c4, b, &mut theta[1], &mut bases[1]);
+        residual = residual.max(res3).max(res4);
+        let closeness = height.abs() * dd * g.l1.inv_length * g.l2.inv_length;
+        let (rab, rcb) = ([b[0] - a[0], b[1] - a[1]], [b[0] - c4[0], b[1] - c4[1]]);
+        let (pab, pcb) = ([-rab[1], rab[0]], [-rcb[1], rcb[0]]);
+        let inv_det = 1.0 / (pcb[0] * pab[1] - pcb[1] * pab[0]);
+        let va = f2.point_velocity(g.l1.u_known);
+        let rhs = [-va[0], -va[1]];
+        let w3 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) * inv_det;
+        let w4 = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det;
+        let (o3, o4) = ([f3.r[0] - a[0], f3.r[1] - a[1]], [f4.r[0] - c4[0], f4.r[1] - c4[1]]);
+        let rd3 = [va[0] - w3 * o3[1], va[1] + w3 * o3[0]];
+        let rd4 = [-w4 * o4[1], w4 * o4[0]];
+        let aa = point_acceleration(rdd2, OMEGA, 0.0, [a[0] - f2.r[0], a[1] - f2.r[1]]);
+        let rhs =
+            [-aa[0] - w4 * w4 * rcb[0] + w3 * w3 * rab[0], -aa[1] - w4 * w4 * rcb[1] + w3 * w3 * rab[1]];
+        let a3 = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) * inv_det;
+        let a4 = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det;
+        let rdd3 = point_acceleration(aa, w3, a3, o3);
+        let rdd4 = point_acceleration([0.0; 2], w4, a4, o4);
+        let q = [f2.r[0], f2.r[1], th2, f3.r[0], f3.r[1], theta[0], f4.r[0], f4.r[1], theta[1]];
+        let qd = [f2.rd[0], f2.rd[1], OMEGA, rd3[0], rd3[1], w3, rd4[0], rd4[1], w4];
+        let qdd = [rdd2[0], rdd2[1], 0.0, rdd3[0], rdd3[1], a3, rdd4[0], rdd4[1], a4];
+        guard.step(k, times, q, qd, qdd, closeness, residual, true);
     }
 }
 
