@@ -94,8 +94,20 @@ impl MotionLaw {
     /// check `domain` first (a sweep refuses such times). A law that cannot be evaluated
     /// there (an expression outside its functions' domains, a failing external function)
     /// gives non-finite values: `why_not_finite` says why.
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, t: f64) -> [f64; 3] {
+        // the drivers of most sweeps, at every step of them: in the caller's code, the
+        // rest by a call
+        match self {
+            MotionLaw::Constant { value } => [*value, 0.0, 0.0],
+            MotionLaw::Linear { value, rate } => [value + rate * t, *rate, 0.0],
+            _ => self.eval_other(t),
+        }
+    }
+
+    /// `eval` of the laws other than constant and linear.
+    #[inline(never)]
+    fn eval_other(&self, t: f64) -> [f64; 3] {
         match self {
             MotionLaw::Constant { value } => [*value, 0.0, 0.0],
             MotionLaw::Linear { value, rate } => [value + rate * t, *rate, 0.0],
