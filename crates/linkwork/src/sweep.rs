@@ -565,7 +565,11 @@ fn sweep_steps(
                     tracker.q_prev.copy_from_slice(&data.q);
                     match plan {
                         Some(plan) if fast_closed && !tracker.spanning() => {
-                            closed_step(model, plan, data, times, k, solved, &tracker.q_prev)
+                            let info = closed_step(model, plan, data, times, k, solved, &tracker.q_prev);
+                            if info.is_some() {
+                                data.hist_q[0].copy_from_slice(&tracker.q_prev);
+                            }
+                            info
                         }
                         _ => None,
                     }
@@ -778,25 +782,24 @@ impl Run<'_, '_> {
             let Some(info) = closed_step(model, self.plan, data, times, k, solved, &tracker.q_prev) else {
                 return Ok(Some(Handoff { k, solved: None }));
             };
+            // step k-1's q becomes the history's newest by a swap: q_prev is copied from q
+            // again before the next step, and put back where the step is handed back
+            std::mem::swap(&mut data.hist_q[0], &mut tracker.q_prev);
+            let q_prev = &data.hist_q[0];
             // a kept step's coordinates are written as they are checked, where every one is kept
             let row = (k == kept_at).then_some(row_next);
             let stored = match row.filter(|_| solved >= 2).and_then(|r| self.out.coord_row(r)) {
-                Some(out) => Some(continues_storing(
-                    &data.inv_col_scale,
-                    h,
-                    &tracker.q_prev,
-                    &data.q,
-                    &data.qd,
-                    &data.qdd,
-                    out,
-                )),
+                Some(out) => {
+                    Some(continues_storing(&data.inv_col_scale, h, q_prev, &data.q, &data.qd, &data.qdd, out))
+                }
                 None => None,
             };
             let ok = stored.unwrap_or_else(|| {
                 let qdd = (solved >= 2).then_some(&data.qdd[..]);
-                continues(&data.inv_col_scale, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd)
+                continues(&data.inv_col_scale, h, q_prev, &data.hist_qd, &data.q, &data.qd, qdd)
             });
             if !ok {
+                tracker.q_prev.copy_from_slice(&data.hist_q[0]);
                 return Ok(Some(Handoff { k, solved: Some(info) }));
             }
             tracker.det_prev = info.det_sign;
@@ -835,7 +838,8 @@ fn solved_derivatives(model: &Model, req: &Request) -> u8 {
 }
 
 /// Step k by a plan whose groups are all closed forms, before any prediction (they need
-/// none): on success the predictor's history moves on as `predict` would have moved it;
+/// none): on success the predictor's history moves on as `predict` would have moved it,
+/// all but its newest q (`hist_q[0]`, the oldest's buffer), which the caller sets to q_prev;
 /// on a miss q, qd, qdd of step k-1 are put back for the prediction and the general path.
 /// A successful step writes every coordinate's rates it solves (each body is in one group,
 /// and a closed form writes its bodies' q, and qd, qdd where asked): step k-1's rates are
@@ -870,8 +874,8 @@ fn closed_step(
             } else {
                 data.hist_qdd.copy_from_slice(&data.qdd);
             }
+            // the caller puts q_prev in hist_q[0] (a run by a swap, not a copy)
             data.hist_q.rotate_right(1);
-            data.hist_q[0].copy_from_slice(q_prev);
             Some(PositionInfo {
                 iterations: s.iterations,
                 residual: s.residual,
