@@ -166,12 +166,15 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
             "the pins' residuals, and the residual and closeness stored per row. The continued loop "
             "(four-bar) is the guarded loop with its angles continued as the engine continues them "
             "(`turned`, `angle_of`: no sine, cosine or atan2 in most steps), its rates solved for the "
-            "check and kept (p+v+a) or not (p): the least a step that keeps the engine's promise costs:",
+            "check and kept (p+v+a) or not (p): the least a step that keeps the engine's promise costs. "
+            "The general loop (four-bar, p+v+a) is the engine's own arithmetic for the two groups (every "
+            "origin wherever its pins put it) with the same checks, its values local:",
             "",
             "| mechanism | computes | general path (fixed-sequence LU) | structured (groups in closed form) "
-            "| closed-form loop | guarded loop | continued loop | general / floor | structured / floor "
-            "| structured / guarded | structured / continued |",
-            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+            "| closed-form loop | guarded loop | continued loop | general loop | general path / floor "
+            "| structured / floor | structured / guarded | structured / continued "
+            "| structured / general loop |",
+            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for mech in ("four_bar", "slider_crank"):
             for what, label in (("pva", "p+v+a"), ("p", "p")):
@@ -180,16 +183,18 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
                 closed = us_per_step(floor.get((mech, what)))
                 guarded = us_per_step(floor.get((mech, what + "_guarded")))
                 continued = us_per_step(floor.get((mech, what + "_continued")))
+                general = us_per_step(floor.get((mech, what + "_general")))
                 if closed is None:
                     continue
                 r_general = cell(engine / closed if engine else None, 2)
                 r_structured = cell(structured / closed if structured else None, 2)
                 r_guarded = cell(structured / guarded if structured and guarded else None, 2)
                 r_continued = cell(structured / continued if structured and continued else None, 2)
+                r_loop = cell(structured / general if structured and general else None, 2)
                 lines.append(
                     f"| {mech} | {label} | {cell(engine)} | {cell(structured)} | {cell(closed)} "
-                    f"| {cell(guarded)} | {cell(continued)} | {r_general} | {r_structured} | {r_guarded} "
-                    f"| {r_continued} |"
+                    f"| {cell(guarded)} | {cell(continued)} | {cell(general)} | {r_general} | {r_structured} "
+                    f"| {r_guarded} | {r_continued} | {r_loop} |"
                 )
     return "\n".join(lines)
 

@@ -8,9 +8,9 @@ per function.
 
 Instructions per step are the inclusive count of the function that runs a benchmark's
 sweep (`sweep_observed`) or loop (the floors' `floor_*`, `guarded_*`, `continued_*`,
-`general_*`) over its calls and
-the steps of each (as `benches/sweep.rs` sets them): a measure of the work a step does
-that the shared machine's noise does not move, beside criterion's times.
+`general_*`) over its calls and the steps of each (as `benches/sweep.rs` sets them): a
+measure of the work a step does that the shared machine's noise does not move, beside
+criterion's times.
 
 Needs valgrind. Builds the bench with line tables (in `<target>/callgrind`, so the normal
 build is left alone) and runs it for a few seconds of criterion's --profile-time under
@@ -61,7 +61,8 @@ def per_call(bench: str) -> tuple[str, int, int] | None:
     None where not known."""
     parts = bench.split("/")
     if parts[0] == "floor" and len(parts) == 3:
-        kind = next((k + "_" for k in ("guarded", "continued", "general") if parts[2].endswith("_" + k)), "floor_")
+        loops = ("guarded", "continued", "general")
+        kind = next((k + "_" for k in loops if parts[2].endswith("_" + k)), "floor_")
         return "::" + kind + parts[1], MECHANISM_STEPS, 3
     if parts[0] == "chain" and len(parts) == 3 and parts[2].isdigit():
         loops = int(parts[2])
