@@ -188,6 +188,9 @@ def test_driving_a_rocker_through_its_limit_reports_a_singular_configuration():
         (np.array([0.0, 0.1, 0.1]), r"step 2.*strictly monotone"),
         (np.array([0.0, 0.2, 0.1]), r"step 2.*strictly monotone"),
         (np.array([0.0, np.nan]), r"step 1.*not finite"),
+        # inside every driver's (unbounded) domain, but not a time
+        (np.array([0.0, np.inf]), r"step 1.*not finite"),
+        (np.array([-np.inf, 0.0]), r"step 0.*not finite"),
         (np.array([]), "no times"),
     ],
 )
