@@ -437,6 +437,9 @@ def test_ctrl_c_in_run_stops_cleanly_and_writes_the_steps_done(tmp_path):
          "--format", "npz", "--out", str(out)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        # Ctrl-C's default disposition, whatever this process inherited: a shell's
+        # background job starts with SIGINT ignored, and Python then leaves it ignored
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )  # fmt: skip
     # the model line is printed once it is compiled, just before the sweep (minutes for
     # the whole grid) starts
