@@ -109,8 +109,8 @@ impl MotionLaw {
     #[inline(never)]
     fn eval_other(&self, t: f64) -> [f64; 3] {
         match self {
-            MotionLaw::Constant { value } => [*value, 0.0, 0.0],
-            MotionLaw::Linear { value, rate } => [value + rate * t, *rate, 0.0],
+            // `eval` takes these itself
+            MotionLaw::Constant { .. } | MotionLaw::Linear { .. } => self.eval(t),
             MotionLaw::Polynomial { coefficients } => {
                 // Horner for the value and both derivatives at once
                 let (mut f, mut fd, mut fdd) = (0.0, 0.0, 0.0);
