@@ -844,6 +844,7 @@ fn solved_derivatives(model: &Model, req: &Request) -> u8 {
 /// A successful step writes every coordinate's rates it solves (each body is in one group,
 /// and a closed form writes its bodies' q, and qd, qdd where asked): step k-1's rates are
 /// set aside by swapping buffers with the plan's spares, not copied.
+#[inline(always)]
 fn closed_step(
     model: &Model,
     plan: &blocks::Plan,
