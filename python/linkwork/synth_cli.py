@@ -18,15 +18,18 @@ Problem file (TOML; docs/synthesis.md)::
 
 from __future__ import annotations
 
-import math
 import os
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import synthesis as S
-from .errors import LinkworkError, SolveError
+from .errors import LinkworkError
+from .targets import Deviation, Targets, deviation, of_design, sweep_design
+
+if TYPE_CHECKING:
+    from .results import Results
 
 PROBLEMS = ("motion", "path", "function", "chained-six-bar")
 
@@ -128,7 +131,51 @@ class _SixBar:
         return self._m.model(self._c.one, self._c.two)
 
 
-def _figure(path: str, designs: list[Any], points: np.ndarray | None, title: str) -> None:
+#: designs (the first in merit order) drawn with their targets: page, SVG and PNG each
+MAX_PICTURES = 6
+
+
+def _targets(design: Any, points: np.ndarray | None) -> Targets | None:
+    """A design's targets: its own (positions, poses, precision times) where it has them,
+    else the problem's precision points."""
+    if hasattr(design, "positions"):
+        return of_design(design)
+    return None if points is None else Targets(points)
+
+
+def _pictures(
+    out: str, stem: str, designs: list[Any], points: np.ndarray | None
+) -> tuple[list[tuple[int, Results, Deviation | None]], list[str]]:
+    """Each of the first `MAX_PICTURES` designs swept over a turn, with its page, SVG and
+    PNG (targets marked) in ``out``; returns (design number, sweep, deviation) of each
+    drawn and the report's lines (the deviations, or why a design is not drawn)."""
+    from .figures import plot_paths
+    from .page import page
+
+    drawn, lines = [], []
+    for k, design in enumerate(designs[:MAX_PICTURES], 1):
+        targets = _targets(design, points)
+        try:
+            res = sweep_design(design, targets)
+            dev = None if targets is None else deviation(res, targets)
+        except LinkworkError as e:
+            lines.append(f"design {k}: not drawn ({e})")
+            continue
+        base = os.path.join(out, f"{stem}_design{k}")
+        page(res, base + ".html", targets=targets, title=f"{stem}: design {k}")
+        res.to_svg(base + ".svg", targets=targets)
+        plot_paths(res, base + ".png", targets=targets)
+        drawn.append((k, res, dev))
+        if dev is not None:
+            lines.append(f"design {k}, {dev.report()}")
+    return drawn, lines
+
+
+def _figure(
+    path: str, drawn: list[tuple[int, Results, Deviation | None]], points: np.ndarray | None, title: str
+) -> None:
+    """The designs at position 1 and the paths of their point P through the precision
+    points, each design's farthest distance from a target in the legend."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -136,18 +183,16 @@ def _figure(path: str, designs: list[Any], points: np.ndarray | None, title: str
 
     fig, ax = plt.subplots(figsize=(7, 6))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for k, design in enumerate(designs[:6]):
-        color = colors[k % len(colors)]
-        compiled = design.model().compile()
-        t = np.linspace(0.0, 2.0 * math.pi, 721)
-        try:
-            res = compiled.sweep(t, derivatives=0)
-        except SolveError as e:
-            res = getattr(e, "partial", None)
+    for k, res, dev in drawn:
+        color = colors[(k - 1) % len(colors)]
+        compiled = res.model
         names = [p[0] for p in compiled._core.points]
-        if res is not None and len(res.times) and "P" in names:
+        if res.n_steps and "P" in names:
             p = res.point("P").position
-            ax.plot(p[:, 0], p[:, 1], "-", color=color, lw=1.2, label=f"design {k + 1}: path of P")
+            label = f"design {k}: path of P"
+            if dev is not None:
+                label += f" (farthest from a target: {dev.worst():.2g})"
+            ax.plot(p[:, 0], p[:, 1], "-", color=color, lw=1.2, label=label)
         # the linkage at position 1: its joints joined body by body
         joints = {}
         for name, b1, b2, x, y in _joint_points(compiled):
@@ -198,15 +243,19 @@ def synth(args: Any) -> int:
             path = os.path.join(args.out, f"{stem}_design{k}.toml")
             design.model().save(path)
             written.append(path)
+    drawn, lines = _pictures(args.out, stem, [d for d in designs if hasattr(d, "model")], points)
+    if lines:
+        report += "\n" + "\n".join(lines)
     with open(os.path.join(args.out, f"{stem}_report.txt"), "w", encoding="utf-8") as f:
         f.write(report + "\n")
     figure = os.path.join(args.out, f"{stem}.png")
     if designs or points is not None:
-        _figure(
-            figure, [d for d in designs if hasattr(d, "model")], points, f"{stem}: {problem.get('problem')}"
-        )
+        _figure(figure, drawn, points, f"{stem}: {problem.get('problem')}")
     print(report)
-    print(f"wrote {len(written)} design model file(s), {stem}_report.txt and {stem}.png in {args.out}")
+    pictures = f", {stem}_designK.html, .svg and .png of {len(drawn)}" if drawn else ""
+    print(
+        f"wrote {len(written)} design model file(s){pictures}, {stem}_report.txt and {stem}.png in {args.out}"
+    )
     return 0 if designs else 1
 
 
