@@ -322,7 +322,7 @@ def deviation(results: Results, targets: Any) -> Deviation:
         span = times[rows[max(k - 1, 0)]], times[rows[min(k + 2, len(rows) - 1)]]
         lo, hi = min(span), max(span)
         refined = _refine(results, tg.point, target, t_guess, results.q[r0], lo, hi)
-        if refined is not None and refined[0] <= dist:
+        if refined is not None:  # a point of the path (a chord may pass closer, off it)
             dist, best_t, xy = refined
         nearest[j], nearest_xy[j], nearest_time[j] = dist, xy, best_t
     at_position = position_xy = reached = angle_error = heading = None
