@@ -303,8 +303,25 @@ def test_bad_targets_are_named_input_errors():
         (lambda: deviation(res, Targets([[0.0, 0.0]], point="Q")), "no point named 'Q'"),
         (lambda: deviation(res, Targets([[0.0, 0.0]], angles=[0.0], body="arm")), "no body named 'arm'"),
         (lambda: deviation(res, None), "must be given"),
+        (lambda: deviation(res.model.sweep([0.0, 0.5], outputs=["P"]), [[0.0, 0.0]]), "every coordinate"),
     ]
     for call, message in cases:
         with pytest.raises(lw.InputError, match=message) as e:
             call()
         assert isinstance(e.value, lw.LinkworkError)
+
+
+def test_linkwork_synth_draws_what_it_can_and_says_why_not(tmp_path):
+    """A function generator has no precision points to mark; a design whose sweep fails
+    still appears in the overview figure, and the report says why it has no pictures."""
+    from linkwork.cli import main
+
+    problem = tmp_path / "fn.toml"
+    problem.write_text(
+        'problem = "function"\nangles = "deg"\ninput_angles = [15, 45, 75]\noutput = [30, 50, 80]\n'
+    )
+    assert main(["synth", str(problem), "--out", str(tmp_path)]) == 0
+    report = (tmp_path / "fn_report.txt").read_text()
+    assert (tmp_path / "fn.png").stat().st_size > 10_000
+    assert "targets of" not in report
+    assert (tmp_path / "fn_design1.svg").exists() or "design 1: no pictures, its sweep failed" in report

@@ -29,6 +29,7 @@ from .errors import LinkworkError
 from .targets import Deviation, Targets, deviation, of_design, sweep_design
 
 if TYPE_CHECKING:
+    from .model import Model
     from .results import Results
 
 PROBLEMS = ("motion", "path", "function", "chained-six-bar")
@@ -143,37 +144,42 @@ def _targets(design: Any, points: np.ndarray | None) -> Targets | None:
     return None if points is None else Targets(points)
 
 
+#: one design in the overview figure: its number, model, sweep and deviation (None where
+#: the sweep failed or the design has no targets)
+Drawn = tuple[int, "Model", "Results | None", "Deviation | None"]
+
+
 def _pictures(
     out: str, stem: str, designs: list[Any], points: np.ndarray | None
-) -> tuple[list[tuple[int, Results, Deviation | None]], list[str]]:
+) -> tuple[list[Drawn], list[str]]:
     """Each of the first `MAX_PICTURES` designs swept over a turn, with its page, SVG and
-    PNG (targets marked) in ``out``; returns (design number, sweep, deviation) of each
-    drawn and the report's lines (the deviations, or why a design is not drawn)."""
+    PNG (targets marked) in ``out``; returns each design for the overview figure and the
+    report's lines (the deviations, or why a design's pictures are not drawn)."""
     from .figures import plot_paths
     from .page import page
 
-    drawn, lines = [], []
+    drawn: list[Drawn] = []
+    lines = []
     for k, design in enumerate(designs[:MAX_PICTURES], 1):
         targets = _targets(design, points)
         try:
             res = sweep_design(design, targets)
             dev = None if targets is None else deviation(res, targets)
         except LinkworkError as e:
-            lines.append(f"design {k}: not drawn ({e})")
+            lines.append(f"design {k}: no pictures, its sweep failed ({e})")
+            drawn.append((k, design.model().compile(), None, None))
             continue
         base = os.path.join(out, f"{stem}_design{k}")
         page(res, base + ".html", targets=targets, title=f"{stem}: design {k}")
         res.to_svg(base + ".svg", targets=targets)
         plot_paths(res, base + ".png", targets=targets)
-        drawn.append((k, res, dev))
+        drawn.append((k, res.model, res, dev))
         if dev is not None:
             lines.append(f"design {k}, {dev.report()}")
     return drawn, lines
 
 
-def _figure(
-    path: str, drawn: list[tuple[int, Results, Deviation | None]], points: np.ndarray | None, title: str
-) -> None:
+def _figure(path: str, drawn: list[Drawn], points: np.ndarray | None, title: str) -> None:
     """The designs at position 1 and the paths of their point P through the precision
     points, each design's farthest distance from a target in the legend."""
     import matplotlib
@@ -183,11 +189,10 @@ def _figure(
 
     fig, ax = plt.subplots(figsize=(7, 6))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for k, res, dev in drawn:
+    for k, compiled, res, dev in drawn:
         color = colors[(k - 1) % len(colors)]
-        compiled = res.model
         names = [p[0] for p in compiled._core.points]
-        if res.n_steps and "P" in names:
+        if res is not None and res.n_steps and "P" in names:
             p = res.point("P").position
             label = f"design {k}: path of P"
             if dev is not None:
@@ -215,7 +220,8 @@ def _figure(
             ax.annotate(str(j), (x, y), textcoords="offset points", xytext=(5, 5))
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_title(title)
-    ax.legend(fontsize=8, loc="best")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8, loc="best")
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -252,7 +258,8 @@ def synth(args: Any) -> int:
     if designs or points is not None:
         _figure(figure, drawn, points, f"{stem}: {problem.get('problem')}")
     print(report)
-    pictures = f", {stem}_designK.html, .svg and .png of {len(drawn)}" if drawn else ""
+    swept = sum(res is not None for _, _, res, _ in drawn)
+    pictures = f", {stem}_designK.html, .svg and .png of {swept}" if swept else ""
     print(
         f"wrote {len(written)} design model file(s){pictures}, {stem}_report.txt and {stem}.png in {args.out}"
     )

@@ -231,7 +231,7 @@ def _size(dev: Deviation) -> float:
 
 
 def _point_names(results: Results) -> list[str]:
-    return [p[0] for p in results.model._core.points] + list(results.points)
+    return [p[0] for p in results.model._core.points]
 
 
 def _refine(
@@ -289,6 +289,9 @@ def deviation(results: Results, targets: Any) -> Deviation:
         )
     if results.n_steps == 0:
         raise InputError("targets: the results have no steps")
+    if results._kept is not None and len(results._kept) < len(results.model.columns):
+        # the distances are refined by solving the model from the sweep's configurations
+        raise InputError("targets need a sweep that kept every coordinate (sweep without outputs=...)")
     path = np.asarray(results.point(tg.point).position, dtype=float)
     times = np.asarray(results.times, dtype=float)
     ok = np.all(np.isfinite(path), axis=1)
