@@ -169,7 +169,7 @@ def _svg_targets(root: ET.Element) -> dict[str, list[ET.Element]]:
     out: dict[str, list[ET.Element]] = {}
     for e in root.iter():
         cls = e.get("class", "")
-        for c in ("target", "target-pose", "target-miss", "target-cross", "target-label"):
+        for c in ("target", "target-pose", "target-miss", "target-cross", "target-label", "target-number"):
             if c in cls.split():
                 out.setdefault(c, []).append(e)
     return out
@@ -194,8 +194,13 @@ def test_svg_marks_each_target_its_pose_and_its_distance(generator, tmp_path):
         a, b = (np.array([float(v) for v in xy.split(",")]) for xy in e.get("points").split())
         assert np.array_equal(a, p)
         assert abs(math.remainder(math.atan2(*(b - a)[::-1]) - h, 2 * math.pi)) < 1e-9
+    # numbered beside each target; the distances listed in a column right of the drawing
+    assert [e.text for e in found["target-number"]] == ["1", "2", "3", "4", "5"]
     labels = [e.text for e in found["target-label"]]
     assert labels == [dev.label(j) for j in range(5)] and labels[0].startswith("1: ")
+    path = np.array([[float(v) for v in xy.split(",")] for xy in ET.fromstring(text).find(
+        f".//{SVG}polyline[@class='path']").get("points").split()])  # fmt: skip
+    assert min(float(e.get("x")) for e in found["target-label"]) > path[:, 0].max()
     assert len(found["target-miss"]) == 5
     # points alone: marked, no ticks; the drawing grows to hold a far target
     far = np.array([[30.0, -20.0]])
@@ -227,8 +232,16 @@ def test_dxf_has_the_targets_on_their_layer(generator, tmp_path):
     assert [name(p) for p in points] == ["P1", "P2", "P3", "P4", "P5"]
     assert np.array_equal(np.array([p.dxf.location for p in points])[:, :2], design.positions)
     assert len(msp.query("CIRCLE[layer=='TARGETS']")) == 5
-    texts = {name(t): t.dxf.text for t in msp.query("TEXT[layer=='TARGETS']")}
-    assert texts == {f"P{j + 1}": dev.label(j) for j in range(5)}
+    # each target's number beside it; the heading and each target's distances in a column
+    # right of everything else drawn
+    texts = [(name(t), t.dxf.text, t.dxf.insert[0]) for t in msp.query("TEXT[layer=='TARGETS']")]
+    numbers = [(n, t) for n, t, _ in texts if t.isdigit()]
+    assert numbers == [(f"P{j}", str(j)) for j in range(1, 6)]
+    listed = [(n, t) for n, t, _ in texts if not t.isdigit()]
+    assert listed == [("targets", dev.heading_line())] + [(f"P{j + 1}", dev.label(j)) for j in range(5)]
+    column = min(x for _, t, x in texts if not t.isdigit())
+    others = [e for e in msp if e.dxf.layer != "TARGETS" and e.dxftype() == "LWPOLYLINE"]
+    assert column > max(np.array(e.get_points("xy"))[:, 0].max() for e in others)
     # per target: the cross (2 lines), the pose's tick and the line to the path
     lines = msp.query("LINE[layer=='TARGETS']")
     assert sorted(name(e) for e in lines) == sorted([f"P{j}" for j in range(1, 6)] * 4)

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import escape, quoteattr
 
@@ -131,7 +132,8 @@ def svg_text(
     xy = motion.xy[row]
     s = motion.size
     lw, r_pin, r_point, h = 0.005 * s, 0.011 * s, 0.007 * s, 0.035 * s
-    (x0, x1), (y0, y1) = target_limits(motion, targets)
+    listing = None if targets is None else target_listing(motion, targets)
+    (x0, x1), (y0, y1) = motion.limits if listing is None else listing.limits
     per_mm = MM_PER.get(unit, 1.0)
     out = [
         '<?xml version="1.0" encoding="UTF-8"?>',
@@ -272,13 +274,23 @@ def svg_text(
             data_dy=_n(off),
         )
         out.append(f'<text {a} x="{_n(x + off)}" y="{_n(-(y + off))}">{escape(g.anchors[k].name)}</text>')
-    if targets is not None:
+    if targets is not None and listing is not None:
+        # each target's number beside it, its distances listed in a column right of the drawing
         for j, (x, y) in enumerate(targets.targets.points):
-            a = _attrs(class_="label target-label", data_name=targets.targets.name(j), data_target=j)
+            a = _attrs(class_="label target-number", data_name=targets.targets.name(j), data_target=j)
             out.append(
                 f'<text {a} x="{_n(x + off)}" y="{_n(-(y - off))}" dominant-baseline="hanging" '
-                f'fill="{TARGET_COLOUR}">{escape(targets.label(j))}</text>'
+                f'fill="{TARGET_COLOUR}">{j + 1}</text>'
             )
+        for k, (text, (x, y)) in enumerate(zip(listing.lines, listing.at)):
+            a = (
+                _attrs(class_="label target-heading")
+                if k == 0
+                else _attrs(
+                    class_="label target-label", data_name=targets.targets.name(k - 1), data_target=k - 1
+                )
+            )
+            out.append(f'<text {a} x="{_n(x)}" y="{_n(-y)}" fill="{TARGET_COLOUR}">{escape(text)}</text>')
     out.append("</g>")
     out.append("</svg>")
     return "\n".join(out) + "\n"
@@ -297,6 +309,32 @@ def target_limits(
         (min(x0, float(p[:, 0].min()) - m), max(x1, float(p[:, 0].max()) + m)),
         (min(y0, float(p[:, 1].min()) - m), max(y1, float(p[:, 1].max()) + m)),
     )
+
+
+@dataclass(frozen=True)
+class TargetListing:
+    """Where the pictures list the targets' distances: ``lines`` (a heading, then
+    `Deviation.label` of each target), each at its point ``at`` (world, the text's
+    baseline start) in a column right of the drawing, and the drawing's ``limits``
+    widened to hold the targets, their ticks and the column."""
+
+    lines: list[str]
+    at: list[tuple[float, float]]
+    limits: tuple[tuple[float, float], tuple[float, float]]
+    height: float
+
+
+def target_listing(motion: Motion, targets: Deviation) -> TargetListing:
+    """The column listing the targets' distances (`TargetListing`), font height 3 % of
+    the motion's size like the other labels."""
+    (x0, x1), (y0, y1) = target_limits(motion, targets)
+    height = 0.03 * motion.size
+    step = 1.5 * height
+    lines = [targets.heading_line()] + [targets.label(j) for j in range(len(targets.targets))]
+    width = 0.62 * height * max(len(t) for t in lines) + 2.0 * height
+    y0 = min(y0, y1 - (len(lines) + 1) * step)
+    at = [(x1 + height, y1 - (k + 1) * step) for k in range(len(lines))]
+    return TargetListing(lines, at, ((x0, x1 + width), (y0, y1)), height)
 
 
 def _svg_targets(targets: Deviation, size: float, lw: float) -> list[str]:
@@ -398,16 +436,17 @@ def dxf(
     targets: Any = None,
 ) -> None:
     """Writes the mechanism at time ``t`` and the paths of ``paths`` over the sweep (and
-    ``targets``, as for `svg`) as a DXF drawing (R2010, needs ezdxf), in the model's length unit. Layers:
-    BODIES (closed polylines through each body's joints and points, a line for a bar),
-    PINS (circles about the pins), GROUND (pivot symbols), GUIDES and SLIDERS (guides and
-    blocks), CURVES (slots, cam profiles, rollers, marks on wheels, racks' teeth), PITCH
-    (pitch circles, racks' pitch lines; dash-dot), RODS (distance joints), MESHES (mesh
-    points: a POINT entity each), BELTS (belts' strands), ACTUATORS, POINTS (named points: a
-    POINT entity each), PATHS (the coupler curves, polylines), LABELS and TARGETS (each
-    target a POINT, a circle and a cross, its pose's tick, a line to the path's nearest
-    point and its label with the distance). Each entity's XDATA ``LINKWORK`` holds the name
-    of the body, joint, point or target ("P1") it draws."""
+    ``targets``, as for `svg`) as a DXF drawing (R2010, needs ezdxf), in the model's length
+    unit. Layers: BODIES (closed polylines through each body's joints and points, a line
+    for a bar), PINS (circles about the pins), GROUND (pivot symbols), GUIDES and SLIDERS
+    (guides and blocks), CURVES (slots, cam profiles, rollers, marks on wheels, racks'
+    teeth), PITCH (pitch circles, racks' pitch lines; dash-dot), RODS (distance joints),
+    MESHES (mesh points: a POINT entity each), BELTS (belts' strands), ACTUATORS, POINTS
+    (named points: a POINT entity each), PATHS (the coupler curves, polylines), LABELS and
+    TARGETS (each target a POINT, a circle and a cross, its pose's tick, a line to the
+    path's nearest point and its number; a column of text right of the drawing lists the
+    distances). Each entity's XDATA ``LINKWORK`` holds the name of the body, joint, point
+    or target ("P1") it draws."""
     out = _output_path(path)
     if out is None:
         raise InputError("path must be a file name, not None")
@@ -500,9 +539,14 @@ def dxf(
                 named(msp.add_line(tuple(seg[0]), tuple(seg[1]), dxfattribs=on), name)
             if np.all(np.isfinite(tm["miss"])):
                 named(msp.add_line(tuple(tm["miss"][0]), tuple(tm["miss"][1]), dxfattribs=on), name)
-            text = msp.add_text(dev.label(j), height=0.03 * s, dxfattribs=on)
+            text = msp.add_text(str(j + 1), height=0.03 * s, dxfattribs=on)
             text.set_placement((x + 1.5 * r_pin, y - 1.5 * r_pin - 0.03 * s))
             named(text, name)
+        listing = target_listing(motion, dev)
+        for k, (line, at) in enumerate(zip(listing.lines, listing.at)):
+            text = msp.add_text(line, height=listing.height, dxfattribs=on)
+            text.set_placement(at)
+            named(text, dev.targets.name(k - 1) if k else "targets")
     doc.saveas(out)
 
 

@@ -299,10 +299,10 @@ def _labels(labels: object) -> bool:
     return labels
 
 
-def draw_targets(ax: Axes, dev: Deviation, size: float, labels: bool = True) -> None:
+def draw_targets(ax: Axes, dev: Deviation, size: float, numbers: bool = True) -> None:
     """The targets of ``dev`` on matplotlib axes, as in the SVG: a ring and a cross each,
-    its pose's tick, a dashed line to the path's nearest point and (``labels``) its
-    number and distance."""
+    its pose's tick, a dashed line to the path's nearest point and (``numbers``) its
+    number."""
     from .targets import TARGET_COLOUR, target_marks
 
     for j, mark in enumerate(target_marks(dev, size)):
@@ -317,8 +317,8 @@ def draw_targets(ax: Axes, dev: Deviation, size: float, labels: bool = True) -> 
         m = mark["miss"]
         if np.all(np.isfinite(m)):
             ax.plot(m[:, 0], m[:, 1], "--", color=TARGET_COLOUR, lw=1.0, zorder=6)
-        if labels:
-            ax.annotate(dev.label(j), (x, y), textcoords="offset points", xytext=(6, -12),
+        if numbers:
+            ax.annotate(str(j + 1), (x, y), textcoords="offset points", xytext=(6, -12),
                         color=TARGET_COLOUR, fontsize=8, zorder=7)  # fmt: skip
 
 
@@ -332,8 +332,8 @@ def plot_paths(
     """A PNG of the paths of points in the plane (equal scales) over the mechanism drawn
     faintly at the first step; ``labels``: the bodies' and joints' names on it;
     ``targets`` (points n x 2, a `linkwork.targets.Targets` or a synthesized design):
-    marked, with their poses' ticks and the path's distance from each (as in
-    `linkwork.export.svg`). Returns the names drawn."""
+    marked and numbered, with their poses' ticks, and the path's distance from each
+    listed beside the axes (as in `linkwork.export.svg`). Returns the names drawn."""
     labels = _labels(labels)
     from .export import target_limits
     from .targets import deviation
@@ -347,7 +347,18 @@ def plot_paths(
     motion = Motion(Geometry.from_model(results.model), results)
     motion.limits = target_limits(motion, dev)
     chosen = list(names) if names is not None else default_paths(results.model)
-    fig, ax = plt.subplots(figsize=(7.5, 6.0), constrained_layout=True)
+    if dev is None:
+        fig, ax = plt.subplots(figsize=(7.5, 6.0), constrained_layout=True)
+    else:
+        fig, (ax, side) = plt.subplots(
+            1, 2, figsize=(11.0, 6.0), constrained_layout=True, gridspec_kw={"width_ratios": [3.0, 1.6]}
+        )
+        from .targets import TARGET_COLOUR
+
+        side.axis("off")
+        lines = [dev.heading_line()] + [dev.label(j) for j in range(len(dev.targets))]
+        side.text(0.0, 1.0, "\n".join(lines), va="top", ha="left", fontsize=8, color=TARGET_COLOUR,
+                  wrap=True, transform=side.transAxes)  # fmt: skip
     MechanismArtists(ax, motion, alpha=0.3, traces=False, labels=labels).update(0)
     k = slice(None, None, _step(results.n_steps))
     for name in chosen:

@@ -167,6 +167,12 @@ class Deviation:
                 text += f" (at its position {self.at_position[j]:.2g})"
         return text
 
+    def heading_line(self) -> str:
+        """The heading of the pictures' list of `label`s."""
+        t = self.targets
+        text = f"distance of {t.point}'s path from each target"
+        return text + (f" (and of {t.point} at its position)" if self.at_position is not None else "")
+
     def worst(self) -> float:
         """The largest distance of the path from a target."""
         return float(self.nearest.max())
