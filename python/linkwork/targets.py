@@ -180,11 +180,11 @@ class Deviation:
     def report(self) -> str:
         """The numbers, one line per target."""
         t, u = self.targets, self.unit
-        lines = [
-            f"targets of {t.point}: distance to the nearest point of its path"
-            + ("; at the precision position: the distance, and the error of "
-               f"{t.body}'s rotation" if self.at_position is not None else "")
-        ]  # fmt: skip
+        head = f"targets of {t.point}: distance to the nearest point of its path"
+        if self.at_position is not None:
+            head += "; at the precision position: the distance"
+            head += f", and the error of {t.body}'s rotation" if self.angle_error is not None else ""
+        lines = [head]
         for j, (x, y) in enumerate(t.points):
             line = f"  {t.name(j)} ({x:.6g}, {y:.6g}): path {self.nearest[j]:.3e} {u}"
             line += f" at t = {self.nearest_time[j]:.6g}"
