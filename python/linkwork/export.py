@@ -331,7 +331,7 @@ def target_listing(motion: Motion, targets: Deviation) -> TargetListing:
     height = 0.03 * motion.size
     step = 1.5 * height
     lines = [targets.heading_line()] + [targets.label(j) for j in range(len(targets.targets))]
-    width = 0.62 * height * max(len(t) for t in lines) + 2.0 * height
+    width = 0.56 * height * max(len(t) for t in lines) + 2.0 * height
     y0 = min(y0, y1 - (len(lines) + 1) * step)
     at = [(x1 + height, y1 - (k + 1) * step) for k in range(len(lines))]
     return TargetListing(lines, at, ((x0, x1 + width), (y0, y1)), height)
