@@ -335,3 +335,34 @@ def test_the_page_labels_the_bodies_and_moves_them_with_the_drawing(browser, tmp
     )
     assert sorted(joints) == ["A", "B", "O2", "O4"]
     assert problems(browser) == []
+
+
+def test_a_synthesized_designs_page_shows_its_targets_where_they_are(browser, tmp_path):
+    """The targets of a design (linkwork.targets) are drawn in the page and stay put while
+    the slider moves the mechanism; their table lists one row a target."""
+    from selenium.webdriver.common.by import By
+
+    from linkwork import synthesis as S
+
+    # five poses of the example four-bar's coupler
+    drawn = lw.examples.four_bar().compile()
+    states = [drawn.solve(t) for t in (0.0, 0.2, 0.45, 0.7, 1.0)]
+    poses = [(*s.point("P").position, s.body("coupler").theta) for s in states]
+    design = S.motion(poses).designs[0]
+    design.to_html(tmp_path / "design.html", frames=60)
+    open_page(browser, tmp_path / "design.html")
+
+    def rings() -> np.ndarray:
+        raw = browser.execute_script(
+            "return [...document.querySelectorAll('#drawing circle.target')]"
+            ".map(c => [c.getAttribute('cx'), c.getAttribute('cy')])"
+        )
+        return np.array(raw, dtype=float)
+
+    assert np.array_equal(rings(), design.positions)
+    browser.execute_script("window.linkwork.show(40)")
+    assert np.array_equal(rings(), design.positions)
+    assert len(browser.find_elements(By.CSS_SELECTOR, "#target-table tbody tr")) == 5
+    assert browser.execute_script("return window.linkwork.data.targets.length") == 5
+    keep(browser, tmp_path, "page_design_targets.png")
+    assert problems(browser) == []

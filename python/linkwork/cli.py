@@ -586,6 +586,9 @@ solution (certified), assembles and screens the designs with the engine, and wri
   DIR/PROBLEM_report.txt     the solutions, their certificates, defects and merit order
   DIR/PROBLEM.png            the designs at position 1 and their coupler paths through
                              the precision points
+  DIR/PROBLEM_designK.html   the first six designs' pages, drawings and figures with the
+       .svg, .png            precision points and poses marked and the path's distance
+                             from each (the numbers are in the report)
 Exit status 1 if no design results.""",
     )
     s.add_argument("problem", help="problem file (TOML)")

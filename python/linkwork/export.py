@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import escape, quoteattr
 
@@ -30,6 +31,7 @@ import numpy as np
 from . import _args
 from .drawing import Geometry, Motion, colour, ground_symbols
 from .errors import InputError
+from .targets import TARGET_COLOUR, Deviation, deviation, target_marks
 
 if TYPE_CHECKING:
     from .model import Model
@@ -112,8 +114,16 @@ def _attrs(**kw: Any) -> str:
     return " ".join(f"{k.rstrip('_').replace('_', '-')}={quoteattr(str(v))}" for k, v in kw.items())
 
 
-def svg_text(motion: Motion, row: int, paths: dict[str, np.ndarray], title: str, unit: str) -> str:
-    """The SVG of the mechanism at step ``row`` of ``motion`` with ``paths``. Every element
+def svg_text(
+    motion: Motion,
+    row: int,
+    paths: dict[str, np.ndarray],
+    title: str,
+    unit: str,
+    targets: Deviation | None = None,
+) -> str:
+    """The SVG of the mechanism at step ``row`` of ``motion`` with ``paths`` (and the
+    ``targets`` of a design with their deviations: `linkwork.targets`). Every element
     that moves names the anchors it is drawn through (``data-anchor``, ``data-anchors``),
     its slider (``data-slider``), curve (``data-curve``: slots, cam profiles, pitch
     circles and their marks, racks) or mark (``data-mark``: mesh points, belts'
@@ -122,7 +132,8 @@ def svg_text(motion: Motion, row: int, paths: dict[str, np.ndarray], title: str,
     xy = motion.xy[row]
     s = motion.size
     lw, r_pin, r_point, h = 0.005 * s, 0.011 * s, 0.007 * s, 0.035 * s
-    (x0, x1), (y0, y1) = motion.limits
+    listing = None if targets is None else target_listing(motion, targets)
+    (x0, x1), (y0, y1) = motion.limits if listing is None else listing.limits
     per_mm = MM_PER.get(unit, 1.0)
     out = [
         '<?xml version="1.0" encoding="UTF-8"?>',
@@ -234,6 +245,8 @@ def svg_text(motion: Motion, row: int, paths: dict[str, np.ndarray], title: str,
         )
         out.append(f'<circle {a} cx="{_n(xy[k, 0])}" cy="{_n(xy[k, 1])}" r="{_n(r_point)}"/>')
     out.append("</g>")
+    if targets is not None:
+        out += _svg_targets(targets, s, lw)
     out.append("</g>")
     # labels outside the flipped group, so that the text reads upright: y is -y there. The
     # same labels as the figure's (MechanismArtists with labels): each body's name at the
@@ -261,9 +274,96 @@ def svg_text(motion: Motion, row: int, paths: dict[str, np.ndarray], title: str,
             data_dy=_n(off),
         )
         out.append(f'<text {a} x="{_n(x + off)}" y="{_n(-(y + off))}">{escape(g.anchors[k].name)}</text>')
+    if targets is not None and listing is not None:
+        # each target's number beside it, its distances listed in a column right of the drawing
+        for j, (x, y) in enumerate(targets.targets.points):
+            a = _attrs(class_="label target-number", data_name=targets.targets.name(j), data_target=j)
+            out.append(
+                f'<text {a} x="{_n(x + off)}" y="{_n(-(y - off))}" dominant-baseline="hanging" '
+                f'fill="{TARGET_COLOUR}">{j + 1}</text>'
+            )
+        for k, (text, (x, y)) in enumerate(zip(listing.lines, listing.at)):
+            a = (
+                _attrs(class_="label target-heading")
+                if k == 0
+                else _attrs(
+                    class_="label target-label", data_name=targets.targets.name(k - 1), data_target=k - 1
+                )
+            )
+            out.append(f'<text {a} x="{_n(x)}" y="{_n(-y)}" fill="{TARGET_COLOUR}">{escape(text)}</text>')
     out.append("</g>")
     out.append("</svg>")
     return "\n".join(out) + "\n"
+
+
+def target_limits(
+    motion: Motion, targets: Deviation | None
+) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The motion's drawing limits, widened to show every target and its tick."""
+    (x0, x1), (y0, y1) = motion.limits
+    if targets is None:
+        return (x0, x1), (y0, y1)
+    m = 0.1 * motion.size
+    p = targets.targets.points
+    return (
+        (min(x0, float(p[:, 0].min()) - m), max(x1, float(p[:, 0].max()) + m)),
+        (min(y0, float(p[:, 1].min()) - m), max(y1, float(p[:, 1].max()) + m)),
+    )
+
+
+@dataclass(frozen=True)
+class TargetListing:
+    """Where the pictures list the targets' distances: ``lines`` (a heading, then
+    `Deviation.label` of each target), each at its point ``at`` (world, the text's
+    baseline start) in a column right of the drawing, and the drawing's ``limits``
+    widened to hold the targets, their ticks and the column."""
+
+    lines: list[str]
+    at: list[tuple[float, float]]
+    limits: tuple[tuple[float, float], tuple[float, float]]
+    height: float
+
+
+def target_listing(motion: Motion, targets: Deviation) -> TargetListing:
+    """The column listing the targets' distances (`TargetListing`), font height 3 % of
+    the motion's size like the other labels."""
+    (x0, x1), (y0, y1) = target_limits(motion, targets)
+    height = 0.03 * motion.size
+    step = 1.5 * height
+    lines = [targets.heading_line()] + [targets.label(j) for j in range(len(targets.targets))]
+    width = 0.56 * height * max(len(t) for t in lines) + 2.0 * height
+    y0 = min(y0, y1 - (len(lines) + 1) * step)
+    at = [(x1 + height, y1 - (k + 1) * step) for k in range(len(lines))]
+    return TargetListing(lines, at, ((x0, x1 + width), (y0, y1)), height)
+
+
+def _svg_targets(targets: Deviation, size: float, lw: float) -> list[str]:
+    """The targets' group: each a ring and a cross (``class="target"``, with its
+    deviations as ``data-nearest`` and ``data-at-position``), its pose's tick
+    (``target-pose``) and the segment to the path's nearest point (``target-miss``)."""
+    out = [f'<g id="targets" fill="none" stroke="{TARGET_COLOUR}">']
+    for j, mark in enumerate(target_marks(targets, size)):
+        (x, y), r = mark["ring"]
+        extra: dict[str, Any] = {"data_nearest": _n(targets.nearest[j])}
+        if targets.at_position is not None:
+            extra["data_at_position"] = _n(targets.at_position[j])
+        if targets.targets.angles is not None:
+            extra["data_angle"] = _n(targets.targets.angles[j])
+        a = _attrs(class_="target", data_name=mark["name"], data_target=j, **extra)
+        out.append(f'<circle {a} cx="{_n(x)}" cy="{_n(y)}" r="{_n(r)}" stroke-width="{_n(0.6 * lw)}"/>')
+        for seg in mark["cross"]:
+            a = _attrs(class_="target-cross", data_name=mark["name"], data_target=j)
+            out.append(f'<polyline {a} points="{_points(seg)}" stroke-width="{_n(0.4 * lw)}"/>')
+        if mark["tick"] is not None:
+            a = _attrs(class_="target-pose", data_name=mark["name"], data_target=j)
+            out.append(f'<polyline {a} points="{_points(mark["tick"])}" stroke-width="{_n(0.8 * lw)}"/>')
+        a = _attrs(class_="target-miss", data_name=mark["name"], data_target=j)
+        out.append(
+            f'<polyline {a} points="{_points(mark["miss"])}" stroke-width="{_n(0.4 * lw)}" '
+            f'stroke-dasharray="{_n(lw)} {_n(lw)}"/>'
+        )
+    out.append("</g>")
+    return out
 
 
 def _output_path(path: Any, name: str = "path") -> str | None:
@@ -280,19 +380,23 @@ def svg(
     t: float | None = None,
     paths: Sequence[str] | None = None,
     max_points: int = 5000,
+    targets: Any = None,
 ) -> str:
     """The mechanism at time ``t`` of the sweep (default: its first step; a time between
     steps is solved there) and the paths over the whole sweep of ``paths`` (named points
     or joints; default: every named point, or the pins off the ground), each through at
-    most ``max_points`` steps. Returns the SVG text and writes it to ``path`` if given."""
+    most ``max_points`` steps; ``targets`` (points n x 2, a `linkwork.targets.Targets` or a
+    synthesized design): each marked (``class="target"``), with its pose's tick and the
+    distance of the path from it, labelled. Returns the SVG text and writes it to ``path``
+    if given."""
     out = _output_path(path)
     max_points = _args.integer(max_points, "max_points", 2)
+    dev = None if targets is None else deviation(results, targets)
     motion, row = configuration(results, t)
     names = _path_names(results.model, paths)
     title = f"{results.model.name} at t = {motion.times[row]:.6g} s"
-    text = svg_text(
-        motion, row, path_points(motion, names, results.n_steps, max_points), title, _length_unit(results)
-    )
+    drawn = path_points(motion, names, results.n_steps, max_points)
+    text = svg_text(motion, row, drawn, title, _length_unit(results), dev)
     if out is not None:
         with open(out, "w", encoding="utf-8") as f:
             f.write(text)
@@ -319,6 +423,7 @@ LAYERS = {
     "POINTS": 1,
     "PATHS": 1,
     "LABELS": 7,
+    "TARGETS": 1,
 }
 
 
@@ -328,20 +433,25 @@ def dxf(
     t: float | None = None,
     paths: Sequence[str] | None = None,
     max_points: int = 5000,
+    targets: Any = None,
 ) -> None:
-    """Writes the mechanism at time ``t`` and the paths of ``paths`` over the sweep (as for
-    `svg`) as a DXF drawing (R2010, needs ezdxf), in the model's length unit. Layers:
-    BODIES (closed polylines through each body's joints and points, a line for a bar),
-    PINS (circles about the pins), GROUND (pivot symbols), GUIDES and SLIDERS (guides and
-    blocks), CURVES (slots, cam profiles, rollers, marks on wheels, racks' teeth), PITCH
-    (pitch circles, racks' pitch lines; dash-dot), RODS (distance joints), MESHES (mesh
-    points: a POINT entity each), BELTS (belts' strands), ACTUATORS, POINTS (named points: a
-    POINT entity each), PATHS (the coupler curves, polylines) and LABELS. Each entity's
-    XDATA ``LINKWORK`` holds the name of the body, joint or point it draws."""
+    """Writes the mechanism at time ``t`` and the paths of ``paths`` over the sweep (and
+    ``targets``, as for `svg`) as a DXF drawing (R2010, needs ezdxf), in the model's length
+    unit. Layers: BODIES (closed polylines through each body's joints and points, a line
+    for a bar), PINS (circles about the pins), GROUND (pivot symbols), GUIDES and SLIDERS
+    (guides and blocks), CURVES (slots, cam profiles, rollers, marks on wheels, racks'
+    teeth), PITCH (pitch circles, racks' pitch lines; dash-dot), RODS (distance joints),
+    MESHES (mesh points: a POINT entity each), BELTS (belts' strands), ACTUATORS, POINTS
+    (named points: a POINT entity each), PATHS (the coupler curves, polylines), LABELS and
+    TARGETS (each target a POINT, a circle and a cross, its pose's tick, a line to the
+    path's nearest point and its number; a column of text right of the drawing lists the
+    distances). Each entity's XDATA ``LINKWORK`` holds the name of the body, joint, point
+    or target ("P1") it draws."""
     out = _output_path(path)
     if out is None:
         raise InputError("path must be a file name, not None")
     max_points = _args.integer(max_points, "max_points", 2)
+    dev = None if targets is None else deviation(results, targets)
     ezdxf = _args.optional_module("ezdxf", "writing DXF", "export")
     from ezdxf import colors, units
 
@@ -418,6 +528,25 @@ def dxf(
         text = msp.add_text(g.anchors[k].name, height=0.03 * s, dxfattribs={"layer": "LABELS"})
         text.set_placement((float(x + 1.5 * r_pin), float(y + 1.5 * r_pin)))
         named(text, g.anchors[k].name)
+    if dev is not None:
+        on = {"layer": "TARGETS"}
+        for j, tm in enumerate(target_marks(dev, s)):
+            name = tm["name"]
+            (x, y), r = tm["ring"]
+            named(msp.add_point((x, y), dxfattribs=on), name)
+            named(msp.add_circle((x, y), r, dxfattribs=on), name)
+            for seg in tm["cross"] + ([tm["tick"]] if tm["tick"] is not None else []):
+                named(msp.add_line(tuple(seg[0]), tuple(seg[1]), dxfattribs=on), name)
+            if np.all(np.isfinite(tm["miss"])):
+                named(msp.add_line(tuple(tm["miss"][0]), tuple(tm["miss"][1]), dxfattribs=on), name)
+            text = msp.add_text(str(j + 1), height=0.03 * s, dxfattribs=on)
+            text.set_placement((x + 1.5 * r_pin, y - 1.5 * r_pin - 0.03 * s))
+            named(text, name)
+        listing = target_listing(motion, dev)
+        for k, (line, at) in enumerate(zip(listing.lines, listing.at)):
+            text = msp.add_text(line, height=listing.height, dxfattribs=on)
+            text.set_placement(at)
+            named(text, dev.targets.name(k - 1) if k else "targets")
     doc.saveas(out)
 
 

@@ -19,15 +19,18 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .drawing import Geometry, MechanismArtists, Motion, setup_axes
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
     from .model import Model
     from .results import Results
+    from .targets import Deviation
 
 __all__ = [
     "Output",
@@ -43,6 +46,7 @@ __all__ = [
     "movie_problem",
     "plot_outputs",
     "plot_paths",
+    "draw_targets",
     "animate",
 ]
 
@@ -295,28 +299,75 @@ def _labels(labels: object) -> bool:
     return labels
 
 
+def draw_targets(ax: Axes, dev: Deviation, size: float, numbers: bool = True) -> None:
+    """The targets of ``dev`` on matplotlib axes, as in the SVG: a ring and a cross each,
+    its pose's tick, a dashed line to the path's nearest point and (``numbers``) its
+    number."""
+    from .targets import TARGET_COLOUR, target_marks
+
+    for j, mark in enumerate(target_marks(dev, size)):
+        (x, y), r = mark["ring"]
+        ax.plot([x], [y], "o", ms=9, mfc="none", mec=TARGET_COLOUR, mew=1.5, zorder=6,
+                label="targets" if j == 0 else None)  # fmt: skip
+        ax.plot([x], [y], "+", ms=9, color=TARGET_COLOUR, zorder=6)
+        if mark["tick"] is not None:
+            t = mark["tick"]
+            ax.plot(t[:, 0], t[:, 1], "-", color=TARGET_COLOUR, lw=2.0, zorder=6,
+                    label="prescribed rotation" if j == 0 else None)  # fmt: skip
+        m = mark["miss"]
+        if np.all(np.isfinite(m)):
+            ax.plot(m[:, 0], m[:, 1], "--", color=TARGET_COLOUR, lw=1.0, zorder=6)
+        if numbers:
+            ax.annotate(str(j + 1), (x, y), textcoords="offset points", xytext=(6, -12),
+                        color=TARGET_COLOUR, fontsize=8, zorder=7)  # fmt: skip
+
+
 def plot_paths(
-    results: Results, path: str, names: Sequence[str] | None = None, labels: bool = False
+    results: Results,
+    path: str,
+    names: Sequence[str] | None = None,
+    labels: bool = False,
+    targets: Any = None,
 ) -> list[str]:
     """A PNG of the paths of points in the plane (equal scales) over the mechanism drawn
-    faintly at the first step; ``labels``: the bodies' and joints' names on it. Returns
-    the names drawn."""
+    faintly at the first step; ``labels``: the bodies' and joints' names on it;
+    ``targets`` (points n x 2, a `linkwork.targets.Targets` or a synthesized design):
+    marked and numbered, with their poses' ticks, and the path's distance from each
+    listed beside the axes (as in `linkwork.export.svg`). Returns the names drawn."""
     labels = _labels(labels)
+    from .export import target_limits
+    from .targets import deviation
+
+    dev = None if targets is None else deviation(results, targets)
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     motion = Motion(Geometry.from_model(results.model), results)
+    motion.limits = target_limits(motion, dev)
     chosen = list(names) if names is not None else default_paths(results.model)
-    fig, ax = plt.subplots(figsize=(7.5, 6.0), constrained_layout=True)
+    if dev is None:
+        fig, ax = plt.subplots(figsize=(7.5, 6.0), constrained_layout=True)
+    else:
+        fig, (ax, side) = plt.subplots(
+            1, 2, figsize=(11.0, 6.0), constrained_layout=True, gridspec_kw={"width_ratios": [3.0, 1.6]}
+        )
+        from .targets import TARGET_COLOUR
+
+        side.axis("off")
+        lines = [dev.heading_line()] + [dev.label(j) for j in range(len(dev.targets))]
+        side.text(0.0, 1.0, "\n".join(lines), va="top", ha="left", fontsize=8, color=TARGET_COLOUR,
+                  wrap=True, transform=side.transAxes)  # fmt: skip
     MechanismArtists(ax, motion, alpha=0.3, traces=False, labels=labels).update(0)
     k = slice(None, None, _step(results.n_steps))
     for name in chosen:
         xy = motion.xy[k, motion.geometry.traceable[name]]
         ax.plot(xy[:, 0], xy[:, 1], lw=1.5, label=name)
+    if dev is not None:
+        draw_targets(ax, dev, motion.size)
     setup_axes(ax, motion, _length_unit(results))
-    if chosen:
+    if chosen or dev is not None:
         # a fixed place: "best" searches over every line drawn (seconds on a large model)
         ax.legend(fontsize=8, loc="upper right")
     ax.set_title(

@@ -35,6 +35,7 @@ from .drawing import Geometry, Motion
 from .errors import InputError
 from .events import KINDS
 from .export import _output_path, _path_names, path_points, svg_text
+from .targets import Deviation, deviation
 
 if TYPE_CHECKING:
     from .results import Results
@@ -133,13 +134,17 @@ def page(
     paths: Sequence[str] | None = None,
     frames: int = MAX_FRAMES,
     title: str | None = None,
+    targets: Any = None,
 ) -> str:
     """The interactive page of a sweep (see the module's docstring): ``outputs`` plotted
     and shown live (names as for ``linkwork plot``; default: every turning body's angle,
     every slider's travel), ``paths`` drawn (named points or joints; default: every named
     point, or the pins off the ground), ``frames`` steps spread evenly over the sweep
-    (first and last included; every step if the sweep has fewer). Returns the HTML and
-    writes it to ``path`` if given."""
+    (first and last included; every step if the sweep has fewer). ``targets`` (points
+    n x 2, a `linkwork.targets.Targets` or a synthesized design): marked in the drawing as
+    in `linkwork.export.svg`, listed in a table with the path's distance from each (and
+    the traced point's at its precision position), and in the page's data as
+    ``targets``. Returns the HTML and writes it to ``path`` if given."""
     from .results import Results
 
     _args.of_type(results, "results", Results, "the Results of a sweep")
@@ -155,7 +160,8 @@ def page(
     rows = motion.frames(frames)
     names = _path_names(model, paths)
     unit = str(model.units.get("length", "m"))
-    drawing = svg_text(motion, 0, path_points(motion, names, results.n_steps), model.name, unit)
+    dev = None if targets is None else deviation(results, targets)
+    drawing = svg_text(motion, 0, path_points(motion, names, results.n_steps), model.name, unit, dev)
     drawing = drawing.split("?>", 1)[1].strip()  # no XML declaration inside HTML
     sliders = [
         {
@@ -209,6 +215,7 @@ def page(
             "closest": "the smallest pivot ratio of Phi_q over the sweep (near 0: near singular)",
         },
         "n_steps": results.n_steps,
+        "targets": [] if dev is None else dev.to_json(),
     }
     text = json.dumps(data, allow_nan=False, separators=(",", ":")).replace("</", "<\\/")
     heading = title or f"{model.name}"
@@ -218,6 +225,7 @@ def page(
         .replace("__SPAN__", _escape(span))
         .replace("__STYLE__", _STYLE)
         .replace("__SCRIPT__", _SCRIPT)
+        .replace("__TARGETS__", "" if dev is None else _targets_table(dev))
         .replace("__SVG__", drawing)
         .replace("__DATA__", text)
     )
@@ -225,6 +233,28 @@ def page(
         with open(out, "w", encoding="utf-8") as f:
             f.write(html)
     return html
+
+
+def _targets_table(dev: Deviation) -> str:
+    """The targets and their deviations as a table (static: they do not move)."""
+    u = _escape(dev.unit)
+    at = dev.at_position is not None
+    angles = dev.angle_error is not None
+    head = f"<th>target</th><th>path's distance [{u}]</th>"
+    head += f"<th>at its position [{u}]</th>" if at else ""
+    head += "<th>rotation error [rad]</th>" if angles else ""
+    rows = []
+    for j, item in enumerate(dev.to_json()):
+        cells = [_escape(item["name"]), f"{dev.nearest[j]:.3e}"]
+        if at:
+            cells.append(f"{item['at_position']:.3e}" if item.get("reached") else "not reached")
+        if angles:
+            cells.append(f"{item['angle_error']:.3e}" if item.get("reached") else "-")
+        rows.append("<tr>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
+    return (
+        f'<h2>targets of {_escape(dev.targets.point)}</h2><table id="target-table">'
+        f"<thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
+    )
 
 
 def _nearest(times: np.ndarray, t: float) -> int:
@@ -254,6 +284,7 @@ _TEMPLATE = """<!DOCTYPE html>
 <aside>
 <table id="values"><thead><tr><th>output</th><th>value</th><th>rate</th><th>acceleration</th>
 </tr></thead><tbody></tbody></table>
+__TARGETS__
 <h2>events</h2><ul id="events"></ul>
 </aside>
 </main>

@@ -639,13 +639,16 @@ class Results(_Kinematics):
         t: float | None = None,
         paths: Sequence[str] | None = None,
         max_points: int = 5000,
+        targets: Any = None,
     ) -> str:
         """The mechanism at time ``t`` (default: the first step) with the paths of points
         over the sweep, as SVG in world coordinates (the model's length unit, y up, drawn
-        1:1); written to ``path`` if given, and returned. See `linkwork.export.svg`."""
+        1:1), and ``targets`` marked with the path's distance from each (points n x 2, a
+        `linkwork.targets.Targets` or a synthesized design); written to ``path`` if given,
+        and returned. See `linkwork.export.svg`."""
         from .export import svg
 
-        return svg(self, path, t=t, paths=paths, max_points=max_points)
+        return svg(self, path, t=t, paths=paths, max_points=max_points, targets=targets)
 
     def to_html(
         self,
@@ -653,14 +656,16 @@ class Results(_Kinematics):
         outputs: Sequence[str] | None = None,
         paths: Sequence[str] | None = None,
         frames: int = 1000,
+        targets: Any = None,
     ) -> str:
         """The interactive page of the sweep: one self-contained HTML file (no network
         needed) with the mechanism drawn to scale, a slider over the steps, play and pause,
-        the paths of points, live values and plots of ``outputs``, and the events on the
-        timeline; written to ``path`` if given, and returned. See `linkwork.page`."""
+        the paths of points, live values and plots of ``outputs``, the events on the
+        timeline and ``targets`` marked, with a table of their distances (as for
+        `to_svg`); written to ``path`` if given, and returned. See `linkwork.page`."""
         from .page import page
 
-        return page(self, path, outputs=outputs, paths=paths, frames=frames)
+        return page(self, path, outputs=outputs, paths=paths, frames=frames, targets=targets)
 
     def draw(self, ax: Any = None, t: float | None = None, paths: Sequence[str] | None = None) -> Any:
         """Draws the mechanism at time ``t`` of the sweep (default: the first step; a time
@@ -685,13 +690,19 @@ class Results(_Kinematics):
         return results_html(self)
 
     def to_dxf(
-        self, path: str, t: float | None = None, paths: Sequence[str] | None = None, max_points: int = 5000
+        self,
+        path: str,
+        t: float | None = None,
+        paths: Sequence[str] | None = None,
+        max_points: int = 5000,
+        targets: Any = None,
     ) -> None:
         """The mechanism at time ``t`` and the paths of points as a DXF drawing (needs
-        ezdxf), one layer per kind of thing. See `linkwork.export.dxf`."""
+        ezdxf), one layer per kind of thing, ``targets`` on layer TARGETS (as for
+        `to_svg`). See `linkwork.export.dxf`."""
         from .export import dxf
 
-        dxf(self, path, t=t, paths=paths, max_points=max_points)
+        dxf(self, path, t=t, paths=paths, max_points=max_points, targets=targets)
 
     def plot(self, path: str, bodies: Sequence[str] | None = None, every: int = 1) -> None:
         """A PNG of every body's angle, angular velocity and acceleration over time, and

@@ -18,15 +18,19 @@ Problem file (TOML; docs/synthesis.md)::
 
 from __future__ import annotations
 
-import math
 import os
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import synthesis as S
-from .errors import LinkworkError, SolveError
+from .errors import LinkworkError
+from .targets import Deviation, Targets, deviation, of_design, sweep_design
+
+if TYPE_CHECKING:
+    from .model import Model
+    from .results import Results
 
 PROBLEMS = ("motion", "path", "function", "chained-six-bar")
 
@@ -128,7 +132,56 @@ class _SixBar:
         return self._m.model(self._c.one, self._c.two)
 
 
-def _figure(path: str, designs: list[Any], points: np.ndarray | None, title: str) -> None:
+#: designs (the first in merit order) drawn with their targets: page, SVG and PNG each
+MAX_PICTURES = 6
+
+
+def _targets(design: Any, points: np.ndarray | None) -> Targets | None:
+    """A design's targets: its own (positions, poses, precision times) where it has them,
+    else the problem's precision points."""
+    if hasattr(design, "positions"):
+        return of_design(design)
+    return None if points is None else Targets(points)
+
+
+#: one design in the overview figure: its number, model, sweep and deviation (None where
+#: the sweep failed or the design has no targets)
+Drawn = tuple[int, "Model", "Results | None", "Deviation | None"]
+
+
+def _pictures(
+    out: str, stem: str, designs: list[Any], points: np.ndarray | None
+) -> tuple[list[Drawn], list[str]]:
+    """Each of the first `MAX_PICTURES` designs swept over a turn, with its page, SVG and
+    PNG (targets marked) in ``out``; returns each design for the overview figure and the
+    report's lines (the deviations, or why a design's pictures are not drawn)."""
+    from .figures import plot_paths
+    from .page import page
+
+    drawn: list[Drawn] = []
+    lines = []
+    for k, design in enumerate(designs[:MAX_PICTURES], 1):
+        targets = _targets(design, points)
+        try:
+            res = sweep_design(design, targets)
+            dev = None if targets is None else deviation(res, targets)
+        except LinkworkError as e:
+            lines.append(f"design {k}: no pictures, its sweep failed ({e})")
+            drawn.append((k, design.model().compile(), None, None))
+            continue
+        base = os.path.join(out, f"{stem}_design{k}")
+        page(res, base + ".html", targets=targets, title=f"{stem}: design {k}")
+        res.to_svg(base + ".svg", targets=targets)
+        plot_paths(res, base + ".png", targets=targets)
+        drawn.append((k, res.model, res, dev))
+        if dev is not None:
+            lines.append(f"design {k}, {dev.report()}")
+    return drawn, lines
+
+
+def _figure(path: str, drawn: list[Drawn], points: np.ndarray | None, title: str) -> None:
+    """The designs at position 1 and the paths of their point P through the precision
+    points, each design's farthest distance from a target in the legend."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -136,18 +189,15 @@ def _figure(path: str, designs: list[Any], points: np.ndarray | None, title: str
 
     fig, ax = plt.subplots(figsize=(7, 6))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for k, design in enumerate(designs[:6]):
-        color = colors[k % len(colors)]
-        compiled = design.model().compile()
-        t = np.linspace(0.0, 2.0 * math.pi, 721)
-        try:
-            res = compiled.sweep(t, derivatives=0)
-        except SolveError as e:
-            res = getattr(e, "partial", None)
+    for k, compiled, res, dev in drawn:
+        color = colors[(k - 1) % len(colors)]
         names = [p[0] for p in compiled._core.points]
-        if res is not None and len(res.times) and "P" in names:
+        if res is not None and res.n_steps and "P" in names:
             p = res.point("P").position
-            ax.plot(p[:, 0], p[:, 1], "-", color=color, lw=1.2, label=f"design {k + 1}: path of P")
+            label = f"design {k}: path of P"
+            if dev is not None:
+                label += f" (farthest from a target: {dev.worst():.2g})"
+            ax.plot(p[:, 0], p[:, 1], "-", color=color, lw=1.2, label=label)
         # the linkage at position 1: its joints joined body by body
         joints = {}
         for name, b1, b2, x, y in _joint_points(compiled):
@@ -170,7 +220,8 @@ def _figure(path: str, designs: list[Any], points: np.ndarray | None, title: str
             ax.annotate(str(j), (x, y), textcoords="offset points", xytext=(5, 5))
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_title(title)
-    ax.legend(fontsize=8, loc="best")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8, loc="best")
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -198,15 +249,20 @@ def synth(args: Any) -> int:
             path = os.path.join(args.out, f"{stem}_design{k}.toml")
             design.model().save(path)
             written.append(path)
+    drawn, lines = _pictures(args.out, stem, [d for d in designs if hasattr(d, "model")], points)
+    if lines:
+        report += "\n" + "\n".join(lines)
     with open(os.path.join(args.out, f"{stem}_report.txt"), "w", encoding="utf-8") as f:
         f.write(report + "\n")
     figure = os.path.join(args.out, f"{stem}.png")
     if designs or points is not None:
-        _figure(
-            figure, [d for d in designs if hasattr(d, "model")], points, f"{stem}: {problem.get('problem')}"
-        )
+        _figure(figure, drawn, points, f"{stem}: {problem.get('problem')}")
     print(report)
-    print(f"wrote {len(written)} design model file(s), {stem}_report.txt and {stem}.png in {args.out}")
+    swept = sum(res is not None for _, _, res, _ in drawn)
+    pictures = f", {stem}_designK.html, .svg and .png of {swept}" if swept else ""
+    print(
+        f"wrote {len(written)} design model file(s){pictures}, {stem}_report.txt and {stem}.png in {args.out}"
+    )
     return 0 if designs else 1
 
 

@@ -45,6 +45,7 @@ from . import _core
 from .errors import SingularError, SolveError, SynthesisError
 from .mechanism import Mechanism
 from .motion import Linear
+from .targets import DesignPictures
 
 __all__ = [
     "Dyad",
@@ -292,11 +293,12 @@ def _grashof(lengths: list[float]) -> str:
 
 
 @dataclass
-class FourBarDesign:
+class FourBarDesign(DesignPictures):
     """A four-bar from two real dyads: input crank ``o2`` -> ``a`` (the first dyad),
     coupler ``a`` -> ``b`` carrying the precision point ``p``, rocker ``o4`` -> ``b``, all
     at position 1. ``positions``: the precision points (n x 2); ``coupler_angles``: the
-    coupler's rotation from position 1 at each; ``input_angles``: the crank's.
+    coupler's rotation from position 1 at each; ``input_angles``: the crank's. Its
+    pictures mark them (`DesignPictures`: ``to_html``, ``to_svg``, ``to_dxf``, ``plot``).
     """
 
     o2: np.ndarray
@@ -343,6 +345,16 @@ class FourBarDesign:
         a_j = pts + (a1 - p1) * rot
         o2 = complex(*self.o2)
         return np.angle((a_j - o2) / (a1 - o2))
+
+    def precision_times(self) -> np.ndarray:
+        """The time of `model` at each precision position: the crank's rotation from
+        position 1, turning the way that meets the positions in order (the first way if
+        neither does), in [0, 2 pi) that way."""
+        rot = self.crank_rotations()
+        direction, _ = _order(rot)
+        t = direction * np.mod(direction * rot, 2.0 * math.pi)
+        t[0] = 0.0
+        return t
 
     def model(self, name: str = "four-bar design") -> Mechanism:
         """The design as a linkwork mechanism at position 1: bodies "crank", "coupler",
