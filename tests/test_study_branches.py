@@ -100,9 +100,7 @@ def test_sweep_batch_starts_each_model_on_the_branch_of_the_one_given() -> None:
     is started on the base's open one; without it, it stays on its own drawing's."""
     base = lw.build.four_bar(GROUND, CRANK, 1.0, 0.8, branch="open", omega=1.0).compile()
     crossed = lw.build.four_bar(GROUND, CRANK, 0.9, 0.85, branch="crossed", omega=1.0).compile()
-    own, asked = (
-        lw.sweep_batch([crossed], TURN, derivatives=0, branches_of=b)[0] for b in (None, base)
-    )
+    own, asked = (lw.sweep_batch([crossed], TURN, derivatives=0, branches_of=b)[0] for b in (None, base))
     for res, branch in ((own, "crossed"), (asked, "open")):
         exact = cf.four_bar(GROUND, CRANK, 0.9, 0.85, TURN, 1.0, branch=branch)["theta4"]
         assert _wrapped(res.body("rocker").theta - exact).max() < 1e-9
