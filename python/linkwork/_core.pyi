@@ -49,6 +49,7 @@ def sweep_batch(
     every: int = 1,
     on_singular: str = "continue",
     locks: bool = False,
+    branches_of: Model | None = None,
 ) -> list[tuple[dict[str, Any], BaseException | None]]: ...
 def sensitivities(
     model: Model,

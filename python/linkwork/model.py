@@ -563,9 +563,16 @@ def sweep_batch(
     every: int = 1,
     on_singular: str = "continue",
     locks: bool = False,
+    branches_of: Model | None = None,
 ) -> list[Any]:
     """Sweeps many models (a design study) over the same times on worker threads, with
     the GIL released: one `Results` per model, in order.
+
+    ``branches_of``: a model of the same mechanism (a study's base) whose assembly mode at
+    the first time every model is started on, by its own closed forms (each dyad on the
+    base's side, each Newton block with the base's det sign), not wherever Newton from its
+    own drawing lands; a model that has no configuration there fails with `AssemblyError`
+    naming the group. A model whose groups differ from the base's starts from its drawing.
 
     ``derivatives``, ``forces``, ``every``, ``on_singular`` and ``locks`` are as for
     `Model.sweep`.
@@ -583,9 +590,20 @@ def sweep_batch(
     on_singular = _args.choice(on_singular, "on_singular", ON_SINGULAR)
     progress = _args.callback(progress, "progress")
     forces, locks = _args.flag(forces, "forces"), _args.flag(locks, "locks")
+    if branches_of is not None:
+        branches_of = _args.of_type(branches_of, "branches_of", Model, "a compiled Model")
     cores = [m._core for m in models]
     items = _core.sweep_batch(
-        cores, t, threads, derivatives, forces, progress or None, every, on_singular, locks
+        cores,
+        t,
+        threads,
+        derivatives,
+        forces,
+        progress or None,
+        every,
+        on_singular,
+        locks,
+        None if branches_of is None else branches_of._core,
     )
     out: list[Any] = []
     for i, (model, (raw, error)) in enumerate(zip(models, items)):

@@ -88,7 +88,9 @@ fn write_model(description_json: &str, format: &str) -> PyResult<String> {
 fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
     let msg = e.to_string();
     let (err, time) = match e {
-        SolveError::Assembly { time, .. } => (AssemblyError::new_err(msg), Some(*time)),
+        SolveError::Assembly { time, .. } | SolveError::AssemblyBranch { time, .. } => {
+            (AssemblyError::new_err(msg), Some(*time))
+        }
         SolveError::NoConvergence { time, .. } => (ConvergenceError::new_err(msg), Some(*time)),
         SolveError::Singular { time, .. } => (SingularError::new_err(msg), Some(*time)),
         SolveError::NonFinite { time, .. } => (NonFiniteError::new_err(msg), Some(*time)),
@@ -312,9 +314,10 @@ fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, Py
 /// Sweeps many models over the same times on worker threads with the GIL released.
 /// Returns one (results dict, error or None) per model, in order. `progress(done, total)`
 /// is called with the number of finished models; Ctrl-C cancels every running sweep.
+/// `branches_of`: the model whose branches at the first time each model starts on.
 #[pyfunction]
 #[pyo3(signature = (models, times, threads=0, derivatives=2, forces=false, progress=None, every=1,
-                    on_singular="continue", locks=false))]
+                    on_singular="continue", locks=false, branches_of=None))]
 #[allow(clippy::too_many_arguments)]
 fn sweep_batch<'py>(
     py: Python<'py>,
@@ -327,10 +330,12 @@ fn sweep_batch<'py>(
     every: usize,
     on_singular: &str,
     locks: bool,
+    branches_of: Option<PyRef<'py, PyModel>>,
 ) -> PyResult<Vec<(Bound<'py, PyDict>, Option<PyErr>)>> {
     let request = parse_request(derivatives, forces, every, on_singular, locks)?;
     let arcs: Vec<Arc<Model>> = models.iter().map(|m| Arc::clone(&m.model)).collect();
     let refs: Vec<&Model> = arcs.iter().map(|m| m.as_ref()).collect();
+    let asked: Option<Arc<Model>> = branches_of.map(|m| Arc::clone(&m.model));
     let times = times.as_slice()?;
     let total = refs.len();
     // every model's outputs are kept until all are returned: refused up front if they
@@ -353,8 +358,9 @@ fn sweep_batch<'py>(
     let (items, interrupt) = py.detach(|| {
         let mut interrupt: Option<PyErr> = None;
         let mut watch = batch_watch(&progress, total, &mut interrupt);
-        let items =
-            guard("sweeping a batch", || linkwork::sweep_batch(&refs, times, request, threads, &mut watch));
+        let items = guard("sweeping a batch", || {
+            linkwork::sweep_batch_on(&refs, times, request, asked.as_deref(), threads, &mut watch)
+        });
         drop(watch);
         (items, interrupt)
     });

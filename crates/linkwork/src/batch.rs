@@ -6,6 +6,7 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
+use crate::branches::{asked_branches, start_on};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::model::Model;
@@ -24,6 +25,21 @@ pub fn sweep_batch(
     threads: usize,
     watch: &mut dyn FnMut(usize) -> bool,
 ) -> Vec<BatchItem> {
+    sweep_batch_on(models, times, request, None, threads, watch)
+}
+
+/// `sweep_batch` of designs of one mechanism, each started on the branches `asked` takes at
+/// times[0] (`branches::asked_branches`: the base of a design study), not wherever Newton
+/// from its own drawing lands; a design that has no configuration there is its error.
+pub fn sweep_batch_on(
+    models: &[&Model],
+    times: &[f64],
+    request: Request,
+    asked: Option<&Model>,
+    threads: usize,
+    watch: &mut dyn FnMut(usize) -> bool,
+) -> Vec<BatchItem> {
+    let asked = asked.zip(times.first()).and_then(|(m, &t)| asked_branches(m, t));
     let items = on_threads(
         models.len(),
         threads,
@@ -36,6 +52,9 @@ pub fn sweep_batch(
             let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
             let err = if cancel.load(Ordering::Relaxed) {
                 Some(SolveError::Cancelled { step: 0 })
+            } else if let Err(e) = asked.as_ref().map_or(Ok(()), |w| start_on(model, &mut data, times[0], w))
+            {
+                Some(e)
             } else {
                 sweep(model, &mut data, times, &mut out, 4096, &mut keep_going).err()
             };

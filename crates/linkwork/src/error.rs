@@ -81,6 +81,13 @@ pub enum SolveError {
          Newton iterations, largest in {constraint}"
     )]
     Assembly { time: f64, iterations: usize, residual: f64, constraint: String },
+    /// A design (a variant of a model) cannot be assembled on the branch its model is
+    /// drawn in: one of its groups has no such configuration at the first time.
+    #[error(
+        "could not assemble the design at t = {time} on the branch its model is drawn in: the {group} of \
+         {joints} {why} there"
+    )]
+    AssemblyBranch { time: f64, group: &'static str, joints: String, why: &'static str },
     /// Newton-Raphson did not converge at a later step.
     #[error(
         "no convergence at step {step} (t = {time}): residual {residual:.3e} after {iterations} \
@@ -128,7 +135,7 @@ impl SolveError {
     /// The time step the error refers to, if any.
     pub fn step(&self) -> Option<usize> {
         match self {
-            SolveError::Assembly { .. } => Some(0),
+            SolveError::Assembly { .. } | SolveError::AssemblyBranch { .. } => Some(0),
             SolveError::NoConvergence { step, .. }
             | SolveError::Singular { step, .. }
             | SolveError::Event { step, .. }

@@ -11,6 +11,7 @@ pub mod analysis;
 pub mod assembly;
 pub mod batch;
 pub mod blocks;
+pub mod branches;
 pub mod closing;
 pub mod curves;
 pub mod data;
@@ -40,7 +41,7 @@ pub mod variants;
 pub mod velocity;
 
 pub use acceleration::solve_acceleration;
-pub use batch::{sweep_batch, BatchItem};
+pub use batch::{sweep_batch, sweep_batch_on, BatchItem};
 pub use data::Data;
 pub use description::{BodyDesc, Description, DriverDesc, JointDesc, PointDesc, GROUND};
 pub use error::{ModelError, SolveError};

@@ -8,7 +8,11 @@
 //! design is the compiled model with those numbers set and its plan re-made from the
 //! same structure: no redraw, no recompile, nothing under the GIL. Its sweep starts from
 //! the model's drawing and assembles the design there (the first step's Newton), as the
-//! redrawn and recompiled design does; the two agree to round-off.
+//! redrawn and recompiled design does; the two agree to round-off. Where the model has a
+//! plan, that start is first put on the branches the base model takes at the first time
+//! (each dyad's assembly mode, each Newton block's det sign), by the design's own closed
+//! forms: far from the base, Newton from the base's drawing may converge onto the other
+//! assembly, silently. A design that cannot be assembled there is its named error.
 //!
 //! Each thread keeps one variant model and one sweep output and reuses them for every
 //! design it takes; only the kept figures are written, straight into the caller's arrays.
@@ -18,6 +22,7 @@ use std::sync::Mutex;
 
 use crate::batch::on_threads;
 use crate::blocks::Plan;
+use crate::branches::{asked_branches, start_on};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::joints::Constraint;
@@ -166,6 +171,7 @@ pub fn sweep_variants(
     let m = variation.params.len();
     assert_eq!(deltas.len(), n * m, "one change per design and parameter");
     let request = Request { every: 1, forces: false, ..request };
+    let asked = times.first().and_then(|&t| asked_branches(model, t));
     let (n_steps, kept, np) = (times.len(), outputs.n_kept(model), outputs.points.len());
     let mut q = vec![f64::NAN; n * n_steps * kept];
     let mut points = vec![f64::NAN; n * n_steps * np * 2];
@@ -189,6 +195,11 @@ pub fn sweep_variants(
                 let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
                 let err = if cancel.load(Ordering::Relaxed) {
                     Some(SolveError::Cancelled { step: 0 })
+                } else if let Err(e) =
+                    asked.as_ref().map_or(Ok(()), |w| start_on(variant, &mut data, times[0], w))
+                {
+                    out.n_done = 0;
+                    Some(e)
                 } else {
                     sweep(variant, &mut data, times, out, 4096, &mut keep_going).err()
                 };

@@ -272,6 +272,9 @@ def _sweep(job: Job, built: dict[str, Any], threads: int | None) -> tuple[list[A
         forces=job.forces,
         errors="return",
         on_singular=job.on_singular,
+        # every design on the branch the study's model is drawn in, never on the one a
+        # redraw or Newton from its drawing happened to reach
+        branches_of=_base_model(job),
     )
     return swept, time.perf_counter() - begin
 

@@ -546,6 +546,49 @@ pub fn step(
     Ok(info)
 }
 
+/// Positions at t on the branches of `asked` (each block's sign; a Newton block's det
+/// sign), every group in order: a closed form on its given branch whatever data.q holds, a Newton block from
+/// data.q. A design's start on the branch it is asked for when its drawing is another
+/// design's (variants): Newton from there may converge onto another assembly. Err(i, miss):
+/// block i cannot be assembled on its branch (or is singular there).
+pub fn assemble(
+    model: &Model,
+    plan: &Plan,
+    data: &mut Data,
+    t: f64,
+    asked: &Work,
+) -> Result<(), (usize, Miss)> {
+    let signs = &asked.sign;
+    data.blocks.sign.copy_from_slice(signs);
+    // a Newton block's det sign, where the asked configuration has one, is its branch too
+    for (work, asked) in data.blocks.newton.iter_mut().zip(&asked.newton) {
+        work.det_sign = asked.det_sign;
+    }
+    let mut newton_index = 0;
+    for (i, block) in plan.blocks.iter().enumerate() {
+        let sign = signs[i];
+        let solved = match block {
+            Block::Crank(b) => b.solve(model, data, t, 0),
+            Block::Rrr(b) => b.solve(data, sign, 0),
+            Block::Rrp(b) => b.solve(data, sign, 0),
+            Block::Rpr(b) => b.solve(data, sign, 0),
+            Block::Subst(b) => b.solve(model, data, t, 0, sign),
+            Block::Newton(b) => {
+                let mut work = std::mem::take(&mut data.blocks.newton[newton_index]);
+                let r = b.solve(model, data, &mut work, t, 0);
+                data.blocks.newton[newton_index] = work;
+                newton_index += 1;
+                r.map(|r| (r.pivot_ratio, r.residual))
+            }
+        };
+        let (closeness, residual) = solved.map_err(|miss| (i, miss))?;
+        if !(closeness > 0.0 && residual.is_finite()) {
+            return Err((i, Miss::NearSingular));
+        }
+    }
+    Ok(())
+}
+
 /// After the general path solved a step (the start, or the careful path): each dyad's
 /// branch sign and closeness read from data.q, its rate from data.qd where `rates` says
 /// the velocities are solved, else by the difference from the last step's closeness over
