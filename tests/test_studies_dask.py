@@ -126,3 +126,38 @@ def test_cli_study_on_the_cluster(client, tmp_path, capsys):
     local = S.open_dataset(str(tmp_path / "four_bar_atlas.nc"))
     assert np.array_equal(remote.path_P.values, local.path_P.values, equal_nan=True)
     assert remote.error.values.tolist() == local.error.values.tolist()
+
+
+def test_a_script_without_a_main_guard_runs_a_local_cluster_study(tmp_path) -> None:
+    """`study.run(designs, scheduler="local")` at a script's top level, with no
+    `if __name__ == "__main__":` guard: the worker processes do not run the script again
+    (which made each fail, and the study raise "Nanny failed to start"); the study's
+    figures equal the in-process ones. A real LocalCluster in a child interpreter."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "study_script.py"
+    script.write_text(
+        "import numpy as np\n"
+        "import linkwork as lw\n"
+        "from linkwork import study as S\n"
+        "m = lw.build.four_bar(1.0, 0.3, 1.0, 0.8, omega=1.0)\n"
+        "study = lw.Study(m, np.linspace(0.0, 6.0, 40), ['angle rocker'])\n"
+        "designs = S.listed({'length coupler': [1.0, 0.9, 0.3]})\n"
+        "here = study.run(designs)\n"
+        "there = study.run(designs, scheduler='local', progress=False)\n"
+        "a, b = here.dataset['angle_rocker'].values, there.dataset['angle_rocker'].values\n"
+        "assert np.array_equal(a, b, equal_nan=True), 'figures differ'\n"
+        "assert list(there.dataset['error'].values) == list(here.dataset['error'].values)\n"
+        "print('study ran on', there.where)\n"
+    )
+    package_root = os.path.dirname(os.path.dirname(os.path.abspath(lw.__file__)))
+    env = dict(
+        os.environ, PYTHONPATH=os.pathsep.join(filter(None, [package_root, os.environ.get("PYTHONPATH")]))
+    )
+    done = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, timeout=240, cwd=tmp_path, env=env
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert "study ran on dask" in done.stdout
+    assert "Nanny failed" not in done.stderr

@@ -13,7 +13,8 @@ import math
 import os
 import sys
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -593,7 +594,36 @@ def _client(scheduler: Any) -> tuple[Any, Any]:
     )
 
 
+@contextmanager
+def _script_kept_from_workers(local: bool) -> Iterator[None]:
+    """While a local cluster runs: its worker processes start by importing the parent's
+    ``__main__`` again (multiprocessing's spawn), which re-runs a script that has no
+    ``if __name__ == "__main__":`` guard, study and all, inside each worker ("Nanny failed
+    to start"). A study's tasks need nothing of the script (they carry the model as its
+    description), so the workers start as from an interactive session, which has no script
+    to import: the script's path and module name are hidden from spawn meanwhile."""
+    main = sys.modules.get("__main__")
+    if not local or main is None:
+        yield
+        return
+    saved = {k: main.__dict__[k] for k in ("__file__", "__spec__") if k in main.__dict__}
+    main.__dict__.pop("__file__", None)
+    if "__spec__" in saved:
+        main.__spec__ = None
+    try:
+        yield
+    finally:
+        main.__dict__.update(saved)
+
+
 def _run_dask(
+    job: Job, values: np.ndarray, chunk: int, scheduler: Any, progress: Any, timeout: float | None
+) -> tuple[list[dict[str, Any]], str]:
+    with _script_kept_from_workers(scheduler == "local"):
+        return _run_on_client(job, values, chunk, scheduler, progress, timeout)
+
+
+def _run_on_client(
     job: Job, values: np.ndarray, chunk: int, scheduler: Any, progress: Any, timeout: float | None
 ) -> tuple[list[dict[str, Any]], str]:
     distributed = requires("distributed")
