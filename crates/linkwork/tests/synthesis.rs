@@ -270,9 +270,9 @@ fn chained_six_bar_dyad_2_recovers_a_known_dyad_about_any_pivot() {
     for case in 0..5 {
         let mut u = |lo: f64, hi: f64| lo + (hi - lo) * rng.uniform();
         let o = C64::new(u(-20.0, 20.0), u(-20.0, 20.0));
-        let c1 = o + C64::from_polar(u(3.0, 8.0), u(0.0, 6.28));
-        let d1 = c1 + C64::from_polar(u(3.0, 8.0), u(0.0, 6.28));
-        let p1 = d1 + C64::from_polar(u(1.0, 5.0), u(0.0, 6.28));
+        let c1 = o + C64::from_polar(u(3.0, 8.0), u(0.0, std::f64::consts::TAU));
+        let d1 = c1 + C64::from_polar(u(3.0, 8.0), u(0.0, std::f64::consts::TAU));
+        let p1 = d1 + C64::from_polar(u(1.0, 5.0), u(0.0, std::f64::consts::TAU));
         let (mut phi, mut theta, mut psi) = (vec![0.0], vec![0.0], vec![0.0]);
         for n in 1..5 {
             phi.push(phi[n - 1] + u(0.2, 0.6));

@@ -82,7 +82,12 @@ pub fn dyad_1(
 
 /// Every dyad 2 (C_1, D_1) with C on a circle about the output pivot `o`, by parameter
 /// homotopy.
-pub fn dyad_2(points: &[[f64; 2]], o: [f64; 2], phi: &[f64], theta: &[f64]) -> Result<DyadSet, SynthesisError> {
+pub fn dyad_2(
+    points: &[[f64; 2]],
+    o: [f64; 2],
+    phi: &[f64],
+    theta: &[f64],
+) -> Result<DyadSet, SynthesisError> {
     dyad_2_with(points, o, phi, theta, solve_rows)
 }
 
