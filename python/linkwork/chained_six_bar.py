@@ -266,6 +266,7 @@ def _screen(design: ChainedSixBarDesign, steps: int = 720) -> SixBarDefects:
     grid = np.union1d(np.linspace(0.0, 2.0 * math.pi, steps + 1), targets)
     compiled = design.model().compile()
     stopped: float | None = None
+    res: Any
     try:
         # "continue": limits, bifurcations and branch jumps are reported as events and
         # judged below (a bifurcation passed on the same branch still counts before the
@@ -365,8 +366,8 @@ class ChainedSixBarSynthesis:
             f"  designs: {len(self.designs)} combinations ({len(self.defect_free)} defect-free over the "
             f"stroke, {sum(d.defects.full_turn for d in self.designs)} turning fully)"
         )
-        for i, d in enumerate(self.designs, 1):
-            lines.append(f"    {i}. {d}")
+        for i, design in enumerate(self.designs, 1):
+            lines.append(f"    {i}. {design}")
         return "\n".join(lines)
 
 
@@ -406,9 +407,9 @@ def chained_six_bar(
                     f"input angles {i + 1} and {j + 1} are the same rotation: the input cannot meet "
                     "both positions on its turn"
                 )
-    kw = dict(points=pts, input_angles=phi, coupler_angles=theta, method=method)
-    one = S.dyads("chain1", pivot=q, **kw)
-    two = S.dyads("chain2", pivot=o, **kw)
+    kw: dict[str, Any] = dict(points=pts, input_angles=phi, coupler_angles=theta, method=method)
+    one = S.dyads("chain1", pivot=q.tolist(), **kw)
+    two = S.dyads("chain2", pivot=o.tolist(), **kw)
     designs = [
         ChainedSixBarDesign(
             q,
