@@ -14,6 +14,9 @@ Problem file (TOML; docs/synthesis.md)::
     output = [...]                        # function: output angles or slider positions
     kind = "four_bar"                     # function: four_bar | slider_crank
     ground = 1.0                          # function, four_bar: ground length
+    input_pivot = [x, y]                  # chained-six-bar: Q (also points,
+    output_pivot = [x, y]                 #   input_angles, coupler_angles)
+    [torque]                              # chained-six-bar: mass, inertia, gravity, omega
 """
 
 from __future__ import annotations
@@ -113,23 +116,40 @@ def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
         text += f"offset {design.e:.6g}"
         return text, [], None
     if kind == "chained-six-bar":
-        from . import chained_six_bar as C
-
-        one, two = C.dyads()
-        designs = [_SixBar(C, c) for c in (C.screen(a, b) for a in one.real for b in two.real) if c.ok]
-        return C.report(), designs, C.POINTS
+        return _chained_six_bar(problem, unit)
     raise S.SynthesisError(f"problem must be one of {', '.join(PROBLEMS)}; got {kind!r}")
 
 
-class _SixBar:
-    """A defect-free combination of the chained six-bar, with .model() like a design."""
+def _chained_six_bar(problem: dict[str, Any], unit: str) -> tuple[str, list[Any], np.ndarray]:
+    """The chained six-bar from the file's numbers; with a [torque] table, the input
+    torque of the first design that is defect-free and turns fully."""
+    from . import chained_six_bar as C
 
-    def __init__(self, module: Any, combination: Any) -> None:
-        self._c = combination
-        self._m = module
-
-    def model(self) -> Any:
-        return self._m.model(self._c.one, self._c.two)
+    kind = "chained-six-bar"
+    keys = ("points", "input_angles", "coupler_angles", "input_pivot", "output_pivot")
+    data = {k: _need(problem, k, kind) for k in keys}
+    result = C.chained_six_bar(angles=unit, **data)
+    text = result.report()
+    options = problem.get("torque")
+    if options is not None:
+        if not isinstance(options, dict) or set(options) - {"mass", "inertia", "gravity", "omega"}:
+            raise S.SynthesisError("torque must be a table of mass, inertia, gravity and omega")
+        try:
+            options = {k: float(v) for k, v in options.items()}
+        except (TypeError, ValueError) as e:
+            raise S.SynthesisError(f"torque: {e}") from None
+        full = [d for d in result.designs if d.defects.ok and d.defects.full_turn]
+        if full:
+            tq = C.torque(full[0], **options)
+            text += (
+                f"\n  input torque of design {result.designs.index(full[0]) + 1} over a turn: "
+                f"phi {np.abs(tq.phi).max():.4g}, theta {np.abs(tq.theta).max():.4g}, "
+                f"summed {np.abs(tq.total).max():.4g} N m (peaks); virtual work agrees to "
+                f"{np.abs(tq.total - tq.virtual_work).max():.2e} N m"
+            )
+        else:
+            text += "\n  input torque: no design is defect-free and turns fully"
+    return text, result.designs, result.points
 
 
 #: designs (the first in merit order) drawn with their targets: page, SVG and PNG each

@@ -20,6 +20,9 @@ Problems (lengths in any unit, angles in radians unless ``angles="deg"``):
 - `path_least_squares`: more than five timed points, the same way (the input dyad from
   the exact timed dyads of five-point subsets, then the follower from the motion it
   implies).
+- `chained_six_bar`: the chained Stephenson six-bar (linkwork.chained_six_bar): a
+  coupler point through 5 points while the input link and the coupler turn by given
+  angles, every dyad of both problems and every six-bar they combine into.
 - `dyads`: the raw dyad solutions of any of these, by "homotopy" (every root,
   alpha-certified) or "resultant" (the independent elimination, every root too,
   certified the same way; about 20 times faster on these problems).
@@ -67,6 +70,7 @@ __all__ = [
     "NinePointResult",
     "motion_least_squares",
     "path_least_squares",
+    "chained_six_bar",
 ]
 
 #: How designs are ordered: defect-free first, then the larger worst transmission angle
@@ -207,9 +211,10 @@ def dyads(
 
     ``problem``: "burmester" (``poses``: 5 x 3), "timed" (``points``: 5 x 2 and
     ``input_angles``), "chain1" / "chain2" (the chained six-bar's dyads: ``points``,
-    ``input_angles`` phi_n, ``coupler_angles`` theta_n, and for "chain1" the input
-    link's pivot Q as ``pivot``). ``method``: "homotopy" (every root, certified) or
-    "resultant" (elimination; every root, certified).
+    ``input_angles`` phi_n, ``coupler_angles`` theta_n, and as ``pivot`` the input
+    link's pivot Q for "chain1", the output pivot O for "chain2"; `chained_six_bar`
+    solves both and assembles the designs). ``method``: "homotopy" (every root,
+    certified) or "resultant" (elimination; every root, certified).
     """
     if method not in ("homotopy", "resultant"):
         raise SynthesisError(f"method must be 'homotopy' or 'resultant', not {method!r}")
@@ -226,8 +231,9 @@ def dyads(
         a = _angles(_array(input_angles, "input_angles", 1), angles, "input angles")
         b = _angles(_array(coupler_angles, "coupler_angles", 1), angles, "coupler angles")
         q = [] if pivot is None else [float(v) for v in pivot]
-        if problem == "chain1" and len(q) != 2:
-            raise SynthesisError("chain1 needs the input link's pivot Q as pivot=(x, y)")
+        if len(q) != 2:
+            which = "the input link's pivot Q" if problem == "chain1" else "the output pivot O"
+            raise SynthesisError(f"{problem} needs {which} as pivot=(x, y)")
         raw = _core.synth_dyads(problem, method, pts.ravel().tolist(), a.tolist(), b.tolist(), q)
     else:
         raise SynthesisError(f"unknown problem {problem!r}: 'burmester', 'timed', 'chain1' or 'chain2'")
@@ -1071,3 +1077,19 @@ def path_least_squares(
         [DyadSolutions(inputs, "least squares"), *followers],
         designs,
     )
+
+
+def chained_six_bar(
+    points: Any,
+    input_angles: Any,
+    coupler_angles: Any,
+    input_pivot: Any,
+    output_pivot: Any,
+    angles: str = "rad",
+    method: str = "homotopy",
+) -> Any:
+    """The chained six-bar's synthesis for any data (`linkwork.chained_six_bar.chained_six_bar`):
+    every dyad of both problems and every real combination as a screened design."""
+    from .chained_six_bar import chained_six_bar as solve
+
+    return solve(points, input_angles, coupler_angles, input_pivot, output_pivot, angles, method)

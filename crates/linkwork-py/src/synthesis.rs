@@ -47,8 +47,8 @@ fn poses(v: &[f64]) -> Vec<motion::Pose> {
 }
 
 /// Every dyad of a problem. `problem`: "burmester" (poses n x 3), "timed" (points n x 2,
-/// then n input angles), "chain1" (points, Q, phi, theta), "chain2" (points, phi,
-/// theta); `method`: "homotopy" or "resultant" (real dyads only).
+/// then n input angles), "chain1" (points, phi, theta; `point` = the input pivot Q),
+/// "chain2" (points, phi, theta; `point` = the output pivot O); `method`: "homotopy" or "resultant" (real dyads only).
 #[pyfunction]
 #[pyo3(signature = (problem, method, poses_or_points, angles_a=vec![], angles_b=vec![], point=vec![]))]
 pub(crate) fn synth_dyads<'py>(
@@ -70,7 +70,19 @@ pub(crate) fn synth_dyads<'py>(
         }
     };
     let what = format!("solving the {problem} synthesis");
-    let q = if point.len() == 2 { [point[0], point[1]] } else { [0.0, 0.0] };
+    // the chained six-bar's pivot: Q (chain1, the input link's) or O (chain2, the output's)
+    let pivot = match (problem, point.as_slice()) {
+        ("chain1" | "chain2", [x, y]) => [*x, *y],
+        ("chain1" | "chain2", _) => {
+            let which = if problem == "chain1" { "the input pivot Q" } else { "the output pivot O" };
+            return Err(err(SynthesisError::Count {
+                problem: "the chained six-bar's dyads",
+                got: point.len(),
+                want: format!("{which} as a point (x, y)"),
+            }));
+        }
+        _ => [0.0, 0.0],
+    };
     let out: Result<(Vec<Dyad>, Option<DyadSet>), SynthesisError> = py.detach(|| {
         guard(&what, || match (problem, homotopy) {
             ("burmester", true) => {
@@ -84,15 +96,17 @@ pub(crate) fn synth_dyads<'py>(
             }
             ("timed", false) => path::timed_dyads_by_resultant(&pairs(&poses_or_points), &angles_a)
                 .map(|s| (s.dyads.clone(), Some(s))),
-            ("chain1", true) => sixbar::dyad_1(&pairs(&poses_or_points), q, &angles_a, &angles_b)
+            ("chain1", true) => sixbar::dyad_1(&pairs(&poses_or_points), pivot, &angles_a, &angles_b)
                 .map(|s| (s.dyads.clone(), Some(s))),
-            ("chain2", true) => sixbar::dyad_2(&pairs(&poses_or_points), &angles_a, &angles_b)
+            ("chain2", true) => sixbar::dyad_2(&pairs(&poses_or_points), pivot, &angles_a, &angles_b)
                 .map(|s| (s.dyads.clone(), Some(s))),
-            ("chain1", false) | ("chain2", false) => {
-                sixbar::dyads_by_resultant(&pairs(&poses_or_points), q, &angles_a, &angles_b).map(|[a, b]| {
-                    let s = if problem == "chain1" { a } else { b };
-                    (s.dyads.clone(), Some(s))
-                })
+            ("chain1", false) => {
+                sixbar::dyad_1_by_resultant(&pairs(&poses_or_points), pivot, &angles_a, &angles_b)
+                    .map(|s| (s.dyads.clone(), Some(s)))
+            }
+            ("chain2", false) => {
+                sixbar::dyad_2_by_resultant(&pairs(&poses_or_points), pivot, &angles_a, &angles_b)
+                    .map(|s| (s.dyads.clone(), Some(s)))
             }
             _ => Err(SynthesisError::Degenerate(format!("unknown problem {problem:?}"))),
         })

@@ -215,16 +215,17 @@ fn chained_six_bar_dyads_all_found_and_agree() {
     use linkwork::synthesis::sixbar::{dyad_1, dyad_2, dyads_by_resultant};
     let points = [[1.0, 2.8], [-2.8, -3.8], [-8.3, -7.3], [-8.9, -6.7], [-7.2, 3.2]];
     let q = [-3.7, 12.9];
+    let o = [0.0, 0.0];
     let deg = std::f64::consts::PI / 180.0;
     let phi: Vec<f64> = [0.0, -45.0, -90.0, -150.0, -210.0].iter().map(|v| v * deg).collect();
     let theta: Vec<f64> = [0.0, 0.5, 16.5, 27.0, 27.0].iter().map(|v| v * deg).collect();
     let one = dyad_1(&points, q, &phi, &theta).unwrap();
-    let two = dyad_2(&points, &phi, &theta).unwrap();
+    let two = dyad_2(&points, o, &phi, &theta).unwrap();
     for set in [&one, &two] {
         assert!(set.dyads.len() <= 4 && set.failed == 0 && set.distinct, "{set:?}");
         assert!(set.dyads.iter().all(|d| d.certified));
     }
-    let [r1, r2] = dyads_by_resultant(&points, q, &phi, &theta).unwrap();
+    let [r1, r2] = dyads_by_resultant(&points, q, o, &phi, &theta).unwrap();
     agree(&one, &r1, 1e-9);
     agree(&two, &r2, 1e-9);
     // the equations themselves, in world coordinates, for every real dyad
@@ -256,5 +257,42 @@ fn chained_six_bar_dyads_all_found_and_agree() {
     );
     for d in one.real().chain(two.real()) {
         eprintln!("  {:?} {:?}", d.ground, d.moving);
+    }
+}
+
+/// Dyad 2 about an output pivot O away from the origin: data from a known dyad (C on a
+/// circle about O, the link DC turned by phi_n, D on the coupler), recovered by the
+/// homotopy and by the elimination.
+#[test]
+fn chained_six_bar_dyad_2_recovers_a_known_dyad_about_any_pivot() {
+    use linkwork::synthesis::sixbar::{dyad_2, dyad_2_by_resultant};
+    let mut rng = linkwork_homotopy::random::Rng::new(7);
+    for case in 0..5 {
+        let mut u = |lo: f64, hi: f64| lo + (hi - lo) * rng.uniform();
+        let o = C64::new(u(-20.0, 20.0), u(-20.0, 20.0));
+        let c1 = o + C64::from_polar(u(3.0, 8.0), u(0.0, std::f64::consts::TAU));
+        let d1 = c1 + C64::from_polar(u(3.0, 8.0), u(0.0, std::f64::consts::TAU));
+        let p1 = d1 + C64::from_polar(u(1.0, 5.0), u(0.0, std::f64::consts::TAU));
+        let (mut phi, mut theta, mut psi) = (vec![0.0], vec![0.0], vec![0.0]);
+        for n in 1..5 {
+            phi.push(phi[n - 1] + u(0.2, 0.6));
+            theta.push(theta[n - 1] + u(-0.2, 0.2));
+            psi.push(psi[n - 1] + u(0.1, 0.4));
+        }
+        // C_n on its circle about O (rocker angle psi_n), then D_n and P_n back along the chain
+        let points: Vec<[f64; 2]> = (0..5)
+            .map(|n| {
+                let cn = o + (c1 - o) * C64::from_polar(1.0, psi[n]);
+                let dn = cn - (c1 - d1) * C64::from_polar(1.0, phi[n]);
+                let pn = dn + (p1 - d1) * C64::from_polar(1.0, theta[n]);
+                [pn.re, pn.im]
+            })
+            .collect();
+        for set in [
+            dyad_2(&points, [o.re, o.im], &phi, &theta).unwrap(),
+            dyad_2_by_resultant(&points, [o.re, o.im], &phi, &theta).unwrap(),
+        ] {
+            assert!(set.real().any(|d| near(d, c1, d1, 1e-9)), "case {case}: {set:?}");
+        }
     }
 }

@@ -1,6 +1,7 @@
-//! The chained Stephenson six-bar of the source document: a coupler carrying B, D and P,
-//! driven through P_1..P_5 while the input link QA turns by phi_n and the coupler by
-//! theta_n. Both dyads are instances of the standard-form dyad system (dyad.rs):
+//! The chained Stephenson six-bar: a coupler carrying B, D and P, driven through
+//! P_1..P_5 while the input link QA turns about the input pivot Q by phi_n and the
+//! coupler by theta_n; the link DC, turned by phi_n through the chain, carries C on a
+//! circle about the output pivot O. Both dyads are instances of the standard-form dyad system (dyad.rs):
 //!
 //! dyad 1 (A on QA, B on the coupler): A_n = Q + R(phi_n)(A_1 - Q),
 //! B_n = P_n + R(theta_n)(B_1 - P_1), |A_n - B_n| = |A_1 - B_1|; with x = A_1 - Q and
@@ -8,20 +9,23 @@
 //! sigma = e^{i theta}.
 //!
 //! dyad 2 (D on the coupler, C on the link DC that the chain turns by phi_n, C on a circle
-//! about the origin O): C_n = D_n + R(phi_n)(C_1 - D_1), |C_n - O| = |C_1 - O|; with
+//! about O): C_n = D_n + R(phi_n)(C_1 - D_1), |C_n - O| = |C_1 - O|; with
 //! x = D_1 - P_1, y = C_1 - O: alpha = e^{i theta} - e^{i phi},
 //! beta = (P_n - O) - e^{i phi}(P_1 - O), sigma = e^{i phi}.
 //!
 //! In the returned dyads, `ground` is A_1 (dyad 1) or C_1 (dyad 2) and `moving` is B_1 or
-//! D_1.
+//! D_1: neither A_1 nor C_1 is a ground pivot; the field names are the dyad's (the pivot
+//! on the guiding link, the pivot on the guided body).
 
 use num_complex::Complex64 as C64;
+
+use linkwork_homotopy::Solutions;
 
 use super::dyad::{solve_rows, DyadRow};
 use super::resultant::solve_by_resultant;
 use super::{DyadSet, Frame, SynthesisError};
 
-fn check(points: &[[f64; 2]], phi: &[f64], theta: &[f64]) -> Result<(), SynthesisError> {
+fn check(points: &[[f64; 2]], pivot: [f64; 2], phi: &[f64], theta: &[f64]) -> Result<(), SynthesisError> {
     if points.len() != 5 || phi.len() != 5 || theta.len() != 5 {
         return Err(SynthesisError::Count {
             problem: "the chained six-bar's dyads",
@@ -32,6 +36,9 @@ fn check(points: &[[f64; 2]], phi: &[f64], theta: &[f64]) -> Result<(), Synthesi
     if points.iter().flatten().chain(phi).chain(theta).any(|v| !v.is_finite()) {
         return Err(SynthesisError::NotFinite { what: "a point or rotation".into() });
     }
+    if pivot.iter().any(|v| !v.is_finite()) {
+        return Err(SynthesisError::NotFinite { what: "the pivot".into() });
+    }
     Ok(())
 }
 
@@ -39,10 +46,9 @@ fn c(p: [f64; 2]) -> C64 {
     C64::new(p[0], p[1])
 }
 
-fn frame(points: &[[f64; 2]], q: [f64; 2]) -> Frame {
+fn frame(points: &[[f64; 2]], pivot: [f64; 2]) -> Frame {
     let mut all: Vec<C64> = points.iter().map(|p| c(*p)).collect();
-    all.push(c(q));
-    all.push(C64::default());
+    all.push(c(pivot));
     Frame::fit(all.into_iter())
 }
 
@@ -55,8 +61,7 @@ fn rows_1(points: &[[f64; 2]], q: C64, phi: &[f64], theta: &[f64], f: &Frame) ->
     })
 }
 
-fn rows_2(points: &[[f64; 2]], phi: &[f64], theta: &[f64], f: &Frame) -> [DyadRow; 4] {
-    let o = f.to_local(C64::default());
+fn rows_2(points: &[[f64; 2]], o: C64, phi: &[f64], theta: &[f64], f: &Frame) -> [DyadRow; 4] {
     let p1 = f.to_local(c(points[0])) - o;
     std::array::from_fn(|k| {
         let n = k + 1;
@@ -65,45 +70,83 @@ fn rows_2(points: &[[f64; 2]], phi: &[f64], theta: &[f64], f: &Frame) -> [DyadRo
     })
 }
 
-/// Every dyad 1 (A_1, B_1), by parameter homotopy.
+/// Every dyad 1 (A_1, B_1) about the input pivot `q`, by parameter homotopy.
 pub fn dyad_1(
     points: &[[f64; 2]],
     q: [f64; 2],
     phi: &[f64],
     theta: &[f64],
 ) -> Result<DyadSet, SynthesisError> {
-    check(points, phi, theta)?;
-    let f = frame(points, q);
-    let ql = f.to_local(c(q));
-    let rows = rows_1(points, ql, phi, theta, &f);
-    Ok(DyadSet::from_solutions(&solve_rows(&rows), &rows, &f, |x, y| (ql + x, ql + x + y)))
+    dyad_1_with(points, q, phi, theta, solve_rows)
 }
 
-/// Every dyad 2 (C_1, D_1), by parameter homotopy.
-pub fn dyad_2(points: &[[f64; 2]], phi: &[f64], theta: &[f64]) -> Result<DyadSet, SynthesisError> {
-    check(points, phi, theta)?;
-    let f = frame(points, [0.0, 0.0]);
-    let o = f.to_local(C64::default());
-    let p1 = f.to_local(c(points[0]));
-    let rows = rows_2(points, phi, theta, &f);
-    Ok(DyadSet::from_solutions(&solve_rows(&rows), &rows, &f, |x, y| (o + y, p1 + x)))
+/// Every dyad 2 (C_1, D_1) with C on a circle about the output pivot `o`, by parameter
+/// homotopy.
+pub fn dyad_2(
+    points: &[[f64; 2]],
+    o: [f64; 2],
+    phi: &[f64],
+    theta: &[f64],
+) -> Result<DyadSet, SynthesisError> {
+    dyad_2_with(points, o, phi, theta, solve_rows)
 }
 
-/// Both dyads' real solutions by elimination: the independent cross-check.
-pub fn dyads_by_resultant(
+/// Dyad 1's real solutions by elimination: the independent cross-check.
+pub fn dyad_1_by_resultant(
     points: &[[f64; 2]],
     q: [f64; 2],
     phi: &[f64],
     theta: &[f64],
+) -> Result<DyadSet, SynthesisError> {
+    dyad_1_with(points, q, phi, theta, solve_by_resultant)
+}
+
+/// Dyad 2's real solutions by elimination: the independent cross-check.
+pub fn dyad_2_by_resultant(
+    points: &[[f64; 2]],
+    o: [f64; 2],
+    phi: &[f64],
+    theta: &[f64],
+) -> Result<DyadSet, SynthesisError> {
+    dyad_2_with(points, o, phi, theta, solve_by_resultant)
+}
+
+/// Both dyads' real solutions by elimination.
+pub fn dyads_by_resultant(
+    points: &[[f64; 2]],
+    q: [f64; 2],
+    o: [f64; 2],
+    phi: &[f64],
+    theta: &[f64],
 ) -> Result<[DyadSet; 2], SynthesisError> {
-    check(points, phi, theta)?;
+    Ok([dyad_1_by_resultant(points, q, phi, theta)?, dyad_2_by_resultant(points, o, phi, theta)?])
+}
+
+fn dyad_1_with(
+    points: &[[f64; 2]],
+    q: [f64; 2],
+    phi: &[f64],
+    theta: &[f64],
+    solve: impl Fn(&[DyadRow; 4]) -> Solutions,
+) -> Result<DyadSet, SynthesisError> {
+    check(points, q, phi, theta)?;
     let f = frame(points, q);
     let ql = f.to_local(c(q));
-    let o = f.to_local(C64::default());
+    let rows = rows_1(points, ql, phi, theta, &f);
+    Ok(DyadSet::from_solutions(&solve(&rows), &rows, &f, |x, y| (ql + x, ql + x + y)))
+}
+
+fn dyad_2_with(
+    points: &[[f64; 2]],
+    o: [f64; 2],
+    phi: &[f64],
+    theta: &[f64],
+    solve: impl Fn(&[DyadRow; 4]) -> Solutions,
+) -> Result<DyadSet, SynthesisError> {
+    check(points, o, phi, theta)?;
+    let f = frame(points, o);
+    let ol = f.to_local(c(o));
     let p1 = f.to_local(c(points[0]));
-    let r1 = rows_1(points, ql, phi, theta, &f);
-    let r2 = rows_2(points, phi, theta, &f);
-    let one = DyadSet::from_solutions(&solve_by_resultant(&r1), &r1, &f, |x, y| (ql + x, ql + x + y));
-    let two = DyadSet::from_solutions(&solve_by_resultant(&r2), &r2, &f, |x, y| (o + y, p1 + x));
-    Ok([one, two])
+    let rows = rows_2(points, ol, phi, theta, &f);
+    Ok(DyadSet::from_solutions(&solve(&rows), &rows, &f, |x, y| (ol + y, p1 + x)))
 }
