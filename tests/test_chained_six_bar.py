@@ -127,6 +127,13 @@ def test_known_six_bars_are_recovered_by_the_general_call(seed: int) -> None:
     assert np.allclose(best.coupler_angles, data["coupler_angles"] - data["coupler_angles"][0])
     names = [p[0] for p in best.model().compile()._core.points]
     assert "P" in names and "coupler" in best.model().compile().body_names
+    # the pictures' targets: the swept P passes every precision point, and is there at the
+    # design's time of each with the prescribed coupler rotation
+    dev = best.deviation()
+    assert dev.reached is not None and dev.reached.all()
+    assert dev.at_position is not None and dev.at_position.max() < 1e-9 * max(best.lengths.values())
+    assert dev.angle_error is not None and np.abs(dev.angle_error).max() < 1e-9
+    assert dev.nearest.max() <= dev.at_position.max() + 1e-12
     # the elimination recovers it too, and every real dyad it finds is one of the homotopy's
     other = _call(data, method="resultant")
     assert min(_recovered(d, data["truth"]) for d in other.designs) < 1e-9

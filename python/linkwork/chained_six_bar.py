@@ -28,6 +28,7 @@ from . import synthesis as S
 from .errors import SingularError, SolveError, SynthesisError
 from .mechanism import Mechanism
 from .motion import Linear, Spline
+from .targets import DesignPictures
 
 __all__ = [
     "ChainedSixBarDesign",
@@ -157,7 +158,7 @@ class SixBarDefects:
 
 
 @dataclass
-class ChainedSixBarDesign:
+class ChainedSixBarDesign(DesignPictures):
     """One chained six-bar: dyad 1 (``a1`` on the input link QA, ``b1`` on the coupler)
     and dyad 2 (``d1`` on the coupler, ``c1`` on the link DC), with the input pivot ``q``
     and the output pivot ``o``, all at position 1; ``p``: the coupler point at position
@@ -212,6 +213,14 @@ class ChainedSixBarDesign:
         t[0] = 0.0
         k = np.argsort(t, kind="stable")
         return direction, np.append(t[k], 2.0 * math.pi), np.append(self.coupler_angles[k], 0.0)
+
+    def precision_times(self) -> np.ndarray:
+        """The time of `model` (omega 1) at each precision position, in the positions'
+        order: the input's rotation from position 1 the schedule's way, in [0, 2 pi)."""
+        direction, _, _ = self.schedule()
+        t = np.mod(direction * (self.input_angles - self.input_angles[0]), 2.0 * math.pi)
+        t[0] = 0.0
+        return t
 
     def model(self, name: str = "chained six-bar", omega: float = 1.0) -> Mechanism:
         """The design as a linkwork mechanism at position 1: bodies "QA", "AB",
