@@ -76,7 +76,7 @@ pub fn dyad_1(
     let f = frame(points, q);
     let ql = f.to_local(c(q));
     let rows = rows_1(points, ql, phi, theta, &f);
-    Ok(DyadSet::from_solutions(&solve_rows(&rows), &rows, &f, |x, y| (ql + x, ql + x + y)))
+    Ok(DyadSet::from_solutions(&solve_rows(&rows)?, &rows, &f, |x, y| (ql + x, ql + x + y)))
 }
 
 /// Every dyad 2 (C_1, D_1), by parameter homotopy.
@@ -86,7 +86,7 @@ pub fn dyad_2(points: &[[f64; 2]], phi: &[f64], theta: &[f64]) -> Result<DyadSet
     let o = f.to_local(C64::default());
     let p1 = f.to_local(c(points[0]));
     let rows = rows_2(points, phi, theta, &f);
-    Ok(DyadSet::from_solutions(&solve_rows(&rows), &rows, &f, |x, y| (o + y, p1 + x)))
+    Ok(DyadSet::from_solutions(&solve_rows(&rows)?, &rows, &f, |x, y| (o + y, p1 + x)))
 }
 
 /// Both dyads' real solutions by elimination: the independent cross-check.
@@ -103,7 +103,7 @@ pub fn dyads_by_resultant(
     let p1 = f.to_local(c(points[0]));
     let r1 = rows_1(points, ql, phi, theta, &f);
     let r2 = rows_2(points, phi, theta, &f);
-    let one = DyadSet::from_solutions(&solve_by_resultant(&r1), &r1, &f, |x, y| (ql + x, ql + x + y));
-    let two = DyadSet::from_solutions(&solve_by_resultant(&r2), &r2, &f, |x, y| (o + y, p1 + x));
+    let one = DyadSet::from_solutions(&solve_by_resultant(&r1)?, &r1, &f, |x, y| (ql + x, ql + x + y));
+    let two = DyadSet::from_solutions(&solve_by_resultant(&r2)?, &r2, &f, |x, y| (o + y, p1 + x));
     Ok([one, two])
 }
