@@ -20,11 +20,11 @@ use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use linkwork_homotopy::random::Rng;
-
-use super::{check_scale, coincide, Frame, SynthesisError};
 use linkwork_homotopy::{
     solve_parameter, track_parameter, Affine, AlphaTest, Options, Polynomial, Root, Solutions, System, C64,
 };
+
+use super::{check_scale, coincide, Frame, SynthesisError};
 
 pub const N_VARS: usize = 24;
 pub const N_PARAMS: usize = 16;
