@@ -356,3 +356,7 @@ def test_bad_input_is_named() -> None:
         _call({**problem, "input_angles": [0.0, -45.0, -90.0, -150.0, 210.0]}, angles="deg")
     with pytest.raises(SynthesisError, match="output pivot O"):
         S.dyads("chain2", points=problem["points"], input_angles=[0, 1, 2, 3, 4], coupler_angles=[0] * 5)
+    # data no frame brings to unit size: refused by name, not solved in overflowing units
+    huge = {**problem, "points": (np.array(problem["points"]) * 1e300).tolist()}
+    with pytest.raises(SynthesisError, match="cannot be scaled"):
+        _call({**huge, "input_pivot": [-3.7e300, 12.9e300]}, angles="deg")

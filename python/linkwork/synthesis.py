@@ -753,8 +753,9 @@ class FunctionFourBar:
 class NinePointResult:
     """Alt's nine-point problem at one instance: ``classes`` roots found (1442 for
     generic points), of which ``physical_classes`` are real four-bars, each giving three
-    Roberts cognates as ``designs`` (screened, sorted by `MERIT`); ``paths``, ``failed``,
-    ``at_infinity``, ``singular``, ``duplicates``: what the 1442 paths did;
+    Roberts cognates as ``designs`` (screened, sorted by `MERIT`); ``paths``, ``failed``
+    (of which ``over_budget``: stopped by the step or time budget of a nearly degenerate
+    instance), ``at_infinity``, ``singular``, ``duplicates``: what the 1442 paths did;
     ``certified``: roots passing the alpha test; ``seconds``: the homotopy's wall time."""
 
     points: np.ndarray
@@ -764,6 +765,7 @@ class NinePointResult:
     physical_classes: int
     paths: int
     failed: int
+    over_budget: int
     at_infinity: int
     singular: int
     duplicates: int
@@ -775,7 +777,8 @@ class NinePointResult:
         lines = [
             "Alt's nine-point path synthesis:",
             f"  {self.paths} paths in {self.seconds:.2f} s: {self.classes} classes of roots "
-            f"({self.certified} certified, distinct: {self.distinct}), {self.failed} failed, "
+            f"({self.certified} certified, distinct: {self.distinct}), {self.failed} failed "
+            f"({self.over_budget} over budget), "
             f"{self.at_infinity} at infinity, {self.singular} singular, {self.duplicates} duplicates; "
             f"largest backward error {self.max_residual:.1e}",
             f"  {self.physical_classes} real four-bars (classes), "
@@ -789,16 +792,18 @@ class NinePointResult:
         return "\n".join(lines)
 
 
-def nine_points(points: Any, screen: bool = True) -> NinePointResult:
+def nine_points(points: Any, screen: bool = True, seconds: float = 30.0) -> NinePointResult:
     """Alt's problem: every four-bar whose coupler curve passes through the nine
     ``points`` (9 x 2), by parameter homotopy from the shipped start set of 1442 generic
     classes (docs/synthesis.md says how it was made). Each real four-bar comes with its
     two Roberts cognates; with ``screen``, each design is swept by the engine (is every
-    point reached, in order, on one circuit?) and the list sorted by `MERIT`."""
+    point reached, in order, on one circuit?) and the list sorted by `MERIT`. A generic
+    instance takes a few seconds; a nearly degenerate one stops after ``seconds``, its
+    unfinished paths counted as failed and ``over_budget``."""
     pts = _array(points, "points", 2)
     if len(pts) != 9:
         raise SynthesisError(f"Alt's problem takes exactly 9 points; got {len(pts)}")
-    raw = _core.synth_alt(pts.ravel().tolist())
+    raw = _core.synth_alt(pts.ravel().tolist(), seconds=float(seconds))
     designs = []
     for k in range(len(raw["class"])):
         a, b = _alt_dyads(raw, k, pts)
@@ -825,6 +830,7 @@ def nine_points(points: Any, screen: bool = True) -> NinePointResult:
         raw["physical_classes"],
         raw["paths"],
         raw["failed"],
+        raw["over_budget"],
         raw["at_infinity"],
         raw["singular"],
         raw["duplicates"],

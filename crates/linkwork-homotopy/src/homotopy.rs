@@ -344,6 +344,8 @@ impl StartHomotopy {
         if system.n_params != 0 {
             return Err(SystemError::ParameterCount { expected: 0, got: system.n_params });
         }
+        // the fields are public: a system built by hand is checked here, not mid-track
+        system.validate()?;
         groups.validate(system.n_vars)?;
         let degrees = groups.degrees(system);
         let proj = Projective::new(system.n_vars, groups, rng);
@@ -431,13 +433,18 @@ impl ParameterHomotopy {
                 return Err(SystemError::ParameterCount { expected: family.n_params, got: p.len() });
             }
         }
+        for p in [&p0, &p1] {
+            if let Some(index) = p.iter().position(|z| !(z.re.is_finite() && z.im.is_finite())) {
+                return Err(SystemError::NotFiniteParameter { index });
+            }
+        }
         groups.validate(family.n_vars)?;
         let proj = Projective::new(family.n_vars, groups, rng);
         let dim = proj.dim();
         let lifted = proj.lift(family);
         let mut polys = Vec::with_capacity(lifted.len());
         let mut t_polys: Vec<Vec<C64>> = Vec::new();
-        for poly in &lifted {
+        for (index, poly) in lifted.iter().enumerate() {
             let mut terms: Vec<Term> = Vec::new();
             let mut tp: Vec<Vec<C64>> = Vec::new();
             for term in &poly.terms {
@@ -470,6 +477,10 @@ impl ParameterHomotopy {
                         tp.push(coeff_t);
                     }
                 }
+            }
+            // finite parameters can still overflow a coefficient's polynomial in t
+            if tp.iter().flatten().any(|c| !(c.re.is_finite() && c.im.is_finite())) {
+                return Err(SystemError::NotFinite { poly: index });
             }
             polys.push(Polynomial { terms });
             t_polys.extend(tp);

@@ -113,6 +113,8 @@ pub enum SystemError {
     ConstantPolynomial { poly: usize },
     #[error("coefficient of polynomial {poly} is not finite")]
     NotFinite { poly: usize },
+    #[error("parameter {index} is not finite")]
+    NotFiniteParameter { index: usize },
     #[error("variable groups must partition the {n_vars} unknowns exactly once: {why}")]
     BadGroups { n_vars: usize, why: String },
     #[error("expected {expected} parameter values, got {got}")]
@@ -126,7 +128,7 @@ impl System {
         Ok(system)
     }
 
-    fn validate(&self) -> Result<(), SystemError> {
+    pub(crate) fn validate(&self) -> Result<(), SystemError> {
         if self.polys.len() != self.n_vars {
             return Err(SystemError::NotSquare { n_polys: self.polys.len(), n_vars: self.n_vars });
         }
@@ -160,7 +162,10 @@ impl System {
         if p.len() != self.n_params {
             return Err(SystemError::ParameterCount { expected: self.n_params, got: p.len() });
         }
-        let polys = self
+        if let Some(index) = p.iter().position(|z| !(z.re.is_finite() && z.im.is_finite())) {
+            return Err(SystemError::NotFiniteParameter { index });
+        }
+        let polys: Vec<Polynomial> = self
             .polys
             .iter()
             .map(|poly| {
@@ -184,6 +189,12 @@ impl System {
                 Polynomial { terms }
             })
             .collect();
+        // finite parameters can still overflow a coefficient (a product of large ones)
+        let overflow =
+            |p: &Polynomial| p.terms.iter().any(|t| !(t.coeff.re.is_finite() && t.coeff.im.is_finite()));
+        if let Some(poly) = polys.iter().position(overflow) {
+            return Err(SystemError::NotFinite { poly });
+        }
         Ok(System { n_vars: self.n_vars, n_params: 0, polys })
     }
 

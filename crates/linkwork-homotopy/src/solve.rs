@@ -64,6 +64,9 @@ pub struct Solutions {
     pub singular: Vec<Vec<C64>>,
     /// Paths that stopped before t = 1.
     pub failed: usize,
+    /// Of the failed paths, those over budget (`TrackOptions::max_steps` or `deadline`;
+    /// the others stopped at the smallest step).
+    pub over_budget: usize,
     /// Paths that reached a root another path already reached (path jumping when the
     /// start count is the generic root count).
     pub duplicates: usize,
@@ -87,7 +90,7 @@ pub fn solve(system: &System, groups: Option<Groups>, opts: &Options) -> Result<
     let hom = StartHomotopy::new(system, groups, &mut rng)?;
     let starts = hom.start.roots(&hom.proj);
     let ends = track_all(&hom, &hom.proj, &starts, opts);
-    Ok(collect(&hom.proj, Affine::new(system.clone()), ends, opts))
+    collect(&hom.proj, Affine::new(system.clone()), ends, opts)
 }
 
 /// The parameter homotopy along the straight segment p0 -> p1, on the patch of `seed`.
@@ -173,7 +176,7 @@ pub fn solve_parameter(
         }
     }
     let target = family.specialize(p1)?;
-    Ok(collect(&hom.proj, Affine::new(target), ends, opts))
+    collect(&hom.proj, Affine::new(target), ends, opts)
 }
 
 /// Paths whose finite endpoint another path also reached (every member of each group).
@@ -293,11 +296,11 @@ fn collect(
     affine: Affine,
     ends: Vec<PathEnd>,
     opts: &Options,
-) -> Solutions {
+) -> Result<Solutions, SystemError> {
     let mut out = Solutions { paths: ends.len(), ..Default::default() };
-    let patch = Affine::new(
-        System::new(proj.dim(), 0, proj.lift(&affine.system)).expect("the lifted system is square"),
-    );
+    // the lifted target is square when the target is; it is refused (not a panic) when
+    // a coefficient is not finite or a polynomial constant
+    let patch = Affine::new(System::new(proj.dim(), 0, proj.lift(&affine.system))?);
     for (path, end) in ends.into_iter().enumerate() {
         out.steps += end.steps;
         out.rejected += end.rejected;
@@ -308,6 +311,7 @@ fn collect(
         }
         if end.status == PathStatus::Failed {
             out.failed += 1;
+            out.over_budget += end.out_of_steps as usize;
             continue;
         }
         affine.newton(&mut x, 12);
@@ -316,7 +320,7 @@ fn collect(
             Err(x) => out.singular.push(x),
         }
     }
-    finish(out)
+    Ok(finish(out))
 }
 
 /// Certify candidate roots found some other way (an elimination, a closed form): each is

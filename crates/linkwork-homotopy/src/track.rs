@@ -1,6 +1,8 @@
 //! Predictor-corrector path tracking: RK4 on dy/dt = -H_y^{-1} H_t, Newton back onto the
 //! path, step doubled after consecutive easy steps and halved on any doubt.
 
+use std::time::Instant;
+
 use num_complex::Complex64 as C64;
 
 use crate::homotopy::{Homotopy, Workspace};
@@ -25,6 +27,10 @@ pub struct TrackOptions {
     /// Largest first Newton correction accepted, relative to 1 + |y|: the prediction
     /// must land this close to the path.
     pub max_correction: f64,
+    /// Wall-clock limit: a path still running then stops as failed (over budget), so
+    /// that a degenerate instance with many paths, retracks and detours ends in bounded
+    /// time. None: no limit.
+    pub deadline: Option<Instant>,
 }
 
 impl Default for TrackOptions {
@@ -38,6 +44,7 @@ impl Default for TrackOptions {
             initial_step: 0.05,
             grow_after: 2,
             max_correction: 1e-2,
+            deadline: None,
         }
     }
 }
@@ -64,6 +71,9 @@ pub struct PathEnd {
     /// Endgame samples: (1 - t, y) at the first accepted step past each 1 - t = 10^-k,
     /// k >= 2. Paths to infinity or to singular roots are judged from them.
     pub samples: Vec<(f64, Vec<C64>)>,
+    /// Failed because it spent `max_steps` or reached the deadline (not because the step
+    /// fell below `min_step`).
+    pub out_of_steps: bool,
 }
 
 /// Decides from the endgame samples whether the path may stop early (its endpoint is
@@ -184,8 +194,11 @@ pub fn track(hom: &dyn Homotopy, y0: &[C64], opts: &TrackOptions, endgame: Endga
     // k[0] already holds dy/dt at (y, t)
     let mut have_tangent = false;
     while t < 1.0 {
-        if steps + rejected >= opts.max_steps || dt < opts.min_step {
-            return finish(hom, &mut b, y, t, PathStatus::Failed, steps, rejected, samples);
+        let late = opts.deadline.is_some_and(|d| Instant::now() >= d);
+        if steps + rejected >= opts.max_steps || dt < opts.min_step || late {
+            let mut end = finish(hom, &mut b, y, t, PathStatus::Failed, steps, rejected, samples);
+            end.out_of_steps = steps + rejected >= opts.max_steps || late;
+            return end;
         }
         if 1.0 - t <= next_sample {
             samples.push((1.0 - t, y.clone()));
@@ -283,5 +296,5 @@ fn finish(
     if status == PathStatus::Singular && pivot_ratio > 1e-8 {
         status = PathStatus::Reached;
     }
-    PathEnd { y, t, status, steps, rejected, pivot_ratio, samples }
+    PathEnd { y, t, status, steps, rejected, pivot_ratio, samples, out_of_steps: false }
 }

@@ -178,45 +178,59 @@ pub(crate) fn synth_start_set() -> (usize, usize, usize) {
 /// by parameter homotopy from the shipped start set; the real four-bars with their
 /// coupler rotations. `hatted` (flat 9 x 2, each pair a complex number) replaces the
 /// points' conjugates: a complex instance, whose roots are counted but none is a
-/// four-bar.
+/// four-bar. `seconds`: the wall-time budget; paths still running then count as failed
+/// and over budget.
 #[pyfunction]
-#[pyo3(signature = (points, hatted=None))]
+#[pyo3(signature = (points, hatted=None, seconds=30.0))]
 pub(crate) fn synth_alt<'py>(
     py: Python<'py>,
     points: Vec<f64>,
     hatted: Option<Vec<f64>>,
+    seconds: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     use linkwork::synthesis::alt;
     use num_complex::Complex64 as C64;
-    let bad = |v: &[f64]| v.len() != 18 || v.iter().any(|x| !x.is_finite());
-    if bad(&points) || hatted.as_deref().is_some_and(bad) {
+    let complex = |v: &[f64]| -> Vec<C64> { v.chunks_exact(2).map(|c| C64::new(c[0], c[1])).collect() };
+    if points.len() != 18 || hatted.as_ref().is_some_and(|h| h.len() != 18) {
         return Err(err(SynthesisError::Count {
             problem: "Alt's nine-point path synthesis",
             got: points.len() / 2,
-            want: "exactly 9 finite points".into(),
+            want: "exactly 9 points".into(),
         }));
     }
-    let pts: [C64; 9] = std::array::from_fn(|k| C64::new(points[2 * k], points[2 * k + 1]));
-    for i in 0..9 {
-        for j in i + 1..9 {
-            if (pts[i] - pts[j]).norm() <= 1e-9 * (1.0 + pts[i].norm()) {
-                return Err(err(SynthesisError::Coincident { what: "points", i: i + 1, j: j + 1 }));
-            }
+    let listed = complex(&points);
+    let frame = alt::check_points(&listed).map_err(err)?;
+    let pts: [C64; 9] = std::array::from_fn(|k| listed[k]);
+    let hat = match &hatted {
+        Some(h) => {
+            let hat = complex(h);
+            syn::check_scale("the hatted points", &hat).map_err(err)?;
+            Some(hat)
         }
+        None => None,
+    };
+    if !(seconds > 0.0 && seconds <= 1e9) {
+        return Err(err(SynthesisError::Degenerate(format!(
+            "the time budget must be positive seconds, not {seconds}"
+        ))));
     }
+    let budget = std::time::Duration::from_secs_f64(seconds);
     let started = std::time::Instant::now();
     let out = py.detach(|| {
-        guard("solving Alt's nine-point problem", || match &hatted {
-            None => alt::four_bars(&pts, alt::shipped()),
-            Some(h) => {
-                let hat: [C64; 9] = std::array::from_fn(|k| C64::new(h[2 * k], h[2 * k + 1]));
-                let p1: Vec<C64> =
-                    (1..9).map(|j| pts[j] - pts[0]).chain((1..9).map(|j| hat[j] - hat[0])).collect();
-                let solutions = alt::solve_params(&p1, alt::shipped());
-                alt::AltResult { solutions, physical_classes: 0, four_bars: vec![] }
+        guard("solving Alt's nine-point problem", || match &hat {
+            None => alt::four_bars(&pts, alt::shipped(), budget),
+            Some(hat) => {
+                // the complex instance in the points' local units (roots are only counted)
+                let p1: Vec<C64> = (1..9)
+                    .map(|j| (pts[j] - pts[0]) / frame.scale)
+                    .chain((1..9).map(|j| (hat[j] - hat[0]) / frame.scale))
+                    .collect();
+                let solutions = alt::solve_params(&p1, alt::shipped(), budget)?;
+                Ok(alt::AltResult { solutions, physical_classes: 0, four_bars: vec![] })
             }
         })
     })?;
+    let out = out.map_err(err)?;
     let seconds = started.elapsed().as_secs_f64();
     let d = PyDict::new(py);
     let s = &out.solutions;
@@ -225,6 +239,7 @@ pub(crate) fn synth_alt<'py>(
     d.set_item("certified", s.roots.iter().filter(|r| r.certified).count())?;
     d.set_item("distinct", s.distinct)?;
     d.set_item("failed", s.failed)?;
+    d.set_item("over_budget", s.over_budget)?;
     d.set_item("at_infinity", s.at_infinity)?;
     d.set_item("singular", s.singular.len())?;
     d.set_item("duplicates", s.duplicates)?;

@@ -19,7 +19,7 @@ fn main() {
         let mut rng = Rng::new(seed);
         let p1: Vec<C64> = (0..alt::N_PARAMS).map(|_| rng.complex_normal()).collect();
         let t = std::time::Instant::now();
-        let s = alt::solve_params(&p1, start);
+        let s = alt::solve_params(&p1, start, alt::WALL_BUDGET).expect("random finite parameters");
         let elapsed = t.elapsed().as_secs_f64();
         let certified = s.roots.iter().filter(|r| r.certified).count();
         println!(

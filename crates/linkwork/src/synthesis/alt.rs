@@ -17,11 +17,14 @@
 
 use std::collections::HashMap;
 use std::sync::OnceLock;
+use std::time::{Duration, Instant};
 
 use linkwork_homotopy::random::Rng;
 use linkwork_homotopy::{
     solve_parameter, track_parameter, Affine, AlphaTest, Options, Polynomial, Root, Solutions, System, C64,
 };
+
+use super::{check_scale, coincide, Frame, SynthesisError};
 
 pub const N_VARS: usize = 24;
 pub const N_PARAMS: usize = 16;
@@ -370,25 +373,35 @@ pub fn shipped() -> &'static StartSet {
 }
 
 /// All classes of four-bars through nine points, by parameter homotopy from a start set.
-pub fn solve_points(points: &[C64; 9], start: &StartSet) -> Solutions {
-    solve_params(&params(points), start)
+pub fn solve_points(
+    points: &[C64; 9],
+    start: &StartSet,
+    budget: Duration,
+) -> Result<Solutions, SynthesisError> {
+    solve_params(&params(points), start, budget)
 }
 
 /// All classes at any parameters p1 = (d_1..d_8, d^_1..d^_8): a complex instance when d^
 /// is not the conjugate of d (then no root is a physical four-bar).
+///
+/// `budget` bounds the wall time (`WALL_BUDGET` by default): paths still running then
+/// stop and count as failed and over budget.
 ///
 /// Every class has exactly one path, so two roots in one orbit (a path that jumped to a
 /// cognate or the swap of another class's root, which the homotopy alone cannot see)
 /// send both paths round again: four times more carefully, then (twice at most) round a
 /// random complex midpoint; `distinct` then also says that the roots lie in pairwise
 /// different orbits.
-pub fn solve_params(p1: &[C64], start: &StartSet) -> Solutions {
+pub fn solve_params(p1: &[C64], start: &StartSet, budget: Duration) -> Result<Solutions, SynthesisError> {
+    let deadline = Instant::now() + budget;
+    let options = || options(deadline);
     let starts: Vec<Vec<C64>> = start.classes.iter().filter_map(|v| complete(v, &start.p0)).collect();
-    let mut sol = solve_parameter(family(), &start.p0, &starts, p1, &options()).expect("parameter count");
+    let mut sol = solve_parameter(family(), &start.p0, &starts, p1, &options())?;
     let mut rng = Rng::new(0xa17_0de7);
     for round in 0..3 {
         let met = same_orbit(&sol);
-        if met.is_empty() {
+        // past the deadline every retrack would fail at once: keep what was found
+        if met.is_empty() || Instant::now() >= deadline {
             break;
         }
         let from: Vec<Vec<C64>> = met.iter().map(|&k| starts[k].clone()).collect();
@@ -397,15 +410,15 @@ pub fn solve_params(p1: &[C64], start: &StartSet) -> Solutions {
             careful.track.max_correction /= 4.0;
             careful.track.max_step /= 4.0;
             careful.track.initial_step /= 4.0;
-            solve_parameter(family(), &start.p0, &from, p1, &careful).expect("parameter count")
+            solve_parameter(family(), &start.p0, &from, p1, &careful)?
         } else {
             // round a random complex midpoint: another path between the same ends
             let size = (p1.iter().map(|z| z.norm_sqr()).sum::<f64>() / p1.len() as f64).sqrt();
             let pm: Vec<C64> = p1.iter().map(|z| z + rng.complex_normal() * size).collect();
-            let mids = track_parameter(family(), &start.p0, &from, &pm, &options()).expect("parameter count");
+            let mids = track_parameter(family(), &start.p0, &from, &pm, &options())?;
             let kept: Vec<usize> = (0..mids.len()).filter(|&i| mids[i].is_some()).collect();
             let mids: Vec<Vec<C64>> = mids.into_iter().flatten().collect();
-            let mut s = solve_parameter(family(), &pm, &mids, p1, &options()).expect("parameter count");
+            let mut s = solve_parameter(family(), &pm, &mids, p1, &options())?;
             s.roots.iter_mut().for_each(|r| r.path = kept[r.path]);
             s
         };
@@ -417,9 +430,11 @@ pub fn solve_params(p1: &[C64], start: &StartSet) -> Solutions {
         candidate.roots.sort_by_key(|r| r.path);
         candidate.steps += again.steps;
         candidate.rejected += again.rejected;
-        if same_orbit(&candidate).len() < met.len() {
+        // (and not when the deadline cut the round short: its failed paths would drop roots)
+        if again.over_budget == 0 && same_orbit(&candidate).len() < met.len() {
             candidate.at_infinity += again.at_infinity;
             candidate.failed += again.failed;
+            candidate.over_budget += again.over_budget;
             candidate.singular.extend(again.singular);
             sol = candidate;
         } else {
@@ -428,14 +443,27 @@ pub fn solve_params(p1: &[C64], start: &StartSet) -> Solutions {
         }
     }
     sol.distinct = sol.distinct && same_orbit(&sol).is_empty();
-    sol
+    Ok(sol)
 }
 
 /// Every class of a generic instance is finite, but some are four-bars 10^5 times the
 /// points' spread: the endgame judges a path at infinity only below 3e-5 of its size.
-fn options() -> Options {
-    Options { infinity: 1e-12, ..Options::default() }
+/// A path of a generic instance takes about 75 steps (points in unit size); near a
+/// degenerate instance (nearly collinear points) paths wander and are retracked and
+/// detoured, for minutes. So each path has `STEP_BUDGET` (its careful retrack four times
+/// that) and the instance `WALL_BUDGET`: a path over either counts as failed
+/// (`Solutions::over_budget`) and the instance reports what it found.
+fn options(deadline: Instant) -> Options {
+    let mut opts = Options { infinity: 1e-12, ..Options::default() };
+    opts.track.max_steps = STEP_BUDGET;
+    opts.track.deadline = Some(deadline);
+    opts
 }
+
+/// Steps (accepted plus rejected) one path may take: 25 times a generic path's.
+pub const STEP_BUDGET: usize = 2_000;
+/// Wall time of one instance by default: ten times a generic instance's on two cores.
+pub const WALL_BUDGET: Duration = Duration::from_secs(30);
 
 /// Paths (start indices) whose root lies in the orbit of another path's root.
 fn same_orbit(sol: &Solutions) -> Vec<usize> {
@@ -514,6 +542,49 @@ mod tests {
     }
 }
 
+/// Most points a four-bar's coupler curve has on one line: the curve has degree 6 and is
+/// bounded (every point lies within crank plus coupler-point distance of a ground pivot),
+/// so it holds no line and meets one in at most 6 points (Bezout).
+pub const MOST_ON_A_LINE: usize = 6;
+
+/// The frame of nine points, or why no four-bar passes through them: not finite, out of
+/// scale, two coincident, or more than `MOST_ON_A_LINE` on one line (then the instance
+/// is degenerate and its paths wander for minutes; refused at once).
+pub fn check_points(points: &[C64]) -> Result<Frame, SynthesisError> {
+    if points.len() != 9 {
+        return Err(SynthesisError::Count {
+            problem: "Alt's nine-point path synthesis",
+            got: points.len(),
+            want: "exactly 9 points".into(),
+        });
+    }
+    let frame = check_scale("the nine points", points)?;
+    for i in 0..9 {
+        for j in i + 1..9 {
+            if coincide(points[i], points[j], &frame) {
+                return Err(SynthesisError::Coincident { what: "points", i: i + 1, j: j + 1 });
+            }
+        }
+    }
+    // the line through each pair; points within 1e-9 of the data's size of it count
+    let local: Vec<C64> = points.iter().map(|&p| frame.to_local(p)).collect();
+    for i in 0..9 {
+        for j in i + 1..9 {
+            let dir = (local[j] - local[i]) / (local[j] - local[i]).norm();
+            let on: Vec<usize> =
+                (0..9).filter(|&k| ((local[k] - local[i]) * dir.conj()).im.abs() <= 1e-9).collect();
+            if on.len() > MOST_ON_A_LINE {
+                let list: Vec<String> = on.iter().map(|k| (k + 1).to_string()).collect();
+                return Err(SynthesisError::Degenerate(format!(
+                    "points {} lie on one line: a four-bar's coupler curve (degree 6) meets a line in at most {MOST_ON_A_LINE} points, so no four-bar passes through them",
+                    list.join(", ")
+                )));
+            }
+        }
+    }
+    Ok(frame)
+}
+
 /// A real four-bar from a physical root: ground pivots P_0 + a and P_0 + b, crank pins
 /// P_0 + x and P_0 + y at position 0, coupler rotations arg(1 + g_j) at positions 1..8.
 #[derive(Clone, Debug, PartialEq)]
@@ -537,8 +608,27 @@ pub struct AltResult {
     pub four_bars: Vec<AltFourBar>,
 }
 
-pub fn four_bars(points: &[C64; 9], start: &StartSet) -> AltResult {
-    let solutions = solve_points(points, start);
+/// Every real four-bar through nine points (world units): the points are checked
+/// (`check_points`) and solved centred and scaled to unit size.
+pub fn four_bars(points: &[C64; 9], start: &StartSet, budget: Duration) -> Result<AltResult, SynthesisError> {
+    let frame = check_points(points)?;
+    let local: [C64; 9] = std::array::from_fn(|k| frame.to_local(points[k]));
+    let mut out = four_bars_local(&local, start, budget)?;
+    for f in &mut out.four_bars {
+        for z in [&mut f.ground_a, &mut f.moving_a, &mut f.ground_b, &mut f.moving_b] {
+            *z = frame.to_world(*z);
+        }
+    }
+    Ok(out)
+}
+
+/// `four_bars` on points already in local units.
+fn four_bars_local(
+    points: &[C64; 9],
+    start: &StartSet,
+    budget: Duration,
+) -> Result<AltResult, SynthesisError> {
+    let solutions = solve_points(points, start, budget)?;
     let p = params(points);
     let mut four_bars = Vec::new();
     let mut physical_classes = 0;
@@ -560,7 +650,7 @@ pub fn four_bars(points: &[C64; 9], start: &StartSet) -> AltResult {
             });
         }
     }
-    AltResult { solutions, physical_classes, four_bars }
+    Ok(AltResult { solutions, physical_classes, four_bars })
 }
 
 #[cfg(test)]

@@ -14,6 +14,8 @@ use std::sync::OnceLock;
 
 use linkwork_homotopy::{solve, solve_parameter, Options, Polynomial, Solutions, System, C64};
 
+use super::SynthesisError;
+
 /// One row of the dyad system.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DyadRow {
@@ -89,16 +91,16 @@ pub fn start_set() -> &'static StartSet {
 }
 
 /// All isolated roots of one instance, by parameter homotopy from the start set.
-pub fn solve_rows(rows: &[DyadRow; 4]) -> Solutions {
+/// Refused (not a panic) when a row's parameters are not finite or a row vanishes.
+pub fn solve_rows(rows: &[DyadRow; 4]) -> Result<Solutions, SynthesisError> {
     let start = start_set();
     let p1 = params(rows);
     let opts = tracking();
-    let first = solve_parameter(family(), &start.p0, &start.roots, &p1, &opts)
-        .expect("parameter count matches the family");
+    let first = solve_parameter(family(), &start.p0, &start.roots, &p1, &opts)?;
     // an instance (|sigma_j| = 1) sends exactly one of the 5 generic paths to infinity
     // unless it is special; more means a path to a finite root was taken for one
     if first.duplicates == 0 && first.failed == 0 && first.singular.is_empty() && first.at_infinity <= 1 {
-        return first;
+        return Ok(first);
     }
     // two paths met (one jumped), one was lost, or one more went to infinity: track again,
     // ten times more carefully, from another patch; keep whichever found more roots
@@ -106,13 +108,8 @@ pub fn solve_rows(rows: &[DyadRow; 4]) -> Solutions {
     careful.seed ^= 0x0a11_0ade;
     careful.track.max_correction /= 10.0;
     careful.track.max_step /= 4.0;
-    let second = solve_parameter(family(), &start.p0, &start.roots, &p1, &careful)
-        .expect("parameter count matches the family");
-    if second.roots.len() > first.roots.len() {
-        second
-    } else {
-        first
-    }
+    let second = solve_parameter(family(), &start.p0, &start.roots, &p1, &careful)?;
+    Ok(if second.roots.len() > first.roots.len() { second } else { first })
 }
 
 /// Five paths are cheap: track them with steps that keep each prediction within 0.1 % of

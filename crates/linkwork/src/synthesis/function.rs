@@ -5,7 +5,9 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::SynthesisError;
+use num_complex::Complex64 as C64;
+
+use super::{check_scale, SynthesisError, LARGEST, SMALLEST};
 
 /// A four-bar with ground pivots (0, 0) and (d, 0): crank a, coupler b, rocker c;
 /// angles from the ground line.
@@ -49,22 +51,44 @@ fn solve3(m: Matrix3<f64>, r: Vector3<f64>, what: &str) -> Result<Vector3<f64>, 
     }
 }
 
-fn check3(n: usize, what: &'static str) -> Result<(), SynthesisError> {
-    if n != 3 {
+fn check3(input: &[f64], output: &[f64], what: &'static str) -> Result<(), SynthesisError> {
+    let n = input.len().min(output.len());
+    if n != 3 || input.len() != output.len() {
         return Err(SynthesisError::Count {
             problem: what,
             got: n,
             want: "exactly 3 precision pairs for the linear Freudenstein solve".into(),
         });
     }
+    if input.iter().chain(output).any(|v| !v.is_finite()) {
+        return Err(SynthesisError::NotFinite { what: "a precision pair".into() });
+    }
     Ok(())
+}
+
+/// A length of the result, refused when not finite or beyond the range `check_scale`
+/// allows the data (a nearly singular system gives links of any size).
+fn length(name: &str, v: f64) -> Result<f64, SynthesisError> {
+    if v.is_finite() && v.abs() <= LARGEST && v.abs() >= SMALLEST {
+        Ok(v)
+    } else {
+        Err(SynthesisError::Degenerate(format!(
+            "the pairs give a {name} of length {v:.3e}: the Freudenstein system is nearly singular"
+        )))
+    }
 }
 
 /// Four-bar through three (input, output) angle pairs, ground length d:
 /// K1 cos psi - K2 cos phi + K3 = cos(phi - psi), K1 = d/a, K2 = d/c,
 /// K3 = (a^2 - b^2 + c^2 + d^2) / (2 a c).
 pub fn four_bar(input: &[f64], output: &[f64], d: f64) -> Result<FourBar, SynthesisError> {
-    check3(input.len().min(output.len()), "Freudenstein four-bar function generation")?;
+    check3(input, output, "Freudenstein four-bar function generation")?;
+    if !(d.is_finite() && d.abs() <= LARGEST && d.abs() >= SMALLEST) {
+        return Err(SynthesisError::Unscalable {
+            what: "the ground length",
+            why: format!("{d:.3e} is not a length between {SMALLEST:.0e} and {LARGEST:.0e}"),
+        });
+    }
     let m = Matrix3::from_fn(|i, j| match j {
         0 => output[i].cos(),
         1 => -input[i].cos(),
@@ -72,14 +96,14 @@ pub fn four_bar(input: &[f64], output: &[f64], d: f64) -> Result<FourBar, Synthe
     });
     let r = Vector3::from_fn(|i, _| (input[i] - output[i]).cos());
     let k = solve3(m, r, "angle pairs")?;
-    let a = d / k[0];
-    let c = d / k[1];
+    let a = length("crank", d / k[0])?;
+    let c = length("rocker", d / k[1])?;
     let b2 = a * a + c * c + d * d - 2.0 * a * c * k[2];
     if b2 <= 0.0 {
         return Err(SynthesisError::Degenerate(format!("no real coupler: b^2 = {b2:.3e}")));
     }
     // a negative a or c is a crank pointing the other way: the lengths are the magnitudes
-    Ok(FourBar { a, b: b2.sqrt(), c, d })
+    Ok(FourBar { a, b: length("coupler", b2.sqrt())?, c, d })
 }
 
 /// Output angle of the four-bar at input phi on the branch `sign` (+1 or -1).
@@ -103,7 +127,9 @@ pub fn four_bar_output(fb: &FourBar, phi: f64, sign: f64) -> Option<f64> {
 /// Slider-crank through three (input angle, slider position) pairs:
 /// K1 s cos phi + K2 sin phi - K3 = s^2, K1 = 2a, K2 = 2ae, K3 = a^2 + e^2 - b^2.
 pub fn slider_crank(input: &[f64], position: &[f64]) -> Result<SliderCrank, SynthesisError> {
-    check3(input.len().min(position.len()), "Freudenstein slider-crank function generation")?;
+    check3(input, position, "Freudenstein slider-crank function generation")?;
+    let spots: Vec<C64> = position.iter().map(|&s| C64::new(s, 0.0)).collect();
+    check_scale("the slider positions", &spots)?;
     let m = Matrix3::from_fn(|i, j| match j {
         0 => position[i] * input[i].cos(),
         1 => input[i].sin(),
@@ -111,16 +137,16 @@ pub fn slider_crank(input: &[f64], position: &[f64]) -> Result<SliderCrank, Synt
     });
     let r = Vector3::from_fn(|i, _| position[i] * position[i]);
     let k = solve3(m, r, "(angle, position) pairs")?;
-    let a = k[0] / 2.0;
-    if a.abs() < 1e-300 {
-        return Err(SynthesisError::Degenerate("zero crank".into()));
-    }
+    let a = length("crank", k[0] / 2.0)?;
     let e = k[1] / k[0];
+    if !(e.is_finite() && e.abs() <= LARGEST) {
+        return Err(SynthesisError::Degenerate(format!("the pairs give an offset of {e:.3e}")));
+    }
     let b2 = a * a + e * e - k[2];
     if b2 <= 0.0 {
         return Err(SynthesisError::Degenerate(format!("no real coupler: b^2 = {b2:.3e}")));
     }
-    Ok(SliderCrank { a, b: b2.sqrt(), e })
+    Ok(SliderCrank { a, b: length("coupler", b2.sqrt())?, e })
 }
 
 /// Slider position at input phi on the branch `sign`.

@@ -35,8 +35,50 @@ pub enum SynthesisError {
     Coincident { what: &'static str, i: usize, j: usize },
     #[error("{what} are collinear: no circle passes through them")]
     Collinear { what: &'static str },
+    #[error("{what} cannot be scaled to unit size: {why}")]
+    Unscalable { what: &'static str, why: String },
     #[error("{0}")]
     Degenerate(String),
+    #[error("the polynomial system was refused: {0}")]
+    System(#[from] linkwork_homotopy::SystemError),
+}
+
+/// Largest coordinate (absolute) and smallest spread of a problem's data: the designs
+/// are mechanisms in the caller's units, and their lengths squared must stay within
+/// floating point's range (about 1e-308 to 1e308) with room to spare.
+pub const LARGEST: f64 = 1e150;
+pub const SMALLEST: f64 = 1e-150;
+
+/// The data's frame; refuses data that no frame brings to unit size: a coordinate beyond
+/// `LARGEST`, or points spread over less than `SMALLEST` but not all at one place (which
+/// the problems judge themselves: coincident points, or poses differing only in angle).
+pub fn check_scale(what: &'static str, points: &[C64]) -> Result<Frame, SynthesisError> {
+    if points.iter().any(|p| !(p.re.is_finite() && p.im.is_finite())) {
+        return Err(SynthesisError::NotFinite { what: what.into() });
+    }
+    let largest = points.iter().map(|p| p.re.abs().max(p.im.abs())).fold(0.0, f64::max);
+    if largest > LARGEST {
+        return Err(SynthesisError::Unscalable {
+            what,
+            why: format!(
+                "a coordinate reaches {largest:.3e}, beyond {LARGEST:.0e} (lengths squared would overflow)"
+            ),
+        });
+    }
+    let frame = Frame::fit(points.iter().copied());
+    let spread = points.iter().map(|p| (p - frame.centre).norm()).fold(0.0, f64::max);
+    if spread > 0.0 && spread < SMALLEST {
+        return Err(SynthesisError::Unscalable {
+            what,
+            why: format!("they span {spread:.3e}, below {SMALLEST:.0e} (lengths squared would underflow)"),
+        });
+    }
+    Ok(frame)
+}
+
+/// Whether two data points are one (to 1e-9 of the data's size or of their own size).
+pub fn coincide(a: C64, b: C64, frame: &Frame) -> bool {
+    (a - b).norm() <= 1e-9 * (frame.scale + a.norm().max(b.norm()))
 }
 
 /// Local units: problems are solved centred and scaled to unit size, so tolerances mean
@@ -48,10 +90,17 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// Centre and rms radius, computed without squaring a coordinate (no overflow for
+    /// data up to f64::MAX / 2, no underflow down to subnormal spreads).
     pub fn fit(points: impl Iterator<Item = C64> + Clone) -> Self {
         let n = points.clone().count().max(1) as f64;
-        let centre = points.clone().sum::<C64>() / n;
-        let rms = (points.map(|p| (p - centre).norm_sqr()).sum::<f64>() / n).sqrt();
+        let centre = points.clone().map(|p| p / n).sum::<C64>();
+        let big = points.clone().map(|p| (p - centre).norm()).fold(0.0, f64::max);
+        let rms = if big > 0.0 && big.is_finite() {
+            big * (points.map(|p| ((p - centre) / big).norm_sqr()).sum::<f64>() / n).sqrt()
+        } else {
+            big
+        };
         let scale = if rms > 0.0 && rms.is_finite() { rms } else { 1.0 };
         Frame { centre, scale }
     }

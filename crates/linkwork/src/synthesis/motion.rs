@@ -8,7 +8,7 @@ use num_complex::Complex64 as C64;
 
 use super::dyad::{residuals, solve_rows, DyadRow};
 use super::resultant::solve_by_resultant;
-use super::{Dyad, DyadSet, Frame, SynthesisError};
+use super::{check_scale, coincide, Dyad, DyadSet, Frame, SynthesisError};
 
 /// A pose of the body: reference point and orientation (rad).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,7 +24,8 @@ impl Pose {
     }
 }
 
-fn check_poses(poses: &[Pose], want: &str, ok: bool) -> Result<(), SynthesisError> {
+/// The poses' frame, or why they are refused.
+fn check_poses(poses: &[Pose], want: &str, ok: bool) -> Result<Frame, SynthesisError> {
     if !ok {
         return Err(SynthesisError::Count {
             problem: "motion generation",
@@ -37,19 +38,19 @@ fn check_poses(poses: &[Pose], want: &str, ok: bool) -> Result<(), SynthesisErro
             return Err(SynthesisError::NotFinite { what: format!("pose {}", i + 1) });
         }
     }
+    let points: Vec<C64> = poses.iter().map(Pose::point).collect();
+    let frame = check_scale("the poses' points", &points)?;
     for i in 0..poses.len() {
         for j in i + 1..poses.len() {
-            let a = &poses[i];
-            let b = &poses[j];
-            let scale = 1.0 + a.point().norm().max(b.point().norm());
+            let (a, b) = (&poses[i], &poses[j]);
             let turn = (b.angle - a.angle).rem_euclid(std::f64::consts::TAU);
             let turn = turn.min(std::f64::consts::TAU - turn);
-            if (a.point() - b.point()).norm() <= 1e-9 * scale && turn <= 1e-9 {
+            if coincide(a.point(), b.point(), &frame) && turn <= 1e-9 {
                 return Err(SynthesisError::Coincident { what: "poses", i: i + 1, j: j + 1 });
             }
         }
     }
-    Ok(())
+    Ok(frame)
 }
 
 /// Rows of the dyad system for poses 2..5 against pose 1, in the frame's local units.
@@ -68,23 +69,21 @@ pub fn rows(poses: &[Pose; 5], frame: &Frame) -> [DyadRow; 4] {
 
 /// Five-pose Burmester synthesis: every dyad guiding the body through the five poses.
 pub fn burmester(poses: &[Pose]) -> Result<DyadSet, SynthesisError> {
-    check_poses(poses, "exactly 5 poses for the Burmester dyads", poses.len() == 5)?;
+    let frame = check_poses(poses, "exactly 5 poses for the Burmester dyads", poses.len() == 5)?;
     let poses: &[Pose; 5] = poses.try_into().expect("length checked");
-    let frame = Frame::fit(poses.iter().map(Pose::point));
     let rows = rows(poses, &frame);
-    let sol = solve_rows(&rows);
+    let sol = solve_rows(&rows)?;
     let p1 = frame.to_local(poses[0].point());
     Ok(DyadSet::from_solutions(&sol, &rows, &frame, |x, y| (p1 + x - y, p1 + x)))
 }
 
 /// The same dyads by elimination (resultant.rs): the independent cross-check.
 pub fn burmester_by_resultant(poses: &[Pose]) -> Result<DyadSet, SynthesisError> {
-    check_poses(poses, "exactly 5 poses for the Burmester dyads", poses.len() == 5)?;
+    let frame = check_poses(poses, "exactly 5 poses for the Burmester dyads", poses.len() == 5)?;
     let poses: &[Pose; 5] = poses.try_into().expect("length checked");
-    let frame = Frame::fit(poses.iter().map(Pose::point));
     let rows = rows(poses, &frame);
     let p1 = frame.to_local(poses[0].point());
-    Ok(DyadSet::from_solutions(&solve_by_resultant(&rows), &rows, &frame, |x, y| (p1 + x - y, p1 + x)))
+    Ok(DyadSet::from_solutions(&solve_by_resultant(&rows)?, &rows, &frame, |x, y| (p1 + x - y, p1 + x)))
 }
 
 /// Positions of a body-fixed point (given at pose 1) at every pose.
@@ -93,24 +92,35 @@ fn carried(poses: &[Pose], point: C64) -> Vec<C64> {
     poses.iter().map(|p| p.point() + (point - p1) * C64::from_polar(1.0, p.angle - poses[0].angle)).collect()
 }
 
-/// Circumcentre of three points; None when they are collinear.
+/// Circumcentre of three points; None when they are collinear (or coincide). Computed
+/// relative to a, scaled to unit size, so no square overflows or underflows.
 pub fn circumcentre(a: C64, b: C64, c: C64) -> Option<C64> {
-    let (b, c) = (b - a, c - a);
+    let size = (b - a).norm().max((c - a).norm());
+    if !(size > 0.0 && size.is_finite()) {
+        return None;
+    }
+    let (b, c) = ((b - a) / size, (c - a) / size);
     let d = 2.0 * (b.re * c.im - b.im * c.re);
-    let scale = b.norm_sqr().max(c.norm_sqr());
-    if d.abs() <= 1e-12 * scale {
+    if d.abs() <= 1e-12 {
         return None;
     }
     let ux = (c.im * b.norm_sqr() - b.im * c.norm_sqr()) / d;
     let uy = (b.re * c.norm_sqr() - c.re * b.norm_sqr()) / d;
-    Some(a + C64::new(ux, uy))
+    Some(a + C64::new(ux, uy) * size)
+}
+
+/// The chosen pivot of a two- or three-pose problem, refused as the data are.
+fn check_chosen(poses: &[Pose], chosen: [f64; 2]) -> Result<(C64, Frame), SynthesisError> {
+    let point = C64::new(chosen[0], chosen[1]);
+    let all: Vec<C64> = poses.iter().map(Pose::point).chain([point]).collect();
+    Ok((point, check_scale("the poses' points and the chosen pivot", &all)?))
 }
 
 /// Three poses, moving pivot chosen (world coordinates at pose 1): the ground pivot is the
 /// circumcentre of its three positions.
 pub fn three_pose_ground(poses: &[Pose], moving: [f64; 2]) -> Result<Dyad, SynthesisError> {
     check_poses(poses, "exactly 3 poses for the circumcentre", poses.len() == 3)?;
-    let m = carried(poses, C64::new(moving[0], moving[1]));
+    let m = carried(poses, check_chosen(poses, moving)?.0);
     let g = circumcentre(m[0], m[1], m[2])
         .ok_or(SynthesisError::Collinear { what: "the moving pivot's three positions" })?;
     Ok(Dyad::exact(g, m[0]))
@@ -120,7 +130,7 @@ pub fn three_pose_ground(poses: &[Pose], moving: [f64; 2]) -> Result<Dyad, Synth
 /// pivot's three positions seen from the body (inversion), carried back to pose 1.
 pub fn three_pose_moving(poses: &[Pose], ground: [f64; 2]) -> Result<Dyad, SynthesisError> {
     check_poses(poses, "exactly 3 poses for the circumcentre", poses.len() == 3)?;
-    let g = C64::new(ground[0], ground[1]);
+    let g = check_chosen(poses, ground)?.0;
     let p1 = poses[0].point();
     // G in the body frame of pose j, expressed at pose 1
     let seen: Vec<C64> =
@@ -134,9 +144,15 @@ pub fn three_pose_moving(poses: &[Pose], ground: [f64; 2]) -> Result<Dyad, Synth
 /// moving pivot's two positions, `along` (length units) from their midpoint.
 pub fn two_pose_ground(poses: &[Pose], moving: [f64; 2], along: f64) -> Result<Dyad, SynthesisError> {
     check_poses(poses, "exactly 2 poses for the bisector", poses.len() == 2)?;
-    let m = carried(poses, C64::new(moving[0], moving[1]));
+    if !(along.is_finite() && along.abs() <= super::LARGEST) {
+        return Err(SynthesisError::NotFinite {
+            what: format!("the distance along the bisector ({along:e})"),
+        });
+    }
+    let (moving, frame) = check_chosen(poses, moving)?;
+    let m = carried(poses, moving);
     let chord = m[1] - m[0];
-    if chord.norm() <= 1e-12 * (1.0 + m[0].norm()) {
+    if chord.norm() <= 1e-12 * (frame.scale + m[0].norm()) {
         return Err(SynthesisError::Coincident { what: "moving pivot positions", i: 1, j: 2 });
     }
     let normal = chord * C64::new(0.0, 1.0) / chord.norm();
@@ -147,8 +163,7 @@ pub fn two_pose_ground(poses: &[Pose], moving: [f64; 2], along: f64) -> Result<D
 /// matching centre points (ground pivots), sampled along `n` rays through the first
 /// pose's reference point. Every pair is an exact four-pose dyad.
 pub fn four_pose_curves(poses: &[Pose], n: usize) -> Result<Vec<Dyad>, SynthesisError> {
-    check_poses(poses, "exactly 4 poses for the Burmester curves", poses.len() == 4)?;
-    let frame = Frame::fit(poses.iter().map(Pose::point));
+    let frame = check_poses(poses, "exactly 4 poses for the Burmester curves", poses.len() == 4)?;
     let p1 = frame.to_local(poses[0].point());
     let rows: Vec<DyadRow> = poses[1..]
         .iter()

@@ -11,9 +11,10 @@ use num_complex::Complex64 as C64;
 
 use super::dyad::{solve_rows, DyadRow};
 use super::resultant::solve_by_resultant;
-use super::{Dyad, DyadSet, Frame, SynthesisError};
+use super::{check_scale, coincide, Dyad, DyadSet, Frame, SynthesisError};
 
-fn check(points: &[[f64; 2]], input: &[f64]) -> Result<(), SynthesisError> {
+/// The problem's frame, or why its data is refused.
+fn check(points: &[[f64; 2]], input: &[f64]) -> Result<Frame, SynthesisError> {
     if points.len() != 5 || input.len() != 5 {
         return Err(SynthesisError::Count {
             problem: "path generation with prescribed timing",
@@ -26,11 +27,11 @@ fn check(points: &[[f64; 2]], input: &[f64]) -> Result<(), SynthesisError> {
             return Err(SynthesisError::NotFinite { what: format!("point or angle {}", i + 1) });
         }
     }
+    let points: Vec<C64> = points.iter().map(|p| C64::new(p[0], p[1])).collect();
+    let frame = check_scale("the points", &points)?;
     for i in 0..5 {
         for j in i + 1..5 {
-            let d = ((points[i][0] - points[j][0]).powi(2) + (points[i][1] - points[j][1]).powi(2)).sqrt();
-            let scale = 1.0 + points[i][0].abs().max(points[i][1].abs());
-            if d <= 1e-9 * scale {
+            if coincide(points[i], points[j], &frame) {
                 return Err(SynthesisError::Coincident { what: "points", i: i + 1, j: j + 1 });
             }
             let turn = (input[j] - input[i]).rem_euclid(std::f64::consts::TAU);
@@ -39,7 +40,7 @@ fn check(points: &[[f64; 2]], input: &[f64]) -> Result<(), SynthesisError> {
             }
         }
     }
-    Ok(())
+    Ok(frame)
 }
 
 pub fn rows(points: &[[f64; 2]], input: &[f64], frame: &Frame) -> [DyadRow; 4] {
@@ -53,21 +54,19 @@ pub fn rows(points: &[[f64; 2]], input: &[f64], frame: &Frame) -> [DyadRow; 4] {
 
 /// Every input dyad (ground pivot G, crank pin A at position 1).
 pub fn timed_dyads(points: &[[f64; 2]], input: &[f64]) -> Result<DyadSet, SynthesisError> {
-    check(points, input)?;
-    let frame = Frame::fit(points.iter().map(|p| C64::new(p[0], p[1])));
+    let frame = check(points, input)?;
     let rows = rows(points, input, &frame);
     let p1 = frame.to_local(C64::new(points[0][0], points[0][1]));
     // x = W, y = Z: A = P1 - Z, G = A - W
-    Ok(DyadSet::from_solutions(&solve_rows(&rows), &rows, &frame, |w, z| (p1 - z - w, p1 - z)))
+    Ok(DyadSet::from_solutions(&solve_rows(&rows)?, &rows, &frame, |w, z| (p1 - z - w, p1 - z)))
 }
 
 /// The same by elimination: the independent cross-check.
 pub fn timed_dyads_by_resultant(points: &[[f64; 2]], input: &[f64]) -> Result<DyadSet, SynthesisError> {
-    check(points, input)?;
-    let frame = Frame::fit(points.iter().map(|p| C64::new(p[0], p[1])));
+    let frame = check(points, input)?;
     let rows = rows(points, input, &frame);
     let p1 = frame.to_local(C64::new(points[0][0], points[0][1]));
-    Ok(DyadSet::from_solutions(&solve_by_resultant(&rows), &rows, &frame, |w, z| (p1 - z - w, p1 - z)))
+    Ok(DyadSet::from_solutions(&solve_by_resultant(&rows)?, &rows, &frame, |w, z| (p1 - z - w, p1 - z)))
 }
 
 /// Coupler rotations theta_j (from position 1) that a real input dyad implies.

@@ -17,6 +17,7 @@ use nalgebra::{Matrix2, Vector2};
 
 use super::dyad::{family, params, DyadRow};
 use super::univariate;
+use super::SynthesisError;
 
 /// Samples of R on each circle: twice its degree, so the interpolated coefficients above
 /// 8 measure the rounding.
@@ -149,7 +150,7 @@ fn candidates(rows: &[DyadRow; 4]) -> Vec<Vec<C64>> {
 }
 
 /// Every root of the dyad system by elimination, polished and certified.
-pub fn solve_by_resultant(rows: &[DyadRow; 4]) -> Solutions {
-    let system = family().specialize(&params(rows)).expect("parameter count");
-    certify_points(&system, candidates(rows))
+pub fn solve_by_resultant(rows: &[DyadRow; 4]) -> Result<Solutions, SynthesisError> {
+    let system = family().specialize(&params(rows))?;
+    Ok(certify_points(&system, candidates(rows)))
 }

@@ -23,7 +23,7 @@ use linkwork_homotopy::Solutions;
 
 use super::dyad::{solve_rows, DyadRow};
 use super::resultant::solve_by_resultant;
-use super::{DyadSet, Frame, SynthesisError};
+use super::{check_scale, DyadSet, Frame, SynthesisError};
 
 fn check(points: &[[f64; 2]], pivot: [f64; 2], phi: &[f64], theta: &[f64]) -> Result<(), SynthesisError> {
     if points.len() != 5 || phi.len() != 5 || theta.len() != 5 {
@@ -46,10 +46,12 @@ fn c(p: [f64; 2]) -> C64 {
     C64::new(p[0], p[1])
 }
 
-fn frame(points: &[[f64; 2]], pivot: [f64; 2]) -> Frame {
+/// The data's frame (points and pivot brought to unit size); refuses data no frame can
+/// scale (`check_scale`).
+fn frame(points: &[[f64; 2]], pivot: [f64; 2]) -> Result<Frame, SynthesisError> {
     let mut all: Vec<C64> = points.iter().map(|p| c(*p)).collect();
     all.push(c(pivot));
-    Frame::fit(all.into_iter())
+    check_scale("the points and the pivot", &all)
 }
 
 fn rows_1(points: &[[f64; 2]], q: C64, phi: &[f64], theta: &[f64], f: &Frame) -> [DyadRow; 4] {
@@ -127,13 +129,13 @@ fn dyad_1_with(
     q: [f64; 2],
     phi: &[f64],
     theta: &[f64],
-    solve: impl Fn(&[DyadRow; 4]) -> Solutions,
+    solve: impl Fn(&[DyadRow; 4]) -> Result<Solutions, SynthesisError>,
 ) -> Result<DyadSet, SynthesisError> {
     check(points, q, phi, theta)?;
-    let f = frame(points, q);
+    let f = frame(points, q)?;
     let ql = f.to_local(c(q));
     let rows = rows_1(points, ql, phi, theta, &f);
-    Ok(DyadSet::from_solutions(&solve(&rows), &rows, &f, |x, y| (ql + x, ql + x + y)))
+    Ok(DyadSet::from_solutions(&solve(&rows)?, &rows, &f, |x, y| (ql + x, ql + x + y)))
 }
 
 fn dyad_2_with(
@@ -141,12 +143,12 @@ fn dyad_2_with(
     o: [f64; 2],
     phi: &[f64],
     theta: &[f64],
-    solve: impl Fn(&[DyadRow; 4]) -> Solutions,
+    solve: impl Fn(&[DyadRow; 4]) -> Result<Solutions, SynthesisError>,
 ) -> Result<DyadSet, SynthesisError> {
     check(points, o, phi, theta)?;
-    let f = frame(points, o);
+    let f = frame(points, o)?;
     let ol = f.to_local(c(o));
     let p1 = f.to_local(c(points[0]));
     let rows = rows_2(points, ol, phi, theta, &f);
-    Ok(DyadSet::from_solutions(&solve(&rows), &rows, &f, |x, y| (ol + y, p1 + x)))
+    Ok(DyadSet::from_solutions(&solve(&rows)?, &rows, &f, |x, y| (ol + y, p1 + x)))
 }
