@@ -66,3 +66,14 @@ def test_four_bar_transmission_angle_is_the_law_of_cosines_at_every_step(branch)
         (fb,) = model.linkages(q_guess=res.q[k], t=float(theta[k]))
         assert fb.circuit == branch
         assert fb.transmission_angle == pytest.approx(want[k], abs=1e-9)
+
+
+@pytest.mark.parametrize("offset", [0.02, -0.05])
+def test_slider_crank_transmission_angle_of_one_state_is_the_closed_form(offset):
+    model = examples.slider_crank(crank=CRANK, rod=ROD, offset=offset, omega=1.0).compile()
+    (sc,) = model.linkages()
+    for theta in (0.3, 1.9, 4.4):
+        state = model.solve(theta)
+        assert float(sc.transmission_angle_of(state)) == pytest.approx(
+            float(slider_crank_mu(offset, np.array(theta))), abs=1e-9
+        )
