@@ -6,6 +6,7 @@ reach a package whose extension is built beside it (python/linkwork/_core), henc
 
     python scripts/mutate_python.py BASE python/linkwork/synthesis.py ...
     python scripts/mutate_python.py --all python/linkwork/linkages.py   (every line)
+    python scripts/mutate_python.py --all python/linkwork/synthesis.py:381-460   (lines)
 
 The tests run are the files that name the module, or MUTATE_TESTS (space-separated).
 
@@ -89,15 +90,20 @@ def main(argv: list[str]) -> int:
     survivors: list[str] = []
     total = 0
     for arg in argv[1:]:
+        arg, _, span = arg.partition(":")
         path = ROOT / arg
         original = path.read_text()
+        lines = changed_lines(base, arg)
+        if span:
+            lo, hi = (int(v) for v in span.split("-"))
+            lines = set(range(lo, hi + 1)) & (lines if lines is not None else set(range(lo, hi + 1)))
         tests = tests_for(path)
         if not tests:
             print(f"{arg}: no test imports it")
             survivors.append(f"{arg}: untested module")
             continue
         try:
-            for row, what, mutated in mutants(original, changed_lines(base, arg)):
+            for row, what, mutated in mutants(original, lines):
                 total += 1
                 path.write_text(mutated)
                 t0 = time.monotonic()

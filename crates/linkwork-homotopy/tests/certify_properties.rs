@@ -122,3 +122,21 @@ fn solve_keeps_two_roots_two_thousandths_apart_as_two_distinct_roots() {
         assert!(r.certified && r.real && r.radius < 1e-3, "{r:?}");
     }
 }
+
+#[test]
+fn certify_points_polishes_candidates_near_roots_and_drops_those_newton_cannot_bring_in() {
+    // x^2 - 2: candidates a few percent off the roots are polished to +-sqrt 2 and
+    // certified; one at the critical point (Df = 0) and one so far out that twelve Newton
+    // steps (each halving it) cannot reach a root are counted as failed
+    let s = System::new(1, 0, vec![poly(&[(1.0, &[2]), (-2.0, &[0])])]).unwrap();
+    let candidates = vec![vec![c(1.4)], vec![c(-1.5)], vec![c(0.0)], vec![c(1e6)]];
+    let sol = linkwork_homotopy::certify_points(&s, candidates);
+    assert_eq!(sol.failed, 2, "{sol:?}");
+    let mut xs: Vec<f64> = sol.roots.iter().map(|r| r.x[0].re).collect();
+    xs.sort_by(f64::total_cmp);
+    assert_eq!(xs.len(), 2, "{sol:?}");
+    for (got, want) in xs.iter().zip([-2f64.sqrt(), 2f64.sqrt()]) {
+        assert!((got - want).abs() <= 4.0 * f64::EPSILON, "{got} vs {want}");
+    }
+    assert!(sol.distinct && sol.roots.iter().all(|r| r.certified && r.real), "{sol:?}");
+}
