@@ -102,3 +102,34 @@ def test_a_position_beyond_a_dead_point_is_a_branch_defect(phis, reached):
     assert f.direction == -1
     assert f.reached == reached
     assert len(f.dead_points) >= 1 and f.dead_points[0] == pytest.approx(-1.371 - 0.0, abs=2e-3)
+
+
+def law_of_cosines_mu(dims, phi):
+    """The angle at B (deg) at crank angle phi, from |A - O4| in the triangle O2-A-O4."""
+    g, a, b, c = dims
+    d2 = g * g + a * a - 2 * g * a * np.cos(phi)
+    return np.degrees(np.arccos((b * b + c * c - d2) / (2 * b * c)))
+
+
+@pytest.mark.parametrize(
+    "dims",
+    [CRANK_ROCKER, (0.39, 0.09, 0.25, 0.25)],  # worst near 0 deg; worst near 180 deg
+)
+def test_transmission_range_over_the_swept_positions_is_the_law_of_cosines(dims):
+    # over crank angles 0..3 the angle at B rises with the crank angle (cos falls): its
+    # extremes at the first and the last position
+    phis = [0.0, 1.0, 2.0, 3.0]
+    f = design(dims, phis, [1] * 4).defects
+    lo, hi = law_of_cosines_mu(dims, np.array([phis[0], phis[-1]]))
+    assert f.transmission == pytest.approx((lo, hi), abs=1e-6)
+    assert f.worst_transmission == pytest.approx(min(lo, 180.0 - hi), abs=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("dims", "kind"),
+    [(CRANK_ROCKER, "Grashof"), (TRIPLE_ROCKER, "non-Grashof"), ((0.30, 0.10, 0.30, 0.10), "change point")],
+)
+def test_grashof_type_and_link_ratio_of_a_design(dims, kind):
+    f = design(dims, [0.5, 1.0, 1.3], [1] * 3).defects
+    assert f.grashof == kind
+    assert f.length_ratio == pytest.approx(max(dims) / min(dims), rel=1e-12)
