@@ -7,7 +7,8 @@
 # single-commit clone) there is nothing to compare and the check passes, saying so.
 # MUTANTS_BUDGET: seconds for each of the two parts (default 270), so that the whole
 # check stays under 10 minutes; a mutant not reached in time is reported, not counted.
-# MUTANTS_IN_PLACE=1: mutate this tree and reuse its target dir (CI's throwaway clone).
+# MUTANTS_IN_PLACE=1: mutate this tree and reuse its target dir (CI's throwaway clone);
+# MUTANTS_PROFILE=dev: build the mutants in that profile (CI: the one its tests just built).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 budget=${MUTANTS_BUDGET:-270}
@@ -33,6 +34,7 @@ if [ -s "$out/rust.diff" ]; then
     # whose tests run past 5 minutes counts as caught (it hangs)
     args=(--in-diff "$out/rust.diff" -p linkwork -p linkwork-homotopy -o "$out" --no-shuffle --baseline skip --timeout 300)
     [ "${MUTANTS_IN_PLACE:-0}" = 1 ] && args+=(--in-place)
+    [ -n "${MUTANTS_PROFILE:-}" ] && args+=(--profile "$MUTANTS_PROFILE")
     if ! command -v cargo-mutants >/dev/null; then
         echo "mutants-diff: cargo-mutants is not installed (cargo install cargo-mutants --locked)" >&2
         exit 1
