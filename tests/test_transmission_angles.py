@@ -77,3 +77,13 @@ def test_slider_crank_transmission_angle_of_one_state_is_the_closed_form(offset)
         assert float(sc.transmission_angle_of(state)) == pytest.approx(
             float(slider_crank_mu(offset, np.array(theta))), abs=1e-9
         )
+
+
+def test_four_bar_transmission_angle_of_one_state_is_the_law_of_cosines():
+    g, a, b, c = 0.35, 0.20, 0.35, 0.25
+    model = examples.four_bar(g, a, b, c, omega=1.0).compile()
+    (fb,) = model.linkages()
+    for theta in (0.3, 1.9, 4.4):
+        d2 = g * g + a * a - 2 * g * a * math.cos(theta)
+        want = math.acos((b * b + c * c - d2) / (2 * b * c))
+        assert float(fb.transmission_angle_of(model.solve(theta))) == pytest.approx(want, abs=1e-9)
