@@ -1,0 +1,130 @@
+"""Mutation check of Python modules, diff-scoped: each one-token mutant of the changed lines
+(comparison and arithmetic operators swapped, `and`/`or`, `|=`/`=`, numeric constants
+changed, arcsin/arccos and min/max exchanged) is applied alone and the tests that import
+the module run against it; a mutant they pass is a survivor. mutmut's trampolines do not
+reach a package whose extension is built beside it (python/linkwork/_core), hence this.
+
+    python scripts/mutate_python.py BASE python/linkwork/synthesis.py ...
+    python scripts/mutate_python.py --all python/linkwork/linkages.py   (every line)
+    python scripts/mutate_python.py --all python/linkwork/synthesis.py:381-460   (lines)
+
+The tests run are the files that name the module, or MUTATE_TESTS (space-separated).
+
+Exit 1 if a mutant survives."""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+import tokenize
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SWAPS = {
+    "<": "<=", "<=": "<", ">": ">=", ">=": ">", "==": "!=", "!=": "==",
+    "+": "-", "-": "+", "*": "/", "/": "*", "and": "or", "or": "and",
+    "|=": "=", "&=": "=", "+=": "-=", "-=": "+=", "min": "max", "max": "min",
+    "arcsin": "arccos", "arccos": "arcsin", "True": "False", "False": "True",
+}  # fmt: skip
+
+
+def changed_lines(base: str | None, path: str) -> set[int] | None:
+    """Line numbers of `path` added or changed since `base` (None: every line)."""
+    if base is None:
+        return None
+    diff = subprocess.run(
+        ["git", "diff", "-U0", base, "--", path], cwd=ROOT, capture_output=True, text=True
+    ).stdout
+    lines: set[int] = set()
+    for m in re.finditer(r"^@@ -\d+(?:,\d+)? \+(\d+)(?:,(\d+))? @@", diff, re.M):
+        start, count = int(m.group(1)), int(m.group(2) or 1)
+        lines.update(range(start, start + count))
+    return lines
+
+
+def mutants(source: str, lines: set[int] | None):
+    """(line, description, mutated source) for each token swap on the chosen lines."""
+    offsets = [0]
+    for line in source.splitlines(keepends=True):
+        offsets.append(offsets[-1] + len(line))
+    docstring_lines: set[int] = set()
+    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
+        if tok.type == tokenize.STRING:
+            docstring_lines.update(range(tok.start[0], tok.end[0] + 1))
+    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
+        row = tok.start[0]
+        if lines is not None and row not in lines or row in docstring_lines:
+            continue
+        start = offsets[row - 1] + tok.start[1]
+        end = offsets[tok.end[0] - 1] + tok.end[1]
+        new = None
+        if tok.type in (tokenize.OP, tokenize.NAME) and tok.string in SWAPS:
+            new = SWAPS[tok.string]
+        elif tok.type == tokenize.NUMBER and not tok.string.endswith("j"):
+            new = "1" if tok.string in ("0", "0.0") else f"({tok.string} + 1)"
+        if new is not None:
+            yield row, f"{tok.string} -> {new}", source[:start] + new + source[end:]
+
+
+def tests_for(module: Path) -> list[str]:
+    """Test files that name the module, or those MUTATE_TESTS lists."""
+    if os.environ.get("MUTATE_TESTS"):
+        return os.environ["MUTATE_TESTS"].split()
+    name = module.stem
+    return sorted(
+        str(p.relative_to(ROOT))
+        for p in (ROOT / "tests").glob("test_*.py")
+        if re.search(rf"\b{name}\b", p.read_text())
+    )
+
+
+def main(argv: list[str]) -> int:
+    if not argv:
+        print(__doc__)
+        return 2
+    # a budget's timeout (SIGTERM) must still restore the module: exit through `finally`
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(124))
+    base = None if argv[0] == "--all" else argv[0]
+    survivors: list[str] = []
+    total = 0
+    for arg in argv[1:]:
+        arg, _, span = arg.partition(":")
+        path = ROOT / arg
+        original = path.read_text()
+        lines = changed_lines(base, arg)
+        if span:
+            lo, hi = (int(v) for v in span.split("-"))
+            lines = set(range(lo, hi + 1)) & (lines if lines is not None else set(range(lo, hi + 1)))
+        tests = tests_for(path)
+        if not tests:
+            print(f"{arg}: no test imports it")
+            survivors.append(f"{arg}: untested module")
+            continue
+        try:
+            for row, what, mutated in mutants(original, lines):
+                total += 1
+                path.write_text(mutated)
+                t0 = time.monotonic()
+                run = subprocess.run(
+                    [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *tests],
+                    cwd=ROOT, capture_output=True, text=True,
+                )  # fmt: skip
+                verdict = "survived" if run.returncode == 0 else "killed"
+                print(f"{arg}:{row}: {what}: {verdict} ({time.monotonic() - t0:.0f} s)", flush=True)
+                if run.returncode == 0:
+                    survivors.append(f"{arg}:{row}: {what}")
+        finally:
+            path.write_text(original)
+    print(f"{total} mutants, {total - len(survivors)} killed, {len(survivors)} survived")
+    for s in survivors:
+        print("  survived:", s)
+    return 1 if survivors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
