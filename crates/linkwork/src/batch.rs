@@ -6,11 +6,11 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use crate::branches::{asked_branches, start_on};
+use crate::branches::{asked_branches, sweep_on};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::model::Model;
-use crate::sweep::{sweep, Request, SweepOutput};
+use crate::sweep::{Request, SweepOutput};
 
 /// One model's sweep: its outputs (the completed steps) and its error, if any.
 pub type BatchItem = (SweepOutput, Option<SolveError>);
@@ -52,11 +52,8 @@ pub fn sweep_batch_on(
             let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
             let err = if cancel.load(Ordering::Relaxed) {
                 Some(SolveError::Cancelled { step: 0 })
-            } else if let Err(e) = asked.as_ref().map_or(Ok(()), |w| start_on(model, &mut data, times[0], w))
-            {
-                Some(e)
             } else {
-                sweep(model, &mut data, times, &mut out, 4096, &mut keep_going).err()
+                sweep_on(model, &mut data, times, &mut out, 4096, &mut keep_going, asked.as_ref()).err()
             };
             out.truncate();
             (out, err)

@@ -3,14 +3,16 @@
 //! assembly mode it is asked for is the base's: each dyad's side, each Newton block's det
 //! sign, as the base model takes them at the first time. Newton from a drawing that the
 //! design's numbers no longer close (or that a redraw carried across a toggle) may converge
-//! onto the other assembly, silently; so the design's start is put there by its own closed
-//! forms first, and a design that has no configuration there is its named error.
+//! onto the other assembly, silently; so a design whose first step lands elsewhere is put
+//! there by its own closed forms, and a design that has no configuration there is its
+//! named error.
 
 use crate::blocks::{self, Miss, Work};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::model::Model;
 use crate::structure::structure;
+use crate::sweep::{sweep, sweep_observed, SweepOutput};
 
 /// The branches `model` takes at `t`, assembled from its drawing as its own sweep starts.
 /// None without a plan, or where the model does not assemble (its designs then start from
@@ -23,22 +25,48 @@ pub fn asked_branches(model: &Model, t: f64) -> Option<Work> {
     Some(data.blocks)
 }
 
-/// Puts `design`'s start (data.q) on the `asked` branches at `t` by its own plan, where
-/// Newton from its drawing would reach others (or none). Nothing is done where the design
-/// has no plan or its plan's groups are not the asked ones (a different mechanism: it
-/// starts from its drawing). Err names the group that has no configuration on its asked
-/// branch.
-pub fn start_on(design: &Model, data: &mut Data, t: f64, asked: &Work) -> Result<(), SolveError> {
-    let Ok(plan) = design.plan.as_ref() else { return Ok(()) };
+/// Sweeps `design` as `sweep` does, on the `asked` branches (None: as `sweep`). Its first
+/// step is Newton from its drawing, as a sweep of it alone takes it (the same bits where
+/// that lands on the asked branches, and no work beyond comparing the signs); where it
+/// lands on others (or nowhere), the design's own closed forms put its start on the asked
+/// ones and the sweep runs again from there. Nothing is enforced where the design has no
+/// plan or its plan's groups are not the asked ones (a different mechanism). A design with
+/// no configuration on its asked branches is `SolveError::AssemblyBranch`, naming its group.
+pub fn sweep_on(
+    design: &Model,
+    data: &mut Data,
+    times: &[f64],
+    out: &mut SweepOutput,
+    progress_every: usize,
+    progress: &mut dyn FnMut(usize) -> bool,
+    asked: Option<&Work>,
+) -> Result<(), SolveError> {
+    let (Some(asked), Ok(plan), Some(&t)) = (asked, design.plan.as_ref(), times.first()) else {
+        return sweep(design, data, times, out, progress_every, progress);
+    };
     let newton = plan.blocks.iter().filter(|b| matches!(b, blocks::Block::Newton(_))).count();
     if asked.sign.len() != plan.blocks.len() || asked.newton.len() != newton {
-        return Ok(());
+        return sweep(design, data, times, out, progress_every, progress);
     }
-    // where Newton from the drawing reaches the asked branches, the design starts as a
-    // sweep of it alone does, to the bit (the check runs on a workspace of its own)
-    if reaches(design, plan, t, asked) {
-        return Ok(());
+    let mut off = false;
+    // the first row is stored once the plan has read its branches from the solved start
+    let first = sweep_observed(design, data, times, out, progress_every, progress, &mut |d, _, row| {
+        if row == 0 && !on(d, asked) {
+            off = true;
+            return Err(SolveError::Cancelled { step: 0 });
+        }
+        Ok(())
+    });
+    match first {
+        Err(SolveError::Cancelled { .. }) if off => {}
+        // Newton from the drawing found no start: the asked branches may still have one
+        Err(SolveError::Assembly { .. }) => {}
+        done => return done,
     }
+    // nothing of the off-branch start is kept, whatever follows
+    out.n_done = 0;
+    out.events.clear();
+    *data = Data::new(design);
     blocks::assemble(design, plan, data, t, asked).map_err(|(i, miss)| {
         // named from the design's structure (computed only here, on the rare failure)
         let joints = structure(design)
@@ -55,14 +83,12 @@ pub fn start_on(design: &Model, data: &mut Data, t: f64, asked: &Work) -> Result
             _ => "is singular or does not converge",
         };
         SolveError::AssemblyBranch { time: t, group: plan.blocks[i].name(), joints, why }
-    })
+    })?;
+    sweep(design, data, times, out, progress_every, progress)
 }
 
-/// Whether Newton from the design's drawing assembles it at `t` on the `asked` branches.
-fn reaches(design: &Model, plan: &blocks::Plan, t: f64, asked: &Work) -> bool {
-    let mut probe = Data::new(design);
-    let Ok(info) = crate::position::solve_position(design, &mut probe, t, 0, true) else { return false };
-    blocks::resync(design, plan, &mut probe, t, info.det_sign, false, None);
-    probe.blocks.sign == asked.sign
-        && probe.blocks.newton.iter().zip(&asked.newton).all(|(p, a)| p.det_sign == a.det_sign)
+/// Whether the plan's branches read from a solved start (data.blocks) are the asked ones.
+fn on(data: &Data, asked: &Work) -> bool {
+    data.blocks.sign == asked.sign
+        && data.blocks.newton.iter().zip(&asked.newton).all(|(p, a)| p.det_sign == a.det_sign)
 }

@@ -22,14 +22,14 @@ use std::sync::Mutex;
 
 use crate::batch::on_threads;
 use crate::blocks::Plan;
-use crate::branches::{asked_branches, start_on};
+use crate::branches::{asked_branches, sweep_on};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::joints::Constraint;
 use crate::model::Model;
 use crate::sensitivity::{Dynamics, Parameter};
 use crate::structure::{structure, Structure};
-use crate::sweep::{sweep, Outputs, Request, SweepOutput};
+use crate::sweep::{Outputs, Request, SweepOutput};
 
 /// How designs move a model's numbers: the parameters, the base numbers they start from.
 /// Each parameter moves its numbers along its direction, which is exact for every number
@@ -195,13 +195,8 @@ pub fn sweep_variants(
                 let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
                 let err = if cancel.load(Ordering::Relaxed) {
                     Some(SolveError::Cancelled { step: 0 })
-                } else if let Err(e) =
-                    asked.as_ref().map_or(Ok(()), |w| start_on(variant, &mut data, times[0], w))
-                {
-                    out.n_done = 0;
-                    Some(e)
                 } else {
-                    sweep(variant, &mut data, times, out, 4096, &mut keep_going).err()
+                    sweep_on(variant, &mut data, times, out, 4096, &mut keep_going, asked.as_ref()).err()
                 };
                 let done = out.n_done;
                 let q_dst = q_rows.lock().expect("rows")[i].take().expect("a design swept once");
