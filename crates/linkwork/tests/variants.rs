@@ -6,7 +6,7 @@ mod common;
 
 use common::{four_bar, four_bar_closed, FourBar};
 use linkwork::sensitivity::Parameter;
-use linkwork::{sweep, sweep_variants, Data, Model, Outputs, Request, SweepOutput, Variation};
+use linkwork::{sweep, sweep_variants, Data, Model, Outputs, Request, SolveError, SweepOutput, Variation};
 
 // ground 0.38: a crank-rocker clear of the change point (0.4 would fold it at a half turn)
 const M: FourBar = FourBar { r1: 0.38, r2: 0.2, r3: 0.35, r4: 0.25 };
@@ -177,4 +177,55 @@ fn a_variant_carries_its_masses_and_gravity() {
     assert!((moved[0] - (com[0] + s * 0.02)).abs() < 1e-15 && (moved[1] - (com[1] + c * 0.02)).abs() < 1e-15);
     assert_eq!(variant.gravity, [model.gravity[0], model.gravity[1] - 9.81]);
     assert_eq!(variant.inertias[rocker].mass, model.inertias[rocker].mass);
+}
+
+/// Designs far from the nominal four-bar, near the Grashof limit: Newton from the nominal
+/// drawing converges onto the crossed circuit for the two listed (it did, silently); each
+/// variant is swept on the circuit the model is drawn in, the four-bar's closed form with
+/// its own lengths at every step. A design with no configuration there (coupler and rocker
+/// too short to reach across at the start) is its named error. Python's
+/// tests/test_study_branches.py checks thousands of designs the same way.
+#[test]
+fn every_variant_takes_the_circuit_the_model_is_drawn_in() {
+    let nominal = FourBar { r1: 1.0, r2: 0.3, r3: 1.0, r4: 0.8 };
+    let model = Model::new(four_bar(&nominal, 0.0, 1.0)).unwrap();
+    // the coupler's length (pin B along it in the coupler) and the rocker's (in the rocker)
+    let params = ["constraints.B.u_a.x", "constraints.B.u_b.x"]
+        .iter()
+        .map(|name| Parameter::resolve(&model, name).unwrap())
+        .collect();
+    let variation = Variation::new(&model, params);
+    let lengths =
+        [[1.0, 0.8], [0.5670082391355269, 1.22084963147709], [1.0443846667859245, 0.3472422926536495]];
+    let mut flat: Vec<f64> = lengths.iter().flat_map(|l| [l[0] - 1.0, l[1] - 0.8]).collect();
+    flat.extend([0.3 - 1.0, 0.3 - 0.8]);
+    let t: Vec<f64> = (0..181).map(|k| std::f64::consts::TAU * k as f64 / 180.0).collect();
+    let kept = Outputs { coords: Some(vec![5, 8]), points: vec![] };
+    assert_eq!(
+        (&model.columns[5], &model.columns[8]),
+        (&"coupler.theta".to_string(), &"rocker.theta".to_string())
+    );
+    let request = Request { derivatives: 0, ..Request::default() };
+    let figures = sweep_variants(&model, &variation, 4, &flat, &t, request, &kept, &[], 1, &mut |_| true);
+    let turn = |a: f64| (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+    for (i, l) in lengths.iter().enumerate() {
+        assert!(
+            figures.errors[i].is_none() && figures.n_done[i] == t.len(),
+            "design {i}: {:?}",
+            figures.errors[i]
+        );
+        let m = FourBar { r3: l[0], r4: l[1], ..nominal };
+        for (k, tk) in t.iter().enumerate() {
+            let ([th3, th4], _, _) = four_bar_closed(&m, *tk, 1.0, 0.0);
+            let q = &figures.q[(i * t.len() + k) * 2..][..2];
+            // an arccos next to its fold sets the closed form's own round-off
+            assert!(
+                turn(q[0] - th3).abs() < 1e-9 && turn(q[1] - th4).abs() < 1e-9,
+                "design {i}, step {k}: {q:?}"
+            );
+        }
+    }
+    let err = figures.errors[3].as_ref().expect("0.3 + 0.3 cannot reach across 0.7");
+    assert!(matches!(err, SolveError::AssemblyBranch { .. }), "{err}");
+    assert!(err.to_string().contains("'B'") && figures.n_done[3] == 0, "{err}");
 }
