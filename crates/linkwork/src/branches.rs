@@ -7,22 +7,30 @@
 //! there by its own closed forms, and a design that has no configuration there is its
 //! named error.
 
-use crate::blocks::{self, Miss, Work};
+use crate::blocks::{self, Block, Miss, Work};
 use crate::data::Data;
 use crate::error::SolveError;
 use crate::model::Model;
 use crate::structure::structure;
 use crate::sweep::{sweep, sweep_observed, SweepOutput};
 
+/// The branches a design is asked for: the base's plan state at the first time (each
+/// block's sign, each Newton block's det sign) and its groups' kinds, in plan order.
+#[derive(Debug, Clone)]
+pub struct Asked {
+    work: Work,
+    kinds: Vec<&'static str>,
+}
+
 /// The branches `model` takes at `t`, assembled from its drawing as its own sweep starts.
 /// None without a plan, or where the model does not assemble (its designs then start from
 /// their drawings, as it does).
-pub fn asked_branches(model: &Model, t: f64) -> Option<Work> {
+pub fn asked_branches(model: &Model, t: f64) -> Option<Asked> {
     let plan = model.plan.as_ref().ok()?;
     let mut data = Data::new(model);
     let info = crate::sweep::solve(model, &mut data, t).ok()?;
     blocks::resync(model, plan, &mut data, t, info.det_sign, true, None);
-    Some(data.blocks)
+    Some(Asked { work: data.blocks, kinds: plan.blocks.iter().map(Block::name).collect() })
 }
 
 /// Sweeps `design` as `sweep` does, on the `asked` branches (None: as `sweep`). Its first
@@ -39,35 +47,35 @@ pub fn sweep_on(
     out: &mut SweepOutput,
     progress_every: usize,
     progress: &mut dyn FnMut(usize) -> bool,
-    asked: Option<&Work>,
+    asked: Option<&Asked>,
 ) -> Result<(), SolveError> {
     let (Some(asked), Ok(plan), Some(&t)) = (asked, design.plan.as_ref(), times.first()) else {
         return sweep(design, data, times, out, progress_every, progress);
     };
-    let newton = plan.blocks.iter().filter(|b| matches!(b, blocks::Block::Newton(_))).count();
-    if asked.sign.len() != plan.blocks.len() || asked.newton.len() != newton {
+    if !plan.blocks.iter().map(Block::name).eq(asked.kinds.iter().copied()) {
         return sweep(design, data, times, out, progress_every, progress);
     }
     let mut off = false;
     // the first row is stored once the plan has read its branches from the solved start
     let first = sweep_observed(design, data, times, out, progress_every, progress, &mut |d, _, row| {
-        if row == 0 && !on(d, asked) {
+        if row == 0 && !on(d, &asked.work) {
             off = true;
             return Err(SolveError::Cancelled { step: 0 });
         }
         Ok(())
     });
-    match first {
-        Err(SolveError::Cancelled { .. }) if off => {}
-        // Newton from the drawing found no start: the asked branches may still have one
-        Err(SolveError::Assembly { .. }) => {}
-        done => return done,
+    if !off {
+        match first {
+            // Newton from the drawing found no start: the asked branches may still have one
+            Err(SolveError::Assembly { .. }) => {}
+            done => return done,
+        }
     }
     // nothing of the off-branch start is kept, whatever follows
     out.n_done = 0;
     out.events.clear();
     *data = Data::new(design);
-    blocks::assemble(design, plan, data, t, asked).map_err(|(i, miss)| {
+    blocks::assemble(design, plan, data, t, &asked.work).map_err(|(i, miss)| {
         // named from the design's structure (computed only here, on the rare failure)
         let joints = structure(design)
             .groups

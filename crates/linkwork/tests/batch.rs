@@ -116,3 +116,22 @@ fn keeping_every_kth_step_keeps_those_steps_and_the_worst_diagnostics() {
         assert_eq!(out.iterations[row], stride.map(|j| all.iterations[j]).max().unwrap());
     }
 }
+
+/// `sweep_batch_on` with a base whose groups are not the models' (another mechanism): the
+/// models are swept from their own drawings, to the bit as `sweep_batch` sweeps them; the
+/// base's branches are enforced only on designs of the same mechanism.
+#[test]
+fn another_mechanism_as_the_base_leaves_each_model_to_its_drawing() {
+    let four_bar =
+        Model::new(four_bar(&FourBar { r1: 0.35, r2: 0.20, r3: 0.35, r4: 0.25 }, 0.3, 5.0)).unwrap();
+    let six_bar = Model::new(six_bar_stephenson(0.3, 5.0)).unwrap();
+    let t = times(101);
+    let own = sweep_batch(&[&four_bar], &t, Request::default(), 1, &mut |_| true);
+    let based =
+        linkwork::sweep_batch_on(&[&four_bar], &t, Request::default(), Some(&six_bar), 1, &mut |_| true);
+    assert!(own[0].1.is_none() && based[0].1.is_none(), "{:?}", based[0].1);
+    assert_eq!(own[0].0.n_done, based[0].0.n_done);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&own[0].0.q), bits(&based[0].0.q));
+    assert_eq!(bits(&own[0].0.qdd), bits(&based[0].0.qdd));
+}

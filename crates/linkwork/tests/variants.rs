@@ -225,6 +225,16 @@ fn every_variant_takes_the_circuit_the_model_is_drawn_in() {
             );
         }
     }
+    // one time only: the start itself, checked as it is stored
+    let start = sweep_variants(&model, &variation, 4, &flat, &t[..1], request, &kept, &[], 1, &mut |_| true);
+    for (i, l) in lengths.iter().enumerate() {
+        let ([th3, th4], _, _) = four_bar_closed(&FourBar { r3: l[0], r4: l[1], ..nominal }, 0.0, 1.0, 0.0);
+        let q = &start.q[i * 2..][..2];
+        assert!(
+            turn(q[0] - th3).abs() < 1e-9 && turn(q[1] - th4).abs() < 1e-9,
+            "design {i} at the start: {q:?}"
+        );
+    }
     let err = figures.errors[3].as_ref().expect("0.3 + 0.3 cannot reach across 0.7");
     assert!(matches!(err, SolveError::AssemblyBranch { .. }), "{err}");
     assert!(err.to_string().contains("'B'") && figures.n_done[3] == 0, "{err}");
