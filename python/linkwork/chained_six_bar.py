@@ -28,7 +28,6 @@ from . import synthesis as S
 from .errors import SingularError, SolveError, SynthesisError
 from .mechanism import Mechanism
 from .motion import Linear, Spline
-from .targets import DesignPictures
 
 __all__ = [
     "ChainedSixBarDesign",
@@ -158,7 +157,7 @@ class SixBarDefects:
 
 
 @dataclass
-class ChainedSixBarDesign(DesignPictures):
+class ChainedSixBarDesign(S.DyadDesign):
     """One chained six-bar: dyad 1 (``a1`` on the input link QA, ``b1`` on the coupler)
     and dyad 2 (``d1`` on the coupler, ``c1`` on the link DC), with the input pivot ``q``
     and the output pivot ``o``, all at position 1; ``p``: the coupler point at position
@@ -192,15 +191,6 @@ class ChainedSixBarDesign(DesignPictures):
             "DC": d(self.d1, self.c1),
             "OC": d(self.o, self.c1),
         }
-
-    @property
-    def residual(self) -> float:
-        """Largest change of a dyad's length over the positions (length units)."""
-        return max(d.residual for d in self.dyads)
-
-    @property
-    def certified(self) -> bool:
-        return all(d.certified and d.real for d in self.dyads)
 
     def schedule(self) -> tuple[int, np.ndarray, np.ndarray]:
         """(direction, knots t, theta at the knots): the input turns ``direction`` (+1

@@ -298,8 +298,25 @@ def _grashof(lengths: list[float]) -> str:
     return "Grashof" if s + l_ < p_q else "non-Grashof"
 
 
+class DyadDesign(DesignPictures):
+    """A design made of two solved dyads (``dyads``): its residual and certificate, and
+    its pictures (`DesignPictures`)."""
+
+    dyads: tuple[Dyad, Dyad]
+
+    @property
+    def residual(self) -> float:
+        """Largest change of a dyad's length over the positions (length units)."""
+        return max(d.residual for d in self.dyads)
+
+    @property
+    def certified(self) -> bool:
+        """Both dyads certified real roots."""
+        return all(d.certified and d.real for d in self.dyads)
+
+
 @dataclass
-class FourBarDesign(DesignPictures):
+class FourBarDesign(DyadDesign):
     """A four-bar from two real dyads: input crank ``o2`` -> ``a`` (the first dyad),
     coupler ``a`` -> ``b`` carrying the precision point ``p``, rocker ``o4`` -> ``b``, all
     at position 1. ``positions``: the precision points (n x 2); ``coupler_angles``: the
@@ -330,14 +347,6 @@ class FourBarDesign(DesignPictures):
             "coupler": d(self.a, self.b),
             "rocker": d(self.o4, self.b),
         }
-
-    @property
-    def residual(self) -> float:
-        return max(d.residual for d in self.dyads)
-
-    @property
-    def certified(self) -> bool:
-        return all(d.certified and d.real for d in self.dyads)
 
     def crank_rotations(self) -> np.ndarray:
         """The crank's rotation at each precision position, from position 1 (rad): as
