@@ -360,3 +360,21 @@ def test_bad_input_is_named() -> None:
     huge = {**problem, "points": (np.array(problem["points"]) * 1e300).tolist()}
     with pytest.raises(SynthesisError, match="cannot be scaled"):
         _call({**huge, "input_pivot": [-3.7e300, 12.9e300]}, angles="deg")
+
+
+def test_a_design_is_as_uncertain_as_its_worse_dyad() -> None:
+    """`residual` is the larger dyad residual and `certified` needs both dyads certified
+    and real (a pytest-only property of `synthesis.DyadDesign`, the four-bar's and the
+    six-bar's alike)."""
+    import dataclasses
+
+    problem = _toml(EXAMPLE)
+    design = _call(problem, angles="deg").designs[0]
+    one, two = design.dyads
+    assert design.certified and design.residual == max(one.residual, two.residual)
+    worse = dataclasses.replace(two, residual=1e-3)
+    assert dataclasses.replace(design, dyads=(one, worse)).residual == 1e-3
+    assert dataclasses.replace(design, dyads=(worse, one)).residual == 1e-3
+    for bad in (dataclasses.replace(two, real=False), dataclasses.replace(two, certified=False)):
+        assert not dataclasses.replace(design, dyads=(one, bad)).certified
+        assert not dataclasses.replace(design, dyads=(bad, one)).certified
