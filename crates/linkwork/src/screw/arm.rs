@@ -16,7 +16,7 @@
 use crate::description::Description;
 
 use super::frames::Pose;
-use super::joints::MechanismJoints;
+use super::joints::{JointKind, MechanismJoints};
 use super::projective::{cross, dot, norm, unit3, Gauge, Line, Point};
 use super::screws::{Twist, Wrench};
 use super::system::ScrewSystem;
@@ -25,31 +25,6 @@ use super::{ScrewError, DEGENERATE};
 /// Twists closer than this (relative) to what the unknown joints can produce count as
 /// reachable; torques within this of balanced count as balanced.
 const REACH: f64 = 1e-9;
-
-/// A revolute (pin) or prismatic (slide) joint.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum JointKind {
-    Revolute,
-    Prismatic,
-}
-
-impl JointKind {
-    /// 'R' or 'P'.
-    pub fn letter(self) -> char {
-        match self {
-            JointKind::Revolute => 'R',
-            JointKind::Prismatic => 'P',
-        }
-    }
-
-    pub fn from_letter(c: char) -> Option<JointKind> {
-        match c.to_ascii_uppercase() {
-            'R' => Some(JointKind::Revolute),
-            'P' => Some(JointKind::Prismatic),
-            _ => None,
-        }
-    }
-}
 
 /// One joint of an arm in the home configuration: a pivot at `at`, or a slide along the
 /// unit direction `axis` through `at`.

@@ -5,10 +5,34 @@
 
 use crate::description::{Description, JointDesc, GROUND};
 
-use super::arm::JointKind;
 use super::projective::Point;
 use super::screws::Twist;
 use super::ScrewError;
+
+/// A revolute (pin) or prismatic (slide) joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointKind {
+    Revolute,
+    Prismatic,
+}
+
+impl JointKind {
+    /// 'R' or 'P'.
+    pub fn letter(self) -> char {
+        match self {
+            JointKind::Revolute => 'R',
+            JointKind::Prismatic => 'P',
+        }
+    }
+
+    pub fn from_letter(c: char) -> Option<JointKind> {
+        match c.to_ascii_uppercase() {
+            'R' => Some(JointKind::Revolute),
+            'P' => Some(JointKind::Prismatic),
+            _ => None,
+        }
+    }
+}
 
 /// One joint of a description, with its local geometry.
 #[derive(Debug, Clone, PartialEq)]

@@ -31,11 +31,11 @@ mod projective;
 mod screws;
 mod system;
 
-pub use arm::{ArmJoint, ArmState, Barycentre, JointKind, PairPoints, SerialArm};
+pub use arm::{ArmJoint, ArmState, Barycentre, PairPoints, SerialArm};
 pub use centres::{centres_by_kennedy, centres_from_velocities, InstantCentres};
 pub use error::ScrewError;
 pub use frames::Pose;
-pub use joints::{MechanismJoint, MechanismJoints};
+pub use joints::{JointKind, MechanismJoint, MechanismJoints};
 pub use projective::{join, meet, Gauge, Line, Point};
 pub use screws::{Twist, Wrench};
 pub use system::{loop_singularity, LoopSingularity, ScrewSystem};

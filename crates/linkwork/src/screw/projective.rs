@@ -2,7 +2,6 @@
 //! where two lines cross, at infinity for parallel lines), and a gauge that makes the
 //! degeneracy tests independent of units and of where the world origin is.
 
-use super::screws::{Twist, Wrench};
 use super::{ScrewError, DEGENERATE};
 
 /// A homogeneous point (X, Y, W): (X/W, Y/W), or the direction (X, Y) at infinity when
@@ -47,11 +46,6 @@ impl Point {
         Point([d[0], d[1], 0.0])
     }
 
-    /// The twist whose pole this is (rate W about (X/W, Y/W)): (Y, -X; W).
-    pub fn twist(&self) -> Twist {
-        Twist::new(self.0[1], -self.0[0], self.0[2])
-    }
-
     /// (x, y) if W is not exactly zero.
     pub fn xy(&self) -> Option<[f64; 2]> {
         (self.0[2] != 0.0).then(|| [self.0[0] / self.0[2], self.0[1] / self.0[2]])
@@ -63,11 +57,6 @@ impl Point {
 }
 
 impl Line {
-    /// The wrench whose line of action this is: (fx, fy; m) = (b, -a; c).
-    pub fn wrench(&self) -> Wrench {
-        Wrench::new(self.0[1], -self.0[0], self.0[2])
-    }
-
     /// a x + b y + c: for a wrench's line, its moment about p.
     pub fn at(&self, p: [f64; 2]) -> f64 {
         self.0[0] * p[0] + self.0[1] * p[1] + self.0[2]

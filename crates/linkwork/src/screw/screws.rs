@@ -157,3 +157,19 @@ macro_rules! linear_ops {
 }
 linear_ops!(Twist, vx, vy, w);
 linear_ops!(Wrench, fx, fy, m);
+
+// A point is the pole of a twist and a line the action line of a wrench; the maps live
+// here so that points and lines (projective) know nothing of screws.
+impl Point {
+    /// The twist whose pole this is (rate W about (X/W, Y/W)): (Y, -X; W).
+    pub fn twist(&self) -> Twist {
+        Twist::new(self.0[1], -self.0[0], self.0[2])
+    }
+}
+
+impl Line {
+    /// The wrench whose line of action this is: (fx, fy; m) = (b, -a; c).
+    pub fn wrench(&self) -> Wrench {
+        Wrench::new(self.0[1], -self.0[0], self.0[2])
+    }
+}
