@@ -100,7 +100,7 @@ impl Affine {
     /// max_i |f_i(x)| / (|c_i|_1 max(1, |x|)^d_i): the relative change of coefficients
     /// that makes x an exact root, scale-free.
     pub fn residual(&self, x: &[C64]) -> (f64, f64) {
-        let (values, _) = self.values_and_sizes(x);
+        let values = self.values(x);
         let size = x.iter().map(|v| v.norm()).fold(1.0, f64::max);
         let mut abs: f64 = 0.0;
         let mut rel: f64 = 0.0;
@@ -112,24 +112,21 @@ impl Affine {
         (abs, rel)
     }
 
-    fn values_and_sizes(&self, x: &[C64]) -> (Vec<C64>, Vec<f64>) {
+    /// f(x) in double precision, term by term as written.
+    fn values(&self, x: &[C64]) -> Vec<C64> {
         let mut values = Vec::with_capacity(self.n());
-        let mut sizes = Vec::with_capacity(self.n());
         for poly in &self.system.polys {
             let mut v = C64::default();
-            let mut s = 0.0;
             for term in &poly.terms {
                 let mut m = term.coeff;
                 for &(i, e) in &term.powers {
                     m *= x[i].powu(e);
                 }
                 v += m;
-                s += m.norm();
             }
             values.push(v);
-            sizes.push(s);
         }
-        (values, sizes)
+        values
     }
 
     /// f(x) at a double-double point, evaluated in double-double complex arithmetic

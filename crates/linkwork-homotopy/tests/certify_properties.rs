@@ -140,3 +140,68 @@ fn certify_points_polishes_candidates_near_roots_and_drops_those_newton_cannot_b
     }
     assert!(sol.distinct && sol.roots.iter().all(|r| r.certified && r.real), "{sol:?}");
 }
+
+/// f = (x - c)^3 - 2 (x - c) + 2: Newton from x = c cycles between c and c + 1 forever.
+fn newton_two_cycle(c: f64) -> Affine {
+    // expanded: x^3 - 3c x^2 + (3c^2 - 2) x + (-c^3 + 2c + 2)
+    let p =
+        poly(&[(1.0, &[3]), (-3.0 * c, &[2]), (3.0 * c * c - 2.0, &[1]), (-c * c * c + 2.0 * c + 2.0, &[0])]);
+    Affine::new(System::new(1, 0, vec![p]).unwrap())
+}
+
+#[test]
+fn newton_runs_until_the_step_reaches_the_rounding_level_not_after_one_step() {
+    // x^2 - 4 from 3: the first step lands at 13/6; only the rounding-level stop gives 2
+    let f = square_minus(4.0);
+    let mut x = vec![c(3.0)];
+    assert!(f.newton(&mut x, 12));
+    assert!((x[0] - c(2.0)).norm() <= 2.0 * f64::EPSILON, "{:?}", x[0]);
+}
+
+#[test]
+fn newton_reports_failure_when_its_steps_stop_shrinking_far_from_a_root() {
+    // a two-cycle of unit steps: the step stops shrinking at 1, far above the stall bound
+    // 1e-6 (1 + |x|), so this is no root however many iterations are allowed
+    let f = newton_two_cycle(10.0);
+    let mut x = vec![c(10.0)];
+    assert!(!f.newton(&mut x, 12), "reported a root at {:?}", x[0]);
+}
+
+#[test]
+fn residual_is_the_value_and_the_normwise_backward_error_in_closed_form() {
+    // x^2 - k at x: |f| = |x^2 - k|, backward error |f| / ((1 + |k|) max(1, |x|)^2)
+    for (k, x) in [(4.0, 3.0), (9.0, 0.5), (0.25, -7.0), (1e6, 1001.0)] {
+        let (abs, rel) = square_minus(k).residual(&[c(x)]);
+        let f = (x * x - k).abs();
+        let expected = f / ((1.0 + k) * f64::max(1.0, x.abs()).powi(2));
+        assert!(close(abs, f, 4.0 * f64::EPSILON), "k = {k}, x = {x}: |f| {abs} vs {f}");
+        assert!(
+            close(rel, expected, 8.0 * f64::EPSILON),
+            "k = {k}, x = {x}: backward error {rel} vs {expected}"
+        );
+    }
+}
+
+#[test]
+fn alpha_refined_returns_the_nearest_double_to_the_root_and_the_rounding_as_beta() {
+    // x^2 - 2 from a point 1e-9 off: double-double Newton lands on sqrt 2 to ~1e-32, so the
+    // returned point is the double nearest sqrt 2 and beta is half its distance to the root,
+    // the rounding the refinement adds (everything else in beta is ~1e-30)
+    let f = square_minus(2.0);
+    let (test, x) = f.alpha_refined(&[c(2f64.sqrt() + 1e-9)]);
+    let r = 2f64.sqrt();
+    assert_eq!(x[0], c(r), "refined to {:?}", x[0]);
+    // sqrt 2 - r = (2 - r^2) / (sqrt 2 + r); fma gives 2 - r^2 exactly (it is tiny)
+    let offset = (f64::mul_add(-r, r, 2.0) / (2.0 * r)).abs();
+    assert!(offset > 0.0);
+    assert!(close(test.beta, offset / 2.0, 1e-6), "beta {} vs half the rounding {}", test.beta, offset / 2.0);
+    assert!(test.certified, "{test:?}");
+}
+
+#[test]
+fn alpha_refined_refuses_a_point_where_the_jacobian_is_singular() {
+    // x^2 - 2 at x = 0: f' = 0, no Newton step exists
+    let (test, x) = square_minus(2.0).alpha_refined(&[c(0.0)]);
+    assert!(!test.certified && test.alpha.is_infinite(), "{test:?}");
+    assert_eq!(x, vec![c(0.0)]);
+}
