@@ -132,6 +132,7 @@ fn certify_points_polishes_candidates_near_roots_and_drops_those_newton_cannot_b
     let candidates = vec![vec![c(1.4)], vec![c(-1.5)], vec![c(0.0)], vec![c(1e6)]];
     let sol = linkwork_homotopy::certify_points(&s, candidates);
     assert_eq!(sol.failed, 2, "{sol:?}");
+    assert_eq!(sol.paths, 4, "every candidate counts as a path: {sol:?}");
     let mut xs: Vec<f64> = sol.roots.iter().map(|r| r.x[0].re).collect();
     xs.sort_by(f64::total_cmp);
     assert_eq!(xs.len(), 2, "{sol:?}");
