@@ -456,7 +456,7 @@ def _close(
     carry it, their slides driven to the design's offset at the design's time (a spline
     through the designs, exact at its knots), and the two sides are pinned again."""
     from ..errors import LinkworkError
-    from ..model import Model
+    from ..model.compiled import Model
     from ..motion import Spline
 
     temp = _copy(desc)

@@ -142,7 +142,7 @@ _MODELS: dict[int, Any] = {}
 
 def _base_model(job: Job) -> Any:
     """The job's compiled model, compiled once per process and job."""
-    from ..model import Model
+    from ..model.compiled import Model
 
     key = id(job)
     cached = _MODELS.get(key)
@@ -233,7 +233,7 @@ def _run_variants(
 
 def _build(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
     """The chunk's designs built and compiled (a failure is that design's error)."""
-    from ..model import Model
+    from ..model.compiled import Model
 
     begin = time.perf_counter()
     errors = [""] * len(values)
@@ -260,7 +260,7 @@ def _build(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
 
 def _sweep(job: Job, built: dict[str, Any], threads: int | None) -> tuple[list[Any], float]:
     """The built models swept on the engine's threads (the GIL released meanwhile)."""
-    from ..model import sweep_batch
+    from ..model.compiled import sweep_batch
 
     begin = time.perf_counter()
     # arrays that came through pickle may be read-only views of a misaligned buffer
@@ -348,7 +348,7 @@ class Study:
         on_singular: str = "continue",
         **options: Any,
     ) -> None:
-        from ..model import ON_SINGULAR, Model, _options
+        from ..model.compiled import ON_SINGULAR, Model, _options
 
         if isinstance(model, Model):
             if options:

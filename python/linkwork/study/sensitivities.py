@@ -46,8 +46,8 @@ from ..errors import ParameterError
 from .parameters import Parameter, parameters
 
 if TYPE_CHECKING:
-    from ..model import Model
-    from ..results import Results
+    from ..model.compiled import Model
+    from ..model.results import Results
 
 __all__ = ["Sensitivities", "sensitivities", "engine_directions"]
 
@@ -161,8 +161,8 @@ def sensitivities(
 ) -> Sensitivities:
     """See `Model.sensitivities`."""
     from .. import _args, _core
-    from ..model import _ProgressBar
-    from ..results import Results
+    from ..model.compiled import _ProgressBar
+    from ..model.results import Results
 
     t = _args.times(times)
     derivatives = _args.integer(derivatives, "derivatives", 0, 2)

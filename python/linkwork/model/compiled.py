@@ -10,8 +10,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import _args, _core
-from .errors import InputError, ModelError
+from .. import _args, _core
+from ..errors import InputError, ModelError
 from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
@@ -205,7 +205,7 @@ class Model:
         rebuilt on the other side, identically). A model with Python laws cannot travel:
         `PortabilityError` names them."""
         if self._python_laws:
-            from .errors import PortabilityError
+            from ..errors import PortabilityError
 
             names = ", ".join(sorted(self._python_laws))
             raise PortabilityError(
@@ -218,13 +218,13 @@ class Model:
     def draw(self, ax: Any = None, t: float = 0.0) -> Any:
         """Draws the model assembled at time ``t`` (on the drawing's branch, as `solve`) on
         matplotlib axes ``ax`` (default: a new figure); returns the axes."""
-        from .notebook import draw_model
+        from ..view.notebook import draw_model
 
         return draw_model(self, ax, t)
 
     def _repr_html_(self) -> str:
         """What a notebook shows: counts, units, degrees of freedom, structure and the drawing."""
-        from .notebook import model_html
+        from ..view.notebook import model_html
 
         return model_html(self)
 
@@ -336,7 +336,7 @@ class Model:
 
     def _outputs(self, outputs: Any, error: type[Exception]) -> Kept:
         """What ``outputs`` asks a sweep to keep; ``error`` names what does not exist."""
-        from .drawing import Geometry
+        from ..view.drawing import Geometry
 
         if isinstance(outputs, (str, tuple)):
             outputs = [outputs]
@@ -426,7 +426,7 @@ class Model:
         >>> print(examples.four_bar(omega=5.0).compile().cycle())
         one cycle of crank_angle, 2 pi / |rate| = 1.25664 s
         """
-        from .motion import period
+        from ..motion import period
 
         turn = 360.0 if self.units.get("input_angle") == "deg" else 2 * math.pi
         found, moving = [], 0
@@ -537,7 +537,7 @@ class Model:
         `linkwork.study.sensitivities`) raises `ParameterError` naming it. Returns a
         `linkwork.study.Sensitivities` (its ``results`` is the sweep).
         """
-        from .study.sensitivities import sensitivities
+        from ..study.sensitivities import sensitivities
 
         return sensitivities(self, times, parameters, points, q_guess, progress, derivatives, efforts)
 

@@ -24,10 +24,10 @@ from typing import Any
 
 import numpy as np
 
-from . import synthesis as S
-from .errors import SingularError, SolveError, SynthesisError
-from .mechanism import Mechanism
-from .motion import Linear, Spline
+from .. import synthesis as S
+from ..errors import SingularError, SolveError, SynthesisError
+from ..mechanism.builder import Mechanism
+from ..motion import Linear, Spline
 
 __all__ = [
     "ChainedSixBarDesign",

@@ -33,10 +33,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .errors import InputError, SolveError
+from ..errors import InputError, SolveError
 
 if TYPE_CHECKING:
-    from .results import Results
+    from ..model.results import Results
 
 __all__ = [
     "Targets",
@@ -276,7 +276,7 @@ def deviation(results: Results, targets: Any) -> Deviation:
     distance to the nearest point of its path over the sweep, and (with the targets'
     times) to the point at each precision position, with the rotation error of
     ``targets.body`` there (with their angles). ``targets``: as `as_targets` takes."""
-    from .results import Results
+    from ..model.results import Results
 
     if not isinstance(results, Results):
         raise InputError(f"deviation needs the Results of a sweep, not {type(results).__name__}")
@@ -417,7 +417,7 @@ def sweep_design(design: Any, targets: Any = None, steps: int = 721) -> Results:
     design's own, `of_design`, where it has positions), turning the way its precision
     times go (backwards if they all lie before position 1). A sweep that stops at a limit
     of the motion gives the steps before it."""
-    from . import _args
+    from .. import _args
 
     steps = _args.integer(steps, "steps", 2)
     tg = as_targets(targets) if targets is not None else None
@@ -460,21 +460,21 @@ class DesignPictures:
         return deviation(self.sweep(steps), self)
 
     def to_html(self, path: Any = None, **options: Any) -> str:
-        """The interactive page of `sweep` with the targets marked (`linkwork.page.page`;
+        """The interactive page of `sweep` with the targets marked (`linkwork.view.page.page`;
         ``options`` as it takes them)."""
         return self.sweep().to_html(path, targets=self, **options)
 
     def to_svg(self, path: Any = None, **options: Any) -> str:
-        """The SVG of `sweep` with the targets marked (`linkwork.export.svg`)."""
+        """The SVG of `sweep` with the targets marked (`linkwork.view.export.svg`)."""
         return self.sweep().to_svg(path, targets=self, **options)
 
     def to_dxf(self, path: Any, **options: Any) -> None:
-        """The DXF of `sweep` with the targets marked (`linkwork.export.dxf`)."""
+        """The DXF of `sweep` with the targets marked (`linkwork.view.export.dxf`)."""
         self.sweep().to_dxf(path, targets=self, **options)
 
     def plot(self, path: str, **options: Any) -> list[str]:
         """A PNG of the path over the design with the targets marked
-        (`linkwork.figures.plot_paths`)."""
+        (`linkwork.view.figures.plot_paths`)."""
         from .figures import plot_paths
 
         return plot_paths(self.sweep(), path, targets=self, **options)

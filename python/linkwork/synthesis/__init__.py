@@ -20,7 +20,7 @@ Problems (lengths in any unit, angles in radians unless ``angles="deg"``):
 - `path_least_squares`: more than five timed points, the same way (the input dyad from
   the exact timed dyads of five-point subsets, then the follower from the motion it
   implies).
-- `chained_six_bar`: the chained Stephenson six-bar (linkwork.chained_six_bar): a
+- `chained_six_bar`: the chained Stephenson six-bar (linkwork.synthesis.six_bar): a
   coupler point through 5 points while the input link and the coupler turn by given
   angles, every dyad of both problems and every six-bar they combine into.
 - `dyads`: the raw dyad solutions of any of these, by "homotopy" (every root,
@@ -44,11 +44,11 @@ from typing import Any
 
 import numpy as np
 
-from . import _core
-from .errors import SingularError, SolveError, SynthesisError
-from .mechanism import Mechanism
-from .motion import Linear
-from .targets import DesignPictures
+from .. import _core
+from ..errors import SingularError, SolveError, SynthesisError
+from ..mechanism.builder import Mechanism
+from ..motion import Linear
+from ..view.targets import DesignPictures
 
 __all__ = [
     "Dyad",
@@ -1103,8 +1103,8 @@ def chained_six_bar(
     angles: str = "rad",
     method: str = "homotopy",
 ) -> Any:
-    """The chained six-bar's synthesis for any data (`linkwork.chained_six_bar.chained_six_bar`):
+    """The chained six-bar's synthesis for any data (`linkwork.synthesis.six_bar.chained_six_bar`):
     every dyad of both problems and every real combination as a screened design."""
-    from .chained_six_bar import chained_six_bar as solve
+    from .six_bar import chained_six_bar as solve
 
     return solve(points, input_angles, coupler_angles, input_pivot, output_pivot, angles, method)

@@ -25,13 +25,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .mechanism import GROUND
+from ..mechanism.builder import GROUND
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from .model import Model
-    from .results import Results
+    from ..model.compiled import Model
+    from ..model.results import Results
 
 __all__ = [
     "WORLD_POINTS",
@@ -423,7 +423,7 @@ class Geometry:
         """Samples the joint's curve over one period, in the frame of ``body``. The curve
         comes from the independent reference's evaluator; one it refuses is not drawn
         (compiling the model names the fault)."""
-        from .reference.curves import build_curve
+        from ..reference.curves import build_curve
 
         try:
             curve = build_curve(desc, self._pose(body) or (0.0, 0.0, 0.0), f"joint '{joint}'")

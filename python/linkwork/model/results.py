@@ -13,11 +13,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _args
+from .. import _args
 from .events import Event
 
 if TYPE_CHECKING:
-    from .model import Kept, Model
+    from .compiled import Kept, Model
 
 __all__ = ["Results", "State", "Statics", "BodyMotion", "PointMotion", "Reaction", "Energy"]
 
@@ -629,7 +629,7 @@ class Results(_Kinematics):
         >>> df.shape, df.attrs["units"]["P.x_d"], df.attrs["units"]["rocker.theta_dd"]
         ((5, 37), 'm/s', 'rad/s^2')
         """
-        from .export import dataframe
+        from ..view.export import dataframe
 
         return dataframe(self, points=_args.flag(points, "points"))
 
@@ -644,9 +644,9 @@ class Results(_Kinematics):
         """The mechanism at time ``t`` (default: the first step) with the paths of points
         over the sweep, as SVG in world coordinates (the model's length unit, y up, drawn
         1:1), and ``targets`` marked with the path's distance from each (points n x 2, a
-        `linkwork.targets.Targets` or a synthesized design); written to ``path`` if given,
-        and returned. See `linkwork.export.svg`."""
-        from .export import svg
+        `linkwork.view.targets.Targets` or a synthesized design); written to ``path`` if given,
+        and returned. See `linkwork.view.export.svg`."""
+        from ..view.export import svg
 
         return svg(self, path, t=t, paths=paths, max_points=max_points, targets=targets)
 
@@ -662,8 +662,8 @@ class Results(_Kinematics):
         needed) with the mechanism drawn to scale, a slider over the steps, play and pause,
         the paths of points, live values and plots of ``outputs``, the events on the
         timeline and ``targets`` marked, with a table of their distances (as for
-        `to_svg`); written to ``path`` if given, and returned. See `linkwork.page`."""
-        from .page import page
+        `to_svg`); written to ``path`` if given, and returned. See `linkwork.view.page`."""
+        from ..view.page import page
 
         return page(self, path, outputs=outputs, paths=paths, frames=frames, targets=targets)
 
@@ -671,7 +671,7 @@ class Results(_Kinematics):
         """Draws the mechanism at time ``t`` of the sweep (default: the first step; a time
         between steps is solved there) with the paths of ``paths`` (default: every named
         point) on matplotlib axes ``ax`` (default: a new figure); returns the axes."""
-        from .notebook import draw_results
+        from ..view.notebook import draw_results
 
         return draw_results(self, ax, t, paths)
 
@@ -679,13 +679,13 @@ class Results(_Kinematics):
         """The mechanism moving, as an animation a notebook plays inline (an `Animation`:
         matplotlib's JavaScript player by default, ``mode="html5"`` for a video, which
         needs ffmpeg); ``frames`` frames spread evenly over the sweep."""
-        from .notebook import animate
+        from ..view.notebook import animate
 
         return animate(self, frames=frames, fps=fps, mode=mode)
 
     def _repr_html_(self) -> str:
         """What a notebook shows: a summary table and small plots."""
-        from .notebook import results_html
+        from ..view.notebook import results_html
 
         return results_html(self)
 
@@ -699,8 +699,8 @@ class Results(_Kinematics):
     ) -> None:
         """The mechanism at time ``t`` and the paths of points as a DXF drawing (needs
         ezdxf), one layer per kind of thing, ``targets`` on layer TARGETS (as for
-        `to_svg`). See `linkwork.export.dxf`."""
-        from .export import dxf
+        `to_svg`). See `linkwork.view.export.dxf`."""
+        from ..view.export import dxf
 
         dxf(self, path, t=t, paths=paths, max_points=max_points, targets=targets)
 

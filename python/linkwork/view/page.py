@@ -5,8 +5,8 @@ live values of the chosen outputs, plots linked to the slider, and the events (l
 bifurcations, locks, branch jumps, the closest approach to a singular configuration)
 marked on the timeline. ``Results.to_html`` and ``linkwork view`` write it.
 
-The drawing is the SVG of `linkwork.export` at the first frame; every position at every
-frame is computed here in Python from the sweep (`linkwork.drawing.Motion`, world
+The drawing is the SVG of `linkwork.view.export` at the first frame; every position at every
+frame is computed here in Python from the sweep (`linkwork.view.drawing.Motion`, world
 coordinates; mesh points and belts' strands too, ``Motion.marks``) and embedded as
 JSON; the page's script only moves the SVG's elements to
 the positions of the frame the slider shows. Numbers are embedded in shortest round-trip
@@ -30,15 +30,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _args
+from .. import _args
+from ..errors import InputError
+from ..model.events import KINDS
 from .drawing import Geometry, Motion
-from .errors import InputError
-from .events import KINDS
 from .export import _output_path, _path_names, path_points, svg_text
 from .targets import Deviation, deviation
 
 if TYPE_CHECKING:
-    from .results import Results
+    from ..model.results import Results
 
 __all__ = ["page", "inputs", "MAX_FRAMES"]
 
@@ -141,11 +141,11 @@ def page(
     every slider's travel), ``paths`` drawn (named points or joints; default: every named
     point, or the pins off the ground), ``frames`` steps spread evenly over the sweep
     (first and last included; every step if the sweep has fewer). ``targets`` (points
-    n x 2, a `linkwork.targets.Targets` or a synthesized design): marked in the drawing as
-    in `linkwork.export.svg`, listed in a table with the path's distance from each (and
+    n x 2, a `linkwork.view.targets.Targets` or a synthesized design): marked in the drawing as
+    in `linkwork.view.export.svg`, listed in a table with the path's distance from each (and
     the traced point's at its precision position), and in the page's data as
     ``targets``. Returns the HTML and writes it to ``path`` if given."""
-    from .results import Results
+    from ..model.results import Results
 
     _args.of_type(results, "results", Results, "the Results of a sweep")
     out = _output_path(path)

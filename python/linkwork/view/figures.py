@@ -28,8 +28,8 @@ from .drawing import Geometry, MechanismArtists, Motion, setup_axes
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from .model import Model
-    from .results import Results
+    from ..model.compiled import Model
+    from ..model.results import Results
     from .targets import Deviation
 
 __all__ = [
@@ -191,7 +191,7 @@ def x_axis(results: Results, x: str = "time") -> XAxis:
     periodic driver, else its only moving one) or of the driver named ``x``: an angle in
     the file's angle unit (deg or rad), a distance in the length unit. A bad ``x`` is an
     `InputError` saying what is allowed."""
-    from .errors import InputError
+    from ..errors import InputError
     from .page import inputs
 
     if not isinstance(x, str):
@@ -292,7 +292,7 @@ def unknown_paths(model: Model, names: Sequence[str]) -> str | None:
 
 
 def _labels(labels: object) -> bool:
-    from .errors import InputError
+    from ..errors import InputError
 
     if not isinstance(labels, bool):
         raise InputError(f"labels must be True or False, not {labels!r}")
@@ -331,9 +331,9 @@ def plot_paths(
 ) -> list[str]:
     """A PNG of the paths of points in the plane (equal scales) over the mechanism drawn
     faintly at the first step; ``labels``: the bodies' and joints' names on it;
-    ``targets`` (points n x 2, a `linkwork.targets.Targets` or a synthesized design):
+    ``targets`` (points n x 2, a `linkwork.view.targets.Targets` or a synthesized design):
     marked and numbered, with their poses' ticks, and the path's distance from each
-    listed beside the axes (as in `linkwork.export.svg`). Returns the names drawn."""
+    listed beside the axes (as in `linkwork.view.export.svg`). Returns the names drawn."""
     labels = _labels(labels)
     from .export import target_limits
     from .targets import deviation

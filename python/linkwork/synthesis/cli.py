@@ -27,13 +27,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import synthesis as S
-from .errors import LinkworkError
-from .targets import Deviation, Targets, deviation, of_design, sweep_design
+from .. import synthesis as S
+from ..errors import LinkworkError
+from ..view.targets import Deviation, Targets, deviation, of_design, sweep_design
 
 if TYPE_CHECKING:
-    from .model import Model
-    from .results import Results
+    from ..model.compiled import Model
+    from ..model.results import Results
 
 PROBLEMS = ("motion", "path", "function", "chained-six-bar")
 
@@ -123,7 +123,7 @@ def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
 def _chained_six_bar(problem: dict[str, Any], unit: str) -> tuple[str, list[Any], np.ndarray]:
     """The chained six-bar from the file's numbers; with a [torque] table, the input
     torque of the first design that is defect-free and turns fully."""
-    from . import chained_six_bar as C
+    from . import six_bar as C
 
     kind = "chained-six-bar"
     keys = ("points", "input_angles", "coupler_angles", "input_pivot", "output_pivot")
@@ -175,8 +175,8 @@ def _pictures(
     """Each of the first `MAX_PICTURES` designs swept over a turn, with its page, SVG and
     PNG (targets marked) in ``out``; returns each design for the overview figure and the
     report's lines (the deviations, or why a design's pictures are not drawn)."""
-    from .figures import plot_paths
-    from .page import page
+    from ..view.figures import plot_paths
+    from ..view.page import page
 
     drawn: list[Drawn] = []
     lines = []

@@ -27,12 +27,12 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
-from . import _core, curves
-from .errors import InputError, LinkworkError, LinkworkWarning, ModelError
-from .motion import Law
+from .. import _core, curves
+from ..errors import InputError, LinkworkError, LinkworkWarning, ModelError
+from ..motion import Law
 
 if TYPE_CHECKING:
-    from .model import Model
+    from ..model.compiled import Model
 
 __all__ = ["Body", "Mechanism", "GROUND"]
 
@@ -698,7 +698,7 @@ class Mechanism:
     @classmethod
     def from_dict(cls, desc: dict[str, Any]) -> Mechanism:
         """A mechanism from its description (``to_dict``'s inverse)."""
-        from . import _args
+        from .. import _args
 
         desc = _args.mapping(desc, "desc")
         for key in ("bodies", "joints", "drivers", "points", "loads"):
@@ -779,7 +779,7 @@ class Mechanism:
         return _core.write_model(self._json(), "toml")
 
     def _json(self) -> str:
-        from .model import _check_finite
+        from ..model.compiled import _check_finite
 
         desc = self.to_dict()
         _check_finite(desc)  # names the element: JSON cannot carry NaN to the writer
@@ -864,9 +864,9 @@ class Mechanism:
         """
         if self.is_drawn():
             return self
-        from . import _args
-        from .errors import AssemblyError
-        from .model import Model
+        from .. import _args
+        from ..errors import AssemblyError
+        from ..model.compiled import Model
 
         t = _args.number(t, "t")
         branch = self.branch if branch is None else branch
@@ -929,7 +929,7 @@ class Mechanism:
         mechanism read from a file, the message gives the line of the element at fault).
         A mechanism given by its joints' pins is drawn first (`assemble`; `Model` does the
         same)."""
-        from .model import Model
+        from ..model.compiled import Model
 
         try:
             return Model(self, **options)
@@ -948,13 +948,13 @@ class Mechanism:
         """Draws the mechanism assembled at time ``t`` on matplotlib axes ``ax`` (default: a
         new figure) and returns the axes; a mechanism that cannot be assembled yet is drawn
         as described, its title saying why."""
-        from .notebook import draw_mechanism
+        from ..view.notebook import draw_mechanism
 
         return draw_mechanism(self, ax, t)
 
     def _repr_png_(self) -> bytes:
         """The drawing a notebook shows (PNG)."""
-        from .notebook import mechanism_png
+        from ..view.notebook import mechanism_png
 
         return mechanism_png(self)
 
@@ -976,7 +976,7 @@ def _carry_world_points(
     body's rough pose to its assembled one (as the engine reads them: the point in the
     body's frame is u = A(theta_rough)^T (p - R_rough)), so a named point or a joint's
     point given beside the pins stays where it is on its body."""
-    from .drawing import CURVES, WORLD_POINTS
+    from ..view.drawing import CURVES, WORLD_POINTS
 
     def moved(body: str) -> bool:
         return body != GROUND and any(abs(a - b) > 0.0 for a, b in zip(rough[body], poses[body]))
