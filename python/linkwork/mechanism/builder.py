@@ -29,14 +29,13 @@ import numpy as np
 
 from .. import _core, curves
 from ..errors import InputError, LinkworkError, LinkworkWarning, ModelError
+from ..kinds import CURVES, GROUND, WORLD_DIRECTIONS, WORLD_POINTS
 from ..motion import Law
 
 if TYPE_CHECKING:
     from ..model.compiled import Model
 
 __all__ = ["Body", "Mechanism", "GROUND"]
-
-GROUND = "ground"
 
 
 @dataclass(frozen=True)
@@ -959,16 +958,6 @@ class Mechanism:
         return mechanism_png(self)
 
 
-#: world directions at the start fixed in a body: joint or driver type -> {field: the
-#: field naming the body} (a prismatic's axis is turned with its pins, in `assemble`)
-WORLD_DIRECTIONS: dict[str, dict[str, str]] = {
-    "point_on_line": {"axis": "body_b"},
-    "rack_pinion": {"axis": "body_b"},
-    "parallel": {"axis_a": "body_a", "axis_b": "body_b"},
-    "cam_follower": {"face": "body_b"},
-}
-
-
 def _carry_world_points(
     desc: dict[str, Any], rough: dict[str, tuple[float, float, float]], poses: dict[str, np.ndarray]
 ) -> None:
@@ -976,7 +965,6 @@ def _carry_world_points(
     body's rough pose to its assembled one (as the engine reads them: the point in the
     body's frame is u = A(theta_rough)^T (p - R_rough)), so a named point or a joint's
     point given beside the pins stays where it is on its body."""
-    from ..view.drawing import CURVES, WORLD_POINTS
 
     def moved(body: str) -> bool:
         return body != GROUND and any(abs(a - b) > 0.0 for a, b in zip(rough[body], poses[body]))

@@ -45,12 +45,12 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
+from ..kinds import CURVES
 
 __all__ = ["Parameter", "parameter", "parameters", "apply", "KINDS"]
 
 GROUPS = ("bodies", "joints", "drivers", "points", "loads")
 KINDS = ("length", "pin", "pivot", "point", "mass", "inertia", "ratio", "radius_a", "radius_b", "law")
-_CURVED = ("pin_in_slot", "cam_follower")
 
 
 @dataclass(frozen=True)
@@ -268,7 +268,7 @@ def _check_pin(desc: Mapping[str, Any], name: str, joint: Mapping[str, Any], bod
             f"parameter {name!r}: pin {joint['name']!r} joins {joint['body_a']!r} and {joint['body_b']!r}, "
             f"not {body!r}"
         )
-    curved = [j["name"] for j in desc.get("joints", []) if j.get("type") in _CURVED]
+    curved = [j["name"] for j in desc.get("joints", []) if j.get("type") in CURVES]
     if curved:
         raise ParameterError(
             f"parameter {name!r}: the mechanism has curve joints ({_listing(curved)}), which a redraw "

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..mechanism.builder import GROUND
+from ..kinds import CURVES, GROUND, WORLD_POINTS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -51,29 +51,6 @@ __all__ = [
     "colour",
 ]
 
-#: joint or driver type -> {field holding a world point at the start: the fields naming
-#: the bodies that point is fixed in}. A new joint type is one line here; a type not
-#: listed (an unknown one too) adds nothing to the drawing.
-WORLD_POINTS: dict[str, dict[str, tuple[str, ...]]] = {
-    "revolute": {"at": ("body_a", "body_b")},
-    "prismatic": {"at": ("body_a", "body_b")},
-    "fixed": {},
-    "angle": {},
-    "relative_angle": {},
-    "distance": {"at_a": ("body_a",), "at_b": ("body_b",)},
-    "coordinate": {"at": ("body",)},
-    "translation": {},
-    "point_on_line": {"at": ("body_a",), "through": ("body_b",)},
-    "gear": {"centre_a": ("body_a",), "centre_b": ("body_b",)},
-    "rack_pinion": {"centre": ("body_a",)},
-    "belt": {},
-    "fixed_orientation": {},
-    "parallel": {},
-    "linear_coupling": {},
-    "pin_in_slot": {"at": ("body_b",)},
-    "cam_follower": {"at": ("body_b",)},
-}
-
 #: joint types drawn as a block (body_b) sliding on a guide (body_a): the field holding
 #: the sliding direction (a world direction at the start, fixed in body_a). A
 #: point_on_line is drawn the other way round: its pin (body_a) in the slot of body_b.
@@ -94,10 +71,6 @@ CURVE_STYLES: dict[str, tuple[float, str]] = {
     "mark": (1.5, "-"),
     "teeth": (1.0, "-"),
 }
-
-#: joint types whose ``curve`` (world coordinates at the start) is fixed in body_a and
-#: drawn with it: a curved slot, a cam profile
-CURVES: tuple[str, ...] = ("pin_in_slot", "cam_follower")
 
 #: points drawn along a curve's period
 CURVE_SAMPLES = 257
