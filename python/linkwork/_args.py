@@ -106,6 +106,18 @@ def of_type(value: Any, name: str, kind: type, what: str) -> Any:
     return value
 
 
+def is_sweep(value: Any) -> bool:
+    """Whether ``value`` is the Results of a sweep, known by what the views read of it (its
+    times, coordinates and model), so that a view need not import the class it draws."""
+    return all(hasattr(value, a) for a in ("times", "q", "model", "n_steps"))
+
+
+def sweep(value: Any, name: str) -> Any:
+    if not is_sweep(value):
+        raise InputError(f"{name} must be the Results of a sweep, not {_show(value)}")
+    return value
+
+
 def each(values: Any, name: str, check: Callable[[Any, str], Any]) -> list[Any]:
     """A list of checked items (``name[i]`` in the messages)."""
     if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):

@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import SingularError, SolveError
 from ..mechanism.builder import Mechanism
 from ..motion import Linear
-from ..view.targets import DesignPictures
+from ..view.design import DesignPictures
 from .dyad import POSITION_TOLERANCE, Dyad, DyadSolutions
 
 __all__ = ["MERIT", "Defects", "DyadDesign", "FourBarDesign", "Curves", "Synthesis"]

@@ -30,8 +30,7 @@ from ..kinds import CURVES, GROUND, WORLD_POINTS
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..model.compiled import Model
-    from ..model.results import Results
+    from linkwork import Model, Results
 
 __all__ = [
     "WORLD_POINTS",

@@ -31,11 +31,11 @@ import numpy as np
 from .. import _args
 from ..errors import InputError
 from .drawing import Geometry, Motion, colour, ground_symbols
+from .series import default_paths, unknown_paths
 from .targets import TARGET_COLOUR, Deviation, deviation, target_marks
 
 if TYPE_CHECKING:
-    from ..model.compiled import Model
-    from ..model.results import Results
+    from linkwork import Model, Results
 
 __all__ = ["configuration", "path_points", "svg", "svg_text", "dxf", "dataframe", "MM_PER"]
 
@@ -58,9 +58,7 @@ def configuration(results: Results, t: float | None = None) -> tuple[Motion, int
     """The sweep's motion and the row drawing time ``t`` (default: the first step). A time
     between steps is solved there (Newton from the nearest step, so on the sweep's
     branch) and added as the last row; a time outside the sweep is an `InputError`."""
-    from ..model.results import Results
-
-    _args.of_type(results, "results", Results, "the Results of a sweep")
+    _args.sweep(results, "results")
     if results.n_steps == 0:
         raise InputError("nothing to draw: the results have no steps")
     geometry = Geometry.from_model(results.model)
@@ -80,8 +78,6 @@ def configuration(results: Results, t: float | None = None) -> tuple[Motion, int
 
 
 def _path_names(model: Model, paths: Sequence[str] | None) -> list[str]:
-    from .figures import default_paths, unknown_paths
-
     if paths is None:
         return default_paths(model)
     names = _args.each(paths, "paths", lambda v, n: _args.of_type(v, n, str, "a point's or joint's name"))

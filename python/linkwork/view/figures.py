@@ -18,18 +18,30 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .drawing import Geometry, MechanismArtists, Motion, setup_axes
+from .series import (
+    X_AXES,
+    Output,
+    XAxis,
+    _length_unit,
+    default_outputs,
+    default_paths,
+    output,
+    unknown_outputs,
+    unknown_paths,
+    unknown_x,
+    x_axis,
+)
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..model.compiled import Model
-    from ..model.results import Results
+    from linkwork import Results
+
     from .targets import Deviation
 
 __all__ = [
@@ -54,163 +66,6 @@ __all__ = [
 MAX_POINTS = 5000
 #: pixels of an animation (width, height); even, as H.264 needs
 MOVIE_SIZE = (640, 480)
-
-
-@dataclass(frozen=True)
-class Output:
-    """One output over a sweep: its value, rate and acceleration (None where the sweep
-    did not solve them), each (n_steps,), and its unit."""
-
-    name: str
-    unit: str
-    value: np.ndarray
-    rate: np.ndarray | None
-    acceleration: np.ndarray | None
-
-
-def _point_names(model: Model) -> list[str]:
-    return [p[0] for p in model._core.points]
-
-
-def _find(model: Model, name: str) -> tuple[str, int] | None:
-    """("column", column index) or ("point", axis) for an output name; None if unknown."""
-    if name in model.columns:
-        return "column", model.columns.index(name)
-    if name in model.body_names:
-        return "column", model.columns.index(f"{name}.theta")
-    point, _, axis = name.rpartition(".")
-    if axis in ("x", "y") and point in _point_names(model):
-        return "point", "xy".index(axis)
-    return None
-
-
-def unknown_outputs(model: Model, names: Sequence[str]) -> str | None:
-    """A message naming the outputs that do not exist and what does, or None."""
-    bad = [n for n in names if _find(model, n) is None]
-    if not bad:
-        return None
-    points = ", ".join(f"{p}.x, {p}.y" for p in _point_names(model)) or "none"
-    return (
-        f"no output named {', '.join(map(repr, bad))}; an output is a column "
-        f"({', '.join(model.columns)}), a body (its angle: {', '.join(model.body_names)}) "
-        f"or a point's coordinate ({points})"
-    )
-
-
-def _length_unit(results: Results) -> str:
-    return results.units(results.columns[0]) if results.columns else "m"
-
-
-def output(results: Results, name: str) -> Output:
-    """The output called ``name`` (a column, a body's angle or ``POINT.x`` / ``POINT.y``)."""
-    found = _find(results.model, name)
-    if found is None:
-        raise KeyError(unknown_outputs(results.model, [name]))
-    kind, k = found
-    if kind == "column":
-        column = results.columns[k]
-
-        def col(a: np.ndarray | None) -> np.ndarray | None:
-            return None if a is None else a[:, k]
-
-        assert results.q is not None
-        return Output(column, results.units(column), results.q[:, k], col(results.qd), col(results.qdd))
-    p = results.point(name.rpartition(".")[0])
-
-    def axis(a: np.ndarray | None) -> np.ndarray | None:
-        return None if a is None else a[:, k]
-
-    return Output(name, _length_unit(results), p.position[:, k], axis(p.velocity), axis(p.acceleration))
-
-
-#: outputs and paths drawn when none are named, at most (a large model has thousands;
-#: name them with --outputs / --paths)
-MAX_DEFAULT = 12
-
-
-def default_outputs(results: Results) -> list[str]:
-    """The outputs plotted when none are named: the angle of every body that turns, and
-    x and y of every body that only translates (a slider), where they change."""
-    names: list[str] = []
-    tol = 1e-9 * results.model.length_scale
-    for body in results.model.body_names:
-        b = results.body(body)
-        if np.ptp(b.theta) > 1e-9:
-            names.append(body)
-            continue
-        names += [f"{body}.{c}" for c, v in (("x", b.x), ("y", b.y)) if np.ptp(v) > tol]
-        if len(names) >= MAX_DEFAULT:
-            break
-    return (names or list(results.model.body_names))[:MAX_DEFAULT]
-
-
-#: what the outputs can be plotted against (or a driver's name)
-X_AXES = ("time", "input")
-
-
-@dataclass(frozen=True)
-class XAxis:
-    """The abscissa of the figures of outputs: its label, unit and value at every step."""
-
-    label: str
-    unit: str
-    value: np.ndarray
-
-
-def _input_driver(model: Model, x: str) -> tuple[str | None, str | None]:
-    """(the driver plotted against for ``x``, None) or (None, why there is none)."""
-    drivers = [d for d in model.description.get("drivers", [])]
-    names = [str(d.get("name")) for d in drivers]
-    if x in names:
-        return x, None
-    if x != "input":
-        return None, (
-            f"--x must be time, input or a driver's name ({', '.join(names) or 'the model has no drivers'}), "
-            f"not {x!r}"
-        )
-    cycle = model.cycle()
-    if cycle is not None:
-        return cycle.driver, None
-    moving = [str(d.get("name")) for d in drivers if d.get("law", {}).get("type") != "constant"]
-    if len(moving) == 1:
-        return moving[0], None
-    return None, (
-        f"--x input needs one moving driver; the model has {len(moving)} ({', '.join(moving) or 'none'}): "
-        "name one with --x DRIVER"
-    )
-
-
-def unknown_x(model: Model, x: str) -> str | None:
-    """Why the outputs cannot be plotted against ``x`` (time, input or a driver's name),
-    or None."""
-    return None if x == "time" else _input_driver(model, x)[1]
-
-
-def x_axis(results: Results, x: str = "time") -> XAxis:
-    """The abscissa ``x``: "time" (s), or "input", the input of the model's driver (its
-    periodic driver, else its only moving one) or of the driver named ``x``: an angle in
-    the file's angle unit (deg or rad), a distance in the length unit. A bad ``x`` is an
-    `InputError` saying what is allowed."""
-    from ..errors import InputError
-    from .page import inputs
-
-    if not isinstance(x, str):
-        raise InputError(f"x must be time, input or a driver's name, not {x!r}")
-    if x == "time":
-        return XAxis("t", "s", np.asarray(results.times))
-    driver, problem = _input_driver(results.model, x)
-    if problem:
-        raise InputError(problem)
-    rows = np.arange(results.n_steps)
-    found = [d for d in inputs(results, Geometry.from_model(results.model), rows) if d["name"] == driver]
-    if not found:
-        raise InputError(f"the input of driver {driver!r} cannot be read from the sweep")
-    d = found[0]
-    value = np.asarray(d["value"], dtype=np.float64)
-    unit = d["unit"]
-    if d["angle"] and results.model.units.get("input_angle") == "deg":
-        value, unit = np.degrees(value), "deg"
-    return XAxis(str(driver), unit, value)
 
 
 def _step(n: int) -> int:
@@ -267,28 +122,6 @@ def plot_outputs(
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return [o.name for o in chosen]
-
-
-def default_paths(model: Model) -> list[str]:
-    """The paths drawn when none are named: every named point's, or if the model has
-    none, every pin's that is not on the ground."""
-    points = _point_names(model)
-    if points:
-        return points[:MAX_DEFAULT]
-    g = Geometry.from_model(model)
-    ground = {g.anchors[k].name for k in g.ground_pins}
-    return [g.anchors[k].name for k in g.pins if g.anchors[k].name not in ground][:MAX_DEFAULT]
-
-
-def unknown_paths(model: Model, names: Sequence[str]) -> str | None:
-    """A message naming the paths that cannot be drawn and those that can, or None."""
-    traceable = Geometry.from_model(model).traceable
-    bad = [n for n in names if n not in traceable]
-    if not bad:
-        return None
-    return (
-        f"no point or joint named {', '.join(map(repr, bad))}; paths can be drawn of: {', '.join(traceable)}"
-    )
 
 
 def _labels(labels: object) -> bool:

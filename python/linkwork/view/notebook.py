@@ -32,9 +32,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from ..mechanism.builder import Mechanism
-    from ..model.compiled import Model
-    from ..model.results import Results
+    from linkwork import Mechanism, Model, Results
 
 __all__ = [
     "draw_results",
@@ -204,7 +202,7 @@ def results_html(results: Results) -> str:
     """A summary table (range, peak rate and acceleration of every coordinate; residual,
     iterations, closest approach to a singular configuration; events) and two small plots:
     the default outputs over time and the paths over the mechanism at the first step."""
-    from .figures import default_outputs, output
+    from .series import default_outputs, output
 
     r = results
     head = f"<strong>{escape(r.model.name)}</strong>: {r.n_steps} steps"
