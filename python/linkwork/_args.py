@@ -4,6 +4,7 @@ naming the argument, its value and what is allowed, before anything reaches the 
 
 from __future__ import annotations
 
+import importlib
 import math
 import numbers
 from collections.abc import Callable, Collection, Mapping
@@ -136,4 +137,19 @@ def optional_module(module: str, what: str, extra: str) -> Any:
         package = module.partition(".")[0]
         raise DependencyError(
             f"{what} needs {package}: pip install {package} (or pip install 'linkwork[{extra}]')"
+        ) from None
+
+
+def requires(module: str, extra: str = "studies") -> Any:
+    """Imports an optional dependency of an extra (default ``studies``), or raises
+    `DependencyError` with the pip command."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        package = {"distributed": "dask[distributed]", "h5netcdf": "h5netcdf"}.get(
+            module, module.split(".")[0]
+        )
+        raise DependencyError(
+            f"this needs {package}, which is not installed: pip install 'linkwork[{extra}]' "
+            f"(or pip install '{package}')"
         ) from None

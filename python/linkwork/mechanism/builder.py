@@ -822,12 +822,14 @@ class Mechanism:
         """Draws the mechanism assembled at time ``t`` on matplotlib axes ``ax`` (default: a
         new figure) and returns the axes; a mechanism that cannot be assembled yet is drawn
         as described, its title saying why."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.notebook import draw_mechanism
 
         return draw_mechanism(self, ax, t)
 
     def _repr_png_(self) -> bytes:
         """The drawing a notebook shows (PNG)."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.notebook import mechanism_png
 
         return mechanism_png(self)

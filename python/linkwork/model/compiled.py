@@ -15,7 +15,8 @@ from ..errors import InputError, ModelError
 from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
-from .results import Results, State, Statics
+from .progress import ProgressBar
+from .results import Kept, Results, State, Statics
 from .structure import Structure
 
 __all__ = ["Model", "Cycle", "sweep_batch"]
@@ -218,12 +219,14 @@ class Model:
     def draw(self, ax: Any = None, t: float = 0.0) -> Any:
         """Draws the model assembled at time ``t`` (on the drawing's branch, as `solve`) on
         matplotlib axes ``ax`` (default: a new figure); returns the axes."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.notebook import draw_model
 
         return draw_model(self, ax, t)
 
     def _repr_html_(self) -> str:
         """What a notebook shows: counts, units, degrees of freedom, structure and the drawing."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.notebook import model_html
 
         return model_html(self)
@@ -336,6 +339,7 @@ class Model:
 
     def _outputs(self, outputs: Any, error: type[Exception]) -> Kept:
         """What ``outputs`` asks a sweep to keep; ``error`` names what does not exist."""
+        # declared lazy import, upward: the points a sweep can trace are the drawing's anchors
         from ..view.drawing import Geometry
 
         if isinstance(outputs, (str, tuple)):
@@ -491,7 +495,7 @@ class Model:
         if branch is not None and len(t):
             q_guess = self._branch_guess(float(t[0]), branch)
         g = self._guess(q_guess)
-        callback = _ProgressBar() if progress is True else (progress or None)
+        callback = ProgressBar() if progress is True else (progress or None)
         # Ctrl-C (and the progress bar) are looked at every `check` steps: about every
         # 0.1 s whatever the model's size (a step costs ~0.1 us per coordinate)
         check = max(1, min(16384, 1_000_000 // max(1, self.n_coords)))
@@ -537,19 +541,10 @@ class Model:
         `linkwork.study.sensitivities`) raises `ParameterError` naming it. Returns a
         `linkwork.study.Sensitivities` (its ``results`` is the sweep).
         """
+        # declared lazy import, upward: a convenience method of the study layer
         from ..study.sensitivities import sensitivities
 
         return sensitivities(self, times, parameters, points, q_guess, progress, derivatives, efforts)
-
-
-@dataclass(frozen=True)
-class Kept:
-    """What a sweep keeps: model columns (indices, in order), body points (body index, -1
-    for the ground; u_x, u_y) and the points' names."""
-
-    coords: list[int]
-    points: list[tuple[int, float, float]]
-    point_names: list[str]
 
 
 def sweep_batch(
@@ -677,16 +672,3 @@ def _check_finite(desc: dict[str, Any]) -> None:
             problem = walk(item, "")
             if problem:
                 raise ModelError(f"{kind} {item.get('name')!r}: {problem.lstrip('.')}")
-
-
-class _ProgressBar:
-    """A one-line progress bar on stderr."""
-
-    def __call__(self, done: int, total: int) -> None:
-        import sys
-
-        width = 30
-        filled = width * done // max(total, 1)
-        end = "\n" if done >= total else ""
-        sys.stderr.write(f"\r  sweeping [{'#' * filled}{'.' * (width - filled)}] {done}/{total}{end}")
-        sys.stderr.flush()

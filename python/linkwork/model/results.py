@@ -17,9 +17,19 @@ from .. import _args
 from .events import Event
 
 if TYPE_CHECKING:
-    from .compiled import Kept, Model
+    from linkwork import Model
 
 __all__ = ["Results", "State", "Statics", "BodyMotion", "PointMotion", "Reaction", "Energy"]
+
+
+@dataclass(frozen=True)
+class Kept:
+    """What a sweep keeps: model columns (indices, in order), body points (body index, -1
+    for the ground; u_x, u_y) and the points' names."""
+
+    coords: list[int]
+    points: list[tuple[int, float, float]]
+    point_names: list[str]
 
 
 @dataclass(frozen=True)
@@ -629,6 +639,7 @@ class Results(_Kinematics):
         >>> df.shape, df.attrs["units"]["P.x_d"], df.attrs["units"]["rocker.theta_dd"]
         ((5, 37), 'm/s', 'rad/s^2')
         """
+        # declared lazy import, upward: a convenience method of the view
         from ..view.export import dataframe
 
         return dataframe(self, points=_args.flag(points, "points"))
@@ -646,6 +657,7 @@ class Results(_Kinematics):
         1:1), and ``targets`` marked with the path's distance from each (points n x 2, a
         `linkwork.view.targets.Targets` or a synthesized design); written to ``path`` if given,
         and returned. See `linkwork.view.export.svg`."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.export import svg
 
         return svg(self, path, t=t, paths=paths, max_points=max_points, targets=targets)
@@ -663,6 +675,7 @@ class Results(_Kinematics):
         the paths of points, live values and plots of ``outputs``, the events on the
         timeline and ``targets`` marked, with a table of their distances (as for
         `to_svg`); written to ``path`` if given, and returned. See `linkwork.view.page`."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.page import page
 
         return page(self, path, outputs=outputs, paths=paths, frames=frames, targets=targets)
@@ -671,6 +684,7 @@ class Results(_Kinematics):
         """Draws the mechanism at time ``t`` of the sweep (default: the first step; a time
         between steps is solved there) with the paths of ``paths`` (default: every named
         point) on matplotlib axes ``ax`` (default: a new figure); returns the axes."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.notebook import draw_results
 
         return draw_results(self, ax, t, paths)
@@ -679,12 +693,14 @@ class Results(_Kinematics):
         """The mechanism moving, as an animation a notebook plays inline (an `Animation`:
         matplotlib's JavaScript player by default, ``mode="html5"`` for a video, which
         needs ffmpeg); ``frames`` frames spread evenly over the sweep."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.notebook import animate
 
         return animate(self, frames=frames, fps=fps, mode=mode)
 
     def _repr_html_(self) -> str:
         """What a notebook shows: a summary table and small plots."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.notebook import results_html
 
         return results_html(self)
@@ -700,6 +716,7 @@ class Results(_Kinematics):
         """The mechanism at time ``t`` and the paths of points as a DXF drawing (needs
         ezdxf), one layer per kind of thing, ``targets`` on layer TARGETS (as for
         `to_svg`). See `linkwork.view.export.dxf`."""
+        # declared lazy import, upward: a convenience method of the view
         from ..view.export import dxf
 
         dxf(self, path, t=t, paths=paths, max_points=max_points, targets=targets)

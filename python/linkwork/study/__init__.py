@@ -2,7 +2,7 @@
 (grids, Latin hypercubes, lists), tolerance analysis (Monte Carlo and first-order), each
 design swept and reduced where it runs, in-process on all cores or on a Dask cluster.
 
-- `parameters`: naming a number of the model, `apply` to make the varied model;
+- `parameters`: naming a number of the model; `redraw`: `apply`, the varied model redrawn;
 - `designs`: grids, Latin hypercubes, listed designs, tolerances and their samples;
 - `outputs`: the figures kept of each design (reductions of its sweep);
 - `run`: `Study`, the three scales, `StudyResult`;
@@ -15,7 +15,8 @@ from .dataset import open_dataset
 from .designs import Designs, Interval, Normal, Uniform, grid, latin_hypercube, listed, sample
 from .outputs import NAMES as OUTPUTS
 from .outputs import Output
-from .parameters import KINDS, Parameter, apply, apply_many, parameter, parameters
+from .parameters import KINDS, Parameter, parameter, parameters
+from .redraw import apply, apply_many
 from .report import atlas_figure, study_report, tolerance_report
 from .run import Job, Study, StudyResult, run_chunk
 from .sensitivities import Sensitivities, engine_directions, sensitivities

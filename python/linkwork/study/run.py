@@ -21,28 +21,14 @@ from typing import Any
 import numpy as np
 
 from .. import _args
-from ..errors import DependencyError, LinkworkError, StudyError
+from .._args import requires
+from ..errors import LinkworkError, StudyError
 from .designs import Designs, listed
 from .outputs import Output, outputs
-from .parameters import Parameter, _description, _value, apply_many, parameters
+from .parameters import Parameter, _description, _value, parameters
+from .redraw import apply_many
 
 __all__ = ["Study", "StudyResult", "Job", "run_chunk", "requires"]
-
-
-def requires(module: str, extra: str = "studies") -> Any:
-    """Imports an optional dependency, or raises `DependencyError` with the pip command."""
-    import importlib
-
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        package = {"distributed": "dask[distributed]", "h5netcdf": "h5netcdf"}.get(
-            module, module.split(".")[0]
-        )
-        raise DependencyError(
-            f"this needs {package}, which is not installed: pip install 'linkwork[{extra}]' "
-            f"(or pip install '{package}')"
-        ) from None
 
 
 @dataclass(frozen=True)
@@ -450,6 +436,7 @@ class Study:
         self, tolerances: Mapping[str, Any], n: int = 1000, seed: int | None = 0, **run: Any
     ) -> Any:
         """A tolerance study: see `linkwork.study.tolerance_study`."""
+        # declared lazy import, upward: a convenience method of a module above this one
         from .tolerance import tolerance_study
 
         return tolerance_study(self, tolerances, n=n, seed=seed, **run)
@@ -764,12 +751,14 @@ class StudyResult:
         """The labelled dataset (xarray): dimension ``design`` (with every parameter's
         values as a coordinate), ``step`` (coordinate ``time``) and ``xy``; a variable per
         output and ``error``; units as attributes."""
+        # declared lazy import, upward: a convenience method of a module above this one
         from .dataset import to_xarray
 
         return to_xarray(self)
 
     def to_pandas(self) -> Any:
         """One row per design: the parameters, every scalar figure and ``error``."""
+        # declared lazy import, upward: a convenience method of a module above this one
         from .dataset import to_pandas
 
         return to_pandas(self)
@@ -777,6 +766,7 @@ class StudyResult:
     def save(self, path: str) -> str:
         """Writes the dataset: ``.nc`` NetCDF (every figure), ``.parquet`` (a row per
         design; per-step figures as fixed-size lists), units in both. Returns the path."""
+        # declared lazy import, upward: a convenience method of a module above this one
         from .dataset import save
 
         return save(self, path)
