@@ -337,6 +337,11 @@ class Model:
         )
         return AssemblyModes(modes, int(tried), int(converged))
 
+    @property
+    def point_names(self) -> list[str]:
+        """The named points, in the description's order."""
+        return [p[0] for p in self._core.points]
+
     def _outputs(self, outputs: Any, error: type[Exception]) -> Kept:
         """What ``outputs`` asks a sweep to keep; ``error`` names what does not exist."""
         # declared lazy import, upward: the points a sweep can trace are the drawing's anchors

@@ -442,35 +442,11 @@ class Results(_Kinematics):
 
     def plot_forces(self, path: str, every: int = 1) -> None:
         """A PNG of every driver's effort (split into inertia, gravity and loads) and of the
-        magnitude of every joint's reaction force over the sweep."""
-        import matplotlib
+        magnitude of every joint's reaction force over the sweep (`linkwork.view.figures.plot_forces`)."""
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.figures import plot_forces
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        table = self._forces()
-        k = slice(None, None, max(1, int(every)))
-        t = self.times[k]
-        fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(12, 4.5), constrained_layout=True)
-        for name, role, *_ in self.model.constraints:
-            if role == "driver":
-                ax0.plot(t, self.effort(name)[k], lw=2, label=f"{name} (total)")
-                for part, v in self.effort_parts(name).items():
-                    if np.any(v):
-                        ax0.plot(t, v[k], lw=1, ls="--", label=f"{name}: {part}")
-            else:
-                j = self._constraint(name)[0]
-                ax1.plot(t, np.hypot(table[k, j, 0], table[k, j, 1]), label=name)
-        u = self.model.units
-        ax0.set_ylabel(f"driver effort [{u['torque']} or {u['force']}]")
-        ax1.set_ylabel(f"joint force magnitude [{u['force']}]")
-        for ax in (ax0, ax1):
-            ax.set_xlabel("t [s]")
-            ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=8)
-        fig.suptitle(f"{self.model.name}: inverse dynamics over {self.n_steps} steps")
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        plot_forces(self, path, every)
 
     @property
     def n_steps(self) -> int:
@@ -723,37 +699,8 @@ class Results(_Kinematics):
 
     def plot(self, path: str, bodies: Sequence[str] | None = None, every: int = 1) -> None:
         """A PNG of every body's angle, angular velocity and acceleration over time, and
-        of the paths of the named points (plotting every ``every``-th step)."""
-        import matplotlib
+        of the paths of the named points, every ``every``-th step (`linkwork.view.figures.plot_results`)."""
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.figures import plot_results
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        names = list(bodies) if bodies is not None else self.model.body_names
-        k = slice(None, None, max(1, int(every)))
-        t = self.times[k]
-        fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
-        for name in names:
-            b = self.body(name)
-            for ax, v in ((axes[0, 0], b.theta), (axes[0, 1], b.thetad), (axes[1, 0], b.thetadd)):
-                if v is not None:
-                    ax.plot(t, v[k], label=name)
-        for ax, what in zip(axes.flat, ["theta [rad]", "omega [rad/s]", "alpha [rad/s^2]"]):
-            ax.set_xlabel("t [s]")
-            ax.set_ylabel(what)
-            ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=8)
-        ax = axes[1, 1]
-        for pname, *_ in self.model._core.points:
-            p = self.point(pname).position[k]
-            ax.plot(p[:, 0], p[:, 1], label=f"point {pname}")
-        for name in names:
-            b = self.body(name)
-            ax.plot(b.x[k], b.y[k], lw=0.8, ls="--", label=f"{name} origin")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.set_title("paths")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
-        fig.suptitle(f"{self.model.name}: {self.n_steps} steps")
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        plot_results(self, path, bodies, every)

@@ -60,6 +60,8 @@ __all__ = [
     "plot_paths",
     "draw_targets",
     "animate",
+    "plot_results",
+    "plot_forces",
 ]
 
 #: figures need no more points per line than this, whatever the sweep's length
@@ -260,3 +262,75 @@ def animate(results: Results, path: str, fps: int = 30, frames: int = 120, label
     finally:
         plt.close(fig)
     return len(rows)
+
+
+def plot_results(results: Results, path: str, bodies: Sequence[str] | None = None, every: int = 1) -> None:
+    """A PNG of every body's angle, angular velocity and acceleration over time, and
+    of the paths of the named points (plotting every ``every``-th step): `Results.plot`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(bodies) if bodies is not None else results.model.body_names
+    k = slice(None, None, max(1, int(every)))
+    t = results.times[k]
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
+    for name in names:
+        b = results.body(name)
+        for ax, v in ((axes[0, 0], b.theta), (axes[0, 1], b.thetad), (axes[1, 0], b.thetadd)):
+            if v is not None:
+                ax.plot(t, v[k], label=name)
+    for ax, what in zip(axes.flat, ["theta [rad]", "omega [rad/s]", "alpha [rad/s^2]"]):
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(what)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    ax = axes[1, 1]
+    for pname in results.model.point_names:
+        p = results.point(pname).position[k]
+        ax.plot(p[:, 0], p[:, 1], label=f"point {pname}")
+    for name in names:
+        b = results.body(name)
+        ax.plot(b.x[k], b.y[k], lw=0.8, ls="--", label=f"{name} origin")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_title("paths")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.suptitle(f"{results.model.name}: {results.n_steps} steps")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_forces(results: Results, path: str, every: int = 1) -> None:
+    """A PNG of every driver's effort (split into inertia, gravity and loads) and of the
+    magnitude of every joint's reaction force over the sweep: `Results.plot_forces`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if results.reactions is None:
+        raise ValueError("no forces in these results: sweep(..., forces=True) computes them")
+    k = slice(None, None, max(1, int(every)))
+    t = results.times[k]
+    fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(12, 4.5), constrained_layout=True)
+    for name, role, *_ in results.model.constraints:
+        if role == "driver":
+            ax0.plot(t, results.effort(name)[k], lw=2, label=f"{name} (total)")
+            for part, v in results.effort_parts(name).items():
+                if np.any(v):
+                    ax0.plot(t, v[k], lw=1, ls="--", label=f"{name}: {part}")
+        else:
+            force = results.reaction(name).force
+            ax1.plot(t, np.hypot(force[k, 0], force[k, 1]), label=name)
+    u = results.model.units
+    ax0.set_ylabel(f"driver effort [{u['torque']} or {u['force']}]")
+    ax1.set_ylabel(f"joint force magnitude [{u['force']}]")
+    for ax in (ax0, ax1):
+        ax.set_xlabel("t [s]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{results.model.name}: inverse dynamics over {results.n_steps} steps")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

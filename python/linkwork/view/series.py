@@ -54,7 +54,7 @@ class Output:
 
 
 def _point_names(model: Model) -> list[str]:
-    return [p[0] for p in model._core.points]
+    return list(model.point_names)
 
 
 def _find(model: Model, name: str) -> tuple[str, int] | None:

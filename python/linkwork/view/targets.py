@@ -237,7 +237,7 @@ def _size(dev: Deviation) -> float:
 
 
 def _point_names(results: Results) -> list[str]:
-    return [p[0] for p in results.model._core.points]
+    return list(results.model.point_names)
 
 
 def _refine(
