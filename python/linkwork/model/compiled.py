@@ -12,6 +12,7 @@ import numpy as np
 
 from .. import _args, _core
 from ..errors import InputError, ModelError
+from .anchors import Anchor, traceable
 from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
@@ -344,16 +345,13 @@ class Model:
 
     def _outputs(self, outputs: Any, error: type[Exception]) -> Kept:
         """What ``outputs`` asks a sweep to keep; ``error`` names what does not exist."""
-        # declared lazy import, upward: the points a sweep can trace are the drawing's anchors
-        from ..view.drawing import Geometry
-
         if isinstance(outputs, (str, tuple)):
             outputs = [outputs]
         items = _args.each(outputs, "outputs", lambda item, name: item)
         coords: list[int] = []
         points: dict[str, tuple[int, float, float]] = {}
         named = {p: (b, ux, uy) for p, b, ux, uy in self._core.points}
-        geometry: Geometry | None = None
+        traced: dict[str, Anchor] | None = None
         for item in items:
             if isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str):
                 body, local = item
@@ -370,15 +368,18 @@ class Model:
             elif item in named:
                 points[item] = named[item]
             else:
-                geometry = geometry or Geometry.from_model(self)
-                k = geometry.traceable.get(item)
-                if k is None:
+                traced = (
+                    traced
+                    if traced is not None
+                    else traceable(self.body_names, self.q_start, self.description)
+                )
+                anchor = traced.get(item)
+                if anchor is None:
                     raise error(
                         f"no output named {item!r}; an output is a body ({', '.join(self._body_names)}), "
                         f"a column ({', '.join(self._columns)}), or a point, joint or driver with a point "
-                        f"({', '.join(geometry.traceable) or 'none'})"
+                        f"({', '.join(traced) or 'none'})"
                     )
-                anchor = geometry.anchors[k]
                 index = -1 if anchor.body == "ground" else self._body_names.index(anchor.body)
                 points[item] = (index, float(anchor.local[0]), float(anchor.local[1]))
         return Kept(list(dict.fromkeys(coords)), list(points.values()), list(points))

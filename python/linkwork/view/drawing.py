@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..kinds import CURVES, GROUND, WORLD_POINTS
+from ..model.anchors import Anchor, Frames, _rotate, constraint_anchors
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -73,17 +74,6 @@ CURVE_STYLES: dict[str, tuple[float, str]] = {
 
 #: points drawn along a curve's period
 CURVE_SAMPLES = 257
-
-
-@dataclass(frozen=True)
-class Anchor:
-    """A point fixed in a body: where a joint or driver acts, or a named point."""
-
-    name: str  # the joint, driver or point
-    kind: str  # "joint", "driver", "point" or "origin" (a body with nothing attached)
-    type: str  # the joint or driver type ("point", "origin")
-    body: str  # the body it is fixed in, or "ground"
-    local: tuple[float, float]  # u, in the body's frame
 
 
 @dataclass(frozen=True)
@@ -162,11 +152,6 @@ class Mark:
     xy: np.ndarray
 
 
-def _rotate(theta: float, v: tuple[float, float]) -> tuple[float, float]:
-    c, s = math.cos(theta), math.sin(theta)
-    return (c * v[0] - s * v[1], s * v[0] + c * v[1])
-
-
 class Geometry:
     """The anchors of a model's drawing, in body frames, and how to draw them.
 
@@ -186,6 +171,7 @@ class Geometry:
         self.body_names = list(body_names)
         self._index = {name: i for i, name in enumerate(self.body_names)}
         self._q_start = np.asarray(q_start, dtype=np.float64)
+        self._frames = Frames(self.body_names, self._q_start)
         self.anchors: list[Anchor] = []
         self.pins: list[int] = []
         self.ground_pins: list[int] = []
@@ -225,41 +211,27 @@ class Geometry:
         return cls(model.body_names, model.q_start, model.description)
 
     def _pose(self, body: str) -> tuple[float, float, float] | None:
-        """(x0, y0, theta0) of a moving body, None for the ground or an unknown body."""
-        i = self._index.get(body)
-        if i is None:
-            return None
-        x, y, th = self._q_start[3 * i : 3 * i + 3]
-        return float(x), float(y), float(th)
+        return self._frames.pose(body)
 
     def _local(self, body: str, world: Any) -> tuple[float, float]:
-        px, py = float(world[0]), float(world[1])
-        pose = self._pose(body)
-        if pose is None:  # the ground's frame is the world's
-            return (px, py)
-        x0, y0, th0 = pose
-        return _rotate(-th0, (px - x0, py - y0))
+        return self._frames.local(body, world)
 
     def _add(self, name: str, kind: str, type_: str, body: str, world: Any) -> int:
         self.anchors.append(Anchor(name, kind, type_, body, self._local(body, world)))
         return len(self.anchors) - 1
 
     def _known(self, body: str) -> bool:
-        return body == GROUND or body in self._index
+        return self._frames.known(body)
 
     def _add_constraint(self, kind: str, item: dict[str, Any]) -> None:
         type_, name = str(item.get("type")), str(item.get("name"))
-        fields = WORLD_POINTS.get(type_)
-        if fields is None:
+        found = constraint_anchors(self._frames, kind, item)
+        if found is None:
             return  # a type the drawing does not know: not drawn
         added: dict[str, int] = {}  # body field -> anchor index
-        for field, body_fields in fields.items():
-            if field not in item:
-                continue
-            for body_field in body_fields:
-                body = str(item.get(body_field))
-                if self._known(body):
-                    added[body_field] = self._add(name, kind, type_, body, item[field])
+        for body_field, anchor in found:
+            self.anchors.append(anchor)
+            added[body_field] = len(self.anchors) - 1
         if type_ in CURVES and self._known(str(item.get("body_a"))):
             self._add_curve(name, str(item["body_a"]), item.get("curve"))
         body_b = str(item.get("body_b"))
