@@ -531,7 +531,7 @@ class Model:
         """A sweep over ``times`` and, at every step, the exact sensitivities of the
         coordinates, their rates and accelerations (dq/dp, dqd/dp, dqdd/dp: n_steps x
         n_coords x n_params) and of the named ``points`` (default: all) to the design
-        ``parameters``, named as in `linkwork.study.parameters` (``joints.B.at.0``,
+        ``parameters``, named as in `linkwork.study.naming` (``joints.B.at.0``,
         ``drivers.crank_angle.law.rate``, ``pin A@crank.x``, ``length crank``, ``ratio
         G1``, ``mass coupler``, ...). ``derivatives``: 0 for dq/dp alone (and the sweep's
         positions), 1 with dqd/dp, 2 (the default) with dqdd/dp too. The implicit function
@@ -544,11 +544,11 @@ class Model:
         each driver's effort's (``.effort(driver)``); masses, inertias, centres of mass,
         gravity and the loads' numbers move those alone. The GIL is released meanwhile. A
         parameter that is not one of the engine's numbers (see
-        `linkwork.study.sensitivities`) raises `ParameterError` naming it. Returns a
+        `linkwork.study.sensitivity`) raises `ParameterError` naming it. Returns a
         `linkwork.study.Sensitivities` (its ``results`` is the sweep).
         """
         # declared lazy import, upward: a convenience method of the study layer
-        from ..study.sensitivities import sensitivities
+        from ..study.sensitivity import sensitivities
 
         return sensitivities(self, times, parameters, points, q_guess, progress, derivatives, efforts)
 

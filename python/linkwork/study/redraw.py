@@ -20,7 +20,7 @@ from .. import _core
 from ..errors import LinkworkError, ParameterError
 from ..model.compiled import Model
 from ..motion import Spline
-from .parameters import GROUPS, Parameter, _description, _units, _value, parameter
+from .naming import GROUPS, Parameter, _description, _units, _value, parameter
 
 __all__ = ["apply", "apply_many"]
 

@@ -24,8 +24,8 @@ from .. import _args
 from .._args import requires
 from ..errors import LinkworkError, StudyError
 from .designs import Designs, listed
+from .naming import Parameter, _description, _value, parameters
 from .outputs import Output, outputs
-from .parameters import Parameter, _description, _value, parameters
 from .redraw import apply_many
 
 __all__ = ["Study", "StudyResult", "Job", "run_chunk", "requires"]
@@ -52,7 +52,7 @@ class Job:
 @dataclass(frozen=True)
 class Variants:
     """How a job's designs move the compiled model's own numbers: the engine parameters
-    (``names``, as `linkwork.study.sensitivities.engine_directions` gives them) and
+    (``names``, as `linkwork.study.sensitivity.engine_directions` gives them) and
     ``weights`` (one row per engine parameter, one column per design parameter: the map
     is affine and exact). Plain data: it pickles."""
 
@@ -72,7 +72,7 @@ def variants_of(
     None (the designs are redrawn and compiled one by one)."""
     from .. import _core
     from ..errors import ParameterError
-    from .sensitivities import engine_directions
+    from .sensitivity import engine_directions
 
     if forces or any(o.kind not in _KEPT for o in outs) or _overlapping(params) or any(map(_curved, params)):
         return None
@@ -372,7 +372,7 @@ class Study:
     def job(self, names: Sequence[str], variants: bool = True) -> Job:
         """Everything a task needs to sweep designs of the parameters ``names``. Where
         every parameter is one of the engine's numbers (see
-        `linkwork.study.sensitivities`) and every output one the engine keeps (``path``,
+        `linkwork.study.sensitivity`) and every output one the engine keeps (``path``,
         ``angle``, ``coordinate``, ``events``, ``pivot_min``), the designs are variants of
         the compiled model, set up and swept by the engine on its threads; otherwise (or
         with ``variants=False``) each design is redrawn (`apply`) and compiled. The two

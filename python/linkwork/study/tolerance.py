@@ -11,7 +11,7 @@ Two answers, side by side:
   root-sum-square sqrt(sum_i (S_i sigma_i)^2) and each parameter's share of the
   variance. S is the engine's **exact** sensitivities (`Model.sensitivities`: the
   implicit function theorem on each step's factorization, no differences) where every
-  parameter is one of the engine's (`linkwork.study.sensitivities`), and otherwise
+  parameter is one of the engine's (`linkwork.study.sensitivity`), and otherwise
   estimated by **central differences** of sweeps (two designs per parameter, +-h), the
   fallback, labelled with the parameter that needs it; or given (``sensitivities=``).
 

@@ -2,16 +2,9 @@
 curves) over a faint drawing of the mechanism, and the mechanism moving as a GIF or MP4.
 ``linkwork run --plot``, ``linkwork plot`` and ``--animate`` write them.
 
-An output is named by a coordinate column (``rocker.theta``, ``slider.x``), by a body
-(its angle) or by a named point and an axis (``P.x``, ``P.y``).
-
->>> import numpy as np
->>> from linkwork import examples
->>> res = examples.four_bar().compile().sweep(np.linspace(0.0, 1.0, 11))
->>> [output(res, name).name for name in ("rocker", "coupler.x", "P.y")]
-['rocker.theta', 'coupler.x', 'P.y']
->>> default_outputs(res)
-['crank', 'coupler', 'rocker']
+Outputs are named as `linkwork.view.series` reads them (a coordinate column, a body's
+angle, a named point's ``P.x``); the PNGs of `Results.plot` and `Results.plot_forces`
+are drawn here too.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ factorization of Phi_q, each joint's rows differentiated exactly; no differences
 ``efforts=True``, of the inverse dynamics' multipliers too (dlambda/dp, hence each
 driver's effort), from Phi_q^T dlambda/dp = dQ/dp - (dPhi_q/dp)^T lambda.
 
-Parameters are named as in `linkwork.study.parameters`:
+Parameters are named as in `linkwork.study.naming`:
 
 - description paths the engine maps exactly onto its numbers: a revolute's ``at`` (or
   ``pin_a``/``pin_b``), a distance joint's ``at_a``/``at_b``/``length``, a prismatic
@@ -46,7 +46,7 @@ from .. import _args, _core
 from ..errors import ParameterError
 from ..model.progress import ProgressBar
 from ..model.results import Results
-from .parameters import Parameter, parameters
+from .naming import Parameter, parameters
 
 if TYPE_CHECKING:
     from linkwork import Model
