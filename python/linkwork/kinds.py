@@ -11,7 +11,10 @@ of its bodies), ``local_point``, ``direction`` (a world direction at the start),
 ``pitch`` (a wheel's pitch radius), ``coefficients``, ``length``, ``angle``, ``ratio``,
 ``number``, ``flag``, ``choice`` (one of ``choices``) and ``law`` (a driver's motion law;
 ``input`` says what it sets: ``angle``, ``relative_angle``, ``distance``, ``coordinate``
-or ``slide``).
+or ``slide``). ``unit`` is "length", "angle" or None.
+
+The views below (`WORLD_POINTS`, `WORLD_DIRECTIONS`, `CURVES`, `GUIDES`, `WHEELS`,
+`FEATURES`) are what the drawing, the assembly and the redraw of design parameters read.
 """
 
 from __future__ import annotations
@@ -21,7 +24,23 @@ from typing import Any
 
 from . import _core
 
-__all__ = ["Field", "Kind", "ENGINE_KINDS", "KINDS", "kind", "of_role"]
+__all__ = [
+    "GROUND",
+    "Field",
+    "Kind",
+    "ENGINE_KINDS",
+    "KINDS",
+    "kind",
+    "WORLD_POINTS",
+    "WORLD_DIRECTIONS",
+    "CURVES",
+    "GUIDES",
+    "WHEELS",
+    "FEATURES",
+]
+
+#: the fixed frame's name wherever a body is named
+GROUND = "ground"
 
 
 @dataclass(frozen=True)
@@ -33,6 +52,7 @@ class Field:
     bodies: tuple[str, ...] = ()
     choices: tuple[str, ...] = ()
     input: str | None = None
+    unit: str | None = None
 
 
 @dataclass(frozen=True)
@@ -49,6 +69,15 @@ class Kind:
     def field(self, name: str) -> Field | None:
         return next((f for f in self.fields if f.name == name), None)
 
+    def of_role(self, *roles: str) -> dict[str, Field]:
+        """The fields of these roles, {name: Field}, in the description's order."""
+        return {f.name: f for f in self.fields if f.role in roles}
+
+    @property
+    def input(self) -> Field | None:
+        """A driver's law (its ``input``: what it sets, its ``unit``), or None."""
+        return next((f for f in self.fields if f.role == "law"), None)
+
 
 def _read(table: list[dict[str, Any]]) -> tuple[tuple[str, ...], dict[tuple[str, str], Kind]]:
     engine: list[str] = []
@@ -60,13 +89,13 @@ def _read(table: list[dict[str, Any]]) -> tuple[tuple[str, ...], dict[tuple[str,
         old = kinds.get(key)
         fields = list(old.fields) if old else []
         for f in form["fields"]:
-            new = Field(f["name"], f["role"], tuple(f["bodies"]), tuple(f["choices"]), f["input"])
+            new = Field(f["name"], f["role"], tuple(f["bodies"]), tuple(f["choices"]), f["input"], f["unit"])
             k = next((i for i, g in enumerate(fields) if g.name == new.name), None)
             if k is None:
                 fields.append(new)
             else:  # one field in several forms: its choices joined
                 choices = fields[k].choices + tuple(c for c in new.choices if c not in fields[k].choices)
-                fields[k] = Field(new.name, fields[k].role, fields[k].bodies, choices, fields[k].input)
+                fields[k] = Field(**{**fields[k].__dict__, "choices": choices})
         engine_of = (*old.engine, form["kind"]) if old else (form["kind"],)
         kinds[key] = Kind(key[0], key[1], engine_of, tuple(fields))
     return tuple(engine), kinds
@@ -83,13 +112,48 @@ def kind(group: str, type_: Any) -> Kind | None:
     return KINDS.get((group if group.endswith("s") else group + "s", str(type_)))
 
 
-def of_role(group: str, *roles: str) -> dict[str, dict[str, Field]]:
-    """For each type of ``group`` that has fields of these roles: {type: {field name:
-    Field}}, fields in the description's order."""
-    out: dict[str, dict[str, Field]] = {}
-    for (g, type_), k in KINDS.items():
-        if g == group:
-            found = {f.name: f for f in k.fields if f.role in roles}
-            if found:
-                out[type_] = found
-    return out
+def _by_type(view: Any) -> dict[str, Any]:
+    """{type: view(kind)} over joints and drivers (a joint and a driver of the same type
+    name, `distance`, have the same such fields)."""
+    return {t: view(k) for (_, t), k in KINDS.items()}
+
+
+#: type -> {field holding a world point at the start: the fields naming the bodies that
+#: point is fixed in}; every type is listed
+WORLD_POINTS: dict[str, dict[str, tuple[str, ...]]] = _by_type(
+    lambda k: {n: f.bodies for n, f in k.of_role("point").items()}
+)
+
+#: type -> {field holding a world direction at the start: the field naming the body it
+#: is fixed in} (a slide's direction too)
+WORLD_DIRECTIONS: dict[str, dict[str, str]] = {
+    t: v
+    for t, v in _by_type(
+        lambda k: {n: f.bodies[0] for n, f in k.of_role("direction", "slide").items()}
+    ).items()
+    if v
+}
+
+#: types with a curve (world coordinates at the start) fixed in a body
+CURVES: tuple[str, ...] = tuple(t for t, k in _by_type(lambda k: k.of_role("curve")).items() if k)
+
+#: types drawn as a block (body_b) sliding on a guide (body_a): the field of the slide's
+#: direction, fixed in body_a
+GUIDES: dict[str, str] = {
+    t: n for (_, t), k in KINDS.items() for n, f in k.of_role("slide").items() if f.bodies == ("body_a",)
+}
+
+#: types with pitch circles (a gear's, a pulley's, a pinion's)
+WHEELS: tuple[str, ...] = tuple(t for t, k in _by_type(lambda k: k.of_role("pitch")).items() if k)
+
+#: group -> type -> (field, the field naming the body whose frame carries it, "p" for a
+#: world point or "d" for a direction), for each type with such fields; a point of two
+#: bodies is carried by the first
+FEATURES: dict[str, dict[str, tuple[tuple[str, str, str], ...]]] = {
+    group: {
+        t: tuple((n, f.bodies[0], "p" if f.role == "point" else "d") for n, f in fs.items())
+        for (g, t), k in KINDS.items()
+        if g == group and (fs := k.of_role("point", "direction", "slide"))
+    }
+    for group in ("joints", "drivers")
+}

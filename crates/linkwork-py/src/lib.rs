@@ -805,7 +805,7 @@ impl PyModel {
 
 /// Every joint and driver type of the engine with the description forms it compiles
 /// from and the role of each field (`linkwork::joints::Role`), in the kind list's order:
-/// [{"kind", "group", "type", "fields": [{"name", "role", "bodies", "choices", "input"}]}].
+/// [{"kind", "group", "type", "fields": [{"name", "role", "bodies", "choices", "input", "unit"}]}].
 #[pyfunction]
 fn constraint_roles(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
     let mut out = Vec::new();
@@ -827,6 +827,7 @@ fn constraint_roles(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
                     _ => None,
                 };
                 f.set_item("input", input)?;
+                f.set_item("unit", role.unit())?;
                 fields.push(f);
             }
             let d = PyDict::new(py);

@@ -71,6 +71,11 @@ fn every_form_round_trips_through_the_file_format() {
             assert_eq!(read, again, "{at}: the TOML round trip");
             let flat: Value = serde_json::from_str(&again.to_json()).unwrap();
             assert_eq!(flat[form.group][0], Value::Object(item), "{at}: the fields written back");
+            if let Some(driver) = again.drivers.first() {
+                let law =
+                    form.fields.iter().find_map(|(_, r)| if let Role::Law(i) = r { Some(*i) } else { None });
+                assert_eq!(law.map(|i| i.is_angle()), Some(driver.is_angle()), "{at}: the law's unit");
+            }
         }
     }
 }

@@ -368,6 +368,16 @@ impl Role {
         }
     }
 
+    /// The unit of the value, "length" or "angle" (a law's: of what it sets), or None.
+    pub fn unit(&self) -> Option<&'static str> {
+        match self {
+            Role::Point(_) | Role::LocalPoint(_) | Role::Pitch(_) | Role::Length => Some("length"),
+            Role::Angle => Some("angle"),
+            Role::Law(i) => Some(if i.is_angle() { "angle" } else { "length" }),
+            _ => None,
+        }
+    }
+
     /// The fields naming the bodies the value is fixed in (none for a plain number).
     pub fn bodies(&self) -> Vec<&'static str> {
         match *self {
@@ -385,6 +395,11 @@ impl Role {
 }
 
 impl Input {
+    /// Whether the law sets an angle (rad) rather than a length.
+    pub fn is_angle(&self) -> bool {
+        matches!(self, Input::Angle | Input::RelativeAngle)
+    }
+
     pub fn name(&self) -> &'static str {
         match self {
             Input::Angle => "angle",
