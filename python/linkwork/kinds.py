@@ -14,7 +14,7 @@ of its bodies), ``local_point``, ``direction`` (a world direction at the start),
 or ``slide``). ``unit`` is "length", "angle" or None.
 
 The views below (`WORLD_POINTS`, `WORLD_DIRECTIONS`, `CURVES`, `GUIDES`, `WHEELS`,
-`FEATURES`) are what the drawing, the assembly and the redraw of design parameters read.
+`PINNED`, `FEATURES`) are what the drawing, the assembly and the redraw of design parameters read.
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ __all__ = [
     "CURVES",
     "GUIDES",
     "WHEELS",
+    "PINNED",
     "FEATURES",
 ]
 
@@ -145,6 +146,10 @@ GUIDES: dict[str, str] = {
 
 #: types with pitch circles (a gear's, a pulley's, a pinion's)
 WHEELS: tuple[str, ...] = tuple(t for t, k in _by_type(lambda k: k.of_role("pitch")).items() if k)
+
+#: types a description may give by points in the bodies' own frames (pins), which
+#: `Mechanism.assemble` draws
+PINNED: tuple[str, ...] = tuple(t for t, k in _by_type(lambda k: k.of_role("local_point")).items() if k)
 
 #: group -> type -> (field, the field naming the body whose frame carries it, "p" for a
 #: world point or "d" for a direction), for each type with such fields; a point of two
