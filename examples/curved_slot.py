@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 import linkwork as lw
-from linkwork import figures
 from linkwork.reference import ReferenceModel
+from linkwork.view import figures
 
 here = Path(__file__).resolve().parent
 out = Path(sys.argv[1] if len(sys.argv) > 1 else "linkwork-out")

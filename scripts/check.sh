@@ -9,5 +9,6 @@ echo "== clippy";   cargo clippy --workspace --all-targets --quiet -- -D warning
 echo "== cargo test"; cargo test -p linkwork -p linkwork-homotopy --quiet
 echo "== ruff";     ruff check python tests benches examples
 ruff format --check python tests benches examples
+echo "== import layers"; lint-imports
 echo "== stubtest"; python -m mypy.stubtest linkwork._core
 echo "== pytest";   python -m pytest -q

@@ -59,7 +59,7 @@ else
 fi
 
 # --- Python: one-token mutants of the changed lines of the core modules
-core="python/linkwork/synthesis.py python/linkwork/linkages.py python/linkwork/chained_six_bar.py python/linkwork/study"
+core="python/linkwork/synthesis python/linkwork/model/linkages.py python/linkwork/study"
 changed=$(git diff --name-only "$base" -- $core | grep "\.py$" || true)
 if [ -n "$changed" ]; then
     set +e

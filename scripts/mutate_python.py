@@ -4,9 +4,9 @@ changed, arcsin/arccos and min/max exchanged) is applied alone and the tests tha
 the module run against it; a mutant they pass is a survivor. mutmut's trampolines do not
 reach a package whose extension is built beside it (python/linkwork/_core), hence this.
 
-    python scripts/mutate_python.py BASE python/linkwork/synthesis.py ...
-    python scripts/mutate_python.py --all python/linkwork/linkages.py   (every line)
-    python scripts/mutate_python.py --all python/linkwork/synthesis.py:381-460   (lines)
+    python scripts/mutate_python.py BASE python/linkwork/synthesis/screening.py ...
+    python scripts/mutate_python.py --all python/linkwork/model/linkages.py   (every line)
+    python scripts/mutate_python.py --all python/linkwork/synthesis/screening.py:1-80   (lines)
 
 The tests run are the files that name the module, or MUTATE_TESTS (space-separated).
 
@@ -75,12 +75,15 @@ def tests_for(module: Path) -> list[str]:
     """Test files that name the module, or those MUTATE_TESTS lists."""
     if os.environ.get("MUTATE_TESTS"):
         return os.environ["MUTATE_TESTS"].split()
-    name = module.stem
-    return sorted(
-        str(p.relative_to(ROOT))
-        for p in (ROOT / "tests").glob("test_*.py")
-        if re.search(rf"\b{name}\b", p.read_text())
-    )
+    tests = sorted((ROOT / "tests").glob("test_*.py"))
+    # a package by its name; a module no test names, by its package's (`synthesis.screening`)
+    for name in (module.stem, module.parent.name):
+        if name in ("__init__", "linkwork"):
+            continue
+        named = [str(p.relative_to(ROOT)) for p in tests if re.search(rf"\b{name}\b", p.read_text())]
+        if named:
+            return named
+    return []
 
 
 def main(argv: list[str]) -> int:

@@ -14,9 +14,9 @@ import pytest
 
 import linkwork
 import linkwork.synthesis as S
-from linkwork import chained_six_bar as C
 from linkwork.errors import SolveError, SynthesisError
 from linkwork.motion import Linear, Polynomial
+from linkwork.synthesis import six_bar as C
 
 EXAMPLE = Path(__file__).parent.parent / "examples" / "synthesis" / "chained_six_bar.toml"
 
@@ -204,7 +204,7 @@ def test_known_six_bars_are_recovered_by_the_cli_and_a_changed_file_changes_the_
 
 
 def test_cli_names_a_missing_or_ill_shaped_key(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    from linkwork.synth_cli import solve
+    from linkwork.synthesis.cli import solve
 
     problem = _toml(EXAMPLE)
     for key in ("points", "input_angles", "coupler_angles", "input_pivot", "output_pivot"):
@@ -320,8 +320,8 @@ def test_order_defect_when_the_positions_are_swapped() -> None:
 def test_a_singular_event_within_the_stroke_is_a_branch_defect(monkeypatch) -> None:  # type: ignore[no-untyped-def]
     """A bifurcation the sweep passes on its branch (every position still met) makes the
     stroke defective when it comes before the last position, not when it comes after."""
-    from linkwork.events import Event
-    from linkwork.model import Model
+    from linkwork.model.compiled import Model
+    from linkwork.model.events import Event
 
     problem = _toml(EXAMPLE)
     design = next(d for d in _call(problem, angles=problem["angles"]).designs if d.defects.full_turn)

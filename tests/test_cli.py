@@ -574,7 +574,7 @@ def test_plot_against_the_input_angle_in_the_files_unit(tmp_path, capsys, monkey
 
 
 def test_x_axis_of_a_distance_driver_and_bad_choices(tmp_path, capsys):
-    from linkwork import figures
+    from linkwork.view import figures
 
     model = pulled_slider(tmp_path / "pull.json")
     res = lw.Mechanism.load(model).compile().sweep(np.linspace(0.0, 1.0, 11))

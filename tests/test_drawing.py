@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import linkwork as lw
-from linkwork import figures
-from linkwork.drawing import Geometry, MechanismArtists, Motion
+from linkwork.view import drawing, figures
+from linkwork.view.drawing import Geometry, MechanismArtists, Motion
 
 REV = np.linspace(0.0, 2 * math.pi / 5.0, 241)  # one crank revolution of the examples
 
@@ -104,7 +104,7 @@ def test_unknown_joint_types_are_skipped_and_bare_bodies_drawn_at_their_origin()
     g = Geometry(model.body_names + ["flywheel"], np.append(model.q_start, [1.0, 2.0, 0.5]), desc)
     assert not [a for a in g.anchors if a.name == "G1"]
     assert [a for a in g.anchors if a.body == "flywheel"] == [
-        lw.drawing.Anchor("flywheel", "origin", "origin", "flywheel", (0.0, 0.0))
+        drawing.Anchor("flywheel", "origin", "origin", "flywheel", (0.0, 0.0))
     ]
 
 
@@ -138,7 +138,7 @@ def test_artists_follow_the_motion_with_fixed_limits():
     motion = Motion(g, res)
     fig, ax = plt.subplots()
     artists = MechanismArtists(ax, motion, clock=True)
-    lw.drawing.setup_axes(ax, motion, "m")
+    drawing.setup_axes(ax, motion, "m")
     limits = (ax.get_xlim(), ax.get_ylim())
     for row in (0, 30, 60):
         artists.update(row)

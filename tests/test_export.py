@@ -267,7 +267,7 @@ def test_svg_labels_name_bodies_joints_and_points_as_the_figure_does():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from linkwork.drawing import Geometry, MechanismArtists, Motion
+    from linkwork.view.drawing import Geometry, MechanismArtists, Motion
 
     res = four_bar()
     row = 37

@@ -294,7 +294,7 @@ def test_a_page_of_fewer_frames_than_steps_and_a_cam(browser, tmp_path):
     browser.execute_script("window.linkwork.show(20)")
     assert browser.execute_script("return window.linkwork.data.steps[20]") == 200
     # the cam's profile turns with the cam: the page's points are the Python drawing's
-    from linkwork.drawing import Geometry, Motion
+    from linkwork.view.drawing import Geometry, Motion
 
     motion = Motion(Geometry.from_model(res.model), res)
     curves = browser.execute_script(

@@ -15,7 +15,7 @@ import pytest
 
 import linkwork as lw
 from linkwork import synthesis as S
-from linkwork.targets import Targets, deviation, of_design, sweep_design
+from linkwork.view.targets import Targets, deviation, of_design, sweep_design
 
 EXAMPLES = Path(__file__).parent.parent / "examples" / "synthesis"
 SVG = "{http://www.w3.org/2000/svg}"
@@ -48,7 +48,7 @@ def closed_form(phi: np.ndarray, side: float) -> tuple[np.ndarray, np.ndarray]:
 @pytest.fixture(scope="module")
 def generator():
     """The motion problem's design that is its generator, and the generator's assembly."""
-    from linkwork.synth_cli import _read
+    from linkwork.synthesis.cli import _read
 
     poses = np.array(_read(str(EXAMPLES / "motion.toml"))["poses"], dtype=float)
     result = S.motion(poses, angles="deg")

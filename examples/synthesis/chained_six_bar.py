@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkwork import chained_six_bar as C
+from linkwork.synthesis import six_bar as C
 
 if sys.version_info >= (3, 11):
     import tomllib

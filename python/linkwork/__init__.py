@@ -4,7 +4,7 @@ Build a `Mechanism` (bodies, joints at world points, drivers with motion laws), 
 it into a `Model`, then ``model.solve(t)`` or ``model.sweep(times)``.
 """
 
-from . import build, closed_form, curves, examples, reference, screw, study
+from . import curves, reference, screw, study
 from .errors import (
     AssemblyError,
     CancelledError,
@@ -25,8 +25,11 @@ from .errors import (
     SolveError,
     StudyError,
 )
-from .mechanism import GROUND, Body, Mechanism
-from .model import Cycle, Model, sweep_batch
+from .mechanism import examples
+from .mechanism import lengths as build
+from .mechanism.builder import GROUND, Body, Mechanism
+from .model.compiled import Cycle, Model, sweep_batch
+from .model.results import BodyMotion, PointMotion, Results, State
 from .motion import (
     PROFILES,
     Cam,
@@ -42,7 +45,7 @@ from .motion import (
     Sequence,
     Spline,
 )
-from .results import BodyMotion, PointMotion, Results, State
+from .reference import closed_form
 from .study import Study, StudyResult
 
 __version__ = "0.1.0"

@@ -4,6 +4,7 @@ naming the argument, its value and what is allowed, before anything reaches the 
 
 from __future__ import annotations
 
+import importlib
 import math
 import numbers
 from collections.abc import Callable, Collection, Mapping
@@ -106,6 +107,18 @@ def of_type(value: Any, name: str, kind: type, what: str) -> Any:
     return value
 
 
+def is_sweep(value: Any) -> bool:
+    """Whether ``value`` is the Results of a sweep, known by what the views read of it (its
+    times, coordinates and model), so that a view need not import the class it draws."""
+    return all(hasattr(value, a) for a in ("times", "q", "model", "n_steps"))
+
+
+def sweep(value: Any, name: str) -> Any:
+    if not is_sweep(value):
+        raise InputError(f"{name} must be the Results of a sweep, not {_show(value)}")
+    return value
+
+
 def each(values: Any, name: str, check: Callable[[Any, str], Any]) -> list[Any]:
     """A list of checked items (``name[i]`` in the messages)."""
     if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
@@ -124,4 +137,19 @@ def optional_module(module: str, what: str, extra: str) -> Any:
         package = module.partition(".")[0]
         raise DependencyError(
             f"{what} needs {package}: pip install {package} (or pip install 'linkwork[{extra}]')"
+        ) from None
+
+
+def requires(module: str, extra: str = "studies") -> Any:
+    """Imports an optional dependency of an extra (default ``studies``), or raises
+    `DependencyError` with the pip command."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        package = {"distributed": "dask[distributed]", "h5netcdf": "h5netcdf"}.get(
+            module, module.split(".")[0]
+        )
+        raise DependencyError(
+            f"this needs {package}, which is not installed: pip install 'linkwork[{extra}]' "
+            f"(or pip install '{package}')"
         ) from None

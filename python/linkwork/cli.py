@@ -49,12 +49,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import examples
 from .errors import LinkworkError, LinkworkWarning
+from .mechanism import examples
 
 if TYPE_CHECKING:
-    from .model import Model
-    from .results import Results
+    from .model.compiled import Model
+    from .model.results import Results
 
 FORMATS = ("csv", "npz", "parquet")
 
@@ -87,7 +87,7 @@ def demo(args: argparse.Namespace) -> int:
 
 def _load(path: str) -> Model:
     """The compiled model of a model file; raises _Failed with a message naming the file."""
-    from .mechanism import Mechanism
+    from .mechanism.builder import Mechanism
 
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -117,7 +117,7 @@ class _Failed(Exception):
 
 def _check_figures(args: argparse.Namespace, model: Model) -> None:
     """Refuses unknown --outputs and --paths names before sweeping (bad usage)."""
-    from . import figures
+    from .view import figures
 
     problem = (
         figures.unknown_outputs(model, args.outputs or [])
@@ -194,7 +194,7 @@ def _stem(args: argparse.Namespace) -> str:
 
 def _figures(args: argparse.Namespace, results: Results, plots: bool) -> list[str]:
     """Writes the PNGs (if ``plots``) and the animation (if asked); returns their paths."""
-    from . import figures
+    from .view import figures
 
     written = []
     if plots:
@@ -645,14 +645,14 @@ def _usage_problem(args: argparse.Namespace) -> str | None:
     if getattr(args, "frames", 2) < 2 and args.command == "view":
         return "--frames must be at least 2"
     if getattr(args, "animate", None):
-        from .figures import movie_problem
+        from .view.figures import movie_problem
 
         return movie_problem(args.animate)
     return None
 
 
 def _synth(args: argparse.Namespace) -> int:
-    from .synth_cli import synth
+    from .synthesis.cli import synth
 
     return synth(args)
 

@@ -6,6 +6,8 @@ never imports the engine. Dense matrices, ``np.linalg.solve``, one small class p
 and driver type (``formulation``), motion laws in ``laws``, assembly and solves in
 ``model``, and the inverse dynamics (M, Q, Phi_q^T lambda = Q - M qdd, reactions) in
 ``dynamics`` (``ReferenceModel.inverse_dynamics``, ``sweep_forces``, ``statics``).
+``closed_form`` (also ``linkwork.closed_form``) holds the textbook closed forms of the
+four-bar and the offset slider-crank, a check independent of both.
 
 >>> import linkwork as lw
 >>> from linkwork.reference import ReferenceModel

@@ -63,7 +63,7 @@ from .formulation import (
 from .laws import check_law, motion_law
 
 if TYPE_CHECKING:
-    from .model import ReferenceModel
+    from linkwork.reference import ReferenceModel
 
 __all__ = [
     "MassProperties",

@@ -10,11 +10,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._args import requires
 from ..errors import StudyError
-from .run import requires
 
 if TYPE_CHECKING:
-    from .run import StudyResult
+    from linkwork.study import StudyResult
 
 __all__ = ["to_xarray", "to_pandas", "save", "open_dataset", "coordinate_name"]
 

@@ -94,7 +94,7 @@ def _axis(name: str, spec: Any, where: str) -> Any:
 def load_study(path: str) -> StudyFile:
     """Reads a study file: its model (relative to the file), times, outputs and design
     space or tolerances, all checked; `StudyError` (or the model's error) names the file."""
-    from ..mechanism import Mechanism
+    from ..mechanism.builder import Mechanism
     from .run import Study
 
     path = os.fspath(path)

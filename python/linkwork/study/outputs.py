@@ -36,8 +36,8 @@ import numpy as np
 from ..errors import StudyError
 
 if TYPE_CHECKING:
-    from ..model import Model
-    from ..results import Results
+    from ..model.compiled import Model
+    from ..model.results import Results
 
 __all__ = ["Output", "output", "outputs", "NAMES"]
 

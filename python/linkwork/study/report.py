@@ -14,8 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from .run import StudyResult
-    from .tolerance import ToleranceResult
+    from linkwork.study import StudyResult, ToleranceResult
 
 __all__ = ["tolerance_report", "study_report", "atlas_figure"]
 

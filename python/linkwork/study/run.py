@@ -21,28 +21,14 @@ from typing import Any
 import numpy as np
 
 from .. import _args
-from ..errors import DependencyError, LinkworkError, StudyError
+from .._args import requires
+from ..errors import LinkworkError, StudyError
 from .designs import Designs, listed
+from .naming import Parameter, _description, _value, parameters
 from .outputs import Output, outputs
-from .parameters import Parameter, _description, _value, apply_many, parameters
+from .redraw import apply_many
 
 __all__ = ["Study", "StudyResult", "Job", "run_chunk", "requires"]
-
-
-def requires(module: str, extra: str = "studies") -> Any:
-    """Imports an optional dependency, or raises `DependencyError` with the pip command."""
-    import importlib
-
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        package = {"distributed": "dask[distributed]", "h5netcdf": "h5netcdf"}.get(
-            module, module.split(".")[0]
-        )
-        raise DependencyError(
-            f"this needs {package}, which is not installed: pip install 'linkwork[{extra}]' "
-            f"(or pip install '{package}')"
-        ) from None
 
 
 @dataclass(frozen=True)
@@ -66,7 +52,7 @@ class Job:
 @dataclass(frozen=True)
 class Variants:
     """How a job's designs move the compiled model's own numbers: the engine parameters
-    (``names``, as `linkwork.study.sensitivities.engine_directions` gives them) and
+    (``names``, as `linkwork.study.sensitivity.engine_directions` gives them) and
     ``weights`` (one row per engine parameter, one column per design parameter: the map
     is affine and exact). Plain data: it pickles."""
 
@@ -86,7 +72,7 @@ def variants_of(
     None (the designs are redrawn and compiled one by one)."""
     from .. import _core
     from ..errors import ParameterError
-    from .sensitivities import engine_directions
+    from .sensitivity import engine_directions
 
     if forces or any(o.kind not in _KEPT for o in outs) or _overlapping(params) or any(map(_curved, params)):
         return None
@@ -142,7 +128,7 @@ _MODELS: dict[int, Any] = {}
 
 def _base_model(job: Job) -> Any:
     """The job's compiled model, compiled once per process and job."""
-    from ..model import Model
+    from ..model.compiled import Model
 
     key = id(job)
     cached = _MODELS.get(key)
@@ -233,7 +219,7 @@ def _run_variants(
 
 def _build(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
     """The chunk's designs built and compiled (a failure is that design's error)."""
-    from ..model import Model
+    from ..model.compiled import Model
 
     begin = time.perf_counter()
     errors = [""] * len(values)
@@ -260,7 +246,7 @@ def _build(job: Job, start: int, values: np.ndarray) -> dict[str, Any]:
 
 def _sweep(job: Job, built: dict[str, Any], threads: int | None) -> tuple[list[Any], float]:
     """The built models swept on the engine's threads (the GIL released meanwhile)."""
-    from ..model import sweep_batch
+    from ..model.compiled import sweep_batch
 
     begin = time.perf_counter()
     # arrays that came through pickle may be read-only views of a misaligned buffer
@@ -348,7 +334,7 @@ class Study:
         on_singular: str = "continue",
         **options: Any,
     ) -> None:
-        from ..model import ON_SINGULAR, Model, _options
+        from ..model.compiled import ON_SINGULAR, Model, _options
 
         if isinstance(model, Model):
             if options:
@@ -386,7 +372,7 @@ class Study:
     def job(self, names: Sequence[str], variants: bool = True) -> Job:
         """Everything a task needs to sweep designs of the parameters ``names``. Where
         every parameter is one of the engine's numbers (see
-        `linkwork.study.sensitivities`) and every output one the engine keeps (``path``,
+        `linkwork.study.sensitivity`) and every output one the engine keeps (``path``,
         ``angle``, ``coordinate``, ``events``, ``pivot_min``), the designs are variants of
         the compiled model, set up and swept by the engine on its threads; otherwise (or
         with ``variants=False``) each design is redrawn (`apply`) and compiled. The two
@@ -450,6 +436,7 @@ class Study:
         self, tolerances: Mapping[str, Any], n: int = 1000, seed: int | None = 0, **run: Any
     ) -> Any:
         """A tolerance study: see `linkwork.study.tolerance_study`."""
+        # declared lazy import, upward: a convenience method of a module above this one
         from .tolerance import tolerance_study
 
         return tolerance_study(self, tolerances, n=n, seed=seed, **run)
@@ -764,12 +751,14 @@ class StudyResult:
         """The labelled dataset (xarray): dimension ``design`` (with every parameter's
         values as a coordinate), ``step`` (coordinate ``time``) and ``xy``; a variable per
         output and ``error``; units as attributes."""
+        # declared lazy import, upward: a convenience method of a module above this one
         from .dataset import to_xarray
 
         return to_xarray(self)
 
     def to_pandas(self) -> Any:
         """One row per design: the parameters, every scalar figure and ``error``."""
+        # declared lazy import, upward: a convenience method of a module above this one
         from .dataset import to_pandas
 
         return to_pandas(self)
@@ -777,6 +766,7 @@ class StudyResult:
     def save(self, path: str) -> str:
         """Writes the dataset: ``.nc`` NetCDF (every figure), ``.parquet`` (a row per
         design; per-step figures as fixed-size lists), units in both. Returns the path."""
+        # declared lazy import, upward: a convenience method of a module above this one
         from .dataset import save
 
         return save(self, path)

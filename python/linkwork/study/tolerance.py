@@ -11,7 +11,7 @@ Two answers, side by side:
   root-sum-square sqrt(sum_i (S_i sigma_i)^2) and each parameter's share of the
   variance. S is the engine's **exact** sensitivities (`Model.sensitivities`: the
   implicit function theorem on each step's factorization, no differences) where every
-  parameter is one of the engine's (`linkwork.study.sensitivities`), and otherwise
+  parameter is one of the engine's (`linkwork.study.sensitivity`), and otherwise
   estimated by **central differences** of sweeps (two designs per parameter, +-h), the
   fallback, labelled with the parameter that needs it; or given (``sensitivities=``).
 
@@ -25,13 +25,15 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ParameterError, StudyError
 from .designs import Designs, sample, tolerance
-from .run import Study, StudyResult
+
+if TYPE_CHECKING:
+    from linkwork.study import Study, StudyResult
 
 __all__ = [
     "propagate",
@@ -260,6 +262,7 @@ class ToleranceResult:
 
     def report(self, directory: str, stem: str = "tolerance") -> list[str]:
         """Writes the report (markdown) and its figures to ``directory``; returns the paths."""
+        # declared lazy import, upward: a convenience method of the report
         from .report import tolerance_report
 
         return tolerance_report(self, directory, stem)

@@ -5,8 +5,8 @@ live values of the chosen outputs, plots linked to the slider, and the events (l
 bifurcations, locks, branch jumps, the closest approach to a singular configuration)
 marked on the timeline. ``Results.to_html`` and ``linkwork view`` write it.
 
-The drawing is the SVG of `linkwork.export` at the first frame; every position at every
-frame is computed here in Python from the sweep (`linkwork.drawing.Motion`, world
+The drawing is the SVG of `linkwork.view.export` at the first frame; every position at every
+frame is computed here in Python from the sweep (`linkwork.view.drawing.Motion`, world
 coordinates; mesh points and belts' strands too, ``Motion.marks``) and embedded as
 JSON; the page's script only moves the SVG's elements to
 the positions of the frame the slider shows. Numbers are embedded in shortest round-trip
@@ -30,15 +30,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _args
+from .. import _args
+from ..errors import InputError
+from ..model.events import KINDS
 from .drawing import Geometry, Motion
-from .errors import InputError
-from .events import KINDS
 from .export import _output_path, _path_names, path_points, svg_text
+from .series import _numbers, default_outputs, inputs, output, unknown_outputs
 from .targets import Deviation, deviation
 
 if TYPE_CHECKING:
-    from .results import Results
+    from linkwork import Results
 
 __all__ = ["page", "inputs", "MAX_FRAMES"]
 
@@ -46,65 +47,7 @@ __all__ = ["page", "inputs", "MAX_FRAMES"]
 MAX_FRAMES = 1000
 
 
-def _numbers(a: Any) -> Any:
-    """A JSON-ready list of an array, non-finite values as null."""
-    a = np.asarray(a, dtype=np.float64)
-    out = a.tolist()
-    if np.all(np.isfinite(a)):
-        return out
-    cleaned = a.astype(object)
-    cleaned[~np.isfinite(a)] = None
-    return cleaned.tolist()
-
-
-def inputs(results: Results, geometry: Geometry, rows: np.ndarray) -> list[dict[str, Any]]:
-    """Each driver's input at the steps ``rows``: name, unit, values and whether it is an
-    angle (angle and relative-angle drivers: the angle; distance drivers: the distance
-    between their points; coordinate drivers: the coordinate; translation drivers: the
-    slide from the drawing). A driver of another type is left out."""
-    q = results.q[rows]
-    length = results.model.units["length"]
-    names = results.model.body_names
-    xy = geometry.world(q)
-
-    def theta(body: str) -> np.ndarray:
-        return q[:, 3 * names.index(body) + 2] if body in names else np.zeros(len(rows))
-
-    def anchors(name: str) -> list[int]:
-        return [k for k, a in enumerate(geometry.anchors) if a.name == name and a.kind == "driver"]
-
-    out = []
-    for d in results.model.description.get("drivers", []):
-        kind, name = d.get("type"), str(d.get("name"))
-        value: np.ndarray | None = None
-        if kind == "angle":
-            value = theta(str(d["body"]))
-        elif kind == "relative_angle":
-            value = theta(str(d["body_b"])) - theta(str(d["body_a"]))
-        elif kind == "distance" and len(anchors(name)) == 2:
-            a, b = anchors(name)
-            value = np.hypot(*(xy[:, b] - xy[:, a]).T)
-        elif kind == "coordinate" and len(anchors(name)) == 1:
-            value = xy[:, anchors(name)[0], "xy".index(str(d.get("axis", "x")))]
-        elif kind == "translation":
-            found = [k for k, s in enumerate(geometry.sliders) if s.joint == d.get("joint")]
-            if found:
-                s = geometry.sliders[found[0]]
-                start = geometry.world(geometry._q_start[None, :])[0]
-                axis = geometry.axis_world(q, s)
-                rel = xy[:, s.block] - xy[:, s.guide] - (start[s.block] - start[s.guide])
-                value = np.einsum("ij,ij->i", rel, axis)
-        if value is not None:
-            angle = kind in ("angle", "relative_angle")
-            out.append(
-                {"name": name, "unit": "rad" if angle else length, "angle": angle, "value": _numbers(value)}
-            )
-    return out
-
-
 def _outputs(results: Results, names: Sequence[str] | None, rows: np.ndarray) -> list[dict[str, Any]]:
-    from .figures import default_outputs, output, unknown_outputs
-
     if names is None:
         names = default_outputs(results)
     else:
@@ -141,13 +84,11 @@ def page(
     every slider's travel), ``paths`` drawn (named points or joints; default: every named
     point, or the pins off the ground), ``frames`` steps spread evenly over the sweep
     (first and last included; every step if the sweep has fewer). ``targets`` (points
-    n x 2, a `linkwork.targets.Targets` or a synthesized design): marked in the drawing as
-    in `linkwork.export.svg`, listed in a table with the path's distance from each (and
+    n x 2, a `linkwork.view.targets.Targets` or a synthesized design): marked in the drawing as
+    in `linkwork.view.export.svg`, listed in a table with the path's distance from each (and
     the traced point's at its precision position), and in the page's data as
     ``targets``. Returns the HTML and writes it to ``path`` if given."""
-    from .results import Results
-
-    _args.of_type(results, "results", Results, "the Results of a sweep")
+    _args.sweep(results, "results")
     out = _output_path(path)
     frames = _args.integer(frames, "frames", 2)
     if results.n_steps == 0:

@@ -27,13 +27,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import synthesis as S
-from .errors import LinkworkError
-from .targets import Deviation, Targets, deviation, of_design, sweep_design
+from .. import synthesis as S
+from ..errors import LinkworkError, SynthesisError
+from ..view.targets import Deviation, Targets, deviation, of_design, sweep_design
 
 if TYPE_CHECKING:
-    from .model import Model
-    from .results import Results
+    from ..model.compiled import Model
+    from ..model.results import Results
 
 PROBLEMS = ("motion", "path", "function", "chained-six-bar")
 
@@ -47,12 +47,12 @@ def _read(path: str) -> dict[str, Any]:
         try:
             return tomllib.load(f)
         except tomllib.TOMLDecodeError as e:
-            raise S.SynthesisError(f"{path}: not a TOML problem file: {e}") from None
+            raise SynthesisError(f"{path}: not a TOML problem file: {e}") from None
 
 
 def _need(problem: dict[str, Any], key: str, kind: str) -> Any:
     if key not in problem:
-        raise S.SynthesisError(f"a {kind} problem needs '{key}'")
+        raise SynthesisError(f"a {kind} problem needs '{key}'")
     return problem[key]
 
 
@@ -66,7 +66,7 @@ def _least_squares_options(problem: dict[str, Any]) -> dict[str, Any]:
     if "length_range" in problem:
         lr = problem["length_range"]
         if not (isinstance(lr, list) and len(lr) == 2):
-            raise S.SynthesisError("length_range must be [lo, hi]")
+            raise SynthesisError("length_range must be [lo, hi]")
         out["length_range"] = (float(lr[0]), float(lr[1]))
     if "min_transmission" in problem:
         out["min_transmission"] = float(problem["min_transmission"])
@@ -78,11 +78,11 @@ def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
     kind = problem.get("problem")
     unit = problem.get("angles", "rad")
     if unit not in ("rad", "deg"):
-        raise S.SynthesisError(f"angles must be 'rad' or 'deg', not {unit!r}")
+        raise SynthesisError(f"angles must be 'rad' or 'deg', not {unit!r}")
     if kind == "motion":
         poses = np.array(_need(problem, "poses", kind), dtype=float)
         if poses.ndim != 2 or poses.shape[1] != 3:
-            raise S.SynthesisError("poses must be rows of [x, y, angle]")
+            raise SynthesisError("poses must be rows of [x, y, angle]")
         if len(poses) > 5:
             result = S.motion_least_squares(poses, angles=unit, **_least_squares_options(problem))
         else:
@@ -117,13 +117,13 @@ def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
         return text, [], None
     if kind == "chained-six-bar":
         return _chained_six_bar(problem, unit)
-    raise S.SynthesisError(f"problem must be one of {', '.join(PROBLEMS)}; got {kind!r}")
+    raise SynthesisError(f"problem must be one of {', '.join(PROBLEMS)}; got {kind!r}")
 
 
 def _chained_six_bar(problem: dict[str, Any], unit: str) -> tuple[str, list[Any], np.ndarray]:
     """The chained six-bar from the file's numbers; with a [torque] table, the input
     torque of the first design that is defect-free and turns fully."""
-    from . import chained_six_bar as C
+    from . import six_bar as C
 
     kind = "chained-six-bar"
     keys = ("points", "input_angles", "coupler_angles", "input_pivot", "output_pivot")
@@ -133,11 +133,11 @@ def _chained_six_bar(problem: dict[str, Any], unit: str) -> tuple[str, list[Any]
     options = problem.get("torque")
     if options is not None:
         if not isinstance(options, dict) or set(options) - {"mass", "inertia", "gravity", "omega"}:
-            raise S.SynthesisError("torque must be a table of mass, inertia, gravity and omega")
+            raise SynthesisError("torque must be a table of mass, inertia, gravity and omega")
         try:
             options = {k: float(v) for k, v in options.items()}
         except (TypeError, ValueError) as e:
-            raise S.SynthesisError(f"torque: {e}") from None
+            raise SynthesisError(f"torque: {e}") from None
         full = [d for d in result.designs if d.defects.ok and d.defects.full_turn]
         if full:
             tq = C.torque(full[0], **options)
@@ -175,8 +175,8 @@ def _pictures(
     """Each of the first `MAX_PICTURES` designs swept over a turn, with its page, SVG and
     PNG (targets marked) in ``out``; returns each design for the overview figure and the
     report's lines (the deviations, or why a design's pictures are not drawn)."""
-    from .figures import plot_paths
-    from .page import page
+    from ..view.figures import plot_paths
+    from ..view.page import page
 
     drawn: list[Drawn] = []
     lines = []

@@ -4,7 +4,7 @@ factorization of Phi_q, each joint's rows differentiated exactly; no differences
 ``efforts=True``, of the inverse dynamics' multipliers too (dlambda/dp, hence each
 driver's effort), from Phi_q^T dlambda/dp = dQ/dp - (dPhi_q/dp)^T lambda.
 
-Parameters are named as in `linkwork.study.parameters`:
+Parameters are named as in `linkwork.study.naming`:
 
 - description paths the engine maps exactly onto its numbers: a revolute's ``at`` (or
   ``pin_a``/``pin_b``), a distance joint's ``at_a``/``at_b``/``length``, a prismatic
@@ -42,12 +42,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import _args, _core
 from ..errors import ParameterError
-from .parameters import Parameter, parameters
+from ..model.progress import ProgressBar
+from ..model.results import Results
+from .naming import Parameter, parameters
 
 if TYPE_CHECKING:
-    from ..model import Model
-    from ..results import Results
+    from linkwork import Model
 
 __all__ = ["Sensitivities", "sensitivities", "engine_directions"]
 
@@ -160,10 +162,6 @@ def sensitivities(
     efforts: bool = False,
 ) -> Sensitivities:
     """See `Model.sensitivities`."""
-    from .. import _args, _core
-    from ..model import _ProgressBar
-    from ..results import Results
-
     t = _args.times(times)
     derivatives = _args.integer(derivatives, "derivatives", 0, 2)
     params = parameters(model.description, names)
@@ -178,7 +176,7 @@ def sensitivities(
         k, b, ux, uy = named[name]
         requests.append((b, ux, uy, k))
     progress = _args.callback(progress, "progress", allow_true=True)
-    callback = _ProgressBar() if progress is True else (progress or None)
+    callback = ProgressBar() if progress is True else (progress or None)
     check = max(1, min(16384, 1_000_000 // max(1, model.n_coords)))
     try:
         raw, error = _core.sensitivities(

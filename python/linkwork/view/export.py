@@ -4,7 +4,7 @@ curves), as SVG and as DXF, and the results as a pandas DataFrame.
 Drawings are in world coordinates, in the model's length unit, y up: an SVG's numbers
 are the model's (its root ``viewBox`` is in model units and its ``width`` and
 ``height`` in millimetres, so it prints and imports 1:1), a DXF's too (``$INSUNITS`` says
-mm or m). What is drawn is what `linkwork.drawing` draws with matplotlib: each body as
+mm or m). What is drawn is what `linkwork.view.drawing` draws with matplotlib: each body as
 the polygon through its joints and points, pins, ground pivots, sliders on their guides,
 slots and cam profiles, pitch circles of gears, pulleys and pinions with their mesh
 points, belts, racks, distance joints' bars, actuators, named points; each element carries the name of what
@@ -28,14 +28,14 @@ from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 
-from . import _args
+from .. import _args
+from ..errors import InputError
 from .drawing import Geometry, Motion, colour, ground_symbols
-from .errors import InputError
+from .series import default_paths, unknown_paths
 from .targets import TARGET_COLOUR, Deviation, deviation, target_marks
 
 if TYPE_CHECKING:
-    from .model import Model
-    from .results import Results
+    from linkwork import Model, Results
 
 __all__ = ["configuration", "path_points", "svg", "svg_text", "dxf", "dataframe", "MM_PER"]
 
@@ -58,9 +58,7 @@ def configuration(results: Results, t: float | None = None) -> tuple[Motion, int
     """The sweep's motion and the row drawing time ``t`` (default: the first step). A time
     between steps is solved there (Newton from the nearest step, so on the sweep's
     branch) and added as the last row; a time outside the sweep is an `InputError`."""
-    from .results import Results
-
-    _args.of_type(results, "results", Results, "the Results of a sweep")
+    _args.sweep(results, "results")
     if results.n_steps == 0:
         raise InputError("nothing to draw: the results have no steps")
     geometry = Geometry.from_model(results.model)
@@ -80,8 +78,6 @@ def configuration(results: Results, t: float | None = None) -> tuple[Motion, int
 
 
 def _path_names(model: Model, paths: Sequence[str] | None) -> list[str]:
-    from .figures import default_paths, unknown_paths
-
     if paths is None:
         return default_paths(model)
     names = _args.each(paths, "paths", lambda v, n: _args.of_type(v, n, str, "a point's or joint's name"))
@@ -123,7 +119,7 @@ def svg_text(
     targets: Deviation | None = None,
 ) -> str:
     """The SVG of the mechanism at step ``row`` of ``motion`` with ``paths`` (and the
-    ``targets`` of a design with their deviations: `linkwork.targets`). Every element
+    ``targets`` of a design with their deviations: `linkwork.view.targets`). Every element
     that moves names the anchors it is drawn through (``data-anchor``, ``data-anchors``),
     its slider (``data-slider``), curve (``data-curve``: slots, cam profiles, pitch
     circles and their marks, racks) or mark (``data-mark``: mesh points, belts'
@@ -385,7 +381,7 @@ def svg(
     """The mechanism at time ``t`` of the sweep (default: its first step; a time between
     steps is solved there) and the paths over the whole sweep of ``paths`` (named points
     or joints; default: every named point, or the pins off the ground), each through at
-    most ``max_points`` steps; ``targets`` (points n x 2, a `linkwork.targets.Targets` or a
+    most ``max_points`` steps; ``targets`` (points n x 2, a `linkwork.view.targets.Targets` or a
     synthesized design): each marked (``class="target"``), with its pose's tick and the
     distance of the path from it, labelled. Returns the SVG text and writes it to ``path``
     if given."""

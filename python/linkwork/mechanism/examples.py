@@ -15,9 +15,9 @@ from __future__ import annotations
 import math
 from typing import Callable
 
-from . import closed_form
-from .mechanism import Mechanism
-from .motion import Constant, Linear
+from ..motion import Constant, Linear
+from ..reference import closed_form
+from .builder import Mechanism
 
 __all__ = ["four_bar", "slider_crank", "inverted_slider_crank", "six_bar", "chain", "ALL"]
 

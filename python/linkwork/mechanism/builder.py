@@ -16,27 +16,20 @@ from __future__ import annotations
 
 import functools
 import inspect
-import json
 import math
 import os
-import re
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any, Callable
 
-import numpy as np
-
-from . import _core, curves
-from .errors import InputError, LinkworkError, LinkworkWarning, ModelError
-from .motion import Law
-
-if TYPE_CHECKING:
-    from .model import Model
+from .. import _args, curves
+from ..errors import InputError, LinkworkError, ModelError
+from ..kinds import GROUND
+from ..model.compiled import Model
+from ..motion import Law
+from . import assembly, files
 
 __all__ = ["Body", "Mechanism", "GROUND"]
-
-GROUND = "ground"
 
 
 @dataclass(frozen=True)
@@ -698,7 +691,7 @@ class Mechanism:
     @classmethod
     def from_dict(cls, desc: dict[str, Any]) -> Mechanism:
         """A mechanism from its description (``to_dict``'s inverse)."""
-        from . import _args
+        from .. import _args
 
         desc = _args.mapping(desc, "desc")
         for key in ("bodies", "joints", "drivers", "points", "loads"):
@@ -725,22 +718,13 @@ class Mechanism:
             m.outputs = list(outputs) or None
         return m
 
-    # -- model files --------------------------------------------------------------------
+    # -- model files (files.py) ---------------------------------------------------------
     def save(self, path: str | os.PathLike[str]) -> None:
         """Writes the mechanism as a model file: TOML if ``path`` ends in ``.toml``, JSON if
         in ``.json`` (docs/model-format.md). ``load`` reads back an equal description:
         same keys, same numbers. A mechanism driven by a `PythonLaw` cannot be saved: a
         file cannot hold a Python function."""
-        for kind, item in [("driver", d) for d in self._drivers] + [("load", ld) for ld in self._loads]:
-            if _uses_python(item.get("law")):
-                raise ModelError(
-                    f"{kind} {item['name']!r} follows a Python function (PythonLaw), which a model "
-                    'file cannot hold: write the law as an lw.Expression("...") of t, a lw.Cam, or a '
-                    "lw.Spline through a table to save it"
-                )
-        text = _core.write_model(self._json(), _format_of(path))
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(text)
+        files.save(self.to_dict(), path)
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> Mechanism:
@@ -748,19 +732,9 @@ class Mechanism:
         or by hand. A bad file raises `ModelError` naming the file, line, column and field;
         errors found later by ``compile`` name the element and its line in the file.
         JSON written before format versions existed reads as version 1, metres, radians."""
-        fmt = _format_of(path)
-        with open(path, "rb") as f:
-            raw = f.read()
-        try:
-            text = raw.decode("utf-8")
-        except UnicodeDecodeError as e:
-            line = raw.count(b"\n", 0, e.start) + 1
-            raise ModelError(
-                f"{os.fspath(path)}: line {line}, byte {e.start}: the file is not UTF-8 text "
-                f"({e.reason}: {raw[e.start : e.start + 4]!r}); model files are UTF-8: save it as UTF-8"
-            ) from None
+        text, fmt = files.read_text(path)
         m = cls._read(text, fmt, os.fspath(path))
-        m._warn_units(text, fmt, os.fspath(path))
+        m.units_declared, m.units_warning = files.units_check(m.to_dict(), text, fmt, os.fspath(path))
         return m
 
     @classmethod
@@ -776,62 +750,18 @@ class Mechanism:
 
     def to_toml(self) -> str:
         """The mechanism as the text of a TOML model file."""
-        return _core.write_model(self._json(), "toml")
-
-    def _json(self) -> str:
-        from .model import _check_finite
-
-        desc = self.to_dict()
-        _check_finite(desc)  # names the element: JSON cannot carry NaN to the writer
-        return json.dumps(desc)
+        return files.write(self.to_dict(), "toml")
 
     #: set by ``load``: whether the file declared its units, and a warning if it did not
     #: and its numbers look like millimetres or degrees (``None`` when there is nothing to say)
     units_declared: bool = True
     units_warning: str | None = None
 
-    def _warn_units(self, text: str, fmt: str, file: str) -> None:
-        """A file without a units header reads as m and rad; when its lengths look like
-        mm (a pin or body more than 10 m from the origin) or its angles like degrees (a
-        body angle beyond 2 pi), say so, as a `LinkworkWarning`."""
-        if fmt == "toml":
-            # the header is what comes before the first array of tables ([[bodies]] ...):
-            # a units key there, or a [model.units] / [units] table (not parsed again: a
-            # 10,000-loop file takes seconds to parse)
-            head = re.split(r"^\s*\[\[", text, maxsplit=1, flags=re.M)[0]
-            self.units_declared = bool(re.search(r"^\s*(units\s*=|\[(model\.)?units\])", head, flags=re.M))
-        else:
-            try:
-                doc = json.loads(text)
-            except ValueError:
-                return
-            header = doc.get("model", doc) if isinstance(doc, dict) else {}
-            self.units_declared = isinstance(header, dict) and "units" in header
-        if self.units_declared:
-            return
-        points = [b.get(k, 0.0) for b in self._bodies for k in ("x", "y")]
-        points += [c for j in self._joints for c in (j.get("at") or [])]
-        points += [c for p in self._points for c in (p.get("at") or [])]
-        lengths = max((abs(v) for v in points if isinstance(v, (int, float))), default=0.0)
-        angles = max((abs(b.get("theta", 0.0)) for b in self._bodies), default=0.0)
-        looks = []
-        if lengths > 10.0:
-            looks.append(f"lengths up to {lengths:g} look like millimetres")
-        if angles > 2 * math.pi + 1e-9:
-            looks.append(f"body angles up to {angles:g} look like degrees")
-        if looks:
-            self.units_warning = (
-                f"{file}: no units in the model header, so lengths are read in m and angles in rad; "
-                f"but its {' and its '.join(looks)}: if so, declare them "
-                '(units = { length = "mm", angle = "deg" } in the [model] table)'
-            )
-            warnings.warn(self.units_warning, LinkworkWarning, stacklevel=3)
-
     @classmethod
     def _read(cls, text: str, fmt: str, file: str) -> Mechanism:
-        flat, elements = _core.read_model(text, fmt, file)
-        m = cls.from_dict(json.loads(flat))
-        m._source = (file, {(kind, name): line for kind, name, line in elements})
+        desc, lines = files.parse(text, fmt, file)
+        m = cls.from_dict(desc)
+        m._source = (file, lines)
         return m
 
     def is_drawn(self) -> bool:
@@ -864,62 +794,8 @@ class Mechanism:
         """
         if self.is_drawn():
             return self
-        from . import _args
-        from .errors import AssemblyError
-        from .model import Model
-
         t = _args.number(t, "t")
-        branch = self.branch if branch is None else branch
-        model = Model(self.to_dict(), python_laws=self.python_laws)
-        q = model._branch_guess(t, branch) if branch is not None else model.solve(t).q
-        desc = self.to_dict()
-        # poses in the description's own angle unit (the engine's are radians)
-        per_rad = 180.0 / math.pi if (self.units or {}).get("angle") == "deg" else 1.0
-        rough = {
-            b["name"]: (b.get("x", 0.0), b.get("y", 0.0), b.get("theta", 0.0) / per_rad)
-            for b in desc["bodies"]
-        }
-        poses = {name: q[3 * i : 3 * i + 3] for i, name in enumerate(model.body_names)}
-        for b in desc["bodies"]:
-            x, y, theta = poses[b["name"]]
-            b.update(x=float(x), y=float(y), theta=float(theta) * per_rad)
-
-        def world(body: str, u: Sequence[float]) -> np.ndarray:
-            if body == GROUND:
-                return np.asarray(u, dtype=float)
-            x, y, theta = poses[body]
-            c, s = math.cos(theta), math.sin(theta)
-            return np.array([x + c * u[0] - s * u[1], y + s * u[0] + c * u[1]])
-
-        def turn(body: str, v: Sequence[float]) -> np.ndarray:
-            if body == GROUND:
-                return np.asarray(v, dtype=float)
-            c, s = math.cos(poses[body][2]), math.sin(poses[body][2])
-            return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
-
-        _carry_world_points(desc, rough, poses)
-        for j in desc["joints"]:
-            if j.get("type") not in ("revolute", "prismatic") or "at" in j:
-                continue
-            a, b = world(j["body_a"], j["pin_a"]), world(j["body_b"], j["pin_b"])
-            miss = float(np.hypot(*(a - b)))
-            if j["type"] == "prismatic":
-                # the slide: pin_b on the line through pin_a; drawn through pin_b, the pins
-                # kept so that the slide is still 0 where pin_b is at pin_a
-                e = turn(j["body_a"], j["axis_a"]) if "axis_a" in j else np.asarray(j["axis"], dtype=float)
-                e = e / np.hypot(*e)
-                miss = abs(float(e[0] * (b - a)[1] - e[1] * (b - a)[0]))
-                j["at"], j["axis"] = [float(b[0]), float(b[1])], [float(e[0]), float(e[1])]
-                j.pop("axis_a", None)
-                j.setdefault("angle", 0.0)
-            if miss > 1e-9 * model.length_scale:
-                raise AssemblyError(
-                    f"joint {j['name']!r} does not close: its pins are {miss:.6g} apart at t = {t:g}"
-                )
-            if j["type"] == "revolute":
-                j["at"] = [float(a[0]), float(a[1])]
-                del j["pin_a"], j["pin_b"]
-        desc.pop("branch", None)
+        desc = assembly.drawn(self.to_dict(), self.python_laws, t, self.branch if branch is None else branch)
         drawn = Mechanism.from_dict(desc)
         drawn._python_laws = dict(self._python_laws)
         return drawn
@@ -929,8 +805,6 @@ class Mechanism:
         mechanism read from a file, the message gives the line of the element at fault).
         A mechanism given by its joints' pins is drawn first (`assemble`; `Model` does the
         same)."""
-        from .model import Model
-
         try:
             return Model(self, **options)
         except ModelError as e:
@@ -948,97 +822,17 @@ class Mechanism:
         """Draws the mechanism assembled at time ``t`` on matplotlib axes ``ax`` (default: a
         new figure) and returns the axes; a mechanism that cannot be assembled yet is drawn
         as described, its title saying why."""
-        from .notebook import draw_mechanism
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.notebook import draw_mechanism
 
         return draw_mechanism(self, ax, t)
 
     def _repr_png_(self) -> bytes:
         """The drawing a notebook shows (PNG)."""
-        from .notebook import mechanism_png
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.notebook import mechanism_png
 
         return mechanism_png(self)
-
-
-#: world directions at the start fixed in a body: joint or driver type -> {field: the
-#: field naming the body} (a prismatic's axis is turned with its pins, in `assemble`)
-WORLD_DIRECTIONS: dict[str, dict[str, str]] = {
-    "point_on_line": {"axis": "body_b"},
-    "rack_pinion": {"axis": "body_b"},
-    "parallel": {"axis_a": "body_a", "axis_b": "body_b"},
-    "cam_follower": {"face": "body_b"},
-}
-
-
-def _carry_world_points(
-    desc: dict[str, Any], rough: dict[str, tuple[float, float, float]], poses: dict[str, np.ndarray]
-) -> None:
-    """Carries every world point and direction of ``desc`` fixed in one body from the
-    body's rough pose to its assembled one (as the engine reads them: the point in the
-    body's frame is u = A(theta_rough)^T (p - R_rough)), so a named point or a joint's
-    point given beside the pins stays where it is on its body."""
-    from .drawing import CURVES, WORLD_POINTS
-
-    def moved(body: str) -> bool:
-        return body != GROUND and any(abs(a - b) > 0.0 for a, b in zip(rough[body], poses[body]))
-
-    def carry(body: str, p: Sequence[float], direction: bool = False) -> list[float]:
-        if body == GROUND:
-            return [float(p[0]), float(p[1])]
-        x0, y0, th0 = rough[body]
-        x, y, th = (float(v) for v in poses[body])
-        d = (p[0], p[1]) if direction else (p[0] - x0, p[1] - y0)
-        c0, s0 = math.cos(th0), math.sin(th0)
-        u = (c0 * d[0] + s0 * d[1], -s0 * d[0] + c0 * d[1])
-        c, s = math.cos(th), math.sin(th)
-        w = (c * u[0] - s * u[1], s * u[0] + c * u[1])
-        return [w[0], w[1]] if direction else [x + w[0], y + w[1]]
-
-    for item in desc["joints"] + desc["drivers"]:
-        kind = item.get("type")
-        if kind in ("revolute", "prismatic"):
-            # a drawn point of two bodies goes with either (they agree once assembled)
-            side = item["body_a"] if item["body_a"] != GROUND else item["body_b"]
-            if "at" in item:
-                item["at"] = carry(side, item["at"])
-            if "axis" in item:
-                item["axis"] = carry(item["body_a"], item["axis"], direction=True)
-            continue
-        for key, sides in WORLD_POINTS.get(kind, {}).items():
-            if len(sides) == 1 and key in item:
-                item[key] = carry(item[sides[0]], item[key])
-        for key, side in WORLD_DIRECTIONS.get(kind, {}).items():
-            if key in item:
-                item[key] = carry(item[side], item[key], direction=True)
-        if kind in CURVES and moved(item["body_a"]):
-            raise InputError(
-                f"joint {item['name']!r}: its curve is fixed in {item['body_a']!r}, which assembling "
-                "moves from its pose; give that body its drawn pose (a curve is drawn in world terms)"
-            )
-    for p in desc["points"]:
-        p["at"] = carry(p["body"], p["at"])
-    for ld in desc["loads"]:
-        for key, side in (("at", "body"), ("at_a", "body_a"), ("at_b", "body_b")):
-            if key in ld and side in ld:
-                ld[key] = carry(ld[side], ld[key])
-    for b in desc["bodies"]:
-        if "com" in b:
-            b["com"] = carry(b["name"], b["com"])
-
-
-def _format_of(path: str | os.PathLike[str]) -> str:
-    ext = os.path.splitext(os.fspath(path))[1].lower()
-    if ext not in (".toml", ".json"):
-        raise ModelError(f"{os.fspath(path)}: a model file ends in .toml or .json, not {ext or 'nothing'!r}")
-    return ext[1:]
-
-
-def _uses_python(law: Any) -> bool:
-    """Whether a law's description (a dict) holds a python law, nested ones included."""
-    if isinstance(law, dict):
-        return law.get("type") == "python" or any(_uses_python(v) for v in law.values())
-    if isinstance(law, list):
-        return any(_uses_python(v) for v in law)
-    return False
 
 
 def _checked(method: Callable[..., Any]) -> Callable[..., Any]:

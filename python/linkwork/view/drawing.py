@@ -25,13 +25,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .mechanism import GROUND
+from ..kinds import CURVES, GROUND, WORLD_POINTS
+from ..model.anchors import Anchor, Frames, _rotate, constraint_anchors
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from .model import Model
-    from .results import Results
+    from linkwork import Model, Results
 
 __all__ = [
     "WORLD_POINTS",
@@ -50,29 +50,6 @@ __all__ = [
     "ground_symbols",
     "colour",
 ]
-
-#: joint or driver type -> {field holding a world point at the start: the fields naming
-#: the bodies that point is fixed in}. A new joint type is one line here; a type not
-#: listed (an unknown one too) adds nothing to the drawing.
-WORLD_POINTS: dict[str, dict[str, tuple[str, ...]]] = {
-    "revolute": {"at": ("body_a", "body_b")},
-    "prismatic": {"at": ("body_a", "body_b")},
-    "fixed": {},
-    "angle": {},
-    "relative_angle": {},
-    "distance": {"at_a": ("body_a",), "at_b": ("body_b",)},
-    "coordinate": {"at": ("body",)},
-    "translation": {},
-    "point_on_line": {"at": ("body_a",), "through": ("body_b",)},
-    "gear": {"centre_a": ("body_a",), "centre_b": ("body_b",)},
-    "rack_pinion": {"centre": ("body_a",)},
-    "belt": {},
-    "fixed_orientation": {},
-    "parallel": {},
-    "linear_coupling": {},
-    "pin_in_slot": {"at": ("body_b",)},
-    "cam_follower": {"at": ("body_b",)},
-}
 
 #: joint types drawn as a block (body_b) sliding on a guide (body_a): the field holding
 #: the sliding direction (a world direction at the start, fixed in body_a). A
@@ -95,23 +72,8 @@ CURVE_STYLES: dict[str, tuple[float, str]] = {
     "teeth": (1.0, "-"),
 }
 
-#: joint types whose ``curve`` (world coordinates at the start) is fixed in body_a and
-#: drawn with it: a curved slot, a cam profile
-CURVES: tuple[str, ...] = ("pin_in_slot", "cam_follower")
-
 #: points drawn along a curve's period
 CURVE_SAMPLES = 257
-
-
-@dataclass(frozen=True)
-class Anchor:
-    """A point fixed in a body: where a joint or driver acts, or a named point."""
-
-    name: str  # the joint, driver or point
-    kind: str  # "joint", "driver", "point" or "origin" (a body with nothing attached)
-    type: str  # the joint or driver type ("point", "origin")
-    body: str  # the body it is fixed in, or "ground"
-    local: tuple[float, float]  # u, in the body's frame
 
 
 @dataclass(frozen=True)
@@ -190,11 +152,6 @@ class Mark:
     xy: np.ndarray
 
 
-def _rotate(theta: float, v: tuple[float, float]) -> tuple[float, float]:
-    c, s = math.cos(theta), math.sin(theta)
-    return (c * v[0] - s * v[1], s * v[0] + c * v[1])
-
-
 class Geometry:
     """The anchors of a model's drawing, in body frames, and how to draw them.
 
@@ -214,6 +171,7 @@ class Geometry:
         self.body_names = list(body_names)
         self._index = {name: i for i, name in enumerate(self.body_names)}
         self._q_start = np.asarray(q_start, dtype=np.float64)
+        self._frames = Frames(self.body_names, self._q_start)
         self.anchors: list[Anchor] = []
         self.pins: list[int] = []
         self.ground_pins: list[int] = []
@@ -253,41 +211,27 @@ class Geometry:
         return cls(model.body_names, model.q_start, model.description)
 
     def _pose(self, body: str) -> tuple[float, float, float] | None:
-        """(x0, y0, theta0) of a moving body, None for the ground or an unknown body."""
-        i = self._index.get(body)
-        if i is None:
-            return None
-        x, y, th = self._q_start[3 * i : 3 * i + 3]
-        return float(x), float(y), float(th)
+        return self._frames.pose(body)
 
     def _local(self, body: str, world: Any) -> tuple[float, float]:
-        px, py = float(world[0]), float(world[1])
-        pose = self._pose(body)
-        if pose is None:  # the ground's frame is the world's
-            return (px, py)
-        x0, y0, th0 = pose
-        return _rotate(-th0, (px - x0, py - y0))
+        return self._frames.local(body, world)
 
     def _add(self, name: str, kind: str, type_: str, body: str, world: Any) -> int:
         self.anchors.append(Anchor(name, kind, type_, body, self._local(body, world)))
         return len(self.anchors) - 1
 
     def _known(self, body: str) -> bool:
-        return body == GROUND or body in self._index
+        return self._frames.known(body)
 
     def _add_constraint(self, kind: str, item: dict[str, Any]) -> None:
         type_, name = str(item.get("type")), str(item.get("name"))
-        fields = WORLD_POINTS.get(type_)
-        if fields is None:
+        found = constraint_anchors(self._frames, kind, item)
+        if found is None:
             return  # a type the drawing does not know: not drawn
         added: dict[str, int] = {}  # body field -> anchor index
-        for field, body_fields in fields.items():
-            if field not in item:
-                continue
-            for body_field in body_fields:
-                body = str(item.get(body_field))
-                if self._known(body):
-                    added[body_field] = self._add(name, kind, type_, body, item[field])
+        for body_field, anchor in found:
+            self.anchors.append(anchor)
+            added[body_field] = len(self.anchors) - 1
         if type_ in CURVES and self._known(str(item.get("body_a"))):
             self._add_curve(name, str(item["body_a"]), item.get("curve"))
         body_b = str(item.get("body_b"))
@@ -423,7 +367,7 @@ class Geometry:
         """Samples the joint's curve over one period, in the frame of ``body``. The curve
         comes from the independent reference's evaluator; one it refuses is not drawn
         (compiling the model names the fault)."""
-        from .reference.curves import build_curve
+        from ..reference.curves import build_curve
 
         try:
             curve = build_curve(desc, self._pose(body) or (0.0, 0.0, 0.0), f"joint '{joint}'")

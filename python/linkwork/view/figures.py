@@ -2,34 +2,39 @@
 curves) over a faint drawing of the mechanism, and the mechanism moving as a GIF or MP4.
 ``linkwork run --plot``, ``linkwork plot`` and ``--animate`` write them.
 
-An output is named by a coordinate column (``rocker.theta``, ``slider.x``), by a body
-(its angle) or by a named point and an axis (``P.x``, ``P.y``).
-
->>> import numpy as np
->>> from linkwork import examples
->>> res = examples.four_bar().compile().sweep(np.linspace(0.0, 1.0, 11))
->>> [output(res, name).name for name in ("rocker", "coupler.x", "P.y")]
-['rocker.theta', 'coupler.x', 'P.y']
->>> default_outputs(res)
-['crank', 'coupler', 'rocker']
+Outputs are named as `linkwork.view.series` reads them (a coordinate column, a body's
+angle, a named point's ``P.x``); the PNGs of `Results.plot` and `Results.plot_forces`
+are drawn here too.
 """
 
 from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .drawing import Geometry, MechanismArtists, Motion, setup_axes
+from .series import (
+    X_AXES,
+    Output,
+    XAxis,
+    _length_unit,
+    default_outputs,
+    default_paths,
+    output,
+    unknown_outputs,
+    unknown_paths,
+    unknown_x,
+    x_axis,
+)
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from .model import Model
-    from .results import Results
+    from linkwork import Results
+
     from .targets import Deviation
 
 __all__ = [
@@ -48,169 +53,14 @@ __all__ = [
     "plot_paths",
     "draw_targets",
     "animate",
+    "plot_results",
+    "plot_forces",
 ]
 
 #: figures need no more points per line than this, whatever the sweep's length
 MAX_POINTS = 5000
 #: pixels of an animation (width, height); even, as H.264 needs
 MOVIE_SIZE = (640, 480)
-
-
-@dataclass(frozen=True)
-class Output:
-    """One output over a sweep: its value, rate and acceleration (None where the sweep
-    did not solve them), each (n_steps,), and its unit."""
-
-    name: str
-    unit: str
-    value: np.ndarray
-    rate: np.ndarray | None
-    acceleration: np.ndarray | None
-
-
-def _point_names(model: Model) -> list[str]:
-    return [p[0] for p in model._core.points]
-
-
-def _find(model: Model, name: str) -> tuple[str, int] | None:
-    """("column", column index) or ("point", axis) for an output name; None if unknown."""
-    if name in model.columns:
-        return "column", model.columns.index(name)
-    if name in model.body_names:
-        return "column", model.columns.index(f"{name}.theta")
-    point, _, axis = name.rpartition(".")
-    if axis in ("x", "y") and point in _point_names(model):
-        return "point", "xy".index(axis)
-    return None
-
-
-def unknown_outputs(model: Model, names: Sequence[str]) -> str | None:
-    """A message naming the outputs that do not exist and what does, or None."""
-    bad = [n for n in names if _find(model, n) is None]
-    if not bad:
-        return None
-    points = ", ".join(f"{p}.x, {p}.y" for p in _point_names(model)) or "none"
-    return (
-        f"no output named {', '.join(map(repr, bad))}; an output is a column "
-        f"({', '.join(model.columns)}), a body (its angle: {', '.join(model.body_names)}) "
-        f"or a point's coordinate ({points})"
-    )
-
-
-def _length_unit(results: Results) -> str:
-    return results.units(results.columns[0]) if results.columns else "m"
-
-
-def output(results: Results, name: str) -> Output:
-    """The output called ``name`` (a column, a body's angle or ``POINT.x`` / ``POINT.y``)."""
-    found = _find(results.model, name)
-    if found is None:
-        raise KeyError(unknown_outputs(results.model, [name]))
-    kind, k = found
-    if kind == "column":
-        column = results.columns[k]
-
-        def col(a: np.ndarray | None) -> np.ndarray | None:
-            return None if a is None else a[:, k]
-
-        assert results.q is not None
-        return Output(column, results.units(column), results.q[:, k], col(results.qd), col(results.qdd))
-    p = results.point(name.rpartition(".")[0])
-
-    def axis(a: np.ndarray | None) -> np.ndarray | None:
-        return None if a is None else a[:, k]
-
-    return Output(name, _length_unit(results), p.position[:, k], axis(p.velocity), axis(p.acceleration))
-
-
-#: outputs and paths drawn when none are named, at most (a large model has thousands;
-#: name them with --outputs / --paths)
-MAX_DEFAULT = 12
-
-
-def default_outputs(results: Results) -> list[str]:
-    """The outputs plotted when none are named: the angle of every body that turns, and
-    x and y of every body that only translates (a slider), where they change."""
-    names: list[str] = []
-    tol = 1e-9 * results.model.length_scale
-    for body in results.model.body_names:
-        b = results.body(body)
-        if np.ptp(b.theta) > 1e-9:
-            names.append(body)
-            continue
-        names += [f"{body}.{c}" for c, v in (("x", b.x), ("y", b.y)) if np.ptp(v) > tol]
-        if len(names) >= MAX_DEFAULT:
-            break
-    return (names or list(results.model.body_names))[:MAX_DEFAULT]
-
-
-#: what the outputs can be plotted against (or a driver's name)
-X_AXES = ("time", "input")
-
-
-@dataclass(frozen=True)
-class XAxis:
-    """The abscissa of the figures of outputs: its label, unit and value at every step."""
-
-    label: str
-    unit: str
-    value: np.ndarray
-
-
-def _input_driver(model: Model, x: str) -> tuple[str | None, str | None]:
-    """(the driver plotted against for ``x``, None) or (None, why there is none)."""
-    drivers = [d for d in model.description.get("drivers", [])]
-    names = [str(d.get("name")) for d in drivers]
-    if x in names:
-        return x, None
-    if x != "input":
-        return None, (
-            f"--x must be time, input or a driver's name ({', '.join(names) or 'the model has no drivers'}), "
-            f"not {x!r}"
-        )
-    cycle = model.cycle()
-    if cycle is not None:
-        return cycle.driver, None
-    moving = [str(d.get("name")) for d in drivers if d.get("law", {}).get("type") != "constant"]
-    if len(moving) == 1:
-        return moving[0], None
-    return None, (
-        f"--x input needs one moving driver; the model has {len(moving)} ({', '.join(moving) or 'none'}): "
-        "name one with --x DRIVER"
-    )
-
-
-def unknown_x(model: Model, x: str) -> str | None:
-    """Why the outputs cannot be plotted against ``x`` (time, input or a driver's name),
-    or None."""
-    return None if x == "time" else _input_driver(model, x)[1]
-
-
-def x_axis(results: Results, x: str = "time") -> XAxis:
-    """The abscissa ``x``: "time" (s), or "input", the input of the model's driver (its
-    periodic driver, else its only moving one) or of the driver named ``x``: an angle in
-    the file's angle unit (deg or rad), a distance in the length unit. A bad ``x`` is an
-    `InputError` saying what is allowed."""
-    from .errors import InputError
-    from .page import inputs
-
-    if not isinstance(x, str):
-        raise InputError(f"x must be time, input or a driver's name, not {x!r}")
-    if x == "time":
-        return XAxis("t", "s", np.asarray(results.times))
-    driver, problem = _input_driver(results.model, x)
-    if problem:
-        raise InputError(problem)
-    rows = np.arange(results.n_steps)
-    found = [d for d in inputs(results, Geometry.from_model(results.model), rows) if d["name"] == driver]
-    if not found:
-        raise InputError(f"the input of driver {driver!r} cannot be read from the sweep")
-    d = found[0]
-    value = np.asarray(d["value"], dtype=np.float64)
-    unit = d["unit"]
-    if d["angle"] and results.model.units.get("input_angle") == "deg":
-        value, unit = np.degrees(value), "deg"
-    return XAxis(str(driver), unit, value)
 
 
 def _step(n: int) -> int:
@@ -269,30 +119,8 @@ def plot_outputs(
     return [o.name for o in chosen]
 
 
-def default_paths(model: Model) -> list[str]:
-    """The paths drawn when none are named: every named point's, or if the model has
-    none, every pin's that is not on the ground."""
-    points = _point_names(model)
-    if points:
-        return points[:MAX_DEFAULT]
-    g = Geometry.from_model(model)
-    ground = {g.anchors[k].name for k in g.ground_pins}
-    return [g.anchors[k].name for k in g.pins if g.anchors[k].name not in ground][:MAX_DEFAULT]
-
-
-def unknown_paths(model: Model, names: Sequence[str]) -> str | None:
-    """A message naming the paths that cannot be drawn and those that can, or None."""
-    traceable = Geometry.from_model(model).traceable
-    bad = [n for n in names if n not in traceable]
-    if not bad:
-        return None
-    return (
-        f"no point or joint named {', '.join(map(repr, bad))}; paths can be drawn of: {', '.join(traceable)}"
-    )
-
-
 def _labels(labels: object) -> bool:
-    from .errors import InputError
+    from ..errors import InputError
 
     if not isinstance(labels, bool):
         raise InputError(f"labels must be True or False, not {labels!r}")
@@ -331,9 +159,9 @@ def plot_paths(
 ) -> list[str]:
     """A PNG of the paths of points in the plane (equal scales) over the mechanism drawn
     faintly at the first step; ``labels``: the bodies' and joints' names on it;
-    ``targets`` (points n x 2, a `linkwork.targets.Targets` or a synthesized design):
+    ``targets`` (points n x 2, a `linkwork.view.targets.Targets` or a synthesized design):
     marked and numbered, with their poses' ticks, and the path's distance from each
-    listed beside the axes (as in `linkwork.export.svg`). Returns the names drawn."""
+    listed beside the axes (as in `linkwork.view.export.svg`). Returns the names drawn."""
     labels = _labels(labels)
     from .export import target_limits
     from .targets import deviation
@@ -427,3 +255,75 @@ def animate(results: Results, path: str, fps: int = 30, frames: int = 120, label
     finally:
         plt.close(fig)
     return len(rows)
+
+
+def plot_results(results: Results, path: str, bodies: Sequence[str] | None = None, every: int = 1) -> None:
+    """A PNG of every body's angle, angular velocity and acceleration over time, and
+    of the paths of the named points (plotting every ``every``-th step): `Results.plot`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(bodies) if bodies is not None else results.model.body_names
+    k = slice(None, None, max(1, int(every)))
+    t = results.times[k]
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
+    for name in names:
+        b = results.body(name)
+        for ax, v in ((axes[0, 0], b.theta), (axes[0, 1], b.thetad), (axes[1, 0], b.thetadd)):
+            if v is not None:
+                ax.plot(t, v[k], label=name)
+    for ax, what in zip(axes.flat, ["theta [rad]", "omega [rad/s]", "alpha [rad/s^2]"]):
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(what)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    ax = axes[1, 1]
+    for pname in results.model.point_names:
+        p = results.point(pname).position[k]
+        ax.plot(p[:, 0], p[:, 1], label=f"point {pname}")
+    for name in names:
+        b = results.body(name)
+        ax.plot(b.x[k], b.y[k], lw=0.8, ls="--", label=f"{name} origin")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_title("paths")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.suptitle(f"{results.model.name}: {results.n_steps} steps")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_forces(results: Results, path: str, every: int = 1) -> None:
+    """A PNG of every driver's effort (split into inertia, gravity and loads) and of the
+    magnitude of every joint's reaction force over the sweep: `Results.plot_forces`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if results.reactions is None:
+        raise ValueError("no forces in these results: sweep(..., forces=True) computes them")
+    k = slice(None, None, max(1, int(every)))
+    t = results.times[k]
+    fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(12, 4.5), constrained_layout=True)
+    for name, role, *_ in results.model.constraints:
+        if role == "driver":
+            ax0.plot(t, results.effort(name)[k], lw=2, label=f"{name} (total)")
+            for part, v in results.effort_parts(name).items():
+                if np.any(v):
+                    ax0.plot(t, v[k], lw=1, ls="--", label=f"{name}: {part}")
+        else:
+            force = results.reaction(name).force
+            ax1.plot(t, np.hypot(force[k, 0], force[k, 1]), label=name)
+    u = results.model.units
+    ax0.set_ylabel(f"driver effort [{u['torque']} or {u['force']}]")
+    ax1.set_ylabel(f"joint force magnitude [{u['force']}]")
+    for ax in (ax0, ax1):
+        ax.set_xlabel("t [s]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{results.model.name}: inverse dynamics over {results.n_steps} steps")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

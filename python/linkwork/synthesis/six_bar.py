@@ -24,10 +24,11 @@ from typing import Any
 
 import numpy as np
 
-from . import synthesis as S
-from .errors import SingularError, SolveError, SynthesisError
-from .mechanism import Mechanism
-from .motion import Linear, Spline
+from ..errors import SingularError, SolveError, SynthesisError
+from ..mechanism.builder import Mechanism
+from ..motion import Linear, Spline
+from .designs import DyadDesign, _order
+from .dyad import POSITION_TOLERANCE, Dyad, DyadSolutions, _angles, _array, dyads
 
 __all__ = [
     "ChainedSixBarDesign",
@@ -157,7 +158,7 @@ class SixBarDefects:
 
 
 @dataclass
-class ChainedSixBarDesign(S.DyadDesign):
+class ChainedSixBarDesign(DyadDesign):
     """One chained six-bar: dyad 1 (``a1`` on the input link QA, ``b1`` on the coupler)
     and dyad 2 (``d1`` on the coupler, ``c1`` on the link DC), with the input pivot ``q``
     and the output pivot ``o``, all at position 1; ``p``: the coupler point at position
@@ -173,7 +174,7 @@ class ChainedSixBarDesign(S.DyadDesign):
     positions: np.ndarray
     input_angles: np.ndarray
     coupler_angles: np.ndarray
-    dyads: tuple[S.Dyad, S.Dyad]
+    dyads: tuple[Dyad, Dyad]
     _defects: SixBarDefects | None = field(default=None, repr=False)
 
     @property
@@ -198,7 +199,7 @@ class ChainedSixBarDesign(S.DyadDesign):
         coupler's rotation passes theta_n at the positions' t and returns to its start
         after a whole turn. Out of order, the knots are the positions' t sorted."""
         rot = self.input_angles - self.input_angles[0]
-        direction, _ = S._order(rot)
+        direction, _ = _order(rot)
         t = np.mod(direction * rot, 2.0 * math.pi)
         t[0] = 0.0
         k = np.argsort(t, kind="stable")
@@ -258,7 +259,7 @@ def _screen(design: ChainedSixBarDesign, steps: int = 720) -> SixBarDefects:
     position 1) and judge the stroke: every position reached, in order, on that assembly,
     with no singular event before the last."""
     rot = design.input_angles - design.input_angles[0]
-    direction, in_order = S._order(rot)
+    direction, in_order = _order(rot)
     targets = np.mod(direction * rot, 2.0 * math.pi)
     targets[0] = 0.0
     stroke = float(targets.max()) if in_order else 2.0 * math.pi
@@ -283,7 +284,7 @@ def _screen(design: ChainedSixBarDesign, steps: int = 720) -> SixBarDefects:
     )
     n_done = 0 if res is None else len(res.times)
     size = max(design.lengths.values())
-    tolerance = S.POSITION_TOLERANCE * size
+    tolerance = POSITION_TOLERANCE * size
     reached: list[bool] = []
     errors: list[float] = []
     branch = circuit = False
@@ -329,7 +330,7 @@ class ChainedSixBarSynthesis:
     coupler_angles: np.ndarray
     input_pivot: np.ndarray
     output_pivot: np.ndarray
-    dyads: list[S.DyadSolutions]
+    dyads: list[DyadSolutions]
     designs: list[ChainedSixBarDesign]
     problem: str = "chained six-bar"
 
@@ -388,9 +389,9 @@ def chained_six_bar(
     every combination of a real dyad 1 with a real dyad 2 is a `ChainedSixBarDesign`,
     screened by the engine (`SixBarDefects`).
     """
-    pts = S._array(points, "points", 2)
-    phi = S._angles(S._array(input_angles, "input_angles", 1), angles, "input angles")
-    theta = S._angles(S._array(coupler_angles, "coupler_angles", 1), angles, "coupler angles")
+    pts = _array(points, "points", 2)
+    phi = _angles(_array(input_angles, "input_angles", 1), angles, "input angles")
+    theta = _angles(_array(coupler_angles, "coupler_angles", 1), angles, "coupler angles")
     q = _pivot(input_pivot, "input_pivot")
     o = _pivot(output_pivot, "output_pivot")
     if not len(pts) == len(phi) == len(theta) == 5:
@@ -407,8 +408,8 @@ def chained_six_bar(
                     "both positions on its turn"
                 )
     kw: dict[str, Any] = dict(points=pts, input_angles=phi, coupler_angles=theta, method=method)
-    one = S.dyads("chain1", pivot=q.tolist(), **kw)
-    two = S.dyads("chain2", pivot=o.tolist(), **kw)
+    one = dyads("chain1", pivot=q.tolist(), **kw)
+    two = dyads("chain2", pivot=o.tolist(), **kw)
     designs = [
         ChainedSixBarDesign(
             q,

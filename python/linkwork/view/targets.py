@@ -33,15 +33,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .errors import InputError, SolveError
+from .. import _args
+from ..errors import InputError, SolveError
 
 if TYPE_CHECKING:
-    from .results import Results
+    from linkwork import Results
 
 __all__ = [
     "Targets",
     "Deviation",
-    "DesignPictures",
     "of_design",
     "as_targets",
     "deviation",
@@ -237,7 +237,7 @@ def _size(dev: Deviation) -> float:
 
 
 def _point_names(results: Results) -> list[str]:
-    return [p[0] for p in results.model._core.points]
+    return list(results.model.point_names)
 
 
 def _refine(
@@ -276,9 +276,7 @@ def deviation(results: Results, targets: Any) -> Deviation:
     distance to the nearest point of its path over the sweep, and (with the targets'
     times) to the point at each precision position, with the rotation error of
     ``targets.body`` there (with their angles). ``targets``: as `as_targets` takes."""
-    from .results import Results
-
-    if not isinstance(results, Results):
+    if not _args.is_sweep(results):
         raise InputError(f"deviation needs the Results of a sweep, not {type(results).__name__}")
     found = as_targets(targets)
     if found is None:
@@ -417,8 +415,6 @@ def sweep_design(design: Any, targets: Any = None, steps: int = 721) -> Results:
     design's own, `of_design`, where it has positions), turning the way its precision
     times go (backwards if they all lie before position 1). A sweep that stops at a limit
     of the motion gives the steps before it."""
-    from . import _args
-
     steps = _args.integer(steps, "steps", 2)
     tg = as_targets(targets) if targets is not None else None
     if tg is None and hasattr(design, "positions"):
@@ -440,41 +436,3 @@ def sweep_design(design: Any, targets: Any = None, steps: int = 721) -> Results:
         if partial is None or partial.n_steps < 2:
             raise
         return partial  # type: ignore[no-any-return]
-
-
-class DesignPictures:
-    """The pictures of a synthesized design with its targets marked (`of_design`): a
-    design class that has ``.model()``, ``.positions`` and ``.coupler_angles`` (and
-    ``.precision_times()`` where it knows them) gets these by inheriting it."""
-
-    def targets(self) -> Targets:
-        """The design's precision points and poses (`of_design`)."""
-        return of_design(self)
-
-    def sweep(self, steps: int = 721) -> Results:
-        """The design's model swept over one turn (`sweep_design`)."""
-        return sweep_design(self, steps=steps)
-
-    def deviation(self, steps: int = 721) -> Deviation:
-        """How far the design's traced point passes from its targets (`deviation`)."""
-        return deviation(self.sweep(steps), self)
-
-    def to_html(self, path: Any = None, **options: Any) -> str:
-        """The interactive page of `sweep` with the targets marked (`linkwork.page.page`;
-        ``options`` as it takes them)."""
-        return self.sweep().to_html(path, targets=self, **options)
-
-    def to_svg(self, path: Any = None, **options: Any) -> str:
-        """The SVG of `sweep` with the targets marked (`linkwork.export.svg`)."""
-        return self.sweep().to_svg(path, targets=self, **options)
-
-    def to_dxf(self, path: Any, **options: Any) -> None:
-        """The DXF of `sweep` with the targets marked (`linkwork.export.dxf`)."""
-        self.sweep().to_dxf(path, targets=self, **options)
-
-    def plot(self, path: str, **options: Any) -> list[str]:
-        """A PNG of the path over the design with the targets marked
-        (`linkwork.figures.plot_paths`)."""
-        from .figures import plot_paths
-
-        return plot_paths(self.sweep(), path, targets=self, **options)

@@ -3,7 +3,7 @@
 (``_repr_png_``, ``_repr_html_``); ``draw`` onto matplotlib axes and ``animate``, an
 animation a notebook plays inline (matplotlib's JavaScript animation: no ffmpeg needed).
 
-The drawings are `linkwork.drawing`'s (`MechanismArtists`); figures are built without
+The drawings are `linkwork.view.drawing`'s (`MechanismArtists`); figures are built without
 pyplot's global state, so showing an object never changes the notebook's backend.
 
 >>> import numpy as np
@@ -24,17 +24,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _args
+from .. import _args
+from ..errors import DependencyError, InputError, LinkworkError
 from .drawing import Geometry, MechanismArtists, Motion, setup_axes
-from .errors import DependencyError, InputError, LinkworkError
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from .mechanism import Mechanism
-    from .model import Model
-    from .results import Results
+    from linkwork import Mechanism, Model, Results
 
 __all__ = [
     "draw_results",
@@ -204,7 +202,7 @@ def results_html(results: Results) -> str:
     """A summary table (range, peak rate and acceleration of every coordinate; residual,
     iterations, closest approach to a singular configuration; events) and two small plots:
     the default outputs over time and the paths over the mechanism at the first step."""
-    from .figures import default_outputs, output
+    from .series import default_outputs, output
 
     r = results
     head = f"<strong>{escape(r.model.name)}</strong>: {r.n_steps} steps"

@@ -10,12 +10,14 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import _args, _core
-from .errors import InputError, ModelError
+from .. import _args, _core
+from ..errors import InputError, ModelError
+from .anchors import Anchor, traceable
 from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
-from .results import Results, State, Statics
+from .progress import ProgressBar
+from .results import Kept, Results, State, Statics
 from .structure import Structure
 
 __all__ = ["Model", "Cycle", "sweep_batch"]
@@ -205,7 +207,7 @@ class Model:
         rebuilt on the other side, identically). A model with Python laws cannot travel:
         `PortabilityError` names them."""
         if self._python_laws:
-            from .errors import PortabilityError
+            from ..errors import PortabilityError
 
             names = ", ".join(sorted(self._python_laws))
             raise PortabilityError(
@@ -218,13 +220,15 @@ class Model:
     def draw(self, ax: Any = None, t: float = 0.0) -> Any:
         """Draws the model assembled at time ``t`` (on the drawing's branch, as `solve`) on
         matplotlib axes ``ax`` (default: a new figure); returns the axes."""
-        from .notebook import draw_model
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.notebook import draw_model
 
         return draw_model(self, ax, t)
 
     def _repr_html_(self) -> str:
         """What a notebook shows: counts, units, degrees of freedom, structure and the drawing."""
-        from .notebook import model_html
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.notebook import model_html
 
         return model_html(self)
 
@@ -334,17 +338,20 @@ class Model:
         )
         return AssemblyModes(modes, int(tried), int(converged))
 
+    @property
+    def point_names(self) -> list[str]:
+        """The named points, in the description's order."""
+        return [p[0] for p in self._core.points]
+
     def _outputs(self, outputs: Any, error: type[Exception]) -> Kept:
         """What ``outputs`` asks a sweep to keep; ``error`` names what does not exist."""
-        from .drawing import Geometry
-
         if isinstance(outputs, (str, tuple)):
             outputs = [outputs]
         items = _args.each(outputs, "outputs", lambda item, name: item)
         coords: list[int] = []
         points: dict[str, tuple[int, float, float]] = {}
         named = {p: (b, ux, uy) for p, b, ux, uy in self._core.points}
-        geometry: Geometry | None = None
+        traced: dict[str, Anchor] | None = None
         for item in items:
             if isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str):
                 body, local = item
@@ -361,15 +368,18 @@ class Model:
             elif item in named:
                 points[item] = named[item]
             else:
-                geometry = geometry or Geometry.from_model(self)
-                k = geometry.traceable.get(item)
-                if k is None:
+                traced = (
+                    traced
+                    if traced is not None
+                    else traceable(self.body_names, self.q_start, self.description)
+                )
+                anchor = traced.get(item)
+                if anchor is None:
                     raise error(
                         f"no output named {item!r}; an output is a body ({', '.join(self._body_names)}), "
                         f"a column ({', '.join(self._columns)}), or a point, joint or driver with a point "
-                        f"({', '.join(geometry.traceable) or 'none'})"
+                        f"({', '.join(traced) or 'none'})"
                     )
-                anchor = geometry.anchors[k]
                 index = -1 if anchor.body == "ground" else self._body_names.index(anchor.body)
                 points[item] = (index, float(anchor.local[0]), float(anchor.local[1]))
         return Kept(list(dict.fromkeys(coords)), list(points.values()), list(points))
@@ -426,7 +436,7 @@ class Model:
         >>> print(examples.four_bar(omega=5.0).compile().cycle())
         one cycle of crank_angle, 2 pi / |rate| = 1.25664 s
         """
-        from .motion import period
+        from ..motion import period
 
         turn = 360.0 if self.units.get("input_angle") == "deg" else 2 * math.pi
         found, moving = [], 0
@@ -491,7 +501,7 @@ class Model:
         if branch is not None and len(t):
             q_guess = self._branch_guess(float(t[0]), branch)
         g = self._guess(q_guess)
-        callback = _ProgressBar() if progress is True else (progress or None)
+        callback = ProgressBar() if progress is True else (progress or None)
         # Ctrl-C (and the progress bar) are looked at every `check` steps: about every
         # 0.1 s whatever the model's size (a step costs ~0.1 us per coordinate)
         check = max(1, min(16384, 1_000_000 // max(1, self.n_coords)))
@@ -521,7 +531,7 @@ class Model:
         """A sweep over ``times`` and, at every step, the exact sensitivities of the
         coordinates, their rates and accelerations (dq/dp, dqd/dp, dqdd/dp: n_steps x
         n_coords x n_params) and of the named ``points`` (default: all) to the design
-        ``parameters``, named as in `linkwork.study.parameters` (``joints.B.at.0``,
+        ``parameters``, named as in `linkwork.study.naming` (``joints.B.at.0``,
         ``drivers.crank_angle.law.rate``, ``pin A@crank.x``, ``length crank``, ``ratio
         G1``, ``mass coupler``, ...). ``derivatives``: 0 for dq/dp alone (and the sweep's
         positions), 1 with dqd/dp, 2 (the default) with dqdd/dp too. The implicit function
@@ -534,22 +544,13 @@ class Model:
         each driver's effort's (``.effort(driver)``); masses, inertias, centres of mass,
         gravity and the loads' numbers move those alone. The GIL is released meanwhile. A
         parameter that is not one of the engine's numbers (see
-        `linkwork.study.sensitivities`) raises `ParameterError` naming it. Returns a
+        `linkwork.study.sensitivity`) raises `ParameterError` naming it. Returns a
         `linkwork.study.Sensitivities` (its ``results`` is the sweep).
         """
-        from .study.sensitivities import sensitivities
+        # declared lazy import, upward: a convenience method of the study layer
+        from ..study.sensitivity import sensitivities
 
         return sensitivities(self, times, parameters, points, q_guess, progress, derivatives, efforts)
-
-
-@dataclass(frozen=True)
-class Kept:
-    """What a sweep keeps: model columns (indices, in order), body points (body index, -1
-    for the ground; u_x, u_y) and the points' names."""
-
-    coords: list[int]
-    points: list[tuple[int, float, float]]
-    point_names: list[str]
 
 
 def sweep_batch(
@@ -677,16 +678,3 @@ def _check_finite(desc: dict[str, Any]) -> None:
             problem = walk(item, "")
             if problem:
                 raise ModelError(f"{kind} {item.get('name')!r}: {problem.lstrip('.')}")
-
-
-class _ProgressBar:
-    """A one-line progress bar on stderr."""
-
-    def __call__(self, done: int, total: int) -> None:
-        import sys
-
-        width = 30
-        filled = width * done // max(total, 1)
-        end = "\n" if done >= total else ""
-        sys.stderr.write(f"\r  sweeping [{'#' * filled}{'.' * (width - filled)}] {done}/{total}{end}")
-        sys.stderr.flush()

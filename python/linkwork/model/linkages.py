@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _args
+from .. import _args
 
 __all__ = ["Linkage", "AssemblyMode", "AssemblyModes"]
 

@@ -25,10 +25,10 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from . import _args
-from .errors import InputError
-from .mechanism import Mechanism
-from .motion import Linear
+from .. import _args
+from ..errors import InputError
+from ..motion import Linear
+from .builder import Mechanism
 
 __all__ = ["four_bar", "slider_crank", "inverted_slider_crank"]
 

@@ -13,13 +13,23 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _args
+from .. import _args
 from .events import Event
 
 if TYPE_CHECKING:
-    from .model import Kept, Model
+    from linkwork import Model
 
 __all__ = ["Results", "State", "Statics", "BodyMotion", "PointMotion", "Reaction", "Energy"]
+
+
+@dataclass(frozen=True)
+class Kept:
+    """What a sweep keeps: model columns (indices, in order), body points (body index, -1
+    for the ground; u_x, u_y) and the points' names."""
+
+    coords: list[int]
+    points: list[tuple[int, float, float]]
+    point_names: list[str]
 
 
 @dataclass(frozen=True)
@@ -432,35 +442,11 @@ class Results(_Kinematics):
 
     def plot_forces(self, path: str, every: int = 1) -> None:
         """A PNG of every driver's effort (split into inertia, gravity and loads) and of the
-        magnitude of every joint's reaction force over the sweep."""
-        import matplotlib
+        magnitude of every joint's reaction force over the sweep (`linkwork.view.figures.plot_forces`)."""
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.figures import plot_forces
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        table = self._forces()
-        k = slice(None, None, max(1, int(every)))
-        t = self.times[k]
-        fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(12, 4.5), constrained_layout=True)
-        for name, role, *_ in self.model.constraints:
-            if role == "driver":
-                ax0.plot(t, self.effort(name)[k], lw=2, label=f"{name} (total)")
-                for part, v in self.effort_parts(name).items():
-                    if np.any(v):
-                        ax0.plot(t, v[k], lw=1, ls="--", label=f"{name}: {part}")
-            else:
-                j = self._constraint(name)[0]
-                ax1.plot(t, np.hypot(table[k, j, 0], table[k, j, 1]), label=name)
-        u = self.model.units
-        ax0.set_ylabel(f"driver effort [{u['torque']} or {u['force']}]")
-        ax1.set_ylabel(f"joint force magnitude [{u['force']}]")
-        for ax in (ax0, ax1):
-            ax.set_xlabel("t [s]")
-            ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=8)
-        fig.suptitle(f"{self.model.name}: inverse dynamics over {self.n_steps} steps")
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        plot_forces(self, path, every)
 
     @property
     def n_steps(self) -> int:
@@ -629,7 +615,8 @@ class Results(_Kinematics):
         >>> df.shape, df.attrs["units"]["P.x_d"], df.attrs["units"]["rocker.theta_dd"]
         ((5, 37), 'm/s', 'rad/s^2')
         """
-        from .export import dataframe
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.export import dataframe
 
         return dataframe(self, points=_args.flag(points, "points"))
 
@@ -644,9 +631,10 @@ class Results(_Kinematics):
         """The mechanism at time ``t`` (default: the first step) with the paths of points
         over the sweep, as SVG in world coordinates (the model's length unit, y up, drawn
         1:1), and ``targets`` marked with the path's distance from each (points n x 2, a
-        `linkwork.targets.Targets` or a synthesized design); written to ``path`` if given,
-        and returned. See `linkwork.export.svg`."""
-        from .export import svg
+        `linkwork.view.targets.Targets` or a synthesized design); written to ``path`` if given,
+        and returned. See `linkwork.view.export.svg`."""
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.export import svg
 
         return svg(self, path, t=t, paths=paths, max_points=max_points, targets=targets)
 
@@ -662,8 +650,9 @@ class Results(_Kinematics):
         needed) with the mechanism drawn to scale, a slider over the steps, play and pause,
         the paths of points, live values and plots of ``outputs``, the events on the
         timeline and ``targets`` marked, with a table of their distances (as for
-        `to_svg`); written to ``path`` if given, and returned. See `linkwork.page`."""
-        from .page import page
+        `to_svg`); written to ``path`` if given, and returned. See `linkwork.view.page`."""
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.page import page
 
         return page(self, path, outputs=outputs, paths=paths, frames=frames, targets=targets)
 
@@ -671,7 +660,8 @@ class Results(_Kinematics):
         """Draws the mechanism at time ``t`` of the sweep (default: the first step; a time
         between steps is solved there) with the paths of ``paths`` (default: every named
         point) on matplotlib axes ``ax`` (default: a new figure); returns the axes."""
-        from .notebook import draw_results
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.notebook import draw_results
 
         return draw_results(self, ax, t, paths)
 
@@ -679,13 +669,15 @@ class Results(_Kinematics):
         """The mechanism moving, as an animation a notebook plays inline (an `Animation`:
         matplotlib's JavaScript player by default, ``mode="html5"`` for a video, which
         needs ffmpeg); ``frames`` frames spread evenly over the sweep."""
-        from .notebook import animate
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.notebook import animate
 
         return animate(self, frames=frames, fps=fps, mode=mode)
 
     def _repr_html_(self) -> str:
         """What a notebook shows: a summary table and small plots."""
-        from .notebook import results_html
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.notebook import results_html
 
         return results_html(self)
 
@@ -699,44 +691,16 @@ class Results(_Kinematics):
     ) -> None:
         """The mechanism at time ``t`` and the paths of points as a DXF drawing (needs
         ezdxf), one layer per kind of thing, ``targets`` on layer TARGETS (as for
-        `to_svg`). See `linkwork.export.dxf`."""
-        from .export import dxf
+        `to_svg`). See `linkwork.view.export.dxf`."""
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.export import dxf
 
         dxf(self, path, t=t, paths=paths, max_points=max_points, targets=targets)
 
     def plot(self, path: str, bodies: Sequence[str] | None = None, every: int = 1) -> None:
         """A PNG of every body's angle, angular velocity and acceleration over time, and
-        of the paths of the named points (plotting every ``every``-th step)."""
-        import matplotlib
+        of the paths of the named points, every ``every``-th step (`linkwork.view.figures.plot_results`)."""
+        # declared lazy import, upward: a convenience method of the view
+        from ..view.figures import plot_results
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        names = list(bodies) if bodies is not None else self.model.body_names
-        k = slice(None, None, max(1, int(every)))
-        t = self.times[k]
-        fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
-        for name in names:
-            b = self.body(name)
-            for ax, v in ((axes[0, 0], b.theta), (axes[0, 1], b.thetad), (axes[1, 0], b.thetadd)):
-                if v is not None:
-                    ax.plot(t, v[k], label=name)
-        for ax, what in zip(axes.flat, ["theta [rad]", "omega [rad/s]", "alpha [rad/s^2]"]):
-            ax.set_xlabel("t [s]")
-            ax.set_ylabel(what)
-            ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=8)
-        ax = axes[1, 1]
-        for pname, *_ in self.model._core.points:
-            p = self.point(pname).position[k]
-            ax.plot(p[:, 0], p[:, 1], label=f"point {pname}")
-        for name in names:
-            b = self.body(name)
-            ax.plot(b.x[k], b.y[k], lw=0.8, ls="--", label=f"{name} origin")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.set_title("paths")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
-        fig.suptitle(f"{self.model.name}: {self.n_steps} steps")
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        plot_results(self, path, bodies, every)
