@@ -24,6 +24,7 @@ __all__ = [
     "assembly_modes",
     "motion_limits",
     "read_model",
+    "constraint_roles",
     "write_model",
     "screw_transport",
     "sweep_batch",
@@ -110,6 +111,7 @@ def motion_limits(
 def read_model(text: str, format: str, file: str) -> tuple[str, list[tuple[str, str, int]]]: ...
 def _check_panic_guard() -> None: ...
 def write_model(description_json: str, format: str) -> str: ...
+def constraint_roles() -> list[dict[str, Any]]: ...
 
 @final
 class Model:

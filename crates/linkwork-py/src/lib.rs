@@ -803,6 +803,44 @@ impl PyModel {
     }
 }
 
+/// Every joint and driver type of the engine with the description forms it compiles
+/// from and the role of each field (`linkwork::joints::Role`), in the kind list's order:
+/// [{"kind", "group", "type", "fields": [{"name", "role", "bodies", "choices", "input", "unit"}]}].
+#[pyfunction]
+fn constraint_roles(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    let mut out = Vec::new();
+    for (kind, forms) in linkwork::joints::roles() {
+        for form in forms {
+            let mut fields = Vec::with_capacity(form.fields.len());
+            for (name, role) in form.fields {
+                let f = PyDict::new(py);
+                f.set_item("name", name)?;
+                f.set_item("role", role.name())?;
+                f.set_item("bodies", role.bodies())?;
+                let choices: &[&str] = match role {
+                    linkwork::joints::Role::Choice(c) => c,
+                    _ => &[],
+                };
+                f.set_item("choices", choices.to_vec())?;
+                let input = match role {
+                    linkwork::joints::Role::Law(i) => Some(i.name()),
+                    _ => None,
+                };
+                f.set_item("input", input)?;
+                f.set_item("unit", role.unit())?;
+                fields.push(f);
+            }
+            let d = PyDict::new(py);
+            d.set_item("kind", kind)?;
+            d.set_item("group", form.group)?;
+            d.set_item("type", form.type_)?;
+            d.set_item("fields", fields)?;
+            out.push(d);
+        }
+    }
+    Ok(out)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyModel>()?;
@@ -819,6 +857,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(panics::_check_panic_guard, m)?)?;
     m.add_function(wrap_pyfunction!(read_model, m)?)?;
     m.add_function(wrap_pyfunction!(write_model, m)?)?;
+    m.add_function(wrap_pyfunction!(constraint_roles, m)?)?;
     m.add_function(wrap_pyfunction!(events::motion_limits, m)?)?;
     m.add_function(wrap_pyfunction!(mobility::mobility, m)?)?;
     m.add_function(wrap_pyfunction!(mobility::structure, m)?)?;

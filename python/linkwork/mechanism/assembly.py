@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import AssemblyError, InputError
-from ..kinds import CURVES, GROUND, WORLD_DIRECTIONS, WORLD_POINTS
+from ..kinds import CURVES, GROUND, PINNED, WORLD_DIRECTIONS, WORLD_POINTS
 from ..model.compiled import Model
 
 __all__ = ["drawn"]
@@ -54,7 +54,7 @@ def drawn(
 
     _carry_world_points(desc, rough, poses)
     for j in desc["joints"]:
-        if j.get("type") not in ("revolute", "prismatic") or "at" in j:
+        if j.get("type") not in PINNED or "at" in j:
             continue
         a, b = world(j["body_a"], j["pin_a"]), world(j["body_b"], j["pin_b"])
         miss = float(np.hypot(*(a - b)))
@@ -103,17 +103,11 @@ def _carry_world_points(
 
     for item in desc["joints"] + desc["drivers"]:
         kind = item.get("type")
-        if kind in ("revolute", "prismatic"):
-            # a drawn point of two bodies goes with either (they agree once assembled)
-            side = item["body_a"] if item["body_a"] != GROUND else item["body_b"]
-            if "at" in item:
-                item["at"] = carry(side, item["at"])
-            if "axis" in item:
-                item["axis"] = carry(item["body_a"], item["axis"], direction=True)
-            continue
         for key, sides in WORLD_POINTS.get(kind, {}).items():
-            if len(sides) == 1 and key in item:
-                item[key] = carry(item[sides[0]], item[key])
+            if key in item:
+                # a drawn point of two bodies goes with either (they agree once assembled)
+                bodies = [item[side] for side in sides]
+                item[key] = carry(next((b for b in bodies if b != GROUND), bodies[-1]), item[key])
         for key, side in WORLD_DIRECTIONS.get(kind, {}).items():
             if key in item:
                 item[key] = carry(item[side], item[key], direction=True)

@@ -24,7 +24,7 @@ from typing import Any, Callable
 
 from .. import _args, curves
 from ..errors import InputError, LinkworkError, ModelError
-from ..kinds import GROUND
+from ..kinds import GROUND, PINNED
 from ..model.compiled import Model
 from ..motion import Law
 from . import assembly, files
@@ -767,7 +767,7 @@ class Mechanism:
     def is_drawn(self) -> bool:
         """Whether every joint is placed in the drawing (no revolute or prismatic given only
         by its pins in the bodies' frames, which `assemble` places)."""
-        return all("at" in j for j in self._joints if j.get("type") in ("revolute", "prismatic"))
+        return all("at" in j for j in self._joints if j.get("type") in PINNED)
 
     def assemble(self, t: float = 0.0, branch: str | dict[str, str] | None = None) -> Mechanism:
         """The mechanism drawn: its bodies at the configuration the engine assembles at

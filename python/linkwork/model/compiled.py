@@ -12,6 +12,7 @@ import numpy as np
 
 from .. import _args, _core
 from ..errors import InputError, ModelError
+from ..kinds import kind as kind_of
 from .anchors import Anchor, traceable
 from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
@@ -442,7 +443,8 @@ class Model:
         found, moving = [], 0
         for d in self.description.get("drivers", []):
             law = d.get("law", {})
-            angle = d.get("type") in ("angle", "relative_angle")
+            driver = kind_of("drivers", d.get("type"))
+            angle = driver is not None and driver.input is not None and driver.input.unit == "angle"
             p = period(law, full_turn=turn if angle else None)
             moving += law.get("type") != "constant"
             if p is not None:

@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import _core
 from ..errors import LinkworkError, ParameterError
+from ..kinds import FEATURES
 from ..model.compiled import Model
 from ..motion import Spline
 from .naming import GROUPS, Parameter, _description, _units, _value, parameter
@@ -130,21 +131,10 @@ def _set(desc: dict[str, Any], path: tuple[Any, ...], value: float) -> None:
     node[keys[-1]] = value
 
 
-# which body's frame carries each world point ("p") or direction ("d") of the description
+# which body's frame carries each world point ("p") or direction ("d") of the description:
+# the joints' and drivers' from their types' roles
 _FEATURES: dict[str, dict[str, tuple[tuple[str, str, str], ...]]] = {
-    "joints": {
-        "revolute": (("at", "body_a", "p"),),
-        "prismatic": (("at", "body_a", "p"), ("axis", "body_a", "d")),
-        "distance": (("at_a", "body_a", "p"), ("at_b", "body_b", "p")),
-        "point_on_line": (("at", "body_a", "p"), ("axis", "body_b", "d"), ("through", "body_b", "p")),
-        "gear": (("centre_a", "body_a", "p"), ("centre_b", "body_b", "p")),
-        "rack_pinion": (("centre", "body_a", "p"), ("axis", "body_b", "d")),
-        "parallel": (("axis_a", "body_a", "d"), ("axis_b", "body_b", "d")),
-    },
-    "drivers": {
-        "distance": (("at_a", "body_a", "p"), ("at_b", "body_b", "p")),
-        "coordinate": (("at", "body", "p"),),
-    },
+    **FEATURES,
     "points": {"": (("at", "body", "p"),)},
     "loads": {
         "force": (("at", "body", "p"),),

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..kinds import CURVES, GROUND, WORLD_POINTS
+from ..kinds import CURVES, GROUND, GUIDES, WHEELS, WORLD_POINTS
 from ..model.anchors import Anchor, Frames, _rotate, constraint_anchors
 
 if TYPE_CHECKING:
@@ -51,14 +51,10 @@ __all__ = [
     "colour",
 ]
 
-#: joint types drawn as a block (body_b) sliding on a guide (body_a): the field holding
-#: the sliding direction (a world direction at the start, fixed in body_a). A
-#: point_on_line is drawn the other way round: its pin (body_a) in the slot of body_b.
-GUIDES: dict[str, str] = {"prismatic": "axis"}
-
-#: joint types drawn as pitch circles (a gear's, a pulley's, a pinion's), with a radial
-#: mark on each that shows its turning
-WHEELS: tuple[str, ...] = ("gear", "belt", "rack_pinion")
+# from the joint types' roles (`linkwork.kinds`): GUIDES, the types drawn as a block
+# (body_b) sliding on a guide (body_a), with the field of the slide's direction (a
+# point_on_line is drawn the other way round: its pin, body_a, in the slot of body_b);
+# WHEELS, the types drawn as pitch circles with a radial mark that shows their turning
 
 #: teeth drawn along a rack's pitch line at most
 RACK_TEETH = 200

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
+from ..kinds import kind as kind_of
 from .drawing import Geometry
 
 if TYPE_CHECKING:
@@ -246,18 +247,21 @@ def inputs(results: Results, geometry: Geometry, rows: np.ndarray) -> list[dict[
 
     out = []
     for d in results.model.description.get("drivers", []):
-        kind, name = d.get("type"), str(d.get("name"))
+        name = str(d.get("name"))
+        driver = kind_of("drivers", d.get("type"))
+        law = driver.input if driver else None
+        sets = law.input if law else None  # what the driver's law sets
         value: np.ndarray | None = None
-        if kind == "angle":
+        if sets == "angle":
             value = theta(str(d["body"]))
-        elif kind == "relative_angle":
+        elif sets == "relative_angle":
             value = theta(str(d["body_b"])) - theta(str(d["body_a"]))
-        elif kind == "distance" and len(anchors(name)) == 2:
+        elif sets == "distance" and len(anchors(name)) == 2:
             a, b = anchors(name)
             value = np.hypot(*(xy[:, b] - xy[:, a]).T)
-        elif kind == "coordinate" and len(anchors(name)) == 1:
+        elif sets == "coordinate" and len(anchors(name)) == 1:
             value = xy[:, anchors(name)[0], "xy".index(str(d.get("axis", "x")))]
-        elif kind == "translation":
+        elif sets == "slide":
             found = [k for k, s in enumerate(geometry.sliders) if s.joint == d.get("joint")]
             if found:
                 s = geometry.sliders[found[0]]
@@ -265,8 +269,8 @@ def inputs(results: Results, geometry: Geometry, rows: np.ndarray) -> list[dict[
                 axis = geometry.axis_world(q, s)
                 rel = xy[:, s.block] - xy[:, s.guide] - (start[s.block] - start[s.guide])
                 value = np.einsum("ij,ij->i", rel, axis)
-        if value is not None:
-            angle = kind in ("angle", "relative_angle")
+        if value is not None and law is not None:
+            angle = law.unit == "angle"
             out.append(
                 {"name": name, "unit": "rad" if angle else length, "angle": angle, "value": _numbers(value)}
             )

@@ -55,3 +55,16 @@ impl Sample for AngleDriver {
         AngleDriver { law: super::sample_law() }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for AngleDriver {
+    const FORMS: &'static [super::Form] = {
+        use super::Input;
+        use super::Role::*;
+        &[super::Form {
+            group: "drivers",
+            type_: "angle",
+            fields: &[("name", Name), ("body", Body), ("law", Law(Input::Angle))],
+        }]
+    };
+}

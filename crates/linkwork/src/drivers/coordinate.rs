@@ -65,3 +65,22 @@ impl Sample for CoordinateDriver {
         CoordinateDriver { u: [0.2, -0.35], axis: 1, law: super::sample_law() }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for CoordinateDriver {
+    const FORMS: &'static [super::Form] = {
+        use super::Input;
+        use super::Role::*;
+        &[super::Form {
+            group: "drivers",
+            type_: "coordinate",
+            fields: &[
+                ("name", Name),
+                ("body", Body),
+                ("at", Point(&["body"])),
+                ("axis", Choice(&["x", "y"])),
+                ("law", Law(Input::Coordinate)),
+            ],
+        }]
+    };
+}

@@ -75,3 +75,23 @@ impl Sample for DistanceDriver {
         DistanceDriver { u_a: [0.1, 0.2], u_b: [0.3, -0.1], law: super::sample_law() }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for DistanceDriver {
+    const FORMS: &'static [super::Form] = {
+        use super::Input;
+        use super::Role::*;
+        &[super::Form {
+            group: "drivers",
+            type_: "distance",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("at_a", Point(&["body_a"])),
+                ("body_b", Body),
+                ("at_b", Point(&["body_b"])),
+                ("law", Law(Input::Distance)),
+            ],
+        }]
+    };
+}

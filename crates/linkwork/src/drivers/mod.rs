@@ -10,6 +10,9 @@ pub mod translation;
 
 use crate::motion::MotionLaw;
 
+// the roles of a driver's description fields, declared beside the joints'
+pub(crate) use crate::joints::{Described, Form, Input, Role};
+
 /// A law for the driver samples: every term non-zero.
 pub(crate) fn sample_law() -> MotionLaw {
     MotionLaw::Harmonic { mean: 0.3, amplitude: 0.2, omega: 3.0, phase: 0.4 }

@@ -55,3 +55,16 @@ impl Sample for RelativeAngleDriver {
         RelativeAngleDriver { law: super::sample_law() }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for RelativeAngleDriver {
+    const FORMS: &'static [super::Form] = {
+        use super::Input;
+        use super::Role::*;
+        &[super::Form {
+            group: "drivers",
+            type_: "relative_angle",
+            fields: &[("name", Name), ("body_a", Body), ("body_b", Body), ("law", Law(Input::RelativeAngle))],
+        }]
+    };
+}

@@ -70,3 +70,16 @@ impl Sample for TranslationDriver {
         TranslationDriver { u_a: [0.1, 0.0], u_b: [0.0, 0.2], e_a: [c, s], law: super::sample_law() }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for TranslationDriver {
+    const FORMS: &'static [super::Form] = {
+        use super::Input;
+        use super::Role::*;
+        &[super::Form {
+            group: "drivers",
+            type_: "translation",
+            fields: &[("name", Name), ("joint", Joint), ("law", Law(Input::Slide))],
+        }]
+    };
+}

@@ -52,3 +52,24 @@ impl Sample for Belt {
         Belt(Gear { k_a, k_b, value: -0.2, carrier: true, mesh: None })
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for Belt {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "belt",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("radius_a", Pitch("body_a")),
+                ("radius_b", Pitch("body_b")),
+                ("ratio", Ratio),
+                ("crossed", Flag),
+                ("carrier", Body),
+            ],
+        }]
+    };
+}

@@ -73,3 +73,22 @@ impl Sample for Coupler {
         Coupler { u_a: [0.2, -0.1], u_b: [-0.05, 0.3], length: 0.45 }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for Coupler {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "distance",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("at_a", Point(&["body_a"])),
+                ("body_b", Body),
+                ("at_b", Point(&["body_b"])),
+                ("length", Length),
+            ],
+        }]
+    };
+}

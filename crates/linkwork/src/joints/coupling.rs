@@ -88,3 +88,22 @@ impl Sample for LinearCoupling {
         LinearCoupling { c_a: [0.5, -1.5, 0.25], c_b: [2.0, 0.0, -0.7], value: 0.1 }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for LinearCoupling {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "linear_coupling",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("coefficients_a", Coefficients("body_a")),
+                ("coefficients_b", Coefficients("body_b")),
+                ("value", Number),
+            ],
+        }]
+    };
+}

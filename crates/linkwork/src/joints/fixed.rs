@@ -60,3 +60,15 @@ impl Sample for Fixed {
         Fixed { u_a: [0.25, 0.1], theta0: 0.7 }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for Fixed {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "fixed",
+            fields: &[("name", Name), ("body_a", Body), ("body_b", Body)],
+        }]
+    };
+}

@@ -132,3 +132,23 @@ impl Sample for FlatFollower {
         FlatFollower::new(curve, [0.05, 0.3], [1.0, -0.3]).expect("a valid face")
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for FlatFollower {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "cam_follower",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("follower", Choice(&["flat"])),
+                ("at", Point(&["body_b"])),
+                ("curve", Curve("body_a")),
+                ("face", Direction("body_b")),
+            ],
+        }]
+    };
+}

@@ -185,3 +185,26 @@ impl Sample for Gear {
         Gear { k_a, k_b, value: 0.3, carrier: true, mesh: Some(mesh) }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for Gear {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "gear",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("radius_a", Pitch("body_a")),
+                ("radius_b", Pitch("body_b")),
+                ("ratio", Ratio),
+                ("centre_a", Point(&["body_a"])),
+                ("centre_b", Point(&["body_b"])),
+                ("internal", Flag),
+                ("carrier", Body),
+            ],
+        }]
+    };
+}

@@ -255,6 +255,12 @@ macro_rules! constraint_list {
         pub fn samples() -> Vec<ConstraintKind> {
             vec![$(ConstraintKind::$variant(<$ty as Sample>::sample())),*]
         }
+
+        /// Every joint and driver type's label with the description forms it compiles
+        /// from, the roles of their fields: a type without `Described` does not build.
+        pub fn roles() -> Vec<(&'static str, &'static [Form])> {
+            vec![$(($label, <$ty as Described>::FORMS)),*]
+        }
     };
 }
 
@@ -278,6 +284,146 @@ constraint_list! {
     PointOnCurve(point_on_curve::PointOnCurve) = "point on curve",
     RollerFollower(roller_follower::RollerFollower) = "roller follower",
     FlatFollower(flat_follower::FlatFollower) = "flat follower",
+}
+
+/// What a field of a joint's or driver's description is: the tools that read
+/// descriptions (drawing, design parameters, the builder's assembly) learn from these
+/// which fields are points, directions or curves and of which body, instead of keeping
+/// tables of their own. A body is named by the field that names it ("body_a").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// the element's name
+    Name,
+    /// names a body (or the ground)
+    Body,
+    /// names a joint
+    Joint,
+    /// a world point at the start, fixed in each of the bodies these fields name
+    Point(&'static [&'static str]),
+    /// a point in the named body's own frame
+    LocalPoint(&'static str),
+    /// a world direction at the start, fixed in the named body
+    Direction(&'static str),
+    /// the direction of a slide: the guide's line, a world direction at the start fixed
+    /// in the named body, along which the other body moves
+    Slide(&'static str),
+    /// a direction in the named body's own frame
+    LocalDirection(&'static str),
+    /// a curve, in world coordinates at the start, fixed in the named body
+    Curve(&'static str),
+    /// the pitch radius of a wheel (gear, pulley, pinion) fixed in the named body
+    Pitch(&'static str),
+    /// the coefficients of the named body's coordinates
+    Coefficients(&'static str),
+    Length,
+    Angle,
+    /// a speed ratio
+    Ratio,
+    /// a number of mixed units (a linear coupling's value)
+    Number,
+    Flag,
+    /// one of these words
+    Choice(&'static [&'static str]),
+    /// a driver's motion law, and what it sets
+    Law(Input),
+}
+
+/// What a driver's law sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Input {
+    /// a body's angle
+    Angle,
+    /// body_b's angle less body_a's
+    RelativeAngle,
+    /// the distance between two points
+    Distance,
+    /// a point's x or y
+    Coordinate,
+    /// a prismatic joint's slide
+    Slide,
+}
+
+impl Role {
+    /// The role's name in the table Python reads.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Role::Name => "name",
+            Role::Body => "body",
+            Role::Joint => "joint",
+            Role::Point(_) => "point",
+            Role::LocalPoint(_) => "local_point",
+            Role::Direction(_) => "direction",
+            Role::Slide(_) => "slide",
+            Role::LocalDirection(_) => "local_direction",
+            Role::Curve(_) => "curve",
+            Role::Pitch(_) => "pitch",
+            Role::Coefficients(_) => "coefficients",
+            Role::Length => "length",
+            Role::Angle => "angle",
+            Role::Ratio => "ratio",
+            Role::Number => "number",
+            Role::Flag => "flag",
+            Role::Choice(_) => "choice",
+            Role::Law(_) => "law",
+        }
+    }
+
+    /// The unit of the value, "length" or "angle" (a law's: of what it sets), or None.
+    pub fn unit(&self) -> Option<&'static str> {
+        match self {
+            Role::Point(_) | Role::LocalPoint(_) | Role::Pitch(_) | Role::Length => Some("length"),
+            Role::Angle => Some("angle"),
+            Role::Law(i) => Some(if i.is_angle() { "angle" } else { "length" }),
+            _ => None,
+        }
+    }
+
+    /// The fields naming the bodies the value is fixed in (none for a plain number).
+    pub fn bodies(&self) -> Vec<&'static str> {
+        match *self {
+            Role::Point(b) => b.to_vec(),
+            Role::LocalPoint(b)
+            | Role::Direction(b)
+            | Role::Slide(b)
+            | Role::LocalDirection(b)
+            | Role::Curve(b)
+            | Role::Pitch(b)
+            | Role::Coefficients(b) => vec![b],
+            _ => Vec::new(),
+        }
+    }
+}
+
+impl Input {
+    /// Whether the law sets an angle (rad) rather than a length.
+    pub fn is_angle(&self) -> bool {
+        matches!(self, Input::Angle | Input::RelativeAngle)
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Input::Angle => "angle",
+            Input::RelativeAngle => "relative_angle",
+            Input::Distance => "distance",
+            Input::Coordinate => "coordinate",
+            Input::Slide => "slide",
+        }
+    }
+}
+
+/// One description form a joint or driver type compiles from: its list ("joints" or
+/// "drivers"), its `type` and each of its fields with its role, in the description's order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Form {
+    pub group: &'static str,
+    pub type_: &'static str,
+    pub fields: &'static [(&'static str, Role)],
+}
+
+/// The description forms a joint or driver type compiles from (most have one; a cam
+/// follower's form compiles to one of three types, a point on a curve to two forms).
+pub trait Described {
+    const FORMS: &'static [Form];
 }
 
 #[inline(always)]

@@ -50,3 +50,15 @@ impl Sample for FixedOrientation {
         FixedOrientation { angle: -0.8 }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for FixedOrientation {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "fixed_orientation",
+            fields: &[("name", Name), ("body_a", Body), ("body_b", Body), ("angle", Angle)],
+        }]
+    };
+}

@@ -68,3 +68,21 @@ impl Sample for Parallel {
         Parallel { e_a: [ca, sa], e_b: [cb, sb] }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for Parallel {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "parallel",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("axis_a", Direction("body_a")),
+                ("axis_b", Direction("body_b")),
+            ],
+        }]
+    };
+}

@@ -75,3 +75,23 @@ impl Sample for PointOnLine {
         PointOnLine { u_a: [0.25, -0.1], u_b: [-0.2, 0.15], e_b: [c, s], offset: 0.05 }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for PointOnLine {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "point_on_line",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("at", Point(&["body_a"])),
+                ("axis", Slide("body_b")),
+                ("through", Point(&["body_b"])),
+                ("offset", Length),
+            ],
+        }]
+    };
+}

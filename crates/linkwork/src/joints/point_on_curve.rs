@@ -96,3 +96,35 @@ impl Sample for PointOnCurve {
         PointOnCurve { curve, u_b: [0.2, 0.1] }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for PointOnCurve {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[
+            super::Form {
+                group: "joints",
+                type_: "pin_in_slot",
+                fields: &[
+                    ("name", Name),
+                    ("body_a", Body),
+                    ("body_b", Body),
+                    ("at", Point(&["body_b"])),
+                    ("curve", Curve("body_a")),
+                ],
+            },
+            super::Form {
+                group: "joints",
+                type_: "cam_follower",
+                fields: &[
+                    ("name", Name),
+                    ("body_a", Body),
+                    ("body_b", Body),
+                    ("follower", Choice(&["knife"])),
+                    ("at", Point(&["body_b"])),
+                    ("curve", Curve("body_a")),
+                ],
+            },
+        ]
+    };
+}

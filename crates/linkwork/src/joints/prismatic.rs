@@ -110,3 +110,25 @@ impl Sample for Prismatic {
         Prismatic { u_a: [0.2, 0.05], u_b: [-0.1, 0.3], e_a: [c, s], theta0: -0.3 }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for Prismatic {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "prismatic",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("at", Point(&["body_a", "body_b"])),
+                ("axis", Slide("body_a")),
+                ("pin_a", LocalPoint("body_a")),
+                ("pin_b", LocalPoint("body_b")),
+                ("axis_a", LocalDirection("body_a")),
+                ("angle", Angle),
+            ],
+        }]
+    };
+}

@@ -86,3 +86,22 @@ impl Sample for RackPinion {
         RackPinion { u_a: [0.1, 0.05], u_b: [0.3, -0.2], e_b: [c, s], radius: 0.08, delta0: 0.6 }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for RackPinion {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "rack_pinion",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("radius", Pitch("body_a")),
+                ("axis", Direction("body_b")),
+                ("centre", Point(&["body_a"])),
+            ],
+        }]
+    };
+}

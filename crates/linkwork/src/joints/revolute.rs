@@ -88,3 +88,22 @@ impl Sample for Revolute {
         Revolute { u_a: [0.3, -0.2], u_b: [-0.15, 0.4] }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for Revolute {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "revolute",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("at", Point(&["body_a", "body_b"])),
+                ("pin_a", LocalPoint("body_a")),
+                ("pin_b", LocalPoint("body_b")),
+            ],
+        }]
+    };
+}

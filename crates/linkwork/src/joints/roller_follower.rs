@@ -143,3 +143,23 @@ impl Sample for RollerFollower {
         RollerFollower { curve, u_b: [-0.1, 0.2], radius: 0.08 }
     }
 }
+
+/// The description's fields and their roles (`Described`).
+impl super::Described for RollerFollower {
+    const FORMS: &'static [super::Form] = {
+        use super::Role::*;
+        &[super::Form {
+            group: "joints",
+            type_: "cam_follower",
+            fields: &[
+                ("name", Name),
+                ("body_a", Body),
+                ("body_b", Body),
+                ("follower", Choice(&["roller"])),
+                ("at", Point(&["body_b"])),
+                ("curve", Curve("body_a")),
+                ("radius", Length),
+            ],
+        }]
+    };
+}
