@@ -1101,26 +1101,35 @@ def targets_table(
 # ---------------------------------------------------------------- the report
 
 
-def machine(load: tuple[float, float]) -> str:
+def plain(value: Any) -> Any:
+    """A NumPy scalar or array as JSON takes it (anything else as its text)."""
+    return value.tolist() if hasattr(value, "tolist") else str(value)
+
+
+def revision() -> str:
+    try:
+        rev = subprocess.run(
+            ["git", "-C", str(ROOT), "describe", "--always", "--dirty"], capture_output=True, text=True
+        ).stdout.strip()
+    except OSError:
+        rev = ""
+    return rev or "?"
+
+
+def machine(load: tuple[float, float], rev: str) -> str:
     cpu = platform.processor() or platform.machine()
     try:
         with open("/proc/cpuinfo") as f:
             cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
     except (OSError, StopIteration):
         pass
-    try:
-        rev = subprocess.run(
-            ["git", "-C", str(ROOT), "describe", "--always", "--dirty"], capture_output=True, text=True
-        ).stdout.strip()
-    except OSError:
-        rev = "?"
     import scipy
 
     return (
         f"{cpu}, {os.cpu_count()} cores (1-minute load average {load[0]:.2f} at the start, "
         f"{load[1]:.2f} at the end); CPython {platform.python_version()}, numpy {np.__version__}, "
         f"scipy {scipy.__version__}, {baselines.pylinkage_version() or 'pylinkage not installed'}; "
-        f"linkwork {getattr(linkwork, '__version__', '?')} at `{rev or '?'}`"
+        f"linkwork {getattr(linkwork, '__version__', '?')} at `{rev}`"
     )
 
 
@@ -1133,6 +1142,7 @@ def main() -> None:
     parser.add_argument("--chain-budget", type=float, default=1e6, help="chain steps x K per row")
     parser.add_argument("--quick", action="store_true", help="fewer steps and repeats (a smoke test)")
     parser.add_argument("--write", action="store_true", help="write docs/performance.md and the plot")
+    parser.add_argument("--save", metavar="FILE", help="also save the measured figures as JSON")
     parser.add_argument("--probe-memory", nargs=2, type=int, metavar=("K", "STEPS"), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.probe_memory:
@@ -1144,6 +1154,7 @@ def main() -> None:
 
     stamp = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     load_start = os.getloadavg()[0]
+    rev = revision()  # the code measured, before anything can change the work tree
     notes: list[str] = []
     if not cold_outputs():
         notes.append("not glibc: the allocator's adaptive thresholds were left as they are")
@@ -1167,7 +1178,11 @@ def main() -> None:
     say("done")
 
     plot = ROOT / "docs" / "speed_vs_error.png"
-    where = machine((load_start, os.getloadavg()[0]))
+    where = machine((load_start, os.getloadavg()[0]), rev)
+    if args.save:
+        measured = {"stamp": stamp, "where": where, "args": vars(args), "notes": notes, "fb": fb}
+        measured.update(slider=slider, mechs=mechs, scaling=scaling, batch=batch, curves=curves)
+        Path(args.save).write_text(json.dumps(measured, indent=1, default=plain) + "\n")
     report = "\n".join(
         [
             f"Measured {stamp} with `python benches/compare.py --write` on {where}.",
