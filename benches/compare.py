@@ -34,6 +34,7 @@ import json
 import math
 import os
 import platform
+import re
 import subprocess
 import sys
 import time
@@ -1203,8 +1204,10 @@ def readme_paragraph(m: dict[str, Any]) -> str:
     lw = {d: next(r for r in fb if r.get("engine") and r["kind"] == "auto" and r["d"] == d) for d in (0, 2)}
     pl = {d: next((r for r in fb if r.get("pylinkage") and r["d"] == d), None) for d in (0, 2)}
     ref = next(r for r in fb if r.get("reference"))
+    load = re.search(r"(\d+) cores \(1-minute load average ([\d.]+) at the start, ([\d.]+)", m["where"])
+    where = f"{load[1]} cores, load average {load[2]} to {load[3]}" if load else "a shared machine"
     text = (
-        f"In the latest run ({m['stamp'][:10]}, on a shared machine), on the textbook "
+        f"In the latest run ({m['stamp'][:10]}, {where}), on the textbook "
         f"four-bar linkwork's `sweep` takes {lw[2]['us']:.2f} us per step from Python with velocities and "
         f"accelerations and {lw[0]['us']:.2f} us with positions only, {ref['us'] / lw[2]['us']:,.0f} times "
         f"as fast as the NumPy reference"
@@ -1216,7 +1219,7 @@ def readme_paragraph(m: dict[str, Any]) -> str:
         )
     err = lw[2]["err"]
     k1000 = next((r for r in m["scaling"]["rows"] if r["loops"] == 1000), None)
-    text += f", at errors of {err['theta']:.0e} rad in angles and {err['alpha']:.0e} rad/s^2 in accelerations"
+    text += f", at errors of {err['theta']:.1e} rad in angles and {err['alpha']:.1e} rad/s^2 in accelerations"
     if k1000 is not None:
         text += f"; a chain of 1,000 loops costs {k1000['us'] / k1000['bodies']:.3f} us per body and step"
     _, s2 = batch_speedup(m["batch"])
@@ -1417,12 +1420,11 @@ def main() -> None:
         tradeoff_plot(m["curves"], plot, m["stamp"])
         figures.write_text(text)
         link = runlog.append_run("compare.py", m["stamp"], report)
+        print(f"wrote {runlog.log_path(m['stamp'])}, {plot.name} and {figures.name}", file=sys.stderr)
     runlog.replace_block("compare.py", short_report(m, link))
     runlog.replace_block("compare.py", readme_paragraph(m), ROOT / "README.md")
     runlog.set_latest("compare.py", f"[{m['stamp']}]({link})")
-    print(
-        f"wrote {runlog.log_path(m['stamp'])}, {plot.name}, {figures.name} and {runlog.DOC}", file=sys.stderr
-    )
+    print(f"wrote {runlog.DOC} and README.md", file=sys.stderr)
 
 
 if __name__ == "__main__":
