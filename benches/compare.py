@@ -1206,6 +1206,7 @@ def readme_paragraph(m: dict[str, Any]) -> str:
     ref = next(r for r in fb if r.get("reference"))
     load = re.search(r"(\d+) cores \(1-minute load average ([\d.]+) at the start, ([\d.]+)", m["where"])
     where = f"{load[1]} cores, load average {load[2]} to {load[3]}" if load else "a shared machine"
+    where += "".join(f"; {note}" for note in m["args"].get("note") or [])
     text = (
         f"In the latest run ({m['stamp'][:10]}, {where}), on the textbook "
         f"four-bar linkwork's `sweep` takes {lw[2]['us']:.2f} us per step from Python with velocities and "
@@ -1234,8 +1235,10 @@ def short_report(m: dict[str, Any], link: str) -> str:
     missed = sum(v.startswith("**missed**") for v in verdicts)
     return "\n".join(
         [
-            f"Measured {m['stamp']} on {m['where']}. The full log, with every table, the speed against "
-            f"error plot and the notes: [{m['stamp'][:10]}]({link}).",
+            f"Measured {m['stamp']} on {m['where']}"
+            + "".join(f"; {note}" for note in m["args"].get("note") or [])
+            + f". The full log, with every table, the speed against error plot and the notes: "
+            f"[{m['stamp'][:10]}]({link}).",
             "",
             "### Against the peers",
             "",
