@@ -1395,7 +1395,7 @@ def main() -> None:
     parser.add_argument(
         "--load",
         metavar="FILE",
-        help="render a saved run instead of measuring (--write: docs/performance.md only)",
+        help="render a saved run instead of measuring (--write: the verdicts and README only)",
     )
     parser.add_argument("--probe-memory", nargs=2, type=int, metavar=("K", "STEPS"), help=argparse.SUPPRESS)
     args = parser.parse_args()
