@@ -1,8 +1,11 @@
 """Speed against error, in one run: linkwork against what users would otherwise run.
 
-    python benches/compare.py            # measure and print the report (Markdown)
-    python benches/compare.py --write    # and write it into docs/performance.md and
-                                         # the plot docs/speed_vs_error.png
+    python benches/compare.py            # measure and print the full report (Markdown)
+    python benches/compare.py --write    # and add it to benches/results/performance-<date>.md
+                                         # (with the plot and the figures as JSON) and write
+                                         # the verdicts into docs/performance.md
+    python benches/compare.py --load benches/results/compare-<date>-<time>.json --write
+                                         # the verdicts of a saved run again, no measuring
 
 Everything runs in this one process (the memory probe in a child per chain length), so
 the ratios are read from one run on one machine: the machines are shared and noisy, the
@@ -31,6 +34,7 @@ import json
 import math
 import os
 import platform
+import re
 import subprocess
 import sys
 import time
@@ -46,6 +50,7 @@ from linkwork.reference import ReferenceModel
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import baselines  # noqa: E402
+import runlog  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 DIMS = dict(ground=0.35, crank=0.20, coupler=0.35, rocker=0.25)
@@ -1098,30 +1103,278 @@ def targets_table(
     return "\n".join(out)
 
 
+# ---------------------------------------------------------------- the short report
+
+
+def errors_text(err: dict[str, Any], keys: tuple[tuple[str, str, str], ...]) -> str:
+    shown = [f"{label} {err[key]:.1e} {unit}" for key, label, unit in keys if err.get(key) is not None]
+    return ", ".join(shown) or "-"
+
+
+FOUR_BAR_ERRORS = (("theta", "theta", "rad"), ("omega", "omega", "rad/s"), ("alpha", "alpha", "rad/s^2"))
+SLIDER_ERRORS = (("x", "slider x", "m"), ("v", "v", "m/s"), ("a", "a", "m/s^2"))
+
+
+def peers_table(m: dict[str, Any]) -> str:
+    """linkwork's time and error against each peer's, on the same mechanism and quantities."""
+    fb, sc = m["fb"]["rows"], m["slider"]
+
+    def first(rows: list[dict[str, Any]], **want: Any) -> dict[str, Any] | None:
+        return next((r for r in rows if all(r.get(k) == v for k, v in want.items())), None)
+
+    lw = {d: first(fb, engine=True, kind="auto", d=d) for d in (0, 2)}
+    lw_sc = {d: first(sc, engine=True, d=d) for d in (0, 2)}
+    fsolve = next((r for r in fb if r["name"].startswith("SciPy")), None)
+    lines = [
+        "| peer | mechanism | computes | linkwork [us/step] | peer [us/step] | peer's time / linkwork's "
+        "| linkwork's largest error | peer's largest error |",
+        "|---|---|---|---:|---:|---:|---|---|",
+    ]
+
+    def add(
+        label: str, mech: str, mine: dict | None, theirs: dict | None, keys: tuple, truth: bool = False
+    ) -> None:
+        if mine is None or theirs is None:
+            lines.append(f"| {label} | {mech} | | | | not measured (not installed) | | |")
+            return
+        d = QUANTITIES[theirs["d"]]
+        theirs_err = "- (the errors are measured against it)" if truth else errors_text(theirs["err"], keys)
+        lines.append(
+            f"| {label} | {mech} | {d} | {mine['us']:.3f} | {theirs['us']:.3f} "
+            f"| {theirs['us'] / mine['us']:.2f}x "
+            f"| {errors_text(mine['err'], keys)} | {theirs_err} |"
+        )
+
+    pl = "pylinkage-numba"
+    add(
+        f"{pl} `step_fast_with_kinematics`",
+        "four-bar",
+        lw[2],
+        first(fb, pylinkage=True, d=2),
+        FOUR_BAR_ERRORS,
+    )
+    add(f"{pl} `step_fast`", "four-bar", lw[0], first(fb, pylinkage=True, d=0), FOUR_BAR_ERRORS)
+    add(
+        f"{pl} `step_fast_with_kinematics`",
+        "slider-crank",
+        lw_sc[2],
+        first(sc, pylinkage=True, d=2),
+        SLIDER_ERRORS,
+    )
+    add(f"{pl} `step_fast`", "slider-crank", lw_sc[0], first(sc, pylinkage=True, d=0), SLIDER_ERRORS)
+    add(
+        "pylinkage `step` (Python)", "slider-crank", lw_sc[0], first(sc, pylinkage_python=True), SLIDER_ERRORS
+    )
+    add("SciPy `fsolve`, warm start", "four-bar", lw[0], fsolve, FOUR_BAR_ERRORS)
+    add("linkwork.reference (NumPy Newton)", "four-bar", lw[2], first(fb, reference=True), FOUR_BAR_ERRORS)
+    add(
+        "closed form, vectorised NumPy", "four-bar", lw[2], first(fb, floor=True), FOUR_BAR_ERRORS, truth=True
+    )
+    return "\n".join(lines)
+
+
+def scale_table(m: dict[str, Any]) -> str:
+    """The chain, the other mechanisms and the batch in one figure each."""
+    scaling, batch = m["scaling"], m["batch"]
+    fits = ", ".join(f"{v:.3f} ({k})" for k, v in scaling["fits"].items())
+    ks = [r["loops"] for r in scaling["rows"]]
+    lines = ["| measure | figure |", "|---|---|"]
+    lines.append(
+        f"| chain of K four-bar loops, K = {min(ks):,} .. {max(ks):,}: "
+        f"exponent of time per step in K | {fits} |"
+    )
+    for r in scaling["rows"]:
+        if r["loops"] == 1000:
+            lines.append(f"| chain, K = 1,000: time per body and step | {r['us'] / r['bodies']:.3f} us |")
+    if scaling["mem_fit"] is not None:
+        lines.append(f"| chain: exponent of peak memory in K | {scaling['mem_fit']:.3f} |")
+    per = {r["name"]: r["us"] / r["coords"] for r in m["mechs"]}
+    others = ", ".join(f"{name} {v / per['four_bar']:.2f}" for name, v in per.items() if name != "four_bar")
+    lines.append(f"| other mechanisms: time per coordinate / the four-bar's | {others} |")
+    which, s2 = batch_speedup(batch)
+    lines.append(
+        f"| {batch['designs']} designs at once: speed-up from 1 to 2 threads ({which}) | {s2:.2f}x |"
+    )
+    return "\n".join(lines)
+
+
+def readme_paragraph(m: dict[str, Any]) -> str:
+    """The README's speed sentence, every figure from the run."""
+    fb = m["fb"]["rows"]
+    lw = {d: next(r for r in fb if r.get("engine") and r["kind"] == "auto" and r["d"] == d) for d in (0, 2)}
+    pl = {d: next((r for r in fb if r.get("pylinkage") and r["d"] == d), None) for d in (0, 2)}
+    ref = next(r for r in fb if r.get("reference"))
+    load = re.search(r"(\d+) cores \(1-minute load average ([\d.]+) at the start, ([\d.]+)", m["where"])
+    where = f"{load[1]} cores, load average {load[2]} to {load[3]}" if load else "a shared machine"
+    where += "".join(f"; {note}" for note in m["args"].get("note") or [])
+    text = (
+        f"In the latest run ({m['stamp'][:10]}, {where}), on the textbook "
+        f"four-bar linkwork's `sweep` takes {lw[2]['us']:.2f} us per step from Python with velocities and "
+        f"accelerations and {lw[0]['us']:.2f} us with positions only, {ref['us'] / lw[2]['us']:,.0f} times "
+        f"as fast as the NumPy reference"
+    )
+    if pl[2] is not None and pl[0] is not None:
+        text += (
+            f" and {pl[2]['us'] / lw[2]['us']:.2f} and {pl[0]['us'] / lw[0]['us']:.2f} times as fast as "
+            "pylinkage's closed-form dyads with numba (which report no diagnostics)"
+        )
+    err = lw[2]["err"]
+    k1000 = next((r for r in m["scaling"]["rows"] if r["loops"] == 1000), None)
+    text += f", at errors of {err['theta']:.1e} rad in angles and {err['alpha']:.1e} rad/s^2 in accelerations"
+    if k1000 is not None:
+        text += f"; a chain of 1,000 loops costs {k1000['us'] / k1000['bodies']:.3f} us per body and step"
+    _, s2 = batch_speedup(m["batch"])
+    return text + f", and a batch of designs runs {s2:.2f} times as fast on 2 threads as on 1."
+
+
+def short_report(m: dict[str, Any], link: str) -> str:
+    """The verdicts for docs/performance.md: every figure from the run, the full log linked."""
+    targets = targets_table(m["fb"], m["mechs"], m["scaling"], m["batch"], m["slider"])
+    verdicts = [line.rsplit("|", 2)[-2].strip() for line in targets.splitlines()[2:]]
+    met = sum(v == "**met**" for v in verdicts)
+    missed = sum(v.startswith("**missed**") for v in verdicts)
+    return "\n".join(
+        [
+            f"Measured {m['stamp']} on {m['where']}"
+            + "".join(f"; {note}" for note in m["args"].get("note") or [])
+            + f". The full log, with every table, the speed against error plot and the notes: "
+            f"[{m['stamp'][:10]}]({link}).",
+            "",
+            "### Against the peers",
+            "",
+            "Above 1x linkwork is faster by that factor, below 1x the peer is.",
+            "",
+            peers_table(m),
+            "",
+            "### Scale",
+            "",
+            scale_table(m),
+            "",
+            "### Targets of the performance issue",
+            "",
+            f"{met} met, {missed} missed, {len(verdicts) - met - missed} not measured by this command.",
+            "",
+            targets,
+        ]
+    )
+
+
 # ---------------------------------------------------------------- the report
 
 
-def machine(load: tuple[float, float]) -> str:
+def plain(value: Any) -> Any:
+    """A NumPy scalar or array as JSON takes it (anything else as its text)."""
+    return value.tolist() if hasattr(value, "tolist") else str(value)
+
+
+def revision() -> str:
+    try:
+        rev = subprocess.run(
+            ["git", "-C", str(ROOT), "describe", "--always", "--dirty"], capture_output=True, text=True
+        ).stdout.strip()
+    except OSError:
+        rev = ""
+    return rev or "?"
+
+
+def machine(load: tuple[float, float], rev: str) -> str:
     cpu = platform.processor() or platform.machine()
     try:
         with open("/proc/cpuinfo") as f:
             cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
     except (OSError, StopIteration):
         pass
-    try:
-        rev = subprocess.run(
-            ["git", "-C", str(ROOT), "describe", "--always", "--dirty"], capture_output=True, text=True
-        ).stdout.strip()
-    except OSError:
-        rev = "?"
     import scipy
 
     return (
         f"{cpu}, {os.cpu_count()} cores (1-minute load average {load[0]:.2f} at the start, "
         f"{load[1]:.2f} at the end); CPython {platform.python_version()}, numpy {np.__version__}, "
         f"scipy {scipy.__version__}, {baselines.pylinkage_version() or 'pylinkage not installed'}; "
-        f"linkwork {getattr(linkwork, '__version__', '?')} at `{rev or '?'}`"
+        f"linkwork {getattr(linkwork, '__version__', '?')} at `{rev}`"
     )
+
+
+def full_report(m: dict[str, Any], plot: str) -> str:
+    """The run's whole log: every table, from the measured figures ``m``."""
+    args = m["args"]
+    fb, slider, mechs, scaling, batch = m["fb"], m["slider"], m["mechs"], m["scaling"], m["batch"]
+    return "\n".join(
+        [
+            f"Measured {m['stamp']} with `python benches/compare.py --write` on {m['where']}.",
+            "",
+            "### Targets of the performance issue",
+            "",
+            targets_table(fb, mechs, scaling, batch, slider),
+            "",
+            "### The textbook four-bar, one revolution",
+            "",
+            para(FOUR_BAR_TEXT.format(steps=args["steps"], ref_steps=args["reference_steps"])),
+            "",
+            four_bar_table(fb),
+            "",
+            "### The slider-crank against pylinkage",
+            "",
+            para(SLIDER_TEXT.format(steps=args["steps"], py_steps=SLIDER_PY_STEPS)),
+            "",
+            slider_crank_table(slider),
+            "",
+            "### Other mechanisms: time per coordinate",
+            "",
+            mechanisms_table(mechs, args["steps"]),
+            "",
+            "### Scaling: a chain of K four-bar loops (`examples.chain(K)`, 3K bodies)",
+            "",
+            para(CHAIN_TEXT.format(budget=args["chain_budget"], offset=CHAIN_OFFSET)),
+            "",
+            scaling_table(scaling),
+            "",
+            "### Many designs at once",
+            "",
+            batch_table(batch),
+            "",
+            "### Speed against error",
+            "",
+            f"![speed against error]({plot})",
+            "",
+            para(TRADEOFF_TEXT),
+            "",
+            tradeoff_table(m["curves"]),
+            "",
+            "Notes: " + "; ".join(m["notes"]) + ".",
+        ]
+    )
+
+
+def measure(args: argparse.Namespace) -> dict[str, Any]:
+    """Run every section; the figures as plain data (what --save keeps, --load reads)."""
+    stamp = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    load_start = os.getloadavg()[0]
+    rev = revision()  # the code measured, before anything can change the work tree
+    notes: list[str] = list(args.note or [])
+    if not cold_outputs():
+        notes.append("not glibc: the allocator's adaptive thresholds were left as they are")
+    clock = time.perf_counter()
+
+    def say(what: str) -> None:
+        print(f"[{time.perf_counter() - clock:6.1f} s] {what}", file=sys.stderr)
+
+    say("four-bar")
+    m: dict[str, Any] = {"fb": four_bar_section(args.steps, args.reference_steps, args.repeats, notes)}
+    say("slider-crank")
+    m["slider"] = slider_crank_section(args.steps, args.repeats, notes)
+    say("mechanisms")
+    m["mechs"] = mechanisms_section(args.steps, args.repeats)
+    say("scaling")
+    m["scaling"] = scaling_section([int(k) for k in args.loops.split(",")], args.chain_budget, 3, 100)
+    say("batch")
+    m["batch"] = batch_section(24, args.steps, 4, notes)
+    say("speed against error")
+    m["curves"] = tradeoff_section(2 if args.quick else 3, notes)
+    say("done")
+    where = machine((load_start, os.getloadavg()[0]), rev)
+    m.update(stamp=stamp, where=where, args=vars(args), notes=notes)
+    # through JSON, so that a run read back with --load renders exactly as this one
+    return json.loads(json.dumps(m, default=plain))
 
 
 def main() -> None:
@@ -1132,7 +1385,18 @@ def main() -> None:
     parser.add_argument("--loops", type=str, default="1,10,100,1000,10000", help="chain lengths K")
     parser.add_argument("--chain-budget", type=float, default=1e6, help="chain steps x K per row")
     parser.add_argument("--quick", action="store_true", help="fewer steps and repeats (a smoke test)")
-    parser.add_argument("--write", action="store_true", help="write docs/performance.md and the plot")
+    parser.add_argument(
+        "--write",
+        action="store_true",
+        help="add the run to benches/results/ (log, figures as JSON, plot) and rewrite docs/performance.md",
+    )
+    parser.add_argument("--note", action="append", help="a note on the run for its log (e.g. the build)")
+    parser.add_argument("--save", metavar="FILE", help="also save the measured figures as JSON")
+    parser.add_argument(
+        "--load",
+        metavar="FILE",
+        help="render a saved run instead of measuring (--write: the verdicts and README only)",
+    )
     parser.add_argument("--probe-memory", nargs=2, type=int, metavar=("K", "STEPS"), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.probe_memory:
@@ -1142,90 +1406,28 @@ def main() -> None:
         args.steps, args.reference_steps, args.repeats = 20_000, 200, 2
         args.loops, args.chain_budget = "1,10,100,1000", 1e5
 
-    stamp = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
-    load_start = os.getloadavg()[0]
-    notes: list[str] = []
-    if not cold_outputs():
-        notes.append("not glibc: the allocator's adaptive thresholds were left as they are")
-    clock = time.perf_counter()
-
-    def say(what: str) -> None:
-        print(f"[{time.perf_counter() - clock:6.1f} s] {what}", file=sys.stderr)
-
-    say("four-bar")
-    fb = four_bar_section(args.steps, args.reference_steps, args.repeats, notes)
-    say("slider-crank")
-    slider = slider_crank_section(args.steps, args.repeats, notes)
-    say("mechanisms")
-    mechs = mechanisms_section(args.steps, args.repeats)
-    say("scaling")
-    scaling = scaling_section([int(k) for k in args.loops.split(",")], args.chain_budget, 3, 100)
-    say("batch")
-    batch = batch_section(24, args.steps, 4, notes)
-    say("speed against error")
-    curves = tradeoff_section(2 if args.quick else 3, notes)
-    say("done")
-
-    plot = ROOT / "docs" / "speed_vs_error.png"
-    where = machine((load_start, os.getloadavg()[0]))
-    report = "\n".join(
-        [
-            f"Measured {stamp} with `python benches/compare.py --write` on {where}.",
-            "",
-            "### Targets of the performance issue",
-            "",
-            targets_table(fb, mechs, scaling, batch, slider),
-            "",
-            "### The textbook four-bar, one revolution",
-            "",
-            para(FOUR_BAR_TEXT.format(steps=args.steps, ref_steps=args.reference_steps)),
-            "",
-            four_bar_table(fb),
-            "",
-            "### The slider-crank against pylinkage",
-            "",
-            para(SLIDER_TEXT.format(steps=args.steps, py_steps=SLIDER_PY_STEPS)),
-            "",
-            slider_crank_table(slider),
-            "",
-            "### Other mechanisms: time per coordinate",
-            "",
-            mechanisms_table(mechs, args.steps),
-            "",
-            "### Scaling: a chain of K four-bar loops (`examples.chain(K)`, 3K bodies)",
-            "",
-            para(CHAIN_TEXT.format(budget=args.chain_budget, offset=CHAIN_OFFSET)),
-            "",
-            scaling_table(scaling),
-            "",
-            "### Many designs at once",
-            "",
-            batch_table(batch),
-            "",
-            "### Speed against error",
-            "",
-            "![speed against error](speed_vs_error.png)",
-            "",
-            para(TRADEOFF_TEXT),
-            "",
-            tradeoff_table(curves),
-            "",
-            "Notes: " + "; ".join(notes) + ".",
-        ]
-    )
+    m = json.loads(Path(args.load).read_text()) if args.load else measure(args)
+    day_time = m["stamp"][:16].replace(" ", "-").replace(":", "")
+    plot = runlog.RESULTS / f"speed_vs_error-{day_time}.png"
+    figures = runlog.RESULTS / f"compare-{day_time}.json"
+    text = json.dumps(m, indent=1) + "\n"
+    if args.save:
+        Path(args.save).write_text(text)
+    report = full_report(m, plot.name)
     print(report)
-    if args.write:
-        tradeoff_plot(curves, plot, stamp)
-        doc = ROOT / "docs" / "performance.md"
-        text = doc.read_text() if doc.exists() else ""
-        begin, end = "<!-- compare.py begin -->", "<!-- compare.py end -->"
-        block = f"{begin}\n{report}\n{end}"
-        if begin in text:
-            text = text[: text.index(begin)] + block + text[text.index(end) + len(end) :]
-        else:
-            text += "\n" + block + "\n"
-        doc.write_text(text)
-        print(f"wrote {doc} and {plot}", file=sys.stderr)
+    if not args.write:
+        return
+    if args.load:
+        link = runlog.link(m["stamp"], "compare.py")
+    else:
+        tradeoff_plot(m["curves"], plot, m["stamp"])
+        figures.write_text(text)
+        link = runlog.append_run("compare.py", m["stamp"], report)
+        print(f"wrote {runlog.log_path(m['stamp'])}, {plot.name} and {figures.name}", file=sys.stderr)
+    runlog.replace_block("compare.py", short_report(m, link))
+    runlog.replace_block("compare.py", readme_paragraph(m), ROOT / "README.md")
+    runlog.set_latest("compare.py", f"[{m['stamp']}]({link})")
+    print(f"wrote {runlog.DOC} and README.md", file=sys.stderr)
 
 
 if __name__ == "__main__":

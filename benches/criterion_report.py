@@ -2,7 +2,7 @@
 
     cargo bench -p linkwork --bench sweep
     python benches/criterion_report.py            # print the tables
-    python benches/criterion_report.py --write    # and write them into docs/performance.md
+    python benches/criterion_report.py --write    # and add them to the day's log in benches/results/
 
 Reads every `criterion/<group>/<function>/<parameter>/new/` of the Cargo target directory
 (`$CARGO_TARGET_DIR`, else `target/`): the median time per sweep and the steps per sweep
@@ -15,9 +15,12 @@ import argparse
 import json
 import os
 import platform
+import re
 import sys
 import time
 from pathlib import Path
+
+import runlog  # benches/, beside this script
 
 ROOT = Path(__file__).resolve().parent.parent
 KINDS = ("refactor", "small", "dense", "sparse", "structured")
@@ -201,7 +204,7 @@ def report(found: dict[tuple[str, str, str], dict[str, float]]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--write", action="store_true", help="write the tables into docs/performance.md")
+    parser.add_argument("--write", action="store_true", help="add the tables to benches/results/")
     args = parser.parse_args()
     target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
     found = load(target / "criterion")
@@ -212,16 +215,12 @@ def main() -> None:
     text = report(found)
     print(text)
     if args.write:
-        doc = ROOT / "docs" / "performance.md"
-        old = doc.read_text()
-        begin, end = "<!-- criterion begin -->", "<!-- criterion end -->"
-        block = f"{begin}\n{text}\n{end}"
-        if begin in old:
-            old = old[: old.index(begin)] + block + old[old.index(end) + len(end) :]
-        else:
-            old += "\n" + block + "\n"
-        doc.write_text(old)
-        print(f"wrote {doc}", file=sys.stderr)
+        stamp = re.search(r"Measured (\d{4}-\d\d-\d\d \d\d:\d\d UTC)", text)
+        if stamp is None:
+            sys.exit("the report has no date")
+        link = runlog.append_run("criterion", stamp.group(1), text)
+        runlog.set_latest("criterion", f"[{stamp.group(1)}]({link})")
+        print(f"wrote {runlog.log_path(stamp.group(1))} and {runlog.DOC}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -30,6 +30,8 @@ import tempfile
 from collections import defaultdict
 from pathlib import Path
 
+import runlog  # benches/, beside this script
+
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT = [
     "four_bar/structured/pva",
@@ -188,7 +190,7 @@ def main() -> None:
     parser.add_argument("filters", nargs="*", default=DEFAULT, help="criterion benchmark ids")
     parser.add_argument("--seconds", type=float, default=3.0, help="criterion --profile-time")
     parser.add_argument("--top", type=int, default=12)
-    parser.add_argument("--write", action="store_true", help="write the profile into docs/performance.md")
+    parser.add_argument("--write", action="store_true", help="add the profile to benches/results/")
     args = parser.parse_args()
     exe = build()
     lines: list[str] = []
@@ -257,23 +259,18 @@ def main() -> None:
         import platform
         import time
 
-        doc = ROOT / "docs" / "performance.md"
-        text = doc.read_text()
-        begin, end = "<!-- profile.py begin -->", "<!-- profile.py end -->"
-        block = (
-            f"{begin}\nMeasured {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} on {platform.machine()} "
+        stamp = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+        body = (
+            f"Measured {stamp} on {platform.machine()} "
             f"at `{revision()}` with `python benches/profile.py --write` (callgrind instruction counts)."
             + ("\n\n" + "\n".join(table) if per_step else "")
             + "\n\n```\n"
             + "\n".join(lines).rstrip()
-            + f"\n```\n{end}"
+            + "\n```"
         )
-        if begin in text:
-            text = text[: text.index(begin)] + block + text[text.index(end) + len(end) :]
-        else:
-            text += "\n" + block + "\n"
-        doc.write_text(text)
-        print(f"wrote {doc}", file=sys.stderr)
+        link = runlog.append_run("profile.py", stamp, body)
+        runlog.set_latest("profile.py", f"[{stamp}]({link})")
+        print(f"wrote {runlog.log_path(stamp)} and {runlog.DOC}", file=sys.stderr)
 
 
 def revision() -> str:

@@ -8,7 +8,7 @@ Alt's nine-point problem on random real points, on published instances and on a 
 complex instance: paths, failures, classes, real four-bars, time.
 
     python benches/synthesis.py            # print
-    python benches/synthesis.py --write    # also the section in docs/performance.md
+    python benches/synthesis.py --write    # also add it to the day's log in benches/results/
 
 pylinkage is optional (pip install pylinkage==1.3.0): without it its rows say so.
 """
@@ -25,6 +25,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import runlog  # benches/, beside this script
 
 import linkwork
 from linkwork import synthesis as S
@@ -36,8 +37,6 @@ except ImportError:  # pragma: no cover - optional
     pylinkage = None
 
 ROOT = Path(__file__).resolve().parent.parent
-DOC = ROOT / "docs" / "performance.md"
-BEGIN, END = "<!-- synthesis.py begin -->", "<!-- synthesis.py end -->"
 
 
 def generator(rng: np.random.Generator) -> tuple[np.ndarray, tuple[complex, complex, complex, complex]]:
@@ -224,18 +223,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--problems", type=int, default=20)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--write", action="store_true", help="write the section of docs/performance.md")
+    ap.add_argument("--write", action="store_true", help="add the run to benches/results/")
     args = ap.parse_args()
     text = table(args.problems, args.seed)
     print(text)
     if args.write:
-        doc = DOC.read_text()
-        section = f"{BEGIN}\n{text}\n{END}"
-        if BEGIN in doc:
-            doc = doc[: doc.index(BEGIN)] + section + doc[doc.index(END) + len(END) :]
-        else:
-            doc += "\n## Synthesis (`benches/synthesis.py`)\n\n" + section + "\n"
-        DOC.write_text(doc)
+        stamp = text.split(" with ", 1)[0].removeprefix("Measured ")
+        link = runlog.append_run("synthesis.py", stamp, text)
+        runlog.set_latest("synthesis.py", f"[{stamp}]({link})")
 
 
 if __name__ == "__main__":
