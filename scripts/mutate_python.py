@@ -4,9 +4,9 @@ changed, arcsin/arccos and min/max exchanged) is applied alone and the tests tha
 the module run against it; a mutant they pass is a survivor. mutmut's trampolines do not
 reach a package whose extension is built beside it (python/linkwork/_core), hence this.
 
-    python scripts/mutate_python.py BASE python/linkwork/synthesis/screening.py ...
+    python scripts/mutate_python.py BASE python/linkwork/synthesis/designs.py ...
     python scripts/mutate_python.py --all python/linkwork/model/linkages.py   (every line)
-    python scripts/mutate_python.py --all python/linkwork/synthesis/screening.py:1-80   (lines)
+    python scripts/mutate_python.py --all python/linkwork/synthesis/designs.py:1-80   (lines)
 
 The tests run are the files that name the module, or MUTATE_TESTS (space-separated).
 
