@@ -1,0 +1,359 @@
+"""Refinement and multistart for the tracking-error problem: bounded trust-region least
+squares (scipy.optimize.least_squares, "trf") on the residuals, with the engine's exact
+Jacobian (`TrackingProblem.evaluate`), from many starting designs on all cores.
+
+Inside the refinement free crank angles are written as the first angle and the
+increments to the next, each in [0, 2 pi], so they stay increasing; the constraints that
+are not bounds (the crank the shortest link, the ordering, a closed curve's one turn)
+are penalty residuals whose weight grows until they hold. A trial step whose design
+leaves its circuit or stops turning fully scores as a very large residual, so the trust
+region rejects it and shrinks: every accepted design turns fully on its circuit.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ...errors import SingularError, SolveError, SynthesisError
+from ...mechanism.builder import Mechanism
+from .target import TargetCurve
+from .tracking import TWO_PI, CircuitError, TrackingProblem, coupler_points
+
+__all__ = ["CurveDesign", "CurveFit", "refine", "random_seeds", "fit", "CURVE_MERIT"]
+
+#: How `fit` orders its designs.
+CURVE_MERIT = "defect-free and within the constraints first; then the smaller tracking error f"
+
+_WEIGHTS = (1e1, 1e3, 1e5, 1e7)
+
+
+@dataclass
+class CurveDesign:
+    """A refined design: ``x`` (the full vector of `TrackingProblem`), its ``circuit``,
+    ``f`` (the tracking error), ``max_deviation`` (the largest |C(theta2_i) - P_i|),
+    ``transmission`` (the smallest transmission angle over the traced stretch, rad, as its
+    distance from 0 or pi), ``violation`` (largest constraint violation, 0 when they
+    hold), ``grashof`` (the engine's type), ``defects`` (order, branch, circuit over the
+    traced stretch; empty when free of them), ``nfev`` and ``seconds`` of its refinement,
+    ``start`` (the index of its starting design)."""
+
+    problem: TrackingProblem = field(repr=False)
+    x: np.ndarray
+    f: float
+    max_deviation: float
+    transmission: float
+    violation: float
+    grashof: str
+    defects: tuple[str, ...]
+    nfev: int
+    seconds: float
+    start: int = -1
+
+    @property
+    def circuit(self) -> str:
+        return self.problem.circuit
+
+    @property
+    def ok(self) -> bool:
+        """Defect-free and within the constraints (to 1e-12 of the target's size)."""
+        return not self.defects and self.violation <= 1e-12 * self.problem.target.size
+
+    def model(self, name: str = "curve design") -> Mechanism:
+        """The design as a linkwork mechanism (time = crank angle theta2 from the ground line)."""
+        return self.problem.model(self.x, name)
+
+    def crank_angles(self) -> np.ndarray:
+        return np.array(self.x[9:])
+
+    def __str__(self) -> str:
+        r = ", ".join(f"{k} {v:.6g}" for k, v in zip(("r1", "r2", "r3", "r4", "rcx", "rcy"), self.x[:6]))
+        pose = f"theta0 {self.x[6]:.6g}, O2 ({self.x[7]:.6g}, {self.x[8]:.6g})"
+        state = "defect-free" if not self.defects else "defects: " + ", ".join(self.defects)
+        if self.violation > 1e-12 * self.problem.target.size:
+            state += f"; constraints violated by {self.violation:.3g}"
+        return (
+            f"f {self.f:.4g} (largest deviation {self.max_deviation:.4g}); {r}; {pose}; {self.circuit}; "
+            f"{self.grashof}; smallest transmission {math.degrees(self.transmission):.1f} deg; {state}"
+        )
+
+
+@dataclass
+class CurveFit:
+    """`fit`'s answer: ``designs`` sorted by `CURVE_MERIT`, ``failures`` (starting designs
+    dropped, with why), ``seconds`` (wall time)."""
+
+    designs: list[CurveDesign]
+    failures: list[str]
+    seconds: float
+
+    @property
+    def best(self) -> CurveDesign:
+        if not self.designs:
+            raise SynthesisError("no starting design could be refined: " + "; ".join(self.failures[:3]))
+        return self.designs[0]
+
+    def report(self, count: int = 5) -> str:
+        lines = [
+            f"{len(self.designs)} designs from {len(self.designs) + len(self.failures)} starts "
+            f"in {self.seconds:.2f} s ({len(self.failures)} dropped); sorted: {CURVE_MERIT}"
+        ]
+        lines += [f"{k + 1}. {d}" for k, d in enumerate(self.designs[:count])]
+        return "\n".join(lines)
+
+
+def _least_squares() -> Any:
+    try:
+        from scipy.optimize import least_squares
+    except ImportError:  # pragma: no cover - optional dependency
+        raise SynthesisError("curve synthesis needs scipy: pip install 'linkwork[synthesis]'") from None
+    return least_squares
+
+
+class _Refinement:
+    """The map between the refinement's variables z and the design vector x."""
+
+    def __init__(self, problem: TrackingProblem, x: np.ndarray) -> None:
+        self.problem = problem
+        self.base = problem.complete(x)
+        free = problem.free()
+        self.design = np.flatnonzero(free[:9])
+        self.timing = bool(free[9:].any())
+        n = problem.n
+        lo, hi = problem.lower_upper()
+        zlo, zhi = [lo[self.design]], [hi[self.design]]
+        if self.timing:
+            zlo.append(np.zeros(n))
+            zhi.append(np.full(n, TWO_PI))
+        self.lower, self.upper = np.concatenate(zlo), np.concatenate(zhi)
+        # d x / d z: the design entries one to one, each crank angle the sum of increments
+        self.dxdz = np.zeros((9 + n, self.lower.size))
+        self.dxdz[self.design, np.arange(self.design.size)] = 1.0
+        if self.timing:
+            self.dxdz[9:, self.design.size :] = np.tril(np.ones((n, n)))
+        self.cache: dict[bytes, tuple[np.ndarray, np.ndarray] | None] = {}
+        self.big = 1e6 * max(problem.target.size, 1.0)
+
+    def z_of(self, x: np.ndarray) -> np.ndarray:
+        z = [x[self.design]]
+        if self.timing:
+            th = x[9:]
+            z.append(np.concatenate([[np.mod(th[0], TWO_PI)], np.diff(th)]))
+        return np.clip(np.concatenate(z), self.lower, self.upper)
+
+    def x_of(self, z: np.ndarray) -> np.ndarray:
+        x = self.base.copy()
+        x[self.design] = z[: self.design.size]
+        if self.timing:
+            x[9:] = np.cumsum(z[self.design.size :])
+        return x
+
+    def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        key = z.tobytes()
+        if key not in self.cache:
+            try:
+                self.cache = {key: self.problem.evaluate(self.x_of(z))}
+            except CircuitError:
+                self.cache = {key: None}
+        return self.cache[key]
+
+    def residuals(self, z: np.ndarray, weight: float) -> np.ndarray:
+        out = self.evaluate(z)
+        g = self.problem.constraints(self.x_of(z))
+        if out is None:
+            return np.full(2 * self.problem.n + g.size, self.big)
+        return np.concatenate([out[0], weight * np.maximum(g, 0.0)])
+
+    def jacobian(self, z: np.ndarray, weight: float) -> np.ndarray:
+        out = self.evaluate(z)
+        x = self.x_of(z)
+        g = self.problem.constraints(x)
+        n = self.problem.n
+        if out is None:  # not reached: a rejected step's Jacobian is never asked for
+            return np.zeros((2 * n + g.size, self.lower.size))
+        # the constraints are linear in x: their gradients by differences of unit vectors
+        dg = np.array([self.problem.constraints(x + e) - g for e in np.eye(x.size)]).T
+        dg[g <= 0.0] = 0.0
+        return np.vstack([out[1], weight * dg]) @ self.dxdz
+
+
+def refine(problem: TrackingProblem, x: Any, max_nfev: int = 400, start: int = -1) -> CurveDesign:
+    """One design refined from ``x`` (a full design vector). `CircuitError` if ``x``
+    itself does not turn fully on the problem's circuit."""
+    least_squares = _least_squares()
+    t0 = time.perf_counter()
+    ref = _Refinement(problem, problem.complete(x))
+    z = ref.z_of(ref.base)
+    if ref.evaluate(z) is None:
+        raise CircuitError(f"starting design {start} does not turn fully on the {problem.circuit} circuit")
+    nfev = 0
+    for w in _WEIGHTS:
+        sol = least_squares(
+            ref.residuals,
+            z,
+            jac=ref.jacobian,
+            bounds=(ref.lower, ref.upper),
+            method="trf",
+            x_scale="jac",
+            ftol=1e-15,
+            xtol=1e-15,
+            gtol=1e-15,
+            max_nfev=max_nfev,
+            args=(w,),
+        )
+        nfev += int(sol.nfev)
+        if ref.evaluate(sol.x) is not None:
+            z = sol.x
+        if problem.violation(ref.x_of(z)) <= 1e-12 * problem.target.size:
+            break
+    return _design(problem, ref.x_of(z), nfev, time.perf_counter() - t0, start)
+
+
+def _design(problem: TrackingProblem, x: np.ndarray, nfev: int, seconds: float, start: int) -> CurveDesign:
+    r, _ = problem.evaluate(x)
+    dev = np.hypot(*r.reshape(-1, 2).T)
+    defects, trans, kind = _screen(problem, x)
+    return CurveDesign(
+        problem,
+        x,
+        float(r @ r),
+        float(dev.max()),
+        trans,
+        problem.violation(x),
+        kind,
+        defects,
+        nfev,
+        seconds,
+        start,
+    )
+
+
+def _screen(problem: TrackingProblem, x: np.ndarray) -> tuple[tuple[str, ...], float, str]:
+    """The engine's sweep over the traced stretch (the first crank angle to the last, a
+    whole turn for a closed curve), reached from the drawn start: order (the crank angles
+    not increasing, or a closed curve's beyond one turn), branch (a dead point met) and
+    circuit (the coupler point off the circuit's closed form) defects; the smallest
+    transmission angle over the stretch and the engine's Grashof type."""
+    th = x[9:]
+    defects = []
+    if np.any(np.diff(th) <= 0.0) or (problem.target.closed and th[-1] - th[0] >= TWO_PI):
+        defects.append("order")
+    first = float(np.mod(th[0], TWO_PI))
+    end = first + (TWO_PI if problem.target.closed else float(th[-1] - th[0]))
+    times = np.union1d(np.linspace(0.0, first, 73), np.linspace(first, end, 361))
+    model = problem.model(x).compile()
+    linkage = model.linkages()[0]
+    try:
+        res = model.sweep(times, derivatives=0, on_singular="stop")
+    except SingularError as e:
+        res = e.partial  # type: ignore[attr-defined]
+        defects.append("branch")
+    except SolveError as e:
+        res = getattr(e, "partial", None)
+        defects.append("branch")
+    if res is None or len(res.times) == 0:
+        return (*defects, "circuit"), 0.0, linkage.kind_of
+    if any(ev.kind == "limit" for ev in res.events) and "branch" not in defects:
+        defects.append("branch")
+    ref = coupler_points(x, res.times, problem.circuit)
+    miss = np.hypot(*(res.point("P").position - ref).T)
+    if not np.all(miss <= 1e-7 * max(problem.target.size, float(np.max(x[:4])))):
+        defects.append("circuit")
+    stretch = res.times >= first - 1e-12
+    mu = linkage.transmission_angle_of(res)[stretch]
+    trans = float(np.min(np.minimum(mu, math.pi - mu))) if mu.size else 0.0
+    return tuple(defects), trans, linkage.kind_of
+
+
+def _procrustes(c: np.ndarray, p: np.ndarray, rotate: bool) -> tuple[float, float, np.ndarray]:
+    """Scale s, rotation a and translation t with s R(a) c + t nearest p (no reflection);
+    ``rotate=False``: the scale alone (about the origin)."""
+    if not rotate:
+        return max(float(np.sum(c * p) / np.sum(c * c)), 1e-9), 0.0, np.zeros(2)
+    cz = (c[:, 0] - c[:, 0].mean()) + 1j * (c[:, 1] - c[:, 1].mean())
+    pz = (p[:, 0] - p[:, 0].mean()) + 1j * (p[:, 1] - p[:, 1].mean())
+    k = np.vdot(cz, pz) / np.vdot(cz, cz).real  # s e^{ia}
+    s, a = abs(k), float(np.angle(k))
+    rc = s * complex(math.cos(a), math.sin(a)) * complex(c[:, 0].mean(), c[:, 1].mean())
+    t = np.array([p[:, 0].mean() - rc.real, p[:, 1].mean() - rc.imag])
+    return max(s, 1e-9), a, t
+
+
+def random_seeds(
+    target: TargetCurve, count: int, seed: int = 0, circuits: Sequence[str] = ("open", "crossed")
+) -> list[tuple[str, np.ndarray]]:
+    """``count`` starting designs (circuit, full x): random Grashof crank-rockers from a
+    seeded generator, crank angles spread over the points (a turn for a closed curve),
+    each placed on the target by the similarity that fits its points best (its scale
+    alone where theta0, x0, y0 are prescribed: Cabrera's timed problem has them 0)."""
+    rng = np.random.default_rng(seed)
+    n = len(target)
+    out: list[tuple[str, np.ndarray]] = []
+    while len(out) < count:
+        r1, r3, r4 = rng.uniform(1.0, 5.0, 3)
+        r2 = rng.uniform(0.1, 1.0) * min(r1, r3, r4)
+        lengths = sorted([r1, r2, r3, r4])
+        if lengths[0] + lengths[3] > lengths[1] + lengths[2]:
+            continue
+        rc = rng.uniform(-4.0, 4.0, 2)
+        if target.crank_angles is not None:
+            th = np.array(target.crank_angles)
+        else:
+            span = TWO_PI * (n - 1) / n if target.closed else rng.uniform(math.pi / 3, TWO_PI * (n - 1) / n)
+            th = rng.uniform(0.0, TWO_PI) + np.linspace(0.0, span, n)
+        circuit = circuits[len(out) % len(circuits)]
+        x = np.concatenate([[r1, r2, r3, r4, *rc, 0.0, 0.0, 0.0], th])
+        c = coupler_points(x, th, circuit)
+        if not np.all(np.isfinite(c)):
+            continue
+        s, a, t = _procrustes(c, target.points, rotate=not target.timed)
+        x[:6] *= s
+        x[6:9] = [a, t[0], t[1]]
+        out.append((circuit, x))
+    return out
+
+
+def fit(
+    target: TargetCurve,
+    seeds: Sequence[tuple[str, Any]] | None = None,
+    starts: int = 16,
+    seed: int = 0,
+    workers: int | None = None,
+    max_nfev: int = 400,
+    **problem: Any,
+) -> CurveFit:
+    """Multistart: each starting design (``seeds``: (circuit, x) pairs; default
+    `random_seeds` (``starts`` of them, ``seed``)) refined by `refine` on ``workers``
+    threads (default: every core; the engine releases the GIL while it sweeps), on the
+    `TrackingProblem` of ``target`` with the options ``problem`` (``lengths``,
+    ``coupler``, ``pivot``, ``fixed``, ``ordered``). A start that does not turn fully on
+    its circuit is dropped with why (``failures``). The answer does not depend on the
+    number of workers."""
+    t0 = time.perf_counter()
+    if seeds is None:
+        seeds = random_seeds(target, starts, seed)
+    problems = {c: TrackingProblem(target, circuit=c, **problem) for c in ("open", "crossed")}
+    jobs = list(enumerate(seeds))
+
+    def run(job: tuple[int, tuple[str, Any]]) -> CurveDesign | str:
+        k, (circuit, x) = job
+        if circuit not in problems:
+            return f"start {k}: circuit {circuit!r} is not 'open' or 'crossed'"
+        try:
+            return refine(problems[circuit], x, max_nfev=max_nfev, start=k)
+        except CircuitError as e:
+            return f"start {k}: {e}"
+
+    workers = workers or os.cpu_count() or 1
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        done = list(pool.map(run, jobs))
+    designs = [d for d in done if isinstance(d, CurveDesign)]
+    designs.sort(key=lambda d: (not d.ok, d.f, d.start))
+    return CurveFit(designs, [d for d in done if isinstance(d, str)], time.perf_counter() - t0)
