@@ -32,7 +32,7 @@ import numpy as np
 
 from ...errors import InputError, ModelError, SolveError, SynthesisError
 from ...mechanism.builder import Mechanism
-from ...motion import Linear
+from ...model.compiled import Model
 from .target import TargetCurve
 
 __all__ = ["CircuitError", "TrackingProblem", "DESIGN", "coupler_points"]
@@ -172,21 +172,54 @@ class TrackingProblem:
         return float(max(0.0, self.constraints(self.complete(x)).max()))
 
     # ---- the model ----------------------------------------------------------------------
+    def description(self, x: Any, name: str = "four-bar design") -> dict[str, Any]:
+        """The design as a model description drawn at theta2 = 0 on its circuit (the
+        closed form places the bodies, so the engine need not assemble it): bodies crank,
+        coupler, rocker, each framed at its first pin with its x axis to the next;
+        revolutes O2, A, B, O4; point P; driver crank_angle = theta0 + t, so time is
+        theta2. `CircuitError` if it does not assemble there."""
+        x = self.complete(x)
+        r1, r2, r3, r4, rcx, rcy, th0, x0, y0 = (float(v) for v in x[:9])
+        c0, s0 = math.cos(th0), math.sin(th0)
+        o2, o4 = (x0, y0), (x0 + r1 * c0, y0 + r1 * s0)
+        a = (x0 + r2 * c0, y0 + r2 * s0)
+        # the coupler's world angle from two coupler points in closed form: A and A + r3 e3
+        probe = np.array(x[:9], dtype=float)
+        probe[4:6] = (r3, 0.0)
+        b = coupler_points(probe, [0.0], self.circuit)[0]
+        p = coupler_points(x, [0.0], self.circuit)[0]
+        if not (np.all(np.isfinite(b)) and np.all(np.isfinite(p))):
+            raise CircuitError("the design does not assemble at theta2 = 0")
+        t3 = math.atan2(b[1] - a[1], b[0] - a[0])
+        t4 = math.atan2(b[1] - o4[1], b[0] - o4[0])
+        rev = lambda n, u, v, at: {"type": "revolute", "name": n, "body_a": u, "body_b": v, "at": list(at)}  # noqa: E731
+        return {
+            "name": name,
+            "bodies": [
+                {"name": "crank", "x": o2[0], "y": o2[1], "theta": th0},
+                {"name": "coupler", "x": a[0], "y": a[1], "theta": t3},
+                {"name": "rocker", "x": o4[0], "y": o4[1], "theta": t4},
+            ],
+            "joints": [
+                rev("O2", "ground", "crank", o2),
+                rev("A", "crank", "coupler", a),
+                rev("B", "coupler", "rocker", (float(b[0]), float(b[1]))),
+                rev("O4", "ground", "rocker", o4),
+            ],
+            "drivers": [
+                {
+                    "type": "angle",
+                    "name": "crank_angle",
+                    "body": "crank",
+                    "law": {"type": "linear", "value": th0, "rate": 1.0},
+                }
+            ],
+            "points": [{"name": "P", "body": "coupler", "at": [float(p[0]), float(p[1])]}],
+        }
+
     def model(self, x: Any, name: str = "four-bar design") -> Mechanism:
-        """The design as a linkwork mechanism: bodies crank, coupler, rocker; revolutes O2,
-        A, B, O4; point P; driver crank_angle = theta0 + t, so time is theta2."""
-        r1, r2, r3, r4, rcx, rcy, th0, x0, y0 = (float(v) for v in self.complete(x)[:9])
-        m = Mechanism(name)
-        c, k, r = m.body("crank"), m.body("coupler"), m.body("rocker")
-        m.revolute(m.ground, c, name="O2", pin_a=(x0, y0), pin_b=(0.0, 0.0))
-        m.revolute(c, k, name="A", pin_a=(r2, 0.0), pin_b=(0.0, 0.0))
-        m.revolute(k, r, name="B", pin_a=(r3, 0.0), pin_b=(r4, 0.0))
-        o4 = (x0 + r1 * math.cos(th0), y0 + r1 * math.sin(th0))
-        m.revolute(m.ground, r, name="O4", pin_a=o4, pin_b=(0.0, 0.0))
-        m.point("P", k, (rcx, rcy))
-        m.drive_angle(c, Linear(th0, 1.0), name="crank_angle")
-        m.branch = self.circuit
-        return m
+        """The design as a linkwork mechanism (`description`): time is the crank angle theta2."""
+        return Mechanism.from_dict(self.description(x, name))
 
     def grid(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The sweep's times (a whole crank turn and the crank angles, taken modulo a
@@ -202,7 +235,7 @@ class TrackingProblem:
         x = self.complete(x)
         r1, th0 = x[0], x[6]
         try:
-            model = self.model(x).compile()
+            model = Model(self.description(x))
             times, at = self.grid(x)
             s = model.sensitivities(times, _ENGINE, points=["P"], derivatives=0)
         except (SolveError, InputError, ModelError) as e:
