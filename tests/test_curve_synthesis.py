@@ -179,3 +179,18 @@ def test_timed_arc_holds_the_fixed_numbers_and_is_reproducible() -> None:
         r, _ = d.problem.evaluate(d.x)
         assert d.f == pytest.approx(float(r @ r), rel=1e-12)
     assert a.best.f < 1e-3  # a real fit of five timed points (the best known is 7.4e-7)
+
+
+def test_ordering_constraint_holds_on_the_designs_listed_first() -> None:
+    t = C.target(ARC, crank_angles=ARC_ANGLES)
+    options = {"fixed": {"theta0": 0.0, "x0": 0.0, "y0": 0.0}, "lengths": (1e-3, 5.0), "coupler": (-5.0, 5.0)}
+    result = C.fit(t, starts=8, seed=2, workers=2, ordered=True, **options)
+    ok = [d for d in result.designs if d.ok]
+    assert ok and result.designs[: len(ok)] == ok
+    for d in ok:
+        r1, r2, r3, r4 = d.x[:4]
+        tol = 1e-12 * t.size
+        assert r2 <= r3 + tol and r3 <= r4 + tol and r4 <= r1 + tol
+    # the ordering costs accuracy: the unordered optimum is lower
+    free = C.fit(t, starts=8, seed=2, workers=2, **options)
+    assert free.best.f < ok[0].f

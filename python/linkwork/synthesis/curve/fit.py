@@ -192,7 +192,10 @@ def refine(problem: TrackingProblem, x: Any, max_nfev: int = 400, start: int = -
     ref = _Refinement(problem, problem.complete(x))
     z = ref.z_of(ref.base)
     if ref.evaluate(z) is None:
-        raise CircuitError(f"starting design {start} does not turn fully on the {problem.circuit} circuit")
+        raise CircuitError(
+            f"starting design {start} (within the bounds) does not turn fully on the "
+            f"{problem.circuit} circuit"
+        )
     nfev = 0
     for w in _WEIGHTS:
         sol = least_squares(
