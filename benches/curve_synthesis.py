@@ -56,6 +56,19 @@ PROBLEMS = [
         "the notes, Grashof crank-rocker only",
     ),
     (
+        "Cabrera 5-pt elliptic arc (timed, ordered)",
+        "cabrera_5pt_elliptic_arc_timed.csv",
+        False,
+        {
+            "fixed": {"theta0": 0.0, "x0": 0.0, "y0": 0.0},
+            "lengths": (1e-3, 5.0),
+            "coupler": (-5.0, 5.0),
+            "ordered": True,
+        },
+        4.7e-4,
+        "the notes, under r2 <= r3 <= r4 <= r1",
+    ),
+    (
         "Kunjur 18-pt closed",
         "kunjur_18pt_closed.csv",
         True,
