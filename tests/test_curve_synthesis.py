@@ -48,6 +48,8 @@ def test_contradictory_bounds_are_named() -> None:
         C.TrackingProblem(t, lengths=(5.0, 1.0))
     with pytest.raises(SynthesisError, match="contradictory pivot bounds"):
         C.TrackingProblem(t, pivot=(1.0, -1.0))
+    with pytest.raises(SynthesisError, match=r"coupler point bounds are \(lower, upper\)"):
+        C.TrackingProblem(t, coupler=("a", 1.0))
     with pytest.raises(SynthesisError, match="only theta0, x0, y0"):
         C.TrackingProblem(t, fixed={"r1": 1.0})
 

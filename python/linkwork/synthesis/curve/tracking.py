@@ -80,8 +80,11 @@ def coupler_points(x: Any, theta2: Any, circuit: str = "open") -> np.ndarray:
 
 
 def _bounds(name: str, value: Any, default: tuple[float, float]) -> tuple[float, float]:
-    lo, hi = default if value is None else (float(value[0]), float(value[1]))
-    if not (math.isfinite(lo) or lo == -math.inf) or math.isnan(hi):
+    try:
+        lo, hi = default if value is None else (float(value[0]), float(value[1]))
+    except (TypeError, ValueError, IndexError):
+        raise SynthesisError(f"{name} bounds are (lower, upper) numbers, not {value!r}") from None
+    if math.isnan(lo) or math.isnan(hi):
         raise SynthesisError(f"{name} bounds must be numbers, got {value!r}")
     if lo > hi:
         raise SynthesisError(f"contradictory {name} bounds: lower {lo} > upper {hi}")
