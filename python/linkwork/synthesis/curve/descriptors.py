@@ -32,6 +32,7 @@ __all__ = [
     "coefficients",
     "normalise",
     "descriptors",
+    "flip_even",
     "reconstruct",
     "nearest_distances",
     "ShapeFit",
@@ -42,14 +43,14 @@ __all__ = [
 HARMONICS = 20
 
 
-def _points(points: Any, what: str = "points") -> np.ndarray:
+def _points(points: Any, what: str = "points", least: int = 3) -> np.ndarray:
     p = np.asarray(points, dtype=np.float64)
     if p.ndim < 2 or p.shape[-1] != 2:
         raise SynthesisError(
             f"{what} must be an array of (x, y) rows, shape (..., k, 2); got shape {p.shape}"
         )
-    if p.shape[-2] < 3:
-        raise SynthesisError(f"{what}: a curve needs at least 3 points, got {p.shape[-2]}")
+    if p.shape[-2] < least:
+        raise SynthesisError(f"{what}: at least {least} points are needed, got {p.shape[-2]}")
     if not np.all(np.isfinite(p)):
         raise SynthesisError(f"{what} hold non-finite values")
     return p
@@ -165,12 +166,13 @@ def descriptors(
     return normalise(*coefficients(p, harmonics, closed))
 
 
-def reconstruct(coeffs: Any, locus: Any = (0.0, 0.0), n: int = 256) -> np.ndarray:
+def reconstruct(coeffs: Any, locus: Any = (0.0, 0.0), n: int = 256, start: float = 0.0) -> np.ndarray:
     """The curve (..., n, 2) of coefficients (..., H, 4) at ``n`` evenly spaced phases
-    from 0 (its start) over one period, around ``locus``."""
+    over one period from ``start`` (rad of the first harmonic; 0: the curve's start),
+    around ``locus``."""
     co = np.asarray(coeffs, dtype=np.float64)
     h = np.arange(1, co.shape[-2] + 1, dtype=np.float64)
-    phase = 2.0 * np.pi * np.outer(np.arange(n) / n, h)  # (n, H)
+    phase = np.outer(start + 2.0 * np.pi * np.arange(n) / n, h)  # (n, H)
     cos, sin = np.cos(phase), np.sin(phase)
     x = cos @ co[..., 0, None] + sin @ co[..., 1, None]
     y = cos @ co[..., 2, None] + sin @ co[..., 3, None]
@@ -180,8 +182,8 @@ def reconstruct(coeffs: Any, locus: Any = (0.0, 0.0), n: int = 256) -> np.ndarra
 def nearest_distances(targets: Any, curve: Any, closed: bool = True) -> np.ndarray:
     """The distance from each target point (m, 2) to the polygon through ``curve``
     (k, 2; closed back to its first point unless ``closed=False``)."""
-    q = _points(targets, "target points")
-    c = _points(curve, "curve")
+    q = _points(targets, "target points", 1)
+    c = _points(curve, "curve", 2)
     a, b = (c, np.roll(c, -1, axis=0)) if closed else (c[:-1], c[1:])
     ab = b - a
     L2 = np.einsum("kj,kj->k", ab, ab)
