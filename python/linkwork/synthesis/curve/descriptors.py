@@ -80,16 +80,21 @@ def coefficients(
     # a repeated point is a zero-length segment: it adds nothing (no 0 / 0)
     with np.errstate(invalid="ignore", divide="ignore"):
         slope = np.where(dt[..., None] > 0.0, d / dt[..., None], 0.0)  # (..., k, 2)
-    n = np.arange(1, harmonics + 1, dtype=np.float64)
-    phi = 2.0 * np.pi * n[:, None] * (t / T[..., None])[..., None, :]  # (..., H, k+1)
-    dcos = np.diff(np.cos(phi), axis=-1)
-    dsin = np.diff(np.sin(phi), axis=-1)
-    scale = (T[..., None] / (2.0 * n**2 * np.pi**2))[..., None]  # (..., H, 1)
-    a = scale[..., 0] * np.einsum("...hk,...k->...h", dcos, slope[..., 0])
-    b = scale[..., 0] * np.einsum("...hk,...k->...h", dsin, slope[..., 0])
-    c = scale[..., 0] * np.einsum("...hk,...k->...h", dcos, slope[..., 1])
-    dd = scale[..., 0] * np.einsum("...hk,...k->...h", dsin, slope[..., 1])
-    coeffs = np.stack([a, b, c, dd], axis=-1)
+    # e^{i n phi} at every vertex by powers of e^{i phi} (a multiply a harmonic, not a
+    # cos and a sin): accurate to a few n eps
+    unit = np.exp(2j * np.pi * t / T[..., None])
+    power = np.ones_like(unit)
+    out = np.empty((*dt.shape[:-1], harmonics, 4))
+    for n in range(1, harmonics + 1):
+        power = power * unit
+        step = np.diff(power, axis=-1)
+        dcos, dsin = step.real, step.imag
+        scale = T / (2.0 * n * n * np.pi**2)
+        out[..., n - 1, 0] = scale * np.sum(dcos * slope[..., 0], axis=-1)
+        out[..., n - 1, 1] = scale * np.sum(dsin * slope[..., 0], axis=-1)
+        out[..., n - 1, 2] = scale * np.sum(dcos * slope[..., 1], axis=-1)
+        out[..., n - 1, 3] = scale * np.sum(dsin * slope[..., 1], axis=-1)
+    coeffs = out
     # the mean of the polygon over arc length (trapezoids: exact for straight segments)
     mid = 0.5 * (p + np.roll(p, -1, axis=-2))
     locus = np.einsum("...k,...kj->...j", dt, mid) / T[..., None]
