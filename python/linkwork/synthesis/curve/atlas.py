@@ -125,13 +125,15 @@ def _models(links: np.ndarray, circuit: int) -> tuple[list[Any], Any]:
     return models, base
 
 
-def _theta3(links: np.ndarray, circuit: int, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _theta3(
+    links: np.ndarray, circuit: int, times: np.ndarray, threads: int | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """The coupler angle of each linkage (r2, r3, r4) over ``times`` on ``circuit``,
     swept by the engine (`sweep_batch`, its threads); and whether its sweep succeeded."""
     from ...model.compiled import sweep_batch
 
     models, base = _models(links, circuit)
-    swept = sweep_batch(models, times, derivatives=0, errors="return", branches_of=base)
+    swept = sweep_batch(models, times, threads=threads, derivatives=0, errors="return", branches_of=base)
     theta = np.full((len(links), len(times)), np.nan)
     ok = np.zeros(len(links), dtype=bool)
     for i, res in enumerate(swept):
@@ -140,10 +142,13 @@ def _theta3(links: np.ndarray, circuit: int, times: np.ndarray) -> tuple[np.ndar
     return theta, ok & np.all(np.isfinite(theta), axis=1)
 
 
-def trace_block(designs: np.ndarray, steps: int, harmonics: int) -> tuple[np.ndarray, np.ndarray]:
+def trace_block(
+    designs: np.ndarray, steps: int, harmonics: int, threads: int | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """One task of an atlas build: the normalised descriptors (n, H, 4) and poses (n, 4)
     of a block of designs (rows of `sample_designs`, whole linkages), float32; NaN where
-    a sweep failed or a curve cannot be normalised."""
+    a sweep failed or a curve cannot be normalised. ``threads``: the engine's (default one
+    a core)."""
     designs = np.asarray(designs, dtype=np.float64)
     times = np.linspace(0.0, 2.0 * math.pi, int(steps), endpoint=False)
     k = POINTS_PER_LINKAGE
@@ -154,7 +159,7 @@ def trace_block(designs: np.ndarray, steps: int, harmonics: int) -> tuple[np.nda
         heads = first[designs[first, 6] == c]
         if not len(heads):
             continue
-        theta, ok = _theta3(designs[heads, 1:4], c, times)
+        theta, ok = _theta3(designs[heads, 1:4], c, times, threads)
         rows = (heads[:, None] + np.arange(k)).ravel()
         th = np.repeat(theta, k, axis=0)
         good = np.repeat(ok, k) & (rows < len(designs))
@@ -252,11 +257,22 @@ def _on_dask(parts: list[np.ndarray], steps: int, harmonics: int, scheduler: Any
             f"not {scheduler!r}"
         )
     try:
-        futures = client.map(trace_block, parts, steps=steps, harmonics=harmonics, pure=False)
+        futures = client.map(_worker_task, parts, steps=steps, harmonics=harmonics, pure=False)
         return list(client.gather(futures))
     finally:
         for c in close:
             c.close()
+
+
+def _worker_task(designs: np.ndarray, steps: int, harmonics: int) -> tuple[np.ndarray, np.ndarray]:
+    """A block on a Dask worker, on as many engine threads as the worker has."""
+    from distributed import get_worker
+
+    try:
+        threads = get_worker().state.nthreads
+    except (ValueError, AttributeError):
+        threads = None
+    return trace_block(designs, steps, harmonics, threads)
 
 
 @dataclass(frozen=True)
