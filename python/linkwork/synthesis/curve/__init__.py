@@ -1,12 +1,24 @@
 """Synthesis from a curve: four-bars whose coupler point follows a designer's target
 (points, a CSV table or an SVG path), by the tracking error refined with the engine's
-exact sensitivities from many starting designs."""
+exact sensitivities from many starting designs; the shape of a curve (elliptic Fourier
+descriptors, the shape error) and an atlas of normalised four-bar coupler curves to start
+from."""
 
+from .atlas import Atlas, AtlasHit, build_atlas
+from .atlas import load as load_atlas
+from .descriptors import ShapeFit, descriptors, shape_error
 from .fit import CURVE_MERIT, CurveDesign, CurveFit, fit, random_seeds, refine
 from .target import TargetCurve, from_csv, from_svg, svg_path_points, target
 from .tracking import DESIGN, CircuitError, TrackingProblem, coupler_points
 
 __all__ = [
+    "Atlas",
+    "AtlasHit",
+    "build_atlas",
+    "load_atlas",
+    "ShapeFit",
+    "descriptors",
+    "shape_error",
     "CURVE_MERIT",
     "CurveDesign",
     "CurveFit",
