@@ -766,7 +766,7 @@ impl PyModel {
     /// joint and driver: where its reaction on side b is reported.
     #[getter]
     fn anchors(&self) -> Vec<(String, &'static str, i64, i64, f64, f64)> {
-        use linkwork::joints::Constraint;
+        use linkwork::constraints::Constraint;
         let idx = |b: Option<usize>| b.map_or(-1, |i| i as i64);
         self.model
             .constraints

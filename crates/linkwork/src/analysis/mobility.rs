@@ -9,7 +9,7 @@
 
 use faer::Mat;
 
-use crate::joints::{Constraint, Frame, Rows};
+use crate::constraints::{Constraint, Frame, Rows};
 use crate::model::{ConstraintEntry, Model};
 
 /// A singular value at or below this times the largest counts as zero. The scaled Phi_q
@@ -294,10 +294,12 @@ pub fn mobility(model: &Model, q: &[f64], t: f64) -> Result<Mobility, MobilityEr
 /// there may be more). The singular values are not listed (`singular_values` holds only
 /// the smallest's estimate).
 pub fn sparse_mobility(model: &Model, q: &[f64], t: f64) -> Mobility {
-    use crate::stepping::singular::{constraint_shares, coordinate_shares, driver_share, smallest_singular};
-    let mut data = crate::data::Data::new(model);
+    use crate::sweep::stepping::singular::{
+        constraint_shares, coordinate_shares, driver_share, smallest_singular,
+    };
+    let mut data = crate::model::data::Data::new(model);
     data.q.copy_from_slice(q);
-    crate::assembly::position(model, &mut data, t);
+    crate::solve::assembly::position(model, &mut data, t);
     data.pivots = data.factor.factor(&model.symbolic, &data.jac);
     let triple = smallest_singular(model, &mut data, 6);
     let n_coords = model.n_coords;
@@ -319,7 +321,7 @@ pub fn sparse_mobility(model: &Model, q: &[f64], t: f64) -> Mobility {
             triple.sigma
         ));
         let free = vec![coordinate_shares(model, &triple.v, 0.05)];
-        if driver_share(model, &triple.w) <= crate::stepping::singular::DRIVER_SHARE_TOL {
+        if driver_share(model, &triple.w) <= crate::sweep::stepping::singular::DRIVER_SHARE_TOL {
             let names =
                 dependency.constraints.iter().map(|(n, _)| format!("'{n}'")).collect::<Vec<_>>().join(", ");
             explanation.push(format!(

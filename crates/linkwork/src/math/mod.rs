@@ -1,0 +1,4 @@
+pub mod jet;
+pub mod linear;
+pub mod small_lu;
+pub mod sparse_lu;
