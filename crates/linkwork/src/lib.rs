@@ -7,6 +7,7 @@
 //! all from one factorization of Phi_q; `sweep` runs it over a time grid.
 
 pub mod analysis;
+pub mod compile;
 pub mod constraints;
 pub mod error;
 pub mod input;
@@ -21,7 +22,7 @@ pub mod synthesis;
 pub use analysis::sensitivity;
 pub use constraints::{drivers, joints, loads};
 pub use input::{curves, description, expr, files, motion, units};
-pub use math::{linear, small_lu, sparse_lu};
+pub use math::{linear, pivots, small_lu, sparse_lu};
 pub use model::{closing, data, memory, structure};
 pub use solve::{acceleration, assembly, blocks, forces, position, velocity};
 pub use sweep::{batch, branches, stepping, variants};
@@ -34,7 +35,8 @@ pub use error::{ModelError, SolveError};
 pub use expr::{ExprError, Expression};
 pub use files::{Format, ModelFile, SourceMap, FORMAT_VERSION};
 pub use forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
-pub use linear::{LinearKind, Pivots};
+pub use linear::LinearKind;
+pub use math::pivots::Pivots;
 pub use memory::available_memory;
 pub use model::{Model, Options, SolverKind};
 pub use motion::{ExternalFn, ExternalLaw, MotionLaw};

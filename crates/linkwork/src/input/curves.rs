@@ -22,6 +22,7 @@ use std::f64::consts::TAU;
 use serde::{Deserialize, Serialize};
 
 use crate::input::expr::Expression;
+use crate::math::jet::{Jet, Vec2};
 
 /// A curve as a model description gives it: world points at the start.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -609,6 +610,17 @@ fn thomas(sub: &[f64], diag: &[f64], sup: &[f64], rhs: &[f64]) -> Vec<f64> {
         x[k] -= c[k] * x[k + 1];
     }
     x
+}
+
+/// c(s) and c'(s) of a curve at the jet s (`Curve::eval` and `Curve::fourth` give the
+/// derivatives the truncation needs).
+#[inline]
+pub fn at_jet<const W: usize>(curve: &Curve, s: Jet<W>) -> (Vec2<W>, Vec2<W>) {
+    let k = curve.eval(s.value());
+    let d4 = curve.fourth(s.value());
+    let c = std::array::from_fn(|i| s.compose([k.c[i], k.d1[i], k.d2[i], k.d3[i]]));
+    let c1 = std::array::from_fn(|i| s.compose([k.d1[i], k.d2[i], k.d3[i], d4[i]]));
+    (c, c1)
 }
 
 #[cfg(test)]

@@ -6,9 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::input::curves::CurveDesc;
-use crate::input::files::Format;
 use crate::input::motion::MotionLaw;
-pub use crate::input::units::{AngleUnit, LengthUnit, Units};
 
 /// The name of the fixed frame; it has no coordinates.
 pub const GROUND: &str = "ground";
@@ -319,36 +317,6 @@ pub struct PointDesc {
     pub at: [f64; 2],
 }
 
-impl Description {
-    /// Reads a description from JSON (a model file, or the flat form `to_json` writes);
-    /// errors name the line, column and field.
-    pub fn from_json(text: &str) -> Result<Self, crate::ModelError> {
-        Ok(crate::input::files::read(text, Format::Json, crate::input::files::NO_FILE)?.description)
-    }
-
-    /// Reads a description from a TOML model file's text.
-    pub fn from_toml(text: &str) -> Result<Self, crate::ModelError> {
-        Ok(crate::input::files::read(text, Format::Toml, crate::input::files::NO_FILE)?.description)
-    }
-
-    /// The flat description as JSON: name, units, bodies, joints, ... at the top (the form
-    /// the Python package holds); `from_json` reads it back.
-    pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).expect("a description always serialises")
-    }
-
-    /// A TOML model file: a `[model]` header, then `[[bodies]]`, `[[joints]]`, ... tables.
-    /// Fails only on a number that is not finite (a file cannot hold it).
-    pub fn to_toml(&self) -> Result<String, crate::ModelError> {
-        crate::input::files::write_description(self, Format::Toml)
-    }
-
-    /// A JSON model file, laid out as the TOML one (`model` header object first).
-    pub fn to_json_file(&self) -> Result<String, crate::ModelError> {
-        crate::input::files::write_description(self, Format::Json)
-    }
-}
-
 impl JointDesc {
     pub fn name(&self) -> &str {
         match self {
@@ -655,5 +623,90 @@ mod wire {
     }
     pub fn loads<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<LoadDesc>, D::Error> {
         Ok(Vec::<Load>::deserialize(d)?.into_iter().map(|j| j.0).collect())
+    }
+}
+
+/// The length unit of every length of a description (and of the results).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum LengthUnit {
+    #[default]
+    #[serde(rename = "m")]
+    Metre,
+    #[serde(rename = "mm")]
+    Millimetre,
+}
+
+/// The angle unit of the description's angles (results are always in radians).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum AngleUnit {
+    #[default]
+    #[serde(rename = "rad")]
+    Radian,
+    #[serde(rename = "deg")]
+    Degree,
+}
+
+/// The units a description is written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Units {
+    #[serde(default)]
+    pub length: LengthUnit,
+    #[serde(default)]
+    pub angle: AngleUnit,
+}
+
+impl LengthUnit {
+    pub fn symbol(self) -> &'static str {
+        match self {
+            LengthUnit::Metre => "m",
+            LengthUnit::Millimetre => "mm",
+        }
+    }
+}
+
+impl AngleUnit {
+    pub fn symbol(self) -> &'static str {
+        match self {
+            AngleUnit::Radian => "rad",
+            AngleUnit::Degree => "deg",
+        }
+    }
+
+    /// Radians per unit.
+    pub fn to_radians(self) -> f64 {
+        match self {
+            AngleUnit::Radian => 1.0,
+            AngleUnit::Degree => std::f64::consts::PI / 180.0,
+        }
+    }
+}
+
+impl Units {
+    pub fn is_default(&self) -> bool {
+        *self == Units::default()
+    }
+
+    /// The unit of every quantity in and out of a model with these units, as
+    /// (quantity, symbol): results give angles in rad whatever the declared angle unit.
+    pub fn table(&self) -> Vec<(&'static str, &'static str)> {
+        // kg L/s^2 and kg L^2/s^2: N and N m for metres, mN and mN mm (uN m) for millimetres
+        let (force, torque, power, energy, stiffness) = match self.length {
+            LengthUnit::Metre => ("N", "N m", "W", "J", "N/m"),
+            LengthUnit::Millimetre => ("mN", "mN mm", "uW", "uJ", "mN/mm"),
+        };
+        vec![
+            ("length", self.length.symbol()),
+            ("angle", "rad"),
+            ("input_angle", self.angle.symbol()),
+            ("time", "s"),
+            ("mass", "kg"),
+            ("inertia", if self.length == LengthUnit::Metre { "kg m^2" } else { "kg mm^2" }),
+            ("force", force),
+            ("torque", torque),
+            ("power", power),
+            ("energy", energy),
+            ("stiffness", stiffness),
+        ]
     }
 }

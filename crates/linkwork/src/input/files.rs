@@ -492,13 +492,6 @@ pub struct ModelFile {
     pub source: SourceMap,
 }
 
-impl ModelFile {
-    /// Compiles the description; an error that names an element gets its line.
-    pub fn compile(&self, options: crate::Options) -> Result<crate::Model, ModelError> {
-        crate::Model::with_options(self.description.clone(), options).map_err(|e| self.source.locate(e))
-    }
-}
-
 /// Reads a model file, its format chosen by its extension (.toml or .json).
 pub fn read_path(path: &std::path::Path) -> Result<ModelFile, ModelError> {
     let name = path.display().to_string();
@@ -975,4 +968,34 @@ fn toml_text(file: &Node) -> String {
 /// The flat JSON of a read file (what the Python package holds).
 pub fn flat_json(flat: &Node) -> String {
     serde_json::to_string(flat).unwrap_or_default()
+}
+// The description's own text I/O, here with the readers and the writer it calls.
+impl Description {
+    /// Reads a description from JSON (a model file, or the flat form `to_json` writes);
+    /// errors name the line, column and field.
+    pub fn from_json(text: &str) -> Result<Self, ModelError> {
+        Ok(read(text, Format::Json, NO_FILE)?.description)
+    }
+
+    /// Reads a description from a TOML model file's text.
+    pub fn from_toml(text: &str) -> Result<Self, ModelError> {
+        Ok(read(text, Format::Toml, NO_FILE)?.description)
+    }
+
+    /// The flat description as JSON: name, units, bodies, joints, ... at the top (the form
+    /// the Python package holds); `from_json` reads it back.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a description always serialises")
+    }
+
+    /// A TOML model file: a `[model]` header, then `[[bodies]]`, `[[joints]]`, ... tables.
+    /// Fails only on a number that is not finite (a file cannot hold it).
+    pub fn to_toml(&self) -> Result<String, ModelError> {
+        write_description(self, Format::Toml)
+    }
+
+    /// A JSON model file, laid out as the TOML one (`model` header object first).
+    pub fn to_json_file(&self) -> Result<String, ModelError> {
+        write_description(self, Format::Json)
+    }
 }

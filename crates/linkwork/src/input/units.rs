@@ -5,97 +5,11 @@
 //! length in and out. Mass is kg and time s, so forces come out in kg L/s^2 and torques
 //! in kg L^2/s^2 (L the length unit): `Units::table` names them.
 
-use serde::{Deserialize, Serialize};
-
 use crate::input::curves::CurveDesc;
+pub use crate::input::description::{AngleUnit, LengthUnit, Units};
 use crate::input::description::{
     BodyDesc, Coefficients, Description, DriverDesc, JointDesc, LoadDesc, PointDesc,
 };
-
-/// The length unit of every length of a description (and of the results).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum LengthUnit {
-    #[default]
-    #[serde(rename = "m")]
-    Metre,
-    #[serde(rename = "mm")]
-    Millimetre,
-}
-
-/// The angle unit of the description's angles (results are always in radians).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum AngleUnit {
-    #[default]
-    #[serde(rename = "rad")]
-    Radian,
-    #[serde(rename = "deg")]
-    Degree,
-}
-
-/// The units a description is written in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Units {
-    #[serde(default)]
-    pub length: LengthUnit,
-    #[serde(default)]
-    pub angle: AngleUnit,
-}
-
-impl LengthUnit {
-    pub fn symbol(self) -> &'static str {
-        match self {
-            LengthUnit::Metre => "m",
-            LengthUnit::Millimetre => "mm",
-        }
-    }
-}
-
-impl AngleUnit {
-    pub fn symbol(self) -> &'static str {
-        match self {
-            AngleUnit::Radian => "rad",
-            AngleUnit::Degree => "deg",
-        }
-    }
-
-    /// Radians per unit.
-    pub fn to_radians(self) -> f64 {
-        match self {
-            AngleUnit::Radian => 1.0,
-            AngleUnit::Degree => std::f64::consts::PI / 180.0,
-        }
-    }
-}
-
-impl Units {
-    pub fn is_default(&self) -> bool {
-        *self == Units::default()
-    }
-
-    /// The unit of every quantity in and out of a model with these units, as
-    /// (quantity, symbol): results give angles in rad whatever the declared angle unit.
-    pub fn table(&self) -> Vec<(&'static str, &'static str)> {
-        // kg L/s^2 and kg L^2/s^2: N and N m for metres, mN and mN mm (uN m) for millimetres
-        let (force, torque, power, energy, stiffness) = match self.length {
-            LengthUnit::Metre => ("N", "N m", "W", "J", "N/m"),
-            LengthUnit::Millimetre => ("mN", "mN mm", "uW", "uJ", "mN/mm"),
-        };
-        vec![
-            ("length", self.length.symbol()),
-            ("angle", "rad"),
-            ("input_angle", self.angle.symbol()),
-            ("time", "s"),
-            ("mass", "kg"),
-            ("inertia", if self.length == LengthUnit::Metre { "kg m^2" } else { "kg mm^2" }),
-            ("force", force),
-            ("torque", torque),
-            ("power", power),
-            ("energy", energy),
-            ("stiffness", stiffness),
-        ]
-    }
-}
 
 /// The description as the engine compiles it: every angle in radians (laws of angle
 /// drivers wrapped in a scale), lengths as declared; its units say angles are radians,

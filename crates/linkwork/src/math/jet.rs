@@ -273,17 +273,6 @@ pub fn cst2<const W: usize>(u: [f64; 2]) -> Vec2<W> {
     [Jet::cst(u[0]), Jet::cst(u[1])]
 }
 
-/// c(s) and c'(s) of a curve at the jet s (`Curve::eval` and `Curve::fourth` give the
-/// derivatives the truncation needs).
-#[inline]
-pub fn curve<const W: usize>(curve: &crate::input::curves::Curve, s: Jet<W>) -> (Vec2<W>, Vec2<W>) {
-    let k = curve.eval(s.value());
-    let d4 = curve.fourth(s.value());
-    let c = std::array::from_fn(|i| s.compose([k.c[i], k.d1[i], k.d2[i], k.d3[i]]));
-    let c1 = std::array::from_fn(|i| s.compose([k.d1[i], k.d2[i], k.d3[i], d4[i]]));
-    (c, c1)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

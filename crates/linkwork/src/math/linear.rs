@@ -24,6 +24,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, MatRef, Par};
 
 use crate::constraints::MAX_ROWS;
+use crate::math::pivots::{pivots, Pivots};
 use crate::math::small_lu;
 use crate::math::sparse_lu::SparseLu;
 use crate::model::ConstraintEntry;
@@ -45,23 +46,6 @@ pub enum LinearKind {
     Refactor,
     /// faer's dense QR, least squares: chosen for a redundant model solved anyway
     LeastSquares,
-}
-
-/// The pivots of a factorization: their spread says how close Phi_q is to singular.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Pivots {
-    /// smallest |pivot| / largest |pivot| of the scaled Phi_q (0 if singular, NaN if not finite)
-    pub ratio: f64,
-    /// the coordinate (column of Phi_q) of the smallest pivot
-    pub column: usize,
-    /// sign of det Phi_q (+1 or -1; 0 if a pivot is zero): it flips where a sweep crosses
-    /// a singular configuration
-    pub det_sign: f64,
-}
-
-impl Pivots {
-    /// Before any factorization.
-    pub const NONE: Pivots = Pivots { ratio: f64::NAN, column: 0, det_sign: 0.0 };
 }
 
 /// The part of a factorization that depends only on the pattern (in the model).
@@ -614,27 +598,4 @@ fn col_perm_sign(fwd: &[usize]) -> f64 {
         }
     }
     sign
-}
-
-/// Ratio of the smallest to the largest |pivot|, where the smallest is, and the sign of
-/// det Phi_q (`sign`: that of the permutations and of L).
-fn pivots(diag: impl Iterator<Item = (usize, f64)>, mut sign: f64) -> Pivots {
-    let (mut lo, mut hi, mut column) = (f64::INFINITY, 0.0f64, 0);
-    for (col, d) in diag {
-        if d < 0.0 {
-            sign = -sign;
-        }
-        let d = d.abs();
-        if !d.is_finite() {
-            return Pivots { ratio: f64::NAN, column: col, det_sign: 0.0 };
-        }
-        if d < lo {
-            lo = d;
-            column = col;
-        }
-        hi = hi.max(d);
-    }
-    let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
-    let det_sign = if lo > 0.0 { sign } else { 0.0 };
-    Pivots { ratio, column, det_sign }
 }

@@ -1,4 +1,5 @@
 pub mod jet;
 pub mod linear;
+pub mod pivots;
 pub mod small_lu;
 pub mod sparse_lu;

@@ -32,7 +32,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::colamd;
 use faer::sparse::SymbolicSparseColMatRef;
 
-use crate::math::linear::Pivots;
+use crate::math::pivots::Pivots;
 
 /// A replayed pivot smaller than this fraction of its column's largest candidate makes
 /// the factorization choose its pivots again.

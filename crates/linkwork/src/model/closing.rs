@@ -5,8 +5,8 @@
 //! close it (`close`): keeping the pins given (the bodies moved to a closed configuration
 //! near the drawing, by least squares) or keeping the drawing's points (the pins ignored).
 
-use crate::analysis::mobility::{dense_jacobian, RANK_TOL};
 use crate::constraints::{Constraint, Frame, RowKind, Rows};
+use crate::model::rank::{dense_jacobian, RANK_TOL};
 use crate::model::ConstraintEntry;
 use crate::ModelError;
 

@@ -1,7 +1,8 @@
 //! The mutable workspace of one solve or sweep: every buffer allocated once, here.
 
 use crate::constraints::Frame;
-use crate::math::linear::{Factor, Pivots};
+use crate::math::linear::Factor;
+use crate::math::pivots::Pivots;
 use crate::model::Model;
 
 /// Per-thread state for `Model`; create with `Data::new(&model)`.

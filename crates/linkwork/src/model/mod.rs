@@ -6,12 +6,13 @@
 pub mod closing;
 pub mod data;
 pub mod memory;
+pub mod params;
+pub mod rank;
 pub mod structure;
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::analysis::mobility::analyse;
 use crate::constraints::drivers::{
     angle::AngleDriver, coordinate::CoordinateDriver, distance::DistanceDriver,
     relative_angle::RelativeAngleDriver, translation::TranslationDriver,
@@ -39,6 +40,7 @@ use crate::error::ModelError;
 use crate::input::description::{Description, DriverDesc, JointDesc, LoadDesc, GROUND};
 use crate::math::linear::{LinearKind, SymbolicFactor};
 use crate::model::closing::{close_given, not_closed, world, Closer, Closing, Keep, Side, CLOSE_TOL};
+use crate::model::rank::analyse;
 
 /// Solver settings, fixed at compile time.
 #[derive(Debug, Clone, PartialEq)]

@@ -38,7 +38,7 @@ pub(crate) fn factor(
     data: &mut Data,
     t: f64,
     step: usize,
-) -> Result<crate::math::linear::Pivots, SolveError> {
+) -> Result<crate::math::pivots::Pivots, SolveError> {
     let pivots = data.factor.factor(&model.symbolic, &data.jac);
     data.pivots = pivots;
     // a NaN ratio counts as singular too

@@ -8,4 +8,6 @@ pub mod stepping;
 pub mod time_loop;
 pub mod variants;
 
-pub use time_loop::*;
+pub use time_loop::{
+    check_times, drawing_time, solve, solve_along, sweep, Outputs, Request, SweepOutput, ALONG_BUDGET,
+};

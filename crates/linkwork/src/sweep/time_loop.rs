@@ -4,6 +4,7 @@
 
 use crate::constraints::Constraint;
 use crate::error::SolveError;
+use crate::math::pivots::NEAR_SINGULAR;
 use crate::model::data::Data;
 use crate::model::memory::zeroed;
 use crate::model::Model;
@@ -18,12 +19,6 @@ use crate::sweep::stepping::predict::{predict, Predictor};
 use crate::sweep::stepping::singular::Event;
 use crate::sweep::stepping::tracking::JUMP_RATIO;
 use crate::sweep::stepping::tracking::{is_jump, OnSingular, Tracker, JUMP_FLOOR, JUMP_FLOOR_RATES};
-
-/// A pivot ratio below this marks a step next to a singular configuration: the next
-/// prediction does not use its rates: solved to round-off, q is off by about eps / ratio
-/// along the near-singular direction, and the rates solved at that q are off by that over
-/// the ratio again.
-pub(crate) const NEAR_SINGULAR: f64 = 1e-6;
 
 /// What a sweep computes and keeps: work that was not asked for is not done.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -20,10 +20,10 @@
 use std::sync::atomic::Ordering;
 use std::sync::Mutex;
 
-use crate::analysis::sensitivity::{Dynamics, Parameter};
 use crate::constraints::Constraint;
 use crate::error::SolveError;
 use crate::model::data::Data;
+use crate::model::params::{Dynamics, Parameter};
 use crate::model::structure::{structure, Structure};
 use crate::model::Model;
 use crate::solve::blocks::Plan;

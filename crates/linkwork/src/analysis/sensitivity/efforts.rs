@@ -14,11 +14,11 @@
 //! transpose solve per parameter with the step's factorization.
 
 use super::jet::{Jet, JetFrame};
-use super::params::{values, Dynamics, Parameter};
 use super::step::{coordinate_columns, widen, Consts, W};
 use crate::constraints::loads::Inertia;
 use crate::constraints::{Constraint, MAX_ROWS};
 use crate::model::data::Data;
+use crate::model::params::{values, Dynamics, Parameter};
 use crate::model::{ConstraintEntry, Model};
 
 /// What the effort sensitivities of one step need, prepared once for a model and its

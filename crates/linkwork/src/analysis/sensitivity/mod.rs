@@ -13,12 +13,12 @@
 pub mod efforts;
 /// the jets live in `crate::math::jet`; this path is kept for callers
 pub use crate::math::jet;
-pub mod params;
 pub mod step;
 pub mod structured;
 pub mod sweep;
 
-pub use params::{Dynamics, Parameter, ParameterError};
+/// the parameters name the compiled model's numbers (`crate::model::params`)
+pub use crate::model::params::{Dynamics, Parameter, ParameterError};
 pub use step::{PointRequest, Sensitivity};
 pub use structured::SensitivityPath;
 pub use sweep::{sensitivity_sweep, SensitivityOutput, SensitivityRequest};

@@ -13,9 +13,9 @@
 //! factorization and two sparse products.
 
 use super::jet::{Jet, JetFrame};
-use super::params::{values, Parameter};
 use crate::constraints::{Constraint, MAX_ROWS};
 use crate::model::data::Data;
+use crate::model::params::{values, Parameter};
 use crate::model::{ConstraintEntry, Model};
 
 /// Parameter directions carried by one pass of jets.

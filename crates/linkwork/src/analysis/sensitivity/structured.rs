@@ -8,8 +8,8 @@
 //! on a step next to a dyad's singular configuration, the general path solves
 //! (`step::Sensitivity`); both give the implicit function theorem's dq/dp.
 
-use super::params::Parameter;
 use crate::model::data::Data;
+use crate::model::params::Parameter;
 use crate::model::Model;
 use crate::solve::blocks::{self, Entry, Miss};
 

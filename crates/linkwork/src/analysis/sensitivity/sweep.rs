@@ -12,11 +12,11 @@
 use std::ops::Range;
 
 use super::efforts::Efforts;
-use super::params::Parameter;
 use super::step::{PointRequest, Sensitivity, StepOut};
 use super::structured::{choose, SensitivityPath};
 use crate::error::SolveError;
 use crate::model::data::Data;
+use crate::model::params::Parameter;
 use crate::model::Model;
 use crate::sweep::time_loop::{Request, SweepOutput};
 

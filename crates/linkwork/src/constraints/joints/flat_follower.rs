@@ -63,7 +63,7 @@ impl Constraint for FlatFollower {
         p: &[Jet<W>],
         out: &mut [Jet<W>; MAX_ROWS],
     ) {
-        let (c, c1) = jet::curve(&self.curve, s);
+        let (c, c1) = crate::input::curves::at_jet(&self.curve, s);
         let n = b.rot(pair(p, 2));
         let e = jet::sub(a.point(c), b.point(pair(p, 0)));
         out[0] = jet::dot(n, e);

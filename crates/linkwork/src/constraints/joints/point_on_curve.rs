@@ -41,7 +41,7 @@ impl Constraint for PointOnCurve {
         p: &[Jet<W>],
         out: &mut [Jet<W>; MAX_ROWS],
     ) {
-        let (c, _) = jet::curve(&self.curve, s);
+        let (c, _) = crate::input::curves::at_jet(&self.curve, s);
         let d = jet::sub(b.point(pair(p, 0)), a.point(c));
         out[0] = d[0];
         out[1] = d[1];

@@ -69,7 +69,7 @@ impl Constraint for RollerFollower {
         p: &[Jet<W>],
         out: &mut [Jet<W>; MAX_ROWS],
     ) {
-        let (c, c1) = jet::curve(&self.curve, s);
+        let (c, c1) = crate::input::curves::at_jet(&self.curve, s);
         let d = jet::sub(b.point(pair(p, 0)), a.point(c));
         let tangent = a.rot(c1);
         let inv = p[2].recip();

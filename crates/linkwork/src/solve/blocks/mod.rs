@@ -382,7 +382,7 @@ pub enum Miss {
 
 /// Below this closeness a step goes to the careful path (the general path's threshold on
 /// its pivot ratio).
-pub const NEAR_SINGULAR: f64 = crate::sweep::time_loop::NEAR_SINGULAR;
+pub use crate::math::pivots::NEAR_SINGULAR;
 
 /// A frame's acceleration at body point offset `r` (world, from the body origin):
 /// Rdd + thetadd B r - thetad^2 r, with qdd = (xdd, ydd, thetadd).

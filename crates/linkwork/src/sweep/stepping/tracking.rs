@@ -18,6 +18,7 @@
 
 use crate::constraints::{kinds::ConstraintKind, Constraint};
 use crate::error::SolveError;
+use crate::math::pivots::NEAR_SINGULAR;
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::solve::acceleration::solve_acceleration;
@@ -27,7 +28,6 @@ use crate::sweep::stepping::hermite::{consistent, interpolate, State, CONSISTENC
 use crate::sweep::stepping::singular::{
     classify, constraint_shares, coordinate_shares, smallest_singular, Event, EventKind,
 };
-use crate::sweep::time_loop::NEAR_SINGULAR;
 
 /// A step whose Newton correction exceeds this fraction of the predicted motion (or of
 /// `JUMP_FLOOR` when little motion is predicted) is suspected of leaving its branch. On a
