@@ -23,11 +23,9 @@ use faer::sparse::linalg::lu::{factorize_symbolic_lu, simplicial, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, MatRef, Par};
 
-use crate::constraints::MAX_ROWS;
 use crate::math::pivots::{pivots, Pivots};
 use crate::math::small_lu;
 use crate::math::sparse_lu::SparseLu;
-use crate::model::ConstraintEntry;
 
 /// Which linear algebra solves Phi_q x = b.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -77,40 +75,41 @@ pub(crate) enum SymbolicFactor {
 }
 
 impl SymbolicFactor {
-    /// Lays out the value array for every constraint block (filling the slots) and,
-    /// for the sparse path, computes the column ordering once.
+    /// The symbolic factor of an m x n Phi_q whose structural non-zeros are `cells`
+    /// (row, column; repeats allowed), and each cell's slot: its position in the value
+    /// array. For the sparse path the column ordering is computed once here.
     pub(crate) fn new(
         kind: LinearKind,
         m: usize,
         n: usize,
-        constraints: &mut [ConstraintEntry],
-    ) -> SymbolicFactor {
+        cells: &[(usize, usize)],
+    ) -> (SymbolicFactor, Vec<u32>) {
         match kind {
             LinearKind::LeastSquares => {
                 // column-major m x n
-                for_each_entry(constraints, |row, col| (col * m + row) as u32);
-                SymbolicFactor::LeastSquares { m, n }
+                let slots = cells.iter().map(|&(row, col)| (col * m + row) as u32).collect();
+                (SymbolicFactor::LeastSquares { m, n }, slots)
             }
             LinearKind::Small | LinearKind::Dense | LinearKind::Auto => {
                 // column-major n x n
-                for_each_entry(constraints, |row, col| (col * n + row) as u32);
+                let slots = cells.iter().map(|&(row, col)| (col * n + row) as u32).collect();
                 if kind == LinearKind::Dense {
-                    SymbolicFactor::Dense { n }
+                    (SymbolicFactor::Dense { n }, slots)
                 } else {
-                    SymbolicFactor::Small { n }
+                    (SymbolicFactor::Small { n }, slots)
                 }
             }
             LinearKind::Sparse => {
-                let (col_ptr, row_idx) = compressed_columns(n, constraints);
+                let (col_ptr, row_idx, slots) = compressed_columns(n, cells);
                 let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
                 let lu =
                     factorize_symbolic_lu(sym, Default::default()).expect("symbolic LU of a square pattern");
-                SymbolicFactor::Sparse { n, col_ptr, row_idx, lu }
+                (SymbolicFactor::Sparse { n, col_ptr, row_idx, lu }, slots)
             }
             LinearKind::Refactor => {
-                let (col_ptr, row_idx) = compressed_columns(n, constraints);
+                let (col_ptr, row_idx, slots) = compressed_columns(n, cells);
                 let col_order = crate::math::sparse_lu::colamd_order(n, &col_ptr, &row_idx);
-                SymbolicFactor::Refactor { n, col_ptr, row_idx, col_order }
+                (SymbolicFactor::Refactor { n, col_ptr, row_idx, col_order }, slots)
             }
         }
     }
@@ -157,14 +156,10 @@ impl SymbolicFactor {
     }
 }
 
-/// The pattern of Phi_q in compressed columns (rows sorted, unique), each constraint
-/// entry's slot set to its position in the value array.
-fn compressed_columns(n: usize, constraints: &mut [ConstraintEntry]) -> (Vec<usize>, Vec<usize>) {
-    let mut entries: Vec<(usize, usize)> = Vec::new();
-    for_each_entry(constraints, |row, col| {
-        entries.push((col, row));
-        0
-    });
+/// The pattern of Phi_q in compressed columns (rows sorted, unique), and each cell's
+/// position in the value array.
+fn compressed_columns(n: usize, cells: &[(usize, usize)]) -> (Vec<usize>, Vec<usize>, Vec<u32>) {
+    let mut entries: Vec<(usize, usize)> = cells.iter().map(|&(row, col)| (col, row)).collect();
     entries.sort_unstable();
     entries.dedup();
     let mut col_ptr = vec![0usize; n + 1];
@@ -175,31 +170,14 @@ fn compressed_columns(n: usize, constraints: &mut [ConstraintEntry]) -> (Vec<usi
     for c in 0..n {
         col_ptr[c + 1] += col_ptr[c];
     }
-    for_each_entry(constraints, |row, col| {
-        let range = &row_idx[col_ptr[col]..col_ptr[col + 1]];
-        (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern")) as u32
-    });
-    (col_ptr, row_idx)
-}
-
-/// Calls `slot(row, col)` for every Jacobian block entry of every constraint and stores
-/// what it returns as that entry's slot.
-fn for_each_entry(constraints: &mut [ConstraintEntry], mut slot: impl FnMut(usize, usize) -> u32) {
-    for c in constraints.iter_mut() {
-        for i in 0..c.n_rows.min(MAX_ROWS) {
-            for j in 0..3 {
-                if let Some(b) = c.body_a {
-                    c.slots_a[i][j] = slot(c.row0 + i, 3 * b + j);
-                }
-                if let Some(b) = c.body_b {
-                    c.slots_b[i][j] = slot(c.row0 + i, 3 * b + j);
-                }
-            }
-            if let Some(k) = c.extra {
-                c.slots_s[i] = slot(c.row0 + i, k);
-            }
-        }
-    }
+    let slots = cells
+        .iter()
+        .map(|&(row, col)| {
+            let range = &row_idx[col_ptr[col]..col_ptr[col + 1]];
+            (col_ptr[col] + range.binary_search(&row).expect("entry is in the pattern")) as u32
+        })
+        .collect();
+    (col_ptr, row_idx, slots)
 }
 
 /// Numeric factors and scratch of one kind.

@@ -1,3 +1,4 @@
+pub mod angle;
 pub mod jet;
 pub mod linear;
 pub mod pivots;

@@ -5,10 +5,10 @@
 use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates, side, split};
 use super::{Entry, Miss, Numbers};
 use crate::constraints::{kinds::ConstraintKind, perp, sub, Constraint, Frame};
+use crate::math::angle::turned;
 use crate::model::data::Data;
 use crate::model::structure::Group;
 use crate::model::Model;
-use crate::solve::assembly::turned;
 
 #[derive(Debug, Clone)]
 pub struct Crank {

@@ -423,18 +423,6 @@ pub(crate) fn side(data: &Data, body: Option<usize>) -> Frame {
     }
 }
 
-/// theta near `near` (2 pi multiples added): atan2's principal value continued.
-#[inline(always)]
-pub(crate) fn continued(raw: f64, near: f64) -> f64 {
-    use std::f64::consts::TAU;
-    let d = raw - near;
-    if d.abs() <= std::f64::consts::PI {
-        raw
-    } else {
-        raw - TAU * (d / TAU).round()
-    }
-}
-
 /// Writes a body's pose into q and its frame (its rates zero until `set_rates`); the
 /// frame, to read back.
 #[inline(always)]

@@ -5,11 +5,11 @@
 
 use super::Miss;
 use crate::constraints::{Constraint, Frame, Rows, MAX_ROWS};
+use crate::math::angle::turned;
 use crate::math::small_lu;
 use crate::model::data::Data;
 use crate::model::structure::Group;
 use crate::model::Model;
-use crate::solve::assembly::turned;
 
 const KNOWN: usize = usize::MAX;
 

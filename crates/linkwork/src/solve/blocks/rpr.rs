@@ -12,10 +12,10 @@
 
 use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
+use crate::math::angle::angle_of;
 use crate::model::data::Data;
 use crate::model::structure::Group;
 use crate::model::Model;
-use crate::solve::assembly::angle_of;
 
 /// A body pinned to a known one: the known side and the pin in its frame, the pin in the
 /// body's frame.

@@ -104,7 +104,7 @@ impl Rrp {
     #[inline(always)]
     fn line(&self, k: &Frame, turn: &mut [f64; 3]) -> Line {
         let theta = if self.line_in_known { k.theta + self.theta0 } else { k.theta - self.theta0 };
-        let (c, s) = crate::solve::assembly::turned(theta, turn);
+        let (c, s) = crate::math::angle::turned(theta, turn);
         let rot = |u: [f64; 2]| [c * u[0] - s * u[1], s * u[0] + c * u[1]];
         if self.line_in_known {
             // slider point u_b on the line through k(u_a) along k's e_a

@@ -7,10 +7,10 @@
 use super::{add_move, column, split, BodyRows, Entry, Numbers, NEAR_SINGULAR};
 use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, Miss};
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
+use crate::math::angle::angle_of;
 use crate::model::data::Data;
 use crate::model::structure::Group;
 use crate::model::Model;
-use crate::solve::assembly::angle_of;
 
 /// One link of a dyad: a body with its pin to the known side and its middle pin.
 #[derive(Debug, Clone)]

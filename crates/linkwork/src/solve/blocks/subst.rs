@@ -14,10 +14,10 @@ use nalgebra::{SMatrix, SVector};
 
 use super::{set_acc, set_body, set_rates, side, Miss, NEAR_SINGULAR};
 use crate::constraints::{kinds::ConstraintKind, Constraint, Rows, MAX_ROWS};
+use crate::math::angle::turned;
 use crate::model::data::Data;
 use crate::model::structure::Group;
 use crate::model::Model;
-use crate::solve::assembly::turned;
 
 /// The most bodies a substitution gives (its position system is 2 per body).
 const MAX_BODIES: usize = 2;
