@@ -53,7 +53,7 @@ pub struct Data {
     /// n_coords: 1 / the model's column scales (multiplying is cheaper than dividing)
     pub(crate) inv_col_scale: Vec<f64>,
     /// the structure-aware solver's state: branch signs, closeness, Newton blocks
-    pub(crate) blocks: crate::solve::blocks::Work,
+    pub(crate) blocks: crate::model::plan::Work,
 }
 
 impl Data {
@@ -96,7 +96,7 @@ impl Data {
             with_velocity: false,
             nu_rhs: vec![0.0; model.n_rows],
             velocity_of: None,
-            blocks: crate::solve::blocks::Work::new(model.plan.as_ref().ok(), model.n_coords),
+            blocks: crate::model::plan::Work::new(model.plan.as_ref().ok(), model.n_coords),
         }
     }
 }

@@ -7,6 +7,7 @@ pub mod closing;
 pub mod data;
 pub mod memory;
 pub mod params;
+pub mod plan;
 pub mod rank;
 pub mod structure;
 
@@ -172,7 +173,7 @@ pub struct Model {
     pub loads: Vec<LoadEntry>,
     /// the groups solved one after another by the sweep, or why the general path solves
     /// the whole model (`blocks::Plan::new`)
-    pub plan: crate::solve::blocks::PlanResult,
+    pub plan: crate::model::plan::PlanResult,
     /// how a drawing that did not close was closed, as the description asked (`close`)
     pub closing: Option<Closing>,
 }

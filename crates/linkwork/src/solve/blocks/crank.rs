@@ -7,26 +7,9 @@ use super::{Entry, Miss, Numbers};
 use crate::constraints::{kinds::ConstraintKind, perp, sub, Constraint, Frame};
 use crate::math::angle::turned;
 use crate::model::data::Data;
+use crate::model::plan::Crank;
 use crate::model::structure::Group;
 use crate::model::Model;
-
-#[derive(Debug, Clone)]
-pub struct Crank {
-    pub body: usize,
-    /// the driver (index into model.constraints)
-    pub driver: usize,
-    /// theta = theta_base + sign f(t)
-    base: Option<usize>,
-    sign: f64,
-    /// the pin: the known side and the pin in its frame, the pin in the body's frame
-    known: Option<usize>,
-    u_known: [f64; 2],
-    u_body: [f64; 2],
-    /// the pin where the known side is the ground (`Frame::GROUND.point(u_known)`)
-    fixed: [f64; 2],
-    /// the pin (constraint index) and where u_known and u_body start in its numbers
-    pin: (usize, usize, usize),
-}
 
 impl Crank {
     pub fn new(model: &Model, g: &Group) -> Option<Crank> {

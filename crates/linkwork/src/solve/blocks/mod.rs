@@ -26,27 +26,13 @@ use crate::model::data::Data;
 use crate::model::structure::{structure, Group, Structure};
 use crate::model::{Model, SolverKind};
 
-pub use crank::Crank;
-pub use newton::{NewtonBlock, NewtonWork};
-pub use rpr::Rpr;
-pub use rrp::Rrp;
-pub use rrr::Rrr;
-pub use subst::Subst;
+pub use crate::model::plan::{
+    Block, Crank, NewtonBlock, NewtonWork, Plan, PlanResult, Rpr, Rrp, Rrr, Subst, Work,
+};
 
 /// Newton blocks larger than this send the whole model to the general path: a dense
 /// block's LU costs n^3, where the general path's sparse LU of the same rows is cheaper.
 pub const MAX_NEWTON_BLOCK: usize = 24;
-
-/// One group, with how it is solved.
-#[derive(Debug, Clone)]
-pub enum Block {
-    Crank(Crank),
-    Rrr(Rrr),
-    Rrp(Rrp),
-    Rpr(Rpr),
-    Subst(Subst),
-    Newton(NewtonBlock),
-}
 
 impl Block {
     /// "closed form" or "Newton".
@@ -241,17 +227,6 @@ pub fn tangents(
     Ok(())
 }
 
-/// The groups in solving order, each with its method.
-#[derive(Debug, Clone)]
-pub struct Plan {
-    pub blocks: Vec<Block>,
-    /// the Newton blocks' sizes, in block order (their workspaces)
-    newton_sizes: Vec<usize>,
-}
-
-/// A model's plan, or why it is solved by the general path.
-pub type PlanResult = Result<Plan, String>;
-
 impl Plan {
     /// Plans the model from its structure, or says why it cannot.
     pub fn new(model: &Model) -> PlanResult {
@@ -311,46 +286,6 @@ fn closed_form(model: &Model, g: &Group) -> Option<Block> {
             .or_else(|| Rrr::rod(model, g).map(Block::Rrr)),
         // the PRP and RPP dyads, and any other group whose rows give it outright
         _ => subst(),
-    }
-}
-
-/// The mutable state of a plan: each block's branch sign and recent closeness, the
-/// Newton blocks' workspaces. Lives in `Data`.
-#[derive(Debug, Clone, Default)]
-pub struct Work {
-    /// per block: the sign of its branch (+1 or -1; 1 for blocks without branches)
-    pub sign: Vec<f64>,
-    /// per block: closeness to singular at the last accepted step and its rate (d/dt)
-    pub close: Vec<[f64; 2]>,
-    /// per block: this step's closeness and rate, kept once every group has passed
-    pub next: Vec<[f64; 2]>,
-    /// per Newton block
-    pub newton: Vec<NewtonWork>,
-    /// sign of det Phi_q over the product of the blocks' signs (a constant of the row and
-    /// column order), read where the general path last factored Phi_q
-    pub det_factor: f64,
-    /// n_coords: the sweep's predicted q, restored when a structured step misses
-    pub q_pred: Vec<f64>,
-    /// n_coords each: spare buffers swapped with qd, qdd while a closed-form step is tried,
-    /// holding the previous step's (swapped back on a miss; the predictor's history on
-    /// success); between steps their contents mean nothing
-    pub qd_prev: Vec<f64>,
-    pub qdd_prev: Vec<f64>,
-}
-
-impl Work {
-    pub fn new(plan: Option<&Plan>, n_coords: usize) -> Work {
-        let Some(plan) = plan else { return Work::default() };
-        Work {
-            sign: vec![1.0; plan.blocks.len()],
-            close: vec![[1.0, 0.0]; plan.blocks.len()],
-            next: vec![[1.0, 0.0]; plan.blocks.len()],
-            newton: plan.newton_sizes.iter().map(|&n| NewtonWork::new(n)).collect(),
-            det_factor: 1.0,
-            q_pred: vec![0.0; n_coords],
-            qd_prev: vec![0.0; n_coords],
-            qdd_prev: vec![0.0; n_coords],
-        }
     }
 }
 

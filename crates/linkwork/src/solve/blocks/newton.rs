@@ -8,51 +8,11 @@ use crate::constraints::{Constraint, Frame, Rows, MAX_ROWS};
 use crate::math::angle::turned;
 use crate::math::small_lu;
 use crate::model::data::Data;
+use crate::model::plan::{NewtonBlock, NewtonWork};
 use crate::model::structure::Group;
 use crate::model::Model;
 
 const KNOWN: usize = usize::MAX;
-
-#[derive(Debug, Clone)]
-pub struct NewtonBlock {
-    /// columns of q solved here (n)
-    pub cols: Vec<usize>,
-    /// constraints whose rows are here
-    pub constraints: Vec<usize>,
-    /// per constraint: the local column of side a's x, y, theta, side b's, and the extra
-    /// coordinate (KNOWN: solved earlier, or the ground)
-    local: Vec<[usize; 7]>,
-    /// per constraint: its first local row
-    row0: Vec<usize>,
-    /// bodies with a coordinate here (their frames are refreshed as q changes)
-    bodies: Vec<usize>,
-    /// n: coordinates (= rows)
-    pub n: usize,
-}
-
-/// A Newton block's buffers, allocated once.
-#[derive(Debug, Clone, Default)]
-pub struct NewtonWork {
-    /// n x n, column-major: the scaled block of Phi_q, then its LU
-    jac: Vec<f64>,
-    piv: Vec<usize>,
-    inv: Vec<f64>,
-    rhs: Vec<f64>,
-    /// sign of the block's det at the last accepted step
-    pub det_sign: f64,
-}
-
-impl NewtonWork {
-    pub fn new(n: usize) -> NewtonWork {
-        NewtonWork {
-            jac: vec![0.0; n * n],
-            piv: vec![0; n],
-            inv: vec![0.0; n],
-            rhs: vec![0.0; n],
-            det_sign: 0.0,
-        }
-    }
-}
 
 /// Diagnostics of one block solve.
 #[derive(Debug, Clone, Copy)]

@@ -14,18 +14,9 @@ use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, s
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
 use crate::math::angle::angle_of;
 use crate::model::data::Data;
+use crate::model::plan::{Pin, Rpr};
 use crate::model::structure::Group;
 use crate::model::Model;
-
-/// A body pinned to a known one: the known side and the pin in its frame, the pin in the
-/// body's frame.
-#[derive(Debug, Clone)]
-struct Pin {
-    body: usize,
-    known: Option<usize>,
-    u_known: [f64; 2],
-    u_body: [f64; 2],
-}
 
 impl Pin {
     /// Reads the pin `k` (a revolute) holding `body`.
@@ -55,22 +46,6 @@ impl Pin {
         let u = self.u_body;
         [p[0] - (c * u[0] - s * u[1]), p[1] - (s * u[0] + c * u[1])]
     }
-}
-
-#[derive(Debug, Clone)]
-pub struct Rpr {
-    line: Pin,
-    /// P_S: the known side and the point in its frame
-    point: (Option<usize>, [f64; 2]),
-    /// the slider (its pin to P_S), None for a point-on-line joint's point
-    slider: Option<Pin>,
-    /// the prismatic's axis in L's frame, theta0 and its cos, sin
-    e_a: [f64; 2],
-    theta0: f64,
-    c0: f64,
-    s0: f64,
-    /// cross(e_a, A(theta0)(u_b - u_S) - (u_a - u_L))
-    k: f64,
 }
 
 impl Rpr {

@@ -4,41 +4,16 @@
 //! length meets it (two points, one per branch). Velocities and accelerations: B's seen
 //! from the link and from the slide (with the slide's Coriolis term when the line turns).
 
-use super::rrr::{link, xy, Link};
+use super::rrr::{link, xy};
 use super::{add_move, column, split, Entry, Numbers, NEAR_SINGULAR};
 use super::{
     body_qdd, pinned_accelerations, pinned_rates, point_acc, set_acc, set_body, set_rates, side, Miss,
 };
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
 use crate::model::data::Data;
+use crate::model::plan::{Line, Rrp};
 use crate::model::structure::Group;
 use crate::model::Model;
-
-#[derive(Debug, Clone)]
-pub struct Rrp {
-    link: Link,
-    slider: usize,
-    /// the prismatic's known side
-    known: Option<usize>,
-    /// the slider's middle pin in its frame
-    u_pin: [f64; 2],
-    /// true: the line is fixed in the known body (the slider is the prismatic's side b);
-    /// false: the line is fixed in the slider and the known body's point runs on it
-    line_in_known: bool,
-    /// the prismatic's u_a, u_b, unit axis e_a (in side a's frame) and theta0
-    u_a: [f64; 2],
-    u_b: [f64; 2],
-    e_a: [f64; 2],
-    theta0: f64,
-    /// the prismatic joint (constraint index) and the numbers of u_pin (constraint, index)
-    prismatic: usize,
-    pin_numbers: [Option<(usize, usize)>; 2],
-    /// on the ground, the line and the slider's angle never move: `line` once, at compile
-    ground_line: Option<Line>,
-}
-
-/// The slider's angle, cos, sin; a point of B's line and its unit direction.
-type Line = (f64, f64, f64, [f64; 2], [f64; 2]);
 
 impl Rrp {
     pub fn new(model: &Model, g: &Group) -> Option<Rrp> {

@@ -9,30 +9,9 @@ use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, M
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
 use crate::math::angle::angle_of;
 use crate::model::data::Data;
+use crate::model::plan::{Link, Rrr};
 use crate::model::structure::Group;
 use crate::model::Model;
-
-/// One link of a dyad: a body with its pin to the known side and its middle pin.
-#[derive(Debug, Clone)]
-pub(crate) struct Link {
-    pub body: usize,
-    /// the known side and the outer pin in its frame
-    pub known: Option<usize>,
-    pub u_known: [f64; 2],
-    /// the outer and the middle pin in the body's frame
-    pub u_outer: [f64; 2],
-    pub u_middle: [f64; 2],
-    /// |u_middle - u_outer| and that direction in the body's frame
-    pub length: f64,
-    pub inv_length: f64,
-    pub dir: [f64; 2],
-    /// the outer pin where the known side is the ground (`Frame::GROUND.point(u_known)`):
-    /// placed once, at compile
-    pub fixed: [f64; 2],
-    /// the compiled number each of u_known, u_outer, u_middle (x, y) is: (constraint, index
-    /// in its `params_mut`); None for a coordinate no number holds (a rod's)
-    pub numbers: [Option<(usize, usize)>; 6],
-}
 
 impl Link {
     fn new(
@@ -148,14 +127,6 @@ pub(crate) fn link(
     } else {
         None
     }
-}
-
-#[derive(Debug, Clone)]
-pub struct Rrr {
-    l1: Link,
-    l2: Link,
-    /// l2 is a distance joint (a massless tie rod from its known end), not a body
-    rod: bool,
 }
 
 impl Rrr {

@@ -16,6 +16,7 @@ use super::{set_acc, set_body, set_rates, side, Miss, NEAR_SINGULAR};
 use crate::constraints::{kinds::ConstraintKind, Constraint, Rows, MAX_ROWS};
 use crate::math::angle::turned;
 use crate::model::data::Data;
+use crate::model::plan::{Member, Subst};
 use crate::model::structure::Group;
 use crate::model::Model;
 
@@ -55,25 +56,6 @@ fn role(kind: &ConstraintKind, row: usize, a_in: bool, b_in: bool) -> Option<Rol
         }
         _ => None,
     }
-}
-
-/// One of the group's constraints: its index and which of its sides are the group's
-/// bodies (their index in `Subst::bodies`).
-#[derive(Debug, Clone, Copy)]
-struct Member {
-    constraint: usize,
-    side_a: Option<usize>,
-    side_b: Option<usize>,
-}
-
-#[derive(Debug, Clone)]
-pub struct Subst {
-    bodies: Vec<usize>,
-    members: Vec<Member>,
-    /// the angle rows in solving order: (member, row, the body it gives)
-    angles: Vec<(usize, usize, usize)>,
-    /// the position rows: (member, row), 2 per body
-    positions: Vec<(usize, usize)>,
 }
 
 /// Rows' values and Jacobians, one per member.
