@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use crate::compile::closing::{world, Closer, Side};
+use crate::compile::close_drawing::{world, Closer, Side};
 use crate::constraints::drivers::{
     angle::AngleDriver, coordinate::CoordinateDriver, distance::DistanceDriver,
     relative_angle::RelativeAngleDriver, translation::TranslationDriver,
@@ -26,7 +26,7 @@ use crate::constraints::{kinds::ConstraintKind, Frame};
 use crate::error::ModelError;
 use crate::input::description::{Description, DriverDesc, JointDesc, GROUND};
 
-use super::{finite2, local, Bodies, Entry};
+use super::{finite2, local, Bodies, ConstraintDraft};
 
 /// The joints' compile arms: each joint's kind and sides from its description, its pins
 /// checked against the drawing (`closer`); the prismatic joints kept for the translation
@@ -37,8 +37,8 @@ pub(super) fn joint_entries<'a>(
     bodies: &Bodies,
     length_scale: f64,
     closer: &mut Closer,
-) -> Result<(Vec<Entry>, HashMap<&'a str, (Prismatic, Option<usize>, Option<usize>)>), ModelError> {
-    let mut entries: Vec<Entry> = Vec::new();
+) -> Result<(Vec<ConstraintDraft>, HashMap<&'a str, (Prismatic, Option<usize>, Option<usize>)>), ModelError> {
+    let mut entries: Vec<ConstraintDraft> = Vec::new();
     let mut prismatic_of: HashMap<&str, (Prismatic, Option<usize>, Option<usize>)> = HashMap::new();
     for j in &desc.joints {
         let fail = |problem: String| ModelError::Constraint { kind: "joint", name: j.name().into(), problem };
@@ -341,7 +341,7 @@ pub(super) fn joint_entries<'a>(
             }
         };
         let name = j.name().to_string();
-        entries.push(Entry { name, role: "joint", kind, body_a: a, body_b: b, borrowed });
+        entries.push(ConstraintDraft { name, role: "joint", kind, body_a: a, body_b: b, borrowed });
     }
     Ok((entries, prismatic_of))
 }
@@ -353,7 +353,7 @@ pub(super) fn driver_entries(
     bodies: &Bodies,
     length_scale: f64,
     prismatic_of: &HashMap<&str, (Prismatic, Option<usize>, Option<usize>)>,
-    entries: &mut Vec<Entry>,
+    entries: &mut Vec<ConstraintDraft>,
 ) -> Result<(), ModelError> {
     for d in &desc.drivers {
         let fail =
@@ -416,7 +416,7 @@ pub(super) fn driver_entries(
             }
         };
         let name = d.name().to_string();
-        entries.push(Entry { name, role: "driver", kind, body_a: a, body_b: b, borrowed: None });
+        entries.push(ConstraintDraft { name, role: "driver", kind, body_a: a, body_b: b, borrowed: None });
     }
     Ok(())
 }

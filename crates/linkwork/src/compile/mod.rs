@@ -3,20 +3,20 @@
 //! factorization and the plan.
 
 mod arms;
-pub mod closing;
+pub mod close_drawing;
 pub mod layout;
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::compile::closing::{close_given, not_closed, Closer, CLOSE_TOL};
+use crate::compile::close_drawing::{close_given, not_closed, Closer, CLOSE_TOL};
 use crate::constraints::loads::{Inertia, Load, LoadEntry};
 use crate::constraints::{kinds::ConstraintKind, Constraint, Frame, RowKind, MAX_ROWS};
 use crate::error::ModelError;
 use crate::input::description::{Description, DriverDesc, JointDesc, LoadDesc, GROUND};
 use crate::input::files::ModelFile;
 use crate::math::linear::LinearKind;
-use crate::model::closing::{Closing, Keep, Miss};
+use crate::model::closing::{Closing, Keep, PinMiss};
 use crate::model::rank::analyse;
 
 use crate::model::{ConstraintEntry, Model, NamedPoint, OnRedundant, Options};
@@ -37,7 +37,7 @@ fn local(q0: Option<[f64; 3]>, p: [f64; 2]) -> [f64; 2] {
 }
 
 /// A constraint before its rows are laid out: name, role, kind, sides.
-struct Entry {
+struct ConstraintDraft {
     name: String,
     role: &'static str,
     kind: ConstraintKind,
@@ -162,7 +162,7 @@ impl Model {
         let mut constraints = Vec::with_capacity(entries.len());
         let mut row0 = 0;
         let mut own_cols = Vec::new();
-        for Entry { name, role, kind, body_a, body_b, borrowed } in entries {
+        for ConstraintDraft { name, role, kind, body_a, body_b, borrowed } in entries {
             let extra = if kind.n_own() > 0 {
                 let pose =
                     |b: Option<usize>| bodies.pose(b).map_or(Frame::GROUND, |p| Frame::new(p, [0.0; 3]));
@@ -261,7 +261,7 @@ impl Model {
             plan: Err(String::new()),
             closing,
         };
-        model.plan = crate::solve::blocks::Plan::new(&model);
+        model.plan = crate::solve::closed_form::Plan::new(&model);
         Ok(model)
     }
 }
@@ -316,7 +316,7 @@ fn names(desc: &Description) -> Result<Bodies<'_>, ModelError> {
 fn close_drawing(
     desc: &Description,
     close: Option<Keep>,
-    misses: Vec<Miss>,
+    misses: Vec<PinMiss>,
     constraints: &[ConstraintEntry],
     col_scale: &[f64],
     length_scale: f64,

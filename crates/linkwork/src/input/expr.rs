@@ -38,24 +38,24 @@ const STACK: usize = 32;
 
 /// A value and its derivatives with respect to the variable, [f, f', .., f^(N-1)]:
 /// N = 3 in `eval`, 4 in `eval3`.
-type Jet<const N: usize> = [f64; N];
+type Derivs<const N: usize> = [f64; N];
 
 /// The jet widened to third order, the derivatives it lacks zero.
 #[inline(always)]
-fn widen<const N: usize>(u: Jet<N>) -> [f64; 4] {
+fn widen<const N: usize>(u: Derivs<N>) -> [f64; 4] {
     std::array::from_fn(|k| if k < N { u[k] } else { 0.0 })
 }
 
 /// The first N slots of a third-order jet (N <= 4).
 #[inline(always)]
-fn narrow<const N: usize>(v: [f64; 4]) -> Jet<N> {
+fn narrow<const N: usize>(v: [f64; 4]) -> Derivs<N> {
     std::array::from_fn(|k| v[k])
 }
 
 /// g(u) from g, g', g'', g''' at u[0] (Faa di Bruno): (g o u)' = g' u',
 /// (g o u)'' = g'' u'^2 + g' u'', (g o u)''' = g''' u'^3 + 3 g'' u' u'' + g' u'''.
 #[inline(always)]
-fn chain<const N: usize>(g: [f64; 4], u: Jet<N>) -> Jet<N> {
+fn chain<const N: usize>(g: [f64; 4], u: Derivs<N>) -> Derivs<N> {
     let [_, u1, u2, u3] = widen(u);
     let [g0, g1, g2, g3] = g;
     narrow([g0, g1 * u1, g2 * u1 * u1 + g1 * u2, g3 * u1 * u1 * u1 + 3.0 * g2 * u1 * u2 + g1 * u3])
@@ -250,7 +250,7 @@ impl Fn1 {
     }
 
     #[inline(always)]
-    fn jet<const N: usize>(self, u: Jet<N>) -> Jet<N> {
+    fn jet<const N: usize>(self, u: Derivs<N>) -> Derivs<N> {
         if let Fn1::Neg = self {
             return u.map(|v| -v);
         }
@@ -278,7 +278,7 @@ impl Fn2 {
     }
 
     #[inline(always)]
-    fn jet<const N: usize>(self, a: Jet<N>, b: Jet<N>) -> Jet<N> {
+    fn jet<const N: usize>(self, a: Derivs<N>, b: Derivs<N>) -> Derivs<N> {
         match self {
             Fn2::Add => std::array::from_fn(|k| a[k] + b[k]),
             Fn2::Sub => std::array::from_fn(|k| a[k] - b[k]),
@@ -347,7 +347,7 @@ impl Fn2 {
 
 /// a^b on jets: the power rule when b is constant (any sign of a), exp(b ln a) otherwise.
 #[inline(always)]
-fn pow_jet<const N: usize>(a: Jet<N>, b: Jet<N>) -> Jet<N> {
+fn pow_jet<const N: usize>(a: Derivs<N>, b: Derivs<N>) -> Derivs<N> {
     if b[1..].iter().all(|v| *v == 0.0) {
         return powc_jet(a, b[0]);
     }
@@ -359,7 +359,7 @@ fn pow_jet<const N: usize>(a: Jet<N>, b: Jet<N>) -> Jet<N> {
 
 /// a^n for a constant n: g = a^n has g^(k) = n (n - 1) .. (n - k + 1) a^(n-k).
 #[inline(always)]
-fn powc_jet<const N: usize>(a: Jet<N>, n: f64) -> Jet<N> {
+fn powc_jet<const N: usize>(a: Derivs<N>, n: f64) -> Derivs<N> {
     if n == 0.0 {
         return narrow([1.0, 0.0, 0.0, 0.0]);
     }
@@ -489,7 +489,7 @@ impl Expression {
 
     /// The tape on jets of N slots with a stack of S.
     #[inline(always)]
-    fn run<const N: usize, const S: usize>(&self, x: f64) -> Jet<N> {
+    fn run<const N: usize, const S: usize>(&self, x: f64) -> Derivs<N> {
         let mut stack = [[0.0; N]; S];
         let mut sp = 0;
         for op in &self.tape {
@@ -512,9 +512,9 @@ impl Expression {
     fn diagnose_jets<const N: usize>(&self, x: f64) -> Option<String> {
         let mut stack = [[0.0; N]; STACK];
         let mut sp = 0;
-        let finite = |j: &Jet<N>| j.iter().all(|v| v.is_finite());
+        let finite = |j: &Derivs<N>| j.iter().all(|v| v.is_finite());
         for (op, &col) in self.tape.iter().zip(&self.columns) {
-            let args: Vec<Jet<N>> = match op {
+            let args: Vec<Derivs<N>> = match op {
                 Op::Call1(_) | Op::PowConst(_) => vec![stack[sp - 1]],
                 Op::Call2(_) => vec![stack[sp - 2], stack[sp - 1]],
                 _ => Vec::new(),
@@ -549,7 +549,7 @@ impl Expression {
 
 /// One tape instruction on the stack.
 #[inline(always)]
-fn step<const N: usize>(op: Op, stack: &mut [Jet<N>], sp: &mut usize, x: f64) {
+fn step<const N: usize>(op: Op, stack: &mut [Derivs<N>], sp: &mut usize, x: f64) {
     match op {
         Op::Const(c) => {
             stack[*sp] = narrow([c, 0.0, 0.0, 0.0]);

@@ -87,11 +87,11 @@ pub enum Value {
     Str(String),
     Array(Vec<Node>),
     /// entries in the order written
-    Table(Vec<Entry>),
+    Table(Vec<TableEntry>),
 }
 
 #[derive(Debug, Clone, PartialEq)]
-pub struct Entry {
+pub struct TableEntry {
     pub key: String,
     pub key_span: Range<usize>,
     pub node: Node,
@@ -106,14 +106,14 @@ fn join(path: &str, key: &str) -> String {
 }
 
 impl Node {
-    fn entries(&self) -> Option<&[Entry]> {
+    fn entries(&self) -> Option<&[TableEntry]> {
         match &self.value {
             Value::Table(e) => Some(e),
             _ => None,
         }
     }
 
-    fn get(&self, key: &str) -> Option<&Entry> {
+    fn get(&self, key: &str) -> Option<&TableEntry> {
         self.entries()?.iter().find(|e| e.key == key)
     }
 
@@ -195,7 +195,7 @@ impl DeError {
         self
     }
 
-    fn at_key(mut self, e: &Entry) -> Self {
+    fn at_key(mut self, e: &TableEntry) -> Self {
         if self.span.is_none() {
             self.span = Some(e.key_span.clone());
             self.path = Some(e.node.path.clone());
@@ -277,7 +277,7 @@ fn from_toml(v: &toml::Spanned<toml::de::DeValue<'_>>, path: String) -> Result<N
                 .map(|(k, e)| {
                     let key = k.get_ref().to_string();
                     let node = from_toml(e, join(&path, &key))?;
-                    Ok(Entry { key, key_span: k.span(), node })
+                    Ok(TableEntry { key, key_span: k.span(), node })
                 })
                 .collect::<Result<_, DeError>>()?,
         ),
@@ -321,7 +321,7 @@ fn from_json(v: jsonc_parser::ast::Value<'_>, path: String) -> Result<Node, DeEr
                     let key_span = range(p.name.range());
                     let key = p.name.into_string();
                     let node = from_json(p.value, join(&path, &key))?;
-                    Ok(Entry { key, key_span, node })
+                    Ok(TableEntry { key, key_span, node })
                 })
                 .collect::<Result<_, DeError>>()?;
             (span, Value::Table(entries))
@@ -373,8 +373,8 @@ fn flatten(root: Node) -> Result<Node, DeError> {
             format!("a model file holds a table (TOML) or an object (JSON) at the top, not {}", root.kind());
         return Err(DeError::new(message, &root));
     };
-    let mut flat: Vec<Entry> = Vec::with_capacity(entries.len() + MODEL_KEYS.len());
-    let push = |e: Entry, flat: &mut Vec<Entry>| -> Result<(), DeError> {
+    let mut flat: Vec<TableEntry> = Vec::with_capacity(entries.len() + MODEL_KEYS.len());
+    let push = |e: TableEntry, flat: &mut Vec<TableEntry>| -> Result<(), DeError> {
         if let Some(first) = flat.iter().find(|f| f.key == e.key) {
             let message =
                 format!("`{}` is given twice (as {} and as {})", e.key, first.node.path, e.node.path);
@@ -451,11 +451,13 @@ impl SourceMap {
         let line_of = |offset: usize| newlines.partition_point(|&i| i < offset) + 1;
         let mut elements = Vec::new();
         for (group, kind) in GROUPS {
-            let Some(Entry { node: Node { value: Value::Array(items), .. }, .. }) = flat.get(group) else {
+            let Some(TableEntry { node: Node { value: Value::Array(items), .. }, .. }) = flat.get(group)
+            else {
                 continue;
             };
             for item in items {
-                if let Some(Entry { node: Node { value: Value::Str(name), .. }, .. }) = item.get("name") {
+                if let Some(TableEntry { node: Node { value: Value::Str(name), .. }, .. }) = item.get("name")
+                {
                     elements.push((kind, name.clone(), line_of(item.span.start)));
                 }
             }
@@ -625,7 +627,7 @@ impl<'de> de::SeqAccess<'de> for Seq<'_> {
 }
 
 struct Map<'a> {
-    iter: std::slice::Iter<'a, Entry>,
+    iter: std::slice::Iter<'a, TableEntry>,
     /// a key read already (the `type` of a tagged table)
     skip: Option<&'static str>,
     value: Option<&'a Node>,
@@ -659,7 +661,7 @@ impl<'de> de::MapAccess<'de> for Map<'_> {
 /// A table whose `type` says which variant it is.
 struct Tagged<'a> {
     node: &'a Node,
-    tag: &'a Entry,
+    tag: &'a TableEntry,
 }
 
 impl<'de, 'a> de::EnumAccess<'de> for Tagged<'a> {
@@ -767,7 +769,7 @@ fn from_description(desc: &Description) -> Result<Node, ModelError> {
                 t.into_iter()
                     .map(|(key, e)| {
                         let node = convert(e, join(&path, &key))?;
-                        Ok(Entry { key, key_span: 0..0, node })
+                        Ok(TableEntry { key, key_span: 0..0, node })
                     })
                     .collect::<Result<_, ModelError>>()?,
             ),
@@ -782,8 +784,11 @@ fn from_description(desc: &Description) -> Result<Node, ModelError> {
 fn file_form(flat: &Node) -> Node {
     let entries = flat.entries().unwrap_or_default();
     let mut header = Vec::new();
-    let entry =
-        |key: &str, value: Value| Entry { key: key.into(), key_span: 0..0, node: plain(key.into(), value) };
+    let entry = |key: &str, value: Value| TableEntry {
+        key: key.into(),
+        key_span: 0..0,
+        node: plain(key.into(), value),
+    };
     if let Some(e) = flat.get("name") {
         header.push(e.clone());
     }
@@ -806,7 +811,7 @@ fn file_form(flat: &Node) -> Node {
     let mut out = vec![entry("model", Value::Table(header))];
     // empty lists are left out (absent means empty), in JSON as in TOML, which cannot
     // write an empty array of tables after the header
-    let empty = |e: &Entry| matches!(&e.node.value, Value::Array(items) if items.is_empty());
+    let empty = |e: &TableEntry| matches!(&e.node.value, Value::Array(items) if items.is_empty());
     out.extend(entries.iter().filter(|e| !MODEL_KEYS.contains(&e.key.as_str()) && !empty(e)).cloned());
     plain(String::new(), Value::Table(out))
 }
@@ -905,7 +910,7 @@ fn wrapped(items: &[Node], indent: &str) -> String {
 
 /// Writes a table's entries under the header `path` has already been given: short values
 /// as `key = value`, then the long tables and arrays of tables under their own headers.
-fn toml_body(out: &mut String, entries: &[Entry], path: &str) {
+fn toml_body(out: &mut String, entries: &[TableEntry], path: &str) {
     let mut later = Vec::new();
     for e in entries {
         if e.node.value == Value::Null {

@@ -1,4 +1,4 @@
-//! How a drawing that did not close was closed (`crate::compile::closing` closes it):
+//! How a drawing that did not close was closed (`crate::compile::close_drawing` closes it):
 //! what was kept, the pins that missed, the bodies moved.
 
 /// What a drawing that does not close keeps.
@@ -21,7 +21,7 @@ impl Keep {
 
 /// One pin that misses its drawn point.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Miss {
+pub struct PinMiss {
     pub joint: String,
     /// the body whose pin it is
     pub body: String,
@@ -39,7 +39,7 @@ pub struct Miss {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Closing {
     pub keep: Keep,
-    pub misses: Vec<Miss>,
+    pub misses: Vec<PinMiss>,
     /// keeping the pins: (body, how far its origin moved, how far it turned (rad)), for
     /// the bodies that moved; empty when keeping the drawing
     pub moved: Vec<(String, f64, f64)>,

@@ -172,7 +172,7 @@ pub struct Model {
     /// applied loads
     pub loads: Vec<LoadEntry>,
     /// the groups solved one after another by the sweep, or why the general path solves
-    /// the whole model (`blocks::Plan::new`)
+    /// the whole model (`closed_form::Plan::new`)
     pub plan: crate::model::plan::PlanResult,
     /// how a drawing that did not close was closed, as the description asked (`close`)
     pub closing: Option<Closing>,

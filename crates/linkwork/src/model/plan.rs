@@ -1,5 +1,5 @@
 //! The plan of a structured model: its groups in solving order, each with the method that
-//! solves it and the numbers that method reads (compiled once, `crate::solve::blocks`
+//! solves it and the numbers that method reads (compiled once, `crate::solve::closed_form`
 //! makes and runs it), and the plan's mutable state in `Data` (`Work`).
 
 /// One group, with how it is solved.
@@ -9,7 +9,7 @@ pub enum Block {
     Rrr(Rrr),
     Rrp(Rrp),
     Rpr(Rpr),
-    Subst(Subst),
+    Affine(Affine),
     Newton(NewtonBlock),
 }
 
@@ -165,7 +165,7 @@ pub struct Rpr {
 }
 
 /// One of the group's constraints: its index and which of its sides are the group's
-/// bodies (their index in `Subst::bodies`).
+/// bodies (their index in `Affine::bodies`).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Member {
     pub(crate) constraint: usize,
@@ -174,7 +174,7 @@ pub(crate) struct Member {
 }
 
 #[derive(Debug, Clone)]
-pub struct Subst {
+pub struct Affine {
     pub(crate) bodies: Vec<usize>,
     pub(crate) members: Vec<Member>,
     /// the angle rows in solving order: (member, row, the body it gives)

@@ -1,6 +1,6 @@
 pub mod acceleration;
 pub mod assembly;
-pub mod blocks;
+pub mod closed_form;
 pub mod forces;
 pub mod position;
 pub mod velocity;

@@ -11,7 +11,7 @@ use crate::error::SolveError;
 use crate::model::data::Data;
 use crate::model::structure::structure;
 use crate::model::Model;
-use crate::solve::blocks::{self, Block, Miss, Work};
+use crate::solve::closed_form::{self, Block, StepMiss, Work};
 use crate::sweep::time_loop::{sweep, sweep_observed, SweepOutput};
 
 /// The branches a design is asked for: the base's plan state at the first time (each
@@ -29,7 +29,7 @@ pub fn asked_branches(model: &Model, t: f64) -> Option<Asked> {
     let plan = model.plan.as_ref().ok()?;
     let mut data = Data::new(model);
     let info = crate::sweep::time_loop::solve(model, &mut data, t).ok()?;
-    blocks::resync(model, plan, &mut data, t, info.det_sign, true, None);
+    closed_form::resync(model, plan, &mut data, t, info.det_sign, true, None);
     Some(Asked { work: data.blocks, kinds: plan.blocks.iter().map(Block::name).collect() })
 }
 
@@ -75,7 +75,7 @@ pub fn sweep_on(
     out.n_done = 0;
     out.events.clear();
     *data = Data::new(design);
-    blocks::assemble(design, plan, data, t, &asked.work).map_err(|(i, miss)| {
+    closed_form::assemble(design, plan, data, t, &asked.work).map_err(|(i, miss)| {
         // named from the design's structure (computed only here, on the rare failure)
         let joints = structure(design)
             .groups
@@ -87,7 +87,7 @@ pub fn sweep_on(
             })
             .unwrap_or_else(|| format!("group {}", i + 1));
         let why = match miss {
-            Miss::NoAssembly => "has no configuration",
+            StepMiss::NoAssembly => "has no configuration",
             _ => "is singular or does not converge",
         };
         SolveError::AssemblyBranch { time: t, group: plan.blocks[i].name(), joints, why }

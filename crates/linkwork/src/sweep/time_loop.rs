@@ -9,12 +9,12 @@ use crate::model::data::Data;
 use crate::model::memory::zeroed;
 use crate::model::Model;
 use crate::solve::acceleration::solve_acceleration;
-use crate::solve::blocks::{self, Block};
+use crate::solve::closed_form::{self, Block};
 use crate::solve::forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
 use crate::solve::position::solve_position;
 use crate::solve::position::PositionInfo;
 use crate::solve::velocity::solve_velocity;
-use crate::sweep::stepping::hermite::{continues, continues_storing, Row};
+use crate::sweep::stepping::branch::{continues, continues_storing, Row};
 use crate::sweep::stepping::predict::{predict, Predictor};
 use crate::sweep::stepping::singular::Event;
 use crate::sweep::stepping::tracking::JUMP_RATIO;
@@ -467,7 +467,7 @@ pub(crate) type Observer<'a> = dyn FnMut(&Data, f64, usize) -> Result<(), SolveE
 
 /// `sweep`, calling `after(data, t, row)` once row `row` is stored, while data holds its
 /// step (q, qd, qdd as solved; with a plan, the frames of q too: the groups set them, or
-/// `blocks::resync` after the general path). An Err from `after` stops the sweep there.
+/// `closed_form::resync` after the general path). An Err from `after` stops the sweep there.
 pub(crate) fn sweep_observed(
     model: &Model,
     data: &mut Data,
@@ -602,7 +602,7 @@ fn sweep_steps(
                     let mut structured = None;
                     if let Some(plan) = plan.filter(|_| !fast_closed) {
                         data.blocks.q_pred.copy_from_slice(&data.q);
-                        match blocks::step(model, plan, data, t, solved, t - times[k - 1]) {
+                        match closed_form::step(model, plan, data, t, solved, t - times[k - 1]) {
                             // as the general path's jump check: the solution against the prediction
                             Ok(s) if deviation(data) <= JUMP_RATIO * motion.max(floor) => {
                                 by_blocks = true;
@@ -671,7 +671,7 @@ fn sweep_steps(
                 // and det sign the plan continues from
                 let rates = rates_set || solved >= 1;
                 let h = (k > 0).then(|| t - times[k - 1]);
-                blocks::resync(model, plan, data, t, info.det_sign, rates, h);
+                closed_form::resync(model, plan, data, t, info.det_sign, rates, h);
             }
         }
         ratio_prev = info.pivot_ratio;
@@ -685,7 +685,7 @@ fn sweep_steps(
             if req.forces {
                 if by_blocks {
                     // the transpose solves need Phi_q factored at q
-                    factor_at(model, data, t, k)?;
+                    assemble_and_factor(model, data, t, k)?;
                 }
                 solve_forces(model, data, t, k)?;
             }
@@ -734,7 +734,7 @@ struct Handoff {
 /// its per-step dispatch among the paths: the first step they do not take is handed back.
 struct Run<'a, 'w> {
     model: &'a Model,
-    plan: &'a blocks::Plan,
+    plan: &'a closed_form::Plan,
     times: &'a [f64],
     out: &'a mut SweepOutput,
     progress_every: usize,
@@ -843,7 +843,7 @@ fn solved_derivatives(model: &Model, req: &Request) -> u8 {
 #[inline(always)]
 fn closed_step(
     model: &Model,
-    plan: &blocks::Plan,
+    plan: &closed_form::Plan,
     data: &mut Data,
     times: &[f64],
     k: usize,
@@ -858,7 +858,7 @@ fn closed_step(
         std::mem::swap(&mut data.qdd, &mut data.blocks.qdd_prev);
     }
     let (t, h) = (times[k], times[k] - times[k - 1]);
-    match blocks::step(model, plan, data, t, derivatives, h) {
+    match closed_form::step(model, plan, data, t, derivatives, h) {
         Ok(s) => {
             // step k-1's rates become the history (the history's old ones the spares)
             if rates {
@@ -897,7 +897,7 @@ fn closed_step(
 
 /// Phi_q assembled and factored at data.q (after a structured step, for the stages that
 /// need the whole factorization: inverse dynamics).
-fn factor_at(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
+fn assemble_and_factor(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
     crate::solve::assembly::position(model, data, t);
     crate::solve::position::factor(model, data, t, step).map(|_| ())
 }
@@ -931,7 +931,7 @@ pub fn solve_along(
     }
     let mut tracker = Tracker::new(model, OnSingular::Continue, false);
     tracker.det_prev = info.det_sign;
-    let from = crate::sweep::stepping::hermite::State::capture(data, t_ref, info);
+    let from = crate::sweep::stepping::branch::State::capture(data, t_ref, info);
     let info = tracker.follow(model, data, from, t, ALONG_BUDGET, poll)?;
     Ok((info, std::mem::take(&mut tracker.events)))
 }
@@ -997,7 +997,7 @@ mod tests {
                 continue;
             }
             let model = Model::new(crate::input::files::read_path(&path).unwrap().description).unwrap();
-            let closed = |p: &blocks::Plan| !p.blocks.iter().any(|b| matches!(b, Block::Newton(_)));
+            let closed = |p: &closed_form::Plan| !p.blocks.iter().any(|b| matches!(b, Block::Newton(_)));
             if !model.plan.as_ref().is_ok_and(closed) {
                 continue;
             }

@@ -26,7 +26,7 @@ use crate::model::data::Data;
 use crate::model::params::{Dynamics, Parameter};
 use crate::model::structure::{structure, Structure};
 use crate::model::Model;
-use crate::solve::blocks::Plan;
+use crate::solve::closed_form::Plan;
 use crate::sweep::batch::on_threads;
 use crate::sweep::branches::{asked_branches, sweep_on};
 use crate::sweep::time_loop::{Outputs, Request, SweepOutput};

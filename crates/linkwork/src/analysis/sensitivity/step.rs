@@ -142,7 +142,7 @@ fn plain(f: &JetFrame<3>) -> JetFrame<W> {
 }
 
 /// One entry of Phi_q' or Phi_q''/2: row, column, value.
-type Entry = (u32, u32, f64);
+type JacobianEntry = (u32, u32, f64);
 
 impl Sensitivity {
     pub fn new(model: &Model, params: &[Parameter], points: &[PointRequest]) -> Sensitivity {
@@ -270,7 +270,7 @@ impl Sensitivity {
         let n = self.n_params;
         let p = [&self.p0, &self.p1, &self.p2][level];
         self.rhs.copy_from_slice(p);
-        let terms: &[(&[Entry], &[f64])] = match level {
+        let terms: &[(&[JacobianEntry], &[f64])] = match level {
             0 => &[],
             1 => &[(&self.m1_entries, &self.s)],
             _ => &[(&self.m2_entries, &self.s), (&self.m1_entries, &self.sd)],

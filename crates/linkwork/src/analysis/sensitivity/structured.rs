@@ -1,5 +1,5 @@
 //! dq/dp on the structure-aware path: the plan's groups in solving order, each by the
-//! derivative of its own closed form (`blocks::tangents`: a crank's angle from its law, a
+//! derivative of its own closed form (`closed_form::tangents`: a crank's angle from its law, a
 //! dyad's middle pin from its 2 x 2 system), in the directions of the parameters. No
 //! Phi_q is assembled or factored: a step costs what the groups' tangents cost.
 //!
@@ -11,7 +11,7 @@
 use crate::model::data::Data;
 use crate::model::params::Parameter;
 use crate::model::Model;
-use crate::solve::blocks::{self, Entry, Miss};
+use crate::solve::closed_form::{self, NumberMove, StepMiss};
 
 /// Which path solves a sweep's sensitivities.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -40,7 +40,7 @@ pub struct Structured {
     /// n_params zeros: the ground's rows of dq/dp
     zeros: Vec<f64>,
     /// per block of the plan: the parameters' moves of its numbers, by parameter
-    entries: Vec<Vec<Entry>>,
+    entries: Vec<Vec<NumberMove>>,
 }
 
 /// The structured path for dq/dp (`derivatives` 0) to `params`, or why the general path
@@ -63,7 +63,7 @@ pub fn choose(
         .iter()
         .map(|b| b.numbers().ok_or_else(|| format!("a {} has no structured sensitivities", b.name())))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut entries: Vec<Vec<Entry>> = vec![Vec::new(); plan.blocks.len()];
+    let mut entries: Vec<Vec<NumberMove>> = vec![Vec::new(); plan.blocks.len()];
     for (j, p) in params.iter().enumerate() {
         for &(c, i, w) in &p.seeds {
             // the group reading constraint c's number i, and its slot there
@@ -77,7 +77,7 @@ pub fn choose(
                     p.name, model.constraints[c].name
                 ));
             };
-            entries[b].push(Entry { param: j, slot, w });
+            entries[b].push(NumberMove { param: j, slot, w });
         }
     }
     Ok(Structured { n_params: params.len(), zeros: vec![0.0; params.len()], entries })
@@ -86,8 +86,8 @@ pub fn choose(
 impl Structured {
     /// dq/dp (n_coords x n_params, row-major, into `s`) at the configuration in data
     /// (q at t, frames current). Err: a group is next to its singular configuration.
-    pub fn step(&self, model: &Model, data: &Data, t: f64, s: &mut [f64]) -> Result<(), Miss> {
-        let Ok(plan) = model.plan.as_ref() else { return Err(Miss::Failed) };
-        blocks::tangents(model, plan, data, t, &self.entries, s, self.n_params, &self.zeros)
+    pub fn step(&self, model: &Model, data: &Data, t: f64, s: &mut [f64]) -> Result<(), StepMiss> {
+        let Ok(plan) = model.plan.as_ref() else { return Err(StepMiss::Failed) };
+        closed_form::tangents(model, plan, data, t, &self.entries, s, self.n_params, &self.zeros)
     }
 }

@@ -10,7 +10,7 @@
 //! `crate::sweep` (the time loop) drives these; `crate::analysis` reads them, never the
 //! reverse.
 
-pub mod hermite;
+pub mod branch;
 pub mod predict;
 pub mod singular;
 pub mod tracking;

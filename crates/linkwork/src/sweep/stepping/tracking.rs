@@ -24,7 +24,7 @@ use crate::model::Model;
 use crate::solve::acceleration::solve_acceleration;
 use crate::solve::position::{solve_position, PositionInfo};
 use crate::solve::velocity::solve_velocity;
-use crate::sweep::stepping::hermite::{consistent, interpolate, State, CONSISTENCY};
+use crate::sweep::stepping::branch::{consistent, interpolate, State, CONSISTENCY};
 use crate::sweep::stepping::singular::{
     classify, constraint_shares, coordinate_shares, smallest_singular, Event, EventKind,
 };
@@ -152,7 +152,7 @@ fn taylor(data: &mut Data, from: &State, t: f64) {
 /// Evaluates and factors Phi_q at data.q without Newton (a configuration at a singular
 /// point may not pass Newton's tests), for its singular vectors and the forces. Returns
 /// the position diagnostics there (no iterations).
-fn factor_at(model: &Model, data: &mut Data, t: f64) -> PositionInfo {
+fn factor_without_newton(model: &Model, data: &mut Data, t: f64) -> PositionInfo {
     let residual = crate::solve::assembly::position(model, data, t);
     data.pivots = data.factor.factor(&model.symbolic, &data.jac);
     PositionInfo {
@@ -178,7 +178,7 @@ fn here(data: &Data) -> PositionInfo {
 /// `data` set to a certified state, with a factorization of Phi_q there (for forces).
 fn land(model: &Model, data: &mut Data, s: &State) -> PositionInfo {
     s.restore(data);
-    factor_at(model, data, s.t);
+    factor_without_newton(model, data, s.t);
     s.info
 }
 
@@ -588,7 +588,7 @@ impl Tracker {
         interpolate(&close.0, &close.1, t, &mut data.q, Some(&mut data.qd), Some(&mut data.qdd));
         let here = State::capture(data, t, guess.info);
         here.restore(data);
-        factor_at(model, data, t)
+        factor_without_newton(model, data, t)
     }
 
     /// Certified states at t - d and t + d, reached from the span's ends, with d doubled
@@ -755,13 +755,13 @@ impl Tracker {
         }
         let signed_sigma = |data: &mut Data, tm: f64| -> Option<f64> {
             interpolate(a, b, tm, &mut data.q, None, None);
-            let info = factor_at(model, data, tm);
+            let info = factor_without_newton(model, data, tm);
             let sigma = smallest_singular(model, data, 3).sigma;
             Some(sigma * info.det_sign)
         };
         let t_star = illinois(a.t, b.t, |tm| signed_sigma(data, tm)).unwrap_or(0.5 * (a.t + b.t));
         interpolate(a, b, t_star, &mut data.q, Some(&mut data.qd), Some(&mut data.qdd));
-        let at = factor_at(model, data, t_star);
+        let at = factor_without_newton(model, data, t_star);
         // a NaN residual is no crossing either
         if at.residual.is_nan() || at.residual > CROSSING_RESIDUAL {
             return Ok(false);
@@ -809,7 +809,7 @@ impl Tracker {
         let end = if inconsistent { target } else { ahead };
         let (good, _bad) = self.bisect_fold(model, data, last.clone(), end, step);
         good.restore(data);
-        factor_at(model, data, good.t);
+        factor_without_newton(model, data, good.t);
         let ev = self.event(model, data, EventKind::Limit, step, good.t);
         if ev.sigma_min < LIMIT_SIGMA {
             let err = SolveError::Event { step, time: good.t, message: ev.message.clone() };
@@ -845,7 +845,7 @@ impl Tracker {
     /// The event for a certified state (its factorization refreshed first).
     fn event_at(&self, model: &Model, data: &mut Data, s: &State, kind: EventKind, step: usize) -> Event {
         s.restore(data);
-        factor_at(model, data, s.t);
+        factor_without_newton(model, data, s.t);
         self.event(model, data, kind, step, s.t)
     }
 
@@ -922,7 +922,7 @@ impl Tracker {
         }
         // back to step k as solved
         state_k.restore(data);
-        factor_at(model, data, t);
+        factor_without_newton(model, data, t);
         Ok(())
     }
 }

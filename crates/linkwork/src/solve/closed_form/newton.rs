@@ -3,7 +3,7 @@
 //! groups held fixed, with a dense LU of the block (`small_lu`). Velocities and
 //! accelerations: the same block with the known coordinates' terms moved to the right.
 
-use super::Miss;
+use super::StepMiss;
 use crate::constraints::{Constraint, Frame, Rows, MAX_ROWS};
 use crate::math::angle::turned;
 use crate::math::small_lu;
@@ -131,7 +131,7 @@ impl NewtonBlock {
     }
 
     /// The block factored at the configuration in q and frames: (det sign, pivot ratio).
-    pub fn factor_at(
+    pub fn pivots_at(
         &self,
         model: &Model,
         q: &[f64],
@@ -152,7 +152,7 @@ impl NewtonBlock {
         work: &mut NewtonWork,
         t: f64,
         derivatives: u8,
-    ) -> Result<NewtonInfo, Miss> {
+    ) -> Result<NewtonInfo, StepMiss> {
         let opts = &model.options;
         let mut prev_step = f64::INFINITY;
         let mut correction = 0.0;
@@ -161,16 +161,16 @@ impl NewtonBlock {
             self.refresh(data);
             let residual = self.assemble(model, &data.q, &data.frames, work, t);
             if !residual.is_finite() {
-                return Err(Miss::Failed);
+                return Err(StepMiss::Failed);
             }
             let (ratio, det) = self.factor(work);
             if ratio.is_nan() || ratio < opts.singular_tol {
-                return Err(Miss::NearSingular);
+                return Err(StepMiss::NearSingular);
             }
             small_lu::solve(&work.jac, self.n, &work.piv, &work.inv, &mut work.rhs);
             let step = work.rhs.iter().fold(0.0f64, |m, d| m.max(d.abs()));
             if !step.is_finite() {
-                return Err(Miss::Failed);
+                return Err(StepMiss::Failed);
             }
             // as the general Newton (position.rs): the step's floor is round-off over the ratio
             let floor = opts.tol_step.max(8.0 * f64::EPSILON / ratio);
@@ -194,9 +194,9 @@ impl NewtonBlock {
                 break;
             }
         }
-        let info = info.ok_or(Miss::Failed)?;
+        let info = info.ok_or(StepMiss::Failed)?;
         if work.det_sign != 0.0 && info.det_sign != work.det_sign {
-            return Err(Miss::NearSingular); // the block's det changed sign: a crossing
+            return Err(StepMiss::NearSingular); // the block's det changed sign: a crossing
         }
         work.det_sign = info.det_sign;
         self.refresh(data);
@@ -219,7 +219,7 @@ impl NewtonBlock {
         work: &mut NewtonWork,
         t: f64,
         second: bool,
-    ) -> Result<(), Miss> {
+    ) -> Result<(), StepMiss> {
         for (i, &k) in self.constraints.iter().enumerate() {
             let c = &model.constraints[k];
             let mut v = [0.0; MAX_ROWS];
@@ -252,7 +252,7 @@ impl NewtonBlock {
         }
         small_lu::solve(&work.jac, self.n, &work.piv, &work.inv, &mut work.rhs);
         if !work.rhs.iter().all(|v| v.is_finite()) {
-            return Err(Miss::Failed); // the general path names the row
+            return Err(StepMiss::Failed); // the general path names the row
         }
         let x = if second { &mut data.qdd } else { &mut data.qd };
         for (j, &c) in self.cols.iter().enumerate() {

@@ -5,9 +5,9 @@
 //! from the link and from the slide (with the slide's Coriolis term when the line turns).
 
 use super::rrr::{link, xy};
-use super::{add_move, column, split, Entry, Numbers, NEAR_SINGULAR};
+use super::{add_move, column, split, NumberMove, Numbers, NEAR_SINGULAR};
 use super::{
-    body_qdd, pinned_accelerations, pinned_rates, point_acc, set_acc, set_body, set_rates, side, Miss,
+    body_qdd, pinned_accelerations, pinned_rates, point_acc, set_acc, set_body, set_rates, side, StepMiss,
 };
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
 use crate::model::data::Data;
@@ -95,7 +95,7 @@ impl Rrp {
     }
 
     #[inline]
-    pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
+    pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), StepMiss> {
         // a known side on the ground folded in: the link's pin fixed, the slide's line
         // formed at compile, both at rest
         match (self.link.known.is_some(), self.ground_line.is_none()) {
@@ -114,7 +114,7 @@ impl Rrp {
         data: &mut Data,
         sign: f64,
         derivatives: u8,
-    ) -> Result<(f64, f64), Miss> {
+    ) -> Result<(f64, f64), StepMiss> {
         let (k1, a) = self.link.outer_on::<K>(data);
         let k = if S { side(data, self.known) } else { Frame::GROUND };
         let (theta_s, cs, ss, p0, dir) = match self.ground_line {
@@ -132,7 +132,7 @@ impl Rrp {
         let off = dir[0] * p[1] - dir[1] * p[0];
         let h2 = r1 * r1 - off * off;
         if h2.is_nan() || h2 < 0.0 {
-            return Err(Miss::NoAssembly);
+            return Err(StepMiss::NoAssembly);
         }
         let h = h2.sqrt();
         let along = s0 + sign * h;
@@ -229,11 +229,11 @@ impl Rrp {
     pub fn tangents(
         &self,
         data: &Data,
-        entries: &[Entry],
+        entries: &[NumberMove],
         s: &mut [f64],
         n: usize,
         zeros: &[f64],
-    ) -> Result<(), Miss> {
+    ) -> Result<(), StepMiss> {
         let l = &self.link;
         let (k1, a) = l.outer(data);
         let k = side(data, self.known);
@@ -251,7 +251,7 @@ impl Rrp {
         // |cos| of the link against the line, `solve`'s closeness
         let closeness = det.abs() * l.inv_length / v[0].hypot(v[1]);
         if closeness.is_nan() || closeness < NEAR_SINGULAR {
-            return Err(Miss::NearSingular);
+            return Err(StepMiss::NearSingular);
         }
         // M^-1's columns u, w; the link's angle's coefficients
         let inv_det = 1.0 / det;

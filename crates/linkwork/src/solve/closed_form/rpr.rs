@@ -10,7 +10,7 @@
 //! The same with the slider massless: a pinned body whose slot (a point-on-line joint's
 //! line) runs through a known point P_S, the lever of a quick-return.
 
-use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, Miss};
+use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, side, StepMiss};
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
 use crate::math::angle::angle_of;
 use crate::model::data::Data;
@@ -119,14 +119,14 @@ impl Rpr {
 
     /// Both bodies on the branch `sign` (of v . D); returns (closeness, residual).
     #[inline]
-    pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
+    pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), StepMiss> {
         let (kl, pl) = self.line.outer(data);
         let (ks, ps) = self.point(data);
         let d = sub(ps, pl);
         let dd = dot(d, d);
         let m2 = dd - self.k * self.k;
         if m2.is_nan() || m2 < 0.0 || dd <= 0.0 {
-            return Err(Miss::NoAssembly);
+            return Err(StepMiss::NoAssembly);
         }
         let m = sign * m2.sqrt();
         // v: D turned by the angle whose cosine is m / |D| and sine -k / |D|, made unit

@@ -14,12 +14,12 @@
 //! angle between its links at the middle pin) stands for the pivot ratio on such steps: 1
 //! far from singular, 0 at it.
 
+pub mod affine;
 pub mod crank;
 pub mod newton;
 pub mod rpr;
 pub mod rrp;
 pub mod rrr;
-pub mod subst;
 
 use crate::constraints::{perp, sub, Frame};
 use crate::model::data::Data;
@@ -27,7 +27,7 @@ use crate::model::structure::{structure, Group, Structure};
 use crate::model::{Model, SolverKind};
 
 pub use crate::model::plan::{
-    Block, Crank, NewtonBlock, NewtonWork, Plan, PlanResult, Rpr, Rrp, Rrr, Subst, Work,
+    Affine, Block, Crank, NewtonBlock, NewtonWork, Plan, PlanResult, Rpr, Rrp, Rrr, Work,
 };
 
 /// Newton blocks larger than this send the whole model to the general path: a dense
@@ -58,7 +58,7 @@ impl Block {
             Block::Rpr(_) => "closed form: the line's direction where its offset from the other pin is \
                               met; poses formed from the pins and that angle"
                 .into(),
-            Block::Subst(_) => "closed form: the angles from rows affine in them, then x, y from rows \
+            Block::Affine(_) => "closed form: the angles from rows affine in them, then x, y from rows \
                                 affine in them (substitutions)"
                 .into(),
             Block::Newton(b) => format!("Newton on its own {n} x {n} block", n = b.n),
@@ -72,7 +72,7 @@ impl Block {
             Block::Rrr(_) => "RRR dyad",
             Block::Rrp(_) => "RRP dyad",
             Block::Rpr(_) => "RPR dyad",
-            Block::Subst(_) => "substitution group",
+            Block::Affine(_) => "substitution group",
             Block::Newton(_) => "Newton block",
         }
     }
@@ -84,7 +84,7 @@ impl Block {
             Block::Crank(b) => Some(b.numbers()),
             Block::Rrr(b) => Some(b.numbers()),
             Block::Rrp(b) => Some(b.numbers()),
-            Block::Rpr(_) | Block::Subst(_) | Block::Newton(_) => None,
+            Block::Rpr(_) | Block::Affine(_) | Block::Newton(_) => None,
         }
     }
 }
@@ -111,7 +111,7 @@ impl Numbers {
 
 /// One parameter's move of one of a block's numbers: d number / d p in its slot.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Entry {
+pub struct NumberMove {
     pub param: usize,
     pub slot: usize,
     pub w: f64,
@@ -211,17 +211,17 @@ pub fn tangents(
     plan: &Plan,
     data: &Data,
     t: f64,
-    entries: &[Vec<Entry>],
+    entries: &[Vec<NumberMove>],
     s: &mut [f64],
     n: usize,
     zeros: &[f64],
-) -> Result<(), Miss> {
+) -> Result<(), StepMiss> {
     for (block, entries) in plan.blocks.iter().zip(entries) {
         match block {
             Block::Crank(b) => b.tangents(model, data, t, entries, s, n, zeros),
             Block::Rrr(b) => b.tangents(data, entries, s, n, zeros)?,
             Block::Rrp(b) => b.tangents(data, entries, s, n, zeros)?,
-            Block::Rpr(_) | Block::Subst(_) | Block::Newton(_) => return Err(Miss::Failed),
+            Block::Rpr(_) | Block::Affine(_) | Block::Newton(_) => return Err(StepMiss::Failed),
         }
     }
     Ok(())
@@ -275,7 +275,7 @@ fn closed_form(model: &Model, g: &Group) -> Option<Block> {
     if g.coords.iter().any(|&c| c >= 3 * model.n_bodies) || g.coords.len() != 3 * g.bodies.len() {
         return None; // own coordinates (curve parameters), or a body split between groups
     }
-    let subst = || Subst::new(model, g).map(Block::Subst);
+    let subst = || Affine::new(model, g).map(Block::Affine);
     match g.kind.as_str() {
         "input" => Crank::new(model, g).map(Block::Crank).or_else(subst),
         "dyad RRR" => Rrr::new(model, g).map(Block::Rrr),
@@ -306,7 +306,7 @@ pub struct StepInfo {
 
 /// Why a structured step is handed to the careful path.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Miss {
+pub enum StepMiss {
     /// a dyad cannot be assembled (its circles do not meet): a limit of motion
     NoAssembly,
     /// a group is (or is about to be) at its singular configuration
@@ -421,7 +421,7 @@ pub fn step(
     t: f64,
     derivatives: u8,
     h: f64,
-) -> Result<StepInfo, Miss> {
+) -> Result<StepInfo, StepMiss> {
     let mut info = StepInfo { iterations: 0, residual: 0.0, closeness: 1.0, det_sign: 1.0, correction: 0.0 };
     let mut newton_index = 0;
     let inv_l = 1.0 / model.length_scale;
@@ -432,7 +432,7 @@ pub fn step(
             Block::Rrr(b) => b.solve(data, sign, derivatives)?,
             Block::Rrp(b) => b.solve(data, sign, derivatives)?,
             Block::Rpr(b) => b.solve(data, sign, derivatives)?,
-            Block::Subst(b) => b.solve(model, data, t, derivatives, sign)?,
+            Block::Affine(b) => b.solve(model, data, t, derivatives, sign)?,
             Block::Newton(b) => {
                 let mut work = std::mem::take(&mut data.blocks.newton[newton_index]);
                 let r = b.solve(model, data, &mut work, t, derivatives);
@@ -446,14 +446,14 @@ pub fn step(
             }
         };
         if closeness.is_nan() || closeness < NEAR_SINGULAR {
-            return Err(Miss::NearSingular); // NaN too
+            return Err(StepMiss::NearSingular); // NaN too
         }
         // a closeness falling so fast that its trend reaches zero within this step: a
         // singular configuration may lie between the steps, which the fixed branch sign
         // would step across silently (onto the mirror image, closeness rising again)
         let [c1, rate] = data.blocks.close[i];
         if !matches!(block, Block::Newton(_)) && (c1 + rate * h < 0.25 * c1 || closeness < 0.25 * c1) {
-            return Err(Miss::NearSingular);
+            return Err(StepMiss::NearSingular);
         }
         data.blocks.next[i] = [closeness, (closeness - c1) / h];
         info.closeness = info.closeness.min(closeness);
@@ -461,7 +461,7 @@ pub fn step(
         info.det_sign *= sign;
     }
     if !info.residual.is_finite() {
-        return Err(Miss::Failed);
+        return Err(StepMiss::Failed);
     }
     info.det_sign *= data.blocks.det_factor;
     // every group passed: the trends move on (a miss leaves them at the last step)
@@ -480,7 +480,7 @@ pub fn assemble(
     data: &mut Data,
     t: f64,
     asked: &Work,
-) -> Result<(), (usize, Miss)> {
+) -> Result<(), (usize, StepMiss)> {
     let signs = &asked.sign;
     data.blocks.sign.copy_from_slice(signs);
     // a Newton block's det sign, where the asked configuration has one, is its branch too
@@ -495,7 +495,7 @@ pub fn assemble(
             Block::Rrr(b) => b.solve(data, sign, 0),
             Block::Rrp(b) => b.solve(data, sign, 0),
             Block::Rpr(b) => b.solve(data, sign, 0),
-            Block::Subst(b) => b.solve(model, data, t, 0, sign),
+            Block::Affine(b) => b.solve(model, data, t, 0, sign),
             Block::Newton(b) => {
                 let mut work = std::mem::take(&mut data.blocks.newton[newton_index]);
                 let r = b.solve(model, data, &mut work, t, 0);
@@ -506,7 +506,7 @@ pub fn assemble(
         };
         let (closeness, residual) = solved.map_err(|miss| (i, miss))?;
         if !(closeness > 0.0 && residual.is_finite()) {
-            return Err((i, Miss::NearSingular));
+            return Err((i, StepMiss::NearSingular));
         }
     }
     Ok(())
@@ -533,13 +533,13 @@ pub fn resync(
             Block::Rrr(b) => b.branch(data, rates),
             Block::Rrp(b) => b.branch(data, rates),
             Block::Rpr(b) => b.branch(data, rates),
-            Block::Subst(b) => b.branch(model, data, t),
+            Block::Affine(b) => b.branch(model, data, t),
             Block::Crank(_) => (1.0, 1.0, 0.0),
             Block::Newton(b) => {
                 // its det sign is a factor of det Phi_q: factor the block at the solved q
                 let work = &mut data.blocks.newton[newton_index];
                 newton_index += 1;
-                let (det, ratio) = b.factor_at(model, &data.q, &data.frames, work, t);
+                let (det, ratio) = b.pivots_at(model, &data.q, &data.frames, work, t);
                 work.det_sign = det;
                 product *= det;
                 (1.0, ratio, 0.0)

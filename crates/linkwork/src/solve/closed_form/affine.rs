@@ -12,11 +12,11 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::{set_acc, set_body, set_rates, side, Miss, NEAR_SINGULAR};
+use super::{set_acc, set_body, set_rates, side, StepMiss, NEAR_SINGULAR};
 use crate::constraints::{kinds::ConstraintKind, Constraint, Rows, MAX_ROWS};
 use crate::math::angle::turned;
 use crate::model::data::Data;
-use crate::model::plan::{Member, Subst};
+use crate::model::plan::{Affine, Member};
 use crate::model::structure::Group;
 use crate::model::Model;
 
@@ -66,8 +66,8 @@ type BodyJacs = [[f64; 3]; MAX_BODIES];
 /// coordinate of the bodies, and known parts.
 type PositionSystem = (SMatrix<f64, 4, 4>, SVector<f64, 4>, [BodyJacs; 2 * MAX_BODIES], [f64; 4]);
 
-impl Subst {
-    pub fn new(model: &Model, g: &Group) -> Option<Subst> {
+impl Affine {
+    pub fn new(model: &Model, g: &Group) -> Option<Affine> {
         let k = g.bodies.len();
         if k == 0 || k > MAX_BODIES || g.constraints.len() > 3 * MAX_BODIES {
             return None;
@@ -106,7 +106,7 @@ impl Subst {
             given[body] = true;
             angles.push((mi, row, body));
         }
-        Some(Subst { bodies: g.bodies.clone(), members, angles, positions })
+        Some(Affine { bodies: g.bodies.clone(), members, angles, positions })
     }
 
     /// Every member's rows at the frames in data.
@@ -228,7 +228,7 @@ impl Subst {
     pub fn branch(&self, model: &Model, data: &Data, t: f64) -> (f64, f64, f64) {
         let mut rows = [Rows::default(); 3 * MAX_BODIES];
         self.rows(model, data, t, &mut rows);
-        let (sign, closeness) = Subst::conditioning(&self.position_system(model, &rows, &data.qd).0);
+        let (sign, closeness) = Affine::conditioning(&self.position_system(model, &rows, &data.qd).0);
         (sign, closeness, 0.0)
     }
 
@@ -243,7 +243,7 @@ impl Subst {
         t: f64,
         derivatives: u8,
         sign: f64,
-    ) -> Result<(f64, f64), Miss> {
+    ) -> Result<(f64, f64), StepMiss> {
         let mut rows = [Rows::default(); 3 * MAX_BODIES];
         // the angles in order, each from the angle its row is evaluated at (q may hold a
         // prediction; the frames hold what the rows see)
@@ -252,7 +252,7 @@ impl Subst {
             let (phi, own, _) = self.row(model, &rows, (mi, r), &data.qd);
             let alpha = own[body][2];
             if alpha == 0.0 || !phi.is_finite() {
-                return Err(Miss::Failed);
+                return Err(StepMiss::Failed);
             }
             let b = self.bodies[body];
             let theta = data.frames[b].theta - phi / alpha;
@@ -263,11 +263,11 @@ impl Subst {
         // then every x, y: one step of the position rows, affine in them
         self.rows(model, data, t, &mut rows);
         let (jac, phi, _, _) = self.position_system(model, &rows, &data.qd);
-        let (det_sign, closeness) = Subst::conditioning(&jac);
+        let (det_sign, closeness) = Affine::conditioning(&jac);
         if closeness.is_nan() || closeness < NEAR_SINGULAR || det_sign != sign {
-            return Err(Miss::NearSingular);
+            return Err(StepMiss::NearSingular);
         }
-        let step = jac.lu().solve(&phi).ok_or(Miss::NearSingular)?;
+        let step = jac.lu().solve(&phi).ok_or(StepMiss::NearSingular)?;
         for (l, &b) in self.bodies.iter().enumerate() {
             let f = data.frames[b];
             set_body(data, b, [f.r[0] - step[2 * l], f.r[1] - step[2 * l + 1]], f.theta, f.c, f.s);
@@ -282,12 +282,12 @@ impl Subst {
             .fold(0.0f64, |m, p| m.max(self.row(model, &rows, p, &data.qd).0.abs()));
         if derivatives >= 1 {
             let lu = self.position_system(model, &rows, &data.qd).0.lu();
-            let qd = self.derivative(model, data, t, &rows, &lu, false).ok_or(Miss::NearSingular)?;
+            let qd = self.derivative(model, data, t, &rows, &lu, false).ok_or(StepMiss::NearSingular)?;
             for (l, &b) in self.bodies.iter().enumerate() {
                 set_rates(data, b, [qd[l][0], qd[l][1]], qd[l][2]);
             }
             if derivatives >= 2 {
-                let qdd = self.derivative(model, data, t, &rows, &lu, true).ok_or(Miss::NearSingular)?;
+                let qdd = self.derivative(model, data, t, &rows, &lu, true).ok_or(StepMiss::NearSingular)?;
                 for (l, &b) in self.bodies.iter().enumerate() {
                     set_acc(data, b, [qdd[l][0], qdd[l][1]], qdd[l][2]);
                 }

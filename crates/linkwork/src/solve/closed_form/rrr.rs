@@ -4,8 +4,8 @@
 //! two pins. Velocities and accelerations: the 2 x 2 system of B's velocity (acceleration)
 //! seen from both links.
 
-use super::{add_move, column, split, BodyRows, Entry, Numbers, NEAR_SINGULAR};
-use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, Miss};
+use super::{add_move, column, split, BodyRows, NumberMove, Numbers, NEAR_SINGULAR};
+use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, StepMiss};
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
 use crate::math::angle::angle_of;
 use crate::model::data::Data;
@@ -201,7 +201,7 @@ impl Rrr {
 
     /// B on the branch `sign`; returns (closeness, residual) or the miss.
     #[inline]
-    pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
+    pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), StepMiss> {
         // a known side on the ground folded in: its pin fixed, at rest
         match (self.l1.known.is_some(), self.l2.known.is_some()) {
             (true, true) => self.solve_on::<true, true>(data, sign, derivatives),
@@ -218,14 +218,14 @@ impl Rrr {
         data: &mut Data,
         sign: f64,
         derivatives: u8,
-    ) -> Result<(f64, f64), Miss> {
+    ) -> Result<(f64, f64), StepMiss> {
         let (k1, a) = self.l1.outer_on::<K1>(data);
         let (k2, c) = self.l2.outer_on::<K2>(data);
         let (r1, r2) = (self.l1.length, self.l2.length);
         let d = sub(c, a);
         let dd = dot(d, d);
         if dd.is_nan() || dd <= 0.0 {
-            return Err(Miss::NoAssembly);
+            return Err(StepMiss::NoAssembly);
         }
         // B = A + along d + sign height perp(d), along and height in units of |d|: one
         // division and one square root in the chain (not |d| first, then each over it)
@@ -233,7 +233,7 @@ impl Rrr {
         let along = 0.5 * (dd + r1 * r1 - r2 * r2) * inv_dd;
         let h2 = r1 * r1 * inv_dd - along * along;
         if h2.is_nan() || h2 < 0.0 {
-            return Err(Miss::NoAssembly);
+            return Err(StepMiss::NoAssembly);
         }
         let height = sign * h2.sqrt();
         let b = [a[0] + along * d[0] - height * d[1], a[1] + along * d[1] + height * d[0]];
@@ -318,11 +318,11 @@ impl Rrr {
     pub fn tangents(
         &self,
         data: &Data,
-        entries: &[Entry],
+        entries: &[NumberMove],
         s: &mut [f64],
         n: usize,
         zeros: &[f64],
-    ) -> Result<(), Miss> {
+    ) -> Result<(), StepMiss> {
         let (l1, l2) = (&self.l1, &self.l2);
         let (k1, a) = l1.outer(data);
         let (k2, c) = l2.outer(data);
@@ -334,7 +334,7 @@ impl Rrr {
         // |sin| of the angle at B, `solve`'s closeness
         let closeness = det.abs() * l1.inv_length * l2.inv_length;
         if closeness.is_nan() || closeness < NEAR_SINGULAR {
-            return Err(Miss::NearSingular);
+            return Err(StepMiss::NearSingular);
         }
         // M^-1's columns u, v; the angles' coefficients
         let inv_det = 1.0 / det;

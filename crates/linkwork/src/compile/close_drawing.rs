@@ -6,7 +6,7 @@
 //! near the drawing, by least squares) or keeping the drawing's points (the pins ignored).
 
 use crate::constraints::{Constraint, Frame, RowKind, Rows};
-use crate::model::closing::{Keep, Miss};
+use crate::model::closing::{Keep, PinMiss};
 use crate::model::rank::{dense_jacobian, RANK_TOL};
 use crate::model::ConstraintEntry;
 use crate::ModelError;
@@ -27,7 +27,7 @@ pub(crate) struct Closer {
     pub keep: Option<Keep>,
     /// CLOSE_TOL L
     pub tol: f64,
-    pub misses: Vec<Miss>,
+    pub misses: Vec<PinMiss>,
 }
 
 impl Closer {
@@ -55,7 +55,7 @@ impl Closer {
                 if miss <= self.tol {
                     return p;
                 }
-                self.misses.push(Miss {
+                self.misses.push(PinMiss {
                     joint: side.joint.to_string(),
                     body: side.body.to_string(),
                     pin: side.pin,
@@ -89,7 +89,7 @@ pub(crate) fn world(pose: Option<[f64; 3]>, u: [f64; 2]) -> [f64; 2] {
 }
 
 /// The error for a drawing that does not close: the worst miss named, the others counted.
-pub(crate) fn not_closed(misses: &[Miss]) -> ModelError {
+pub(crate) fn not_closed(misses: &[PinMiss]) -> ModelError {
     let worst = misses.iter().max_by(|a, b| a.miss.total_cmp(&b.miss)).expect("at least one miss");
     let others: Vec<String> = misses
         .iter()

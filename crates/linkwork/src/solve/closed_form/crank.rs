@@ -3,7 +3,7 @@
 //! from the pin: one angle, no equations.
 
 use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates, side, split};
-use super::{Entry, Miss, Numbers};
+use super::{NumberMove, Numbers, StepMiss};
 use crate::constraints::{kinds::ConstraintKind, perp, sub, Constraint, Frame};
 use crate::math::angle::turned;
 use crate::model::data::Data;
@@ -49,7 +49,13 @@ impl Crank {
 
     /// Solves the body; returns (closeness 1, pin residual).
     #[inline]
-    pub fn solve(&self, model: &Model, data: &mut Data, t: f64, derivatives: u8) -> Result<(f64, f64), Miss> {
+    pub fn solve(
+        &self,
+        model: &Model,
+        data: &mut Data,
+        t: f64,
+        derivatives: u8,
+    ) -> Result<(f64, f64), StepMiss> {
         // a known side or base on the ground folded in: fixed, at rest
         match (self.known.is_some(), self.base.is_some()) {
             (true, true) => self.solve_on::<true, true>(model, data, t, derivatives),
@@ -68,12 +74,12 @@ impl Crank {
         data: &mut Data,
         t: f64,
         derivatives: u8,
-    ) -> Result<(f64, f64), Miss> {
-        let Some(law) = model.constraints[self.driver].kind.law() else { return Err(Miss::Failed) };
+    ) -> Result<(f64, f64), StepMiss> {
+        let Some(law) = model.constraints[self.driver].kind.law() else { return Err(StepMiss::Failed) };
         let f = law.eval(t);
         // a law outside its domain: the general path names it (value, nu or gamma)
         if !f[..=derivatives.min(2) as usize].iter().all(|v| v.is_finite()) {
-            return Err(Miss::Failed);
+            return Err(StepMiss::Failed);
         }
         let b = self.body;
         let base = if B { side(data, self.base) } else { Frame::GROUND };
@@ -123,7 +129,7 @@ impl Crank {
         model: &Model,
         data: &Data,
         t: f64,
-        entries: &[Entry],
+        entries: &[NumberMove],
         s: &mut [f64],
         n: usize,
         zeros: &[f64],
