@@ -20,11 +20,10 @@ pub mod synthesis;
 
 // The modules' former top-level paths, kept for callers.
 pub use analysis::sensitivity;
-pub use compile::close_drawing as closing;
 pub use constraints::{drivers, joints, loads};
 pub use input::{curves, description, expr, files, motion, units};
 pub use math::{linear, pivots, small_lu, sparse_lu};
-pub use model::{data, memory, structure};
+pub use model::{closing, data, memory, structure};
 pub use solve::closed_form as blocks;
 pub use solve::{acceleration, assembly, forces, position, velocity};
 pub use sweep::{batch, branches, stepping, variants};
