@@ -9,9 +9,10 @@ use crate::input::description::DriverDesc;
 use crate::input::motion::MotionLaw;
 use crate::model::data::Data;
 use crate::model::Model;
+use crate::sweep::outputs::{Request, SweepOutput};
 use crate::sweep::stepping::singular::{Event, EventKind};
 use crate::sweep::stepping::tracking::OnSingular;
-use crate::sweep::time_loop::{sweep, Request, SweepOutput};
+use crate::sweep::time_loop::sweep;
 
 /// The range of one driver's input over which the mechanism assembles, on the branch of
 /// the given configuration.
@@ -91,7 +92,7 @@ pub fn motion_limits(
     // assemble at the start on the given branch
     let mut data = Data::new(&swept);
     data.q.copy_from_slice(q);
-    crate::sweep::time_loop::solve(&swept, &mut data, start)?;
+    crate::sweep::single_time::solve(&swept, &mut data, start)?;
     let q0 = data.q.clone();
 
     let range = range.unwrap_or(if angle { 2.0 * std::f64::consts::PI } else { 4.0 * model.length_scale });

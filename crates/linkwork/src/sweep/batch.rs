@@ -10,7 +10,7 @@ use crate::error::SolveError;
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::sweep::branches::{asked_branches, sweep_on};
-use crate::sweep::time_loop::{Request, SweepOutput};
+use crate::sweep::outputs::{Request, SweepOutput};
 
 /// One model's sweep: its outputs (the completed steps) and its error, if any.
 pub type BatchItem = (SweepOutput, Option<SolveError>);

@@ -12,7 +12,8 @@ use crate::model::data::Data;
 use crate::model::structure::structure;
 use crate::model::Model;
 use crate::solve::closed_form::{self, Block, StepMiss, Work};
-use crate::sweep::time_loop::{sweep, sweep_observed, SweepOutput};
+use crate::sweep::outputs::SweepOutput;
+use crate::sweep::time_loop::{sweep, sweep_observed};
 
 /// The branches a design is asked for: the base's plan state at the first time (each
 /// block's sign, each Newton block's det sign) and its groups' kinds, in plan order.
@@ -28,7 +29,7 @@ pub struct Asked {
 pub fn asked_branches(model: &Model, t: f64) -> Option<Asked> {
     let plan = model.plan.as_ref().ok()?;
     let mut data = Data::new(model);
-    let info = crate::sweep::time_loop::solve(model, &mut data, t).ok()?;
+    let info = crate::sweep::single_time::solve(model, &mut data, t).ok()?;
     closed_form::resync(model, plan, &mut data, t, info.det_sign, true, None);
     Some(Asked { work: data.blocks, kinds: plan.blocks.iter().map(Block::name).collect() })
 }

@@ -29,7 +29,7 @@ use crate::model::Model;
 use crate::solve::closed_form::Plan;
 use crate::sweep::batch::on_threads;
 use crate::sweep::branches::{asked_branches, sweep_on};
-use crate::sweep::time_loop::{Outputs, Request, SweepOutput};
+use crate::sweep::outputs::{Outputs, Request, SweepOutput};
 
 /// How designs move a model's numbers: the parameters, the base numbers they start from.
 /// Each parameter moves its numbers along its direction, which is exact for every number

@@ -18,7 +18,7 @@ use crate::error::SolveError;
 use crate::model::data::Data;
 use crate::model::params::Parameter;
 use crate::model::Model;
-use crate::sweep::time_loop::{Request, SweepOutput};
+use crate::sweep::outputs::{Request, SweepOutput};
 
 /// What a sensitivity sweep solves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

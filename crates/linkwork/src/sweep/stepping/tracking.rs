@@ -19,9 +19,11 @@
 use crate::constraints::{kinds::ConstraintKind, Constraint};
 use crate::error::SolveError;
 use crate::math::pivots::NEAR_SINGULAR;
+use crate::math::roots::illinois;
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::solve::acceleration::solve_acceleration;
+use crate::solve::deflation::deflated_newton;
 use crate::solve::position::{solve_position, PositionInfo};
 use crate::solve::velocity::solve_velocity;
 use crate::sweep::stepping::branch::{consistent, interpolate, State, CONSISTENCY};
@@ -925,96 +927,4 @@ impl Tracker {
         factor_without_newton(model, data, t);
         Ok(())
     }
-}
-
-/// A root of f in [a, b] (f(a), f(b) of opposite signs) by the Illinois variant of
-/// regula falsi: superlinear on simple roots, never leaves the bracket. None if f cannot
-/// be evaluated at the ends. The caller has seen f change sign between a and b.
-///
-/// How precise the root is depends on f: a signed sigma_min is known only to about
-/// sqrt(eps) near a bifurcation (the residual is quadratic in the distance to the
-/// crossing branches, so Newton's solutions wander by sqrt(eps) there), while a rate's
-/// zero (a lock) is found to round-off.
-fn illinois(mut a: f64, mut b: f64, mut f: impl FnMut(f64) -> Option<f64>) -> Option<f64> {
-    let mut fa = f(a)?;
-    let mut fb = f(b)?;
-    if fa == 0.0 {
-        return Some(a);
-    }
-    if fb == 0.0 {
-        return Some(b);
-    }
-    if fa * fb > 0.0 {
-        // the caller saw a sign change between a and b; re-evaluated, one end is so close
-        // to the root that its sign is round-off: that end is the root
-        return Some(if fa.abs() < fb.abs() { a } else { b });
-    }
-    let tol = 4.0 * f64::EPSILON * a.abs().max(b.abs()).max((b - a).abs());
-    for _ in 0..100 {
-        let mut m = (a * fb - b * fa) / (fb - fa);
-        if !m.is_finite() || (m - a) * (m - b) > 0.0 {
-            m = 0.5 * (a + b);
-        }
-        let fm = match f(m) {
-            Some(v) => v,
-            // singular to round-off right at m: that is the root
-            None => return Some(m),
-        };
-        if fm == 0.0 {
-            return Some(m);
-        }
-        if fm * fb < 0.0 {
-            a = b;
-            fa = fb;
-        } else {
-            fa *= 0.5;
-        }
-        b = m;
-        fb = fm;
-        if (b - a).abs() <= tol {
-            break;
-        }
-    }
-    Some(b)
-}
-
-/// Newton on Phi(q, t) / (|q - known|^2) + Phi(q, t) from data.q: a solution other than
-/// `known` (deflation). With m(q) = 1 / |q - known|^2 + 1 (scaled), the deflated Newton
-/// step is the plain one divided by 1 - grad(m).step / m (Sherman-Morrison), so it reuses
-/// the factorization of Phi_q. True if it converged (data.q is the solution).
-fn deflated_newton(model: &Model, data: &mut Data, t: f64, known: &[f64], tol: f64) -> bool {
-    let n = model.n_coords;
-    let scale = &model.col_scale;
-    for _ in 0..40 {
-        let residual = crate::solve::assembly::position(model, data, t);
-        data.pivots = data.factor.factor(&model.symbolic, &data.jac);
-        if !(residual.is_finite() && data.pivots.ratio > 0.0) {
-            return false;
-        }
-        for (r, p) in data.rhs.iter_mut().zip(&data.phi) {
-            *r = -p;
-        }
-        data.factor.solve(&model.symbolic, &mut data.rhs);
-        let d2: f64 = (0..n).map(|i| ((data.q[i] - known[i]) / scale[i]).powi(2)).sum();
-        if d2 == 0.0 {
-            return false;
-        }
-        let m = 1.0 / d2 + 1.0;
-        let g_dot: f64 =
-            (0..n).map(|i| -2.0 * (data.q[i] - known[i]) / scale[i] / (d2 * d2) * data.rhs[i]).sum();
-        let factor = 1.0 / (1.0 - g_dot / m);
-        let mut step_norm = 0.0f64;
-        for ((q, r), s) in data.q.iter_mut().zip(&data.rhs[..n]).zip(scale) {
-            let d = factor * r;
-            *q += d * s;
-            step_norm = step_norm.max(d.abs());
-        }
-        if !step_norm.is_finite() {
-            return false;
-        }
-        if residual <= tol && step_norm <= 1e-10 {
-            return true;
-        }
-    }
-    false
 }
