@@ -364,12 +364,12 @@ fn the_reader_sees_what_it_must() {
         c.code.get_mut(&m).expect("module exists").push_str(code);
     };
     add(&mut c, &["math", "small_lu"], "\nuse crate::sweep::time_loop::Request;\n");
-    add(&mut c, &["input", "expr"], "\nfn f() { let _ = crate::model::Model::default(); }\n");
+    add(&mut c, &["input", "units"], "\nfn f() { let _ = crate::model::Model::default(); }\n");
     add(&mut c, &["constraints", "loads"], "\nuse crate::Data;\n");
     let bad = upward(&edges(&c), &c.files);
     for want in [
         "math/small_lu.rs -> sweep/time_loop.rs",
-        "input/expr.rs -> model/mod.rs",
+        "input/units.rs -> model/mod.rs",
         "constraints/loads.rs -> model/data.rs",
     ] {
         assert!(bad.iter().any(|b| b == want), "{want} not found in {bad:?}");
