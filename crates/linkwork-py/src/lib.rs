@@ -766,7 +766,7 @@ impl PyModel {
     /// joint and driver: where its reaction on side b is reported.
     #[getter]
     fn anchors(&self) -> Vec<(String, &'static str, i64, i64, f64, f64)> {
-        use linkwork::joints::Constraint;
+        use linkwork::constraints::Constraint;
         let idx = |b: Option<usize>| b.map_or(-1, |i| i as i64);
         self.model
             .constraints
@@ -804,12 +804,12 @@ impl PyModel {
 }
 
 /// Every joint and driver type of the engine with the description forms it compiles
-/// from and the role of each field (`linkwork::joints::Role`), in the kind list's order:
+/// from and the role of each field (`linkwork::constraints::Role`), in the kind list's order:
 /// [{"kind", "group", "type", "fields": [{"name", "role", "bodies", "choices", "input", "unit"}]}].
 #[pyfunction]
 fn constraint_roles(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
     let mut out = Vec::new();
-    for (kind, forms) in linkwork::joints::roles() {
+    for (kind, forms) in linkwork::constraints::roles() {
         for form in forms {
             let mut fields = Vec::with_capacity(form.fields.len());
             for (name, role) in form.fields {
@@ -818,12 +818,12 @@ fn constraint_roles(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
                 f.set_item("role", role.name())?;
                 f.set_item("bodies", role.bodies())?;
                 let choices: &[&str] = match role {
-                    linkwork::joints::Role::Choice(c) => c,
+                    linkwork::constraints::Role::Choice(c) => c,
                     _ => &[],
                 };
                 f.set_item("choices", choices.to_vec())?;
                 let input = match role {
-                    linkwork::joints::Role::Law(i) => Some(i.name()),
+                    linkwork::constraints::Role::Law(i) => Some(i.name()),
                     _ => None,
                 };
                 f.set_item("input", input)?;

@@ -36,8 +36,8 @@ mod common;
 
 use common::*;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
-use linkwork::assembly::{angle_of, turned};
-use linkwork::joints::Frame;
+use linkwork::constraints::Frame;
+use linkwork::math::angle::{angle_of, turned};
 use linkwork::{
     sweep, sweep_batch, Data, Description, LinearKind, Model, Options, Outputs, Request, SolverKind,
     SweepOutput,

@@ -6,39 +6,27 @@
 //! `position` (Newton) -> `velocity` (Phi_q qd = nu) -> `acceleration` (Phi_q qdd = gamma),
 //! all from one factorization of Phi_q; `sweep` runs it over a time grid.
 
-pub mod acceleration;
 pub mod analysis;
-pub mod assembly;
-pub mod batch;
-pub mod blocks;
-pub mod branches;
-pub mod closing;
-pub mod curves;
-pub mod data;
-pub mod description;
-pub mod drivers;
+pub mod compile;
+pub mod constraints;
 pub mod error;
-pub mod expr;
-pub mod files;
-pub mod forces;
-pub mod joints;
-pub mod linear;
-pub mod loads;
-pub mod memory;
+pub mod input;
+pub mod math;
 pub mod model;
-pub mod motion;
-pub mod position;
 pub mod screw;
-pub mod sensitivity;
-pub mod small_lu;
-pub mod sparse_lu;
-pub mod stepping;
-pub mod structure;
+pub mod solve;
 pub mod sweep;
 pub mod synthesis;
-pub mod units;
-pub mod variants;
-pub mod velocity;
+
+// The modules' former top-level paths, kept for callers.
+pub use analysis::sensitivity;
+pub use constraints::{drivers, joints, loads};
+pub use input::{curves, description, expr, files, motion, units};
+pub use math::{linear, pivots, small_lu, sparse_lu};
+pub use model::{closing, data, memory, structure};
+pub use solve::closed_form as blocks;
+pub use solve::{acceleration, assembly, forces, position, velocity};
+pub use sweep::{batch, branches, stepping, variants};
 
 pub use acceleration::solve_acceleration;
 pub use batch::{sweep_batch, sweep_batch_on, BatchItem};
@@ -48,7 +36,8 @@ pub use error::{ModelError, SolveError};
 pub use expr::{ExprError, Expression};
 pub use files::{Format, ModelFile, SourceMap, FORMAT_VERSION};
 pub use forces::{load_power, reactions, solve_forces, REACTION_COLUMNS};
-pub use linear::{LinearKind, Pivots};
+pub use linear::LinearKind;
+pub use math::pivots::Pivots;
 pub use memory::available_memory;
 pub use model::{Model, Options, SolverKind};
 pub use motion::{ExternalFn, ExternalLaw, MotionLaw};

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeSet;
 
-use linkwork::joints::{roles, samples, Role};
+use linkwork::constraints::{roles, samples, Role};
 use linkwork::Description;
 use serde_json::{json, Value};
 

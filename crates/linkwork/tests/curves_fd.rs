@@ -5,11 +5,11 @@
 //! joints on a polar expression against finite differences (d/ds and gamma, where c'''
 //! enters), and every refusal of a bad expression.
 
+use linkwork::constraints::{Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 use linkwork::curves::{Curve, CurveDesc, CurvePoint, PeriodicSpline};
 use linkwork::joints::flat_follower::FlatFollower;
 use linkwork::joints::point_on_curve::PointOnCurve;
 use linkwork::joints::roller_follower::RollerFollower;
-use linkwork::joints::{Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 use std::f64::consts::{PI, TAU};
 
 /// A smooth periodic profile r(phi), convex, with every function kind the curves use.

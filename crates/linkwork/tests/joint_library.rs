@@ -8,10 +8,10 @@
 
 mod common;
 use common::{four_bar_closed, rel_err, FourBar};
+use linkwork::constraints::{Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 use linkwork::joints::gear::Gear;
 use linkwork::joints::{
-    belt::Belt, coupling::LinearCoupling, point_line::PointOnLine, rack_pinion::RackPinion, Constraint,
-    ConstraintKind, Extra, Frame, Rows, MAX_ROWS,
+    belt::Belt, coupling::LinearCoupling, point_line::PointOnLine, rack_pinion::RackPinion,
 };
 use linkwork::{sweep, Data, Model, ModelError, Options, SweepOutput};
 use serde_json::{json, Value};

@@ -4,7 +4,7 @@
 //! d2/dh2 phi = (phi_q qd)_q qd + 2 phi_qt qd + phi_tt = -gamma). A joint's own
 //! coordinate (a curve parameter) is one more coordinate, perturbed the same way.
 
-use linkwork::joints::{samples, Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
+use linkwork::constraints::{samples, Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 
 mod common;
 use common::Rng;

@@ -19,7 +19,7 @@
 mod common;
 
 use common::with_number;
-use linkwork::joints::Constraint;
+use linkwork::constraints::Constraint;
 use linkwork::sensitivity::{sensitivity_sweep, Parameter, SensitivityOutput};
 use linkwork::{Data, Model, Options, SolverKind, SweepOutput};
 use serde_json::{json, Value};

@@ -7,7 +7,7 @@
 
 #![allow(clippy::needless_range_loop)] // rows and coordinates indexed together
 
-use linkwork::joints::{samples, Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
+use linkwork::constraints::{samples, Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 use linkwork::sensitivity::jet::{Jet, JetFrame};
 
 mod common;

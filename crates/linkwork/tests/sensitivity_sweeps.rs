@@ -14,7 +14,7 @@
 mod common;
 
 use common::with_number;
-use linkwork::joints::Constraint;
+use linkwork::constraints::Constraint;
 use linkwork::sensitivity::{
     sensitivity_sweep, Parameter, PointRequest, SensitivityOutput, SensitivityPath, SensitivityRequest,
 };

@@ -4,14 +4,15 @@
 //! limit of motion, or a whole turn (angles) or the search range (lengths) is covered.
 //! Each limit is located where Newton stops converging, to about round-off in the input.
 
-use crate::data::Data;
-use crate::description::DriverDesc;
 use crate::error::{ModelError, SolveError};
+use crate::input::description::DriverDesc;
+use crate::input::motion::MotionLaw;
+use crate::model::data::Data;
 use crate::model::Model;
-use crate::motion::MotionLaw;
-use crate::stepping::singular::{Event, EventKind};
-use crate::stepping::tracking::OnSingular;
-use crate::sweep::{sweep, Request, SweepOutput};
+use crate::sweep::outputs::{Request, SweepOutput};
+use crate::sweep::stepping::singular::{Event, EventKind};
+use crate::sweep::stepping::tracking::OnSingular;
+use crate::sweep::time_loop::sweep;
 
 /// The range of one driver's input over which the mechanism assembles, on the branch of
 /// the given configuration.
@@ -91,7 +92,7 @@ pub fn motion_limits(
     // assemble at the start on the given branch
     let mut data = Data::new(&swept);
     data.q.copy_from_slice(q);
-    crate::sweep::solve(&swept, &mut data, start)?;
+    crate::sweep::single_time::solve(&swept, &mut data, start)?;
     let q0 = data.q.clone();
 
     let range = range.unwrap_or(if angle { 2.0 * std::f64::consts::PI } else { 4.0 * model.length_scale });

@@ -8,7 +8,7 @@
 
 use std::f64::consts::PI;
 
-use crate::joints::{ConstraintKind, Frame};
+use crate::constraints::{kinds::ConstraintKind, Frame};
 use crate::model::Model;
 
 /// Lengths within this fraction of the model's length scale count as equal (Grashof's

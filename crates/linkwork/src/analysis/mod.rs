@@ -7,5 +7,6 @@ pub mod limits;
 pub mod linkages;
 pub mod mobility;
 pub mod modes;
-/// the decomposition lives below the solver (`crate::structure`), which plans with it
-pub use crate::structure;
+pub mod sensitivity;
+/// the decomposition lives below the solver (`crate::model::structure`), which plans with it
+pub use crate::model::structure;

@@ -11,11 +11,11 @@
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
-use crate::data::Data;
-use crate::joints::{ConstraintKind, Frame};
+use crate::constraints::{kinds::ConstraintKind, Frame};
+use crate::model::data::Data;
 use crate::model::Model;
-use crate::position::solve_position;
-use crate::sweep::check_times;
+use crate::solve::position::solve_position;
+use crate::sweep::time_loop::check_times;
 use crate::SolveError;
 
 /// Two configurations closer than this (scaled: lengths / L, angles in rad, modulo a

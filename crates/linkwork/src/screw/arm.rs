@@ -13,7 +13,7 @@
 //! - forward force: the force line passes through the torque centres of joint pairs,
 //!   X_jk = tau_k P_j - tau_j P_k on the line through joints j and k.
 
-use crate::description::Description;
+use crate::input::description::Description;
 
 use super::frames::Pose;
 use super::joints::{JointKind, MechanismJoints};

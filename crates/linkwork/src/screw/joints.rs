@@ -3,7 +3,7 @@
 //! start) and rate. Bodies are numbered 0 for the ground, then 1 + their index in the
 //! description (the model's coordinate order).
 
-use crate::description::{Description, JointDesc, GROUND};
+use crate::input::description::{Description, JointDesc, GROUND};
 
 use super::projective::Point;
 use super::screws::Twist;

@@ -8,7 +8,7 @@
 
 use faer::Mat;
 
-use crate::description::{Description, DriverDesc};
+use crate::input::description::{Description, DriverDesc};
 
 use super::joints::MechanismJoints;
 use super::projective::{cross, norm, Gauge};

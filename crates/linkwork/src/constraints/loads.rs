@@ -1,0 +1,288 @@
+//! Applied loads for inverse dynamics: forces and torques following motion laws, linear
+//! and torsional spring-dampers. Each writes its generalized force into Q (n_coords):
+//! a force F at the body point u adds (F, (B u) . F) to the body's (x, y, theta) entries.
+//! Each is written once more over jets (`*_jet`), from which the sensitivities of the
+//! driver efforts take the generalized forces' derivatives exactly.
+
+use crate::constraints::{dot, perp, sub, Frame};
+use crate::input::motion::MotionLaw;
+use crate::math::jet::{self, pair, Jet, JetFrame, Vec2};
+
+/// One compiled load.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Load {
+    /// magnitude f(t) along the unit world direction `dir`, at the point u of body b
+    Force { u: [f64; 2], dir: [f64; 2], law: MotionLaw },
+    /// torque f(t) on body b
+    Torque { law: MotionLaw },
+    /// tension k (L - free_length) + c dL/dt between u_a on a and u_b on b
+    Spring { u_a: [f64; 2], u_b: [f64; 2], stiffness: f64, free_length: f64, damping: f64 },
+    /// resisting torque k (theta_b - theta_a - free_angle) + c (w_b - w_a) on b
+    TorsionSpring { stiffness: f64, free_angle: f64, damping: f64 },
+}
+
+/// A load of a compiled model, with its sides (None: the ground).
+#[derive(Debug, Clone)]
+pub struct LoadEntry {
+    pub name: String,
+    pub load: Load,
+    pub body_a: Option<usize>,
+    pub body_b: Option<usize>,
+}
+
+/// Adds (F, moment of F about the body origin) at the body point u to Q.
+#[inline]
+fn add_point_force(q: &mut [f64], body: Option<usize>, frame: &Frame, u: [f64; 2], f: [f64; 2]) {
+    if let Some(i) = body {
+        q[3 * i] += f[0];
+        q[3 * i + 1] += f[1];
+        q[3 * i + 2] += dot(frame.rot_d(u), f);
+    }
+}
+
+impl LoadEntry {
+    /// Adds this load's generalized force at time t to q_out (n_coords).
+    pub fn add_to(&self, a: &Frame, b: &Frame, t: f64, q_out: &mut [f64]) {
+        match &self.load {
+            Load::Force { u, dir, law } => {
+                let f = law.eval(t)[0];
+                add_point_force(q_out, self.body_b, b, *u, [f * dir[0], f * dir[1]]);
+            }
+            Load::Torque { law } => {
+                if let Some(i) = self.body_b {
+                    q_out[3 * i + 2] += law.eval(t)[0];
+                }
+            }
+            Load::Spring { u_a, u_b, stiffness, free_length, damping } => {
+                let d = sub(b.point(*u_b), a.point(*u_a));
+                let len = dot(d, d).sqrt();
+                let e = [d[0] / len, d[1] / len];
+                let len_d = dot(e, sub(b.point_velocity(*u_b), a.point_velocity(*u_a)));
+                let tension = stiffness * (len - free_length) + damping * len_d;
+                add_point_force(q_out, self.body_b, b, *u_b, [-tension * e[0], -tension * e[1]]);
+                add_point_force(q_out, self.body_a, a, *u_a, [tension * e[0], tension * e[1]]);
+            }
+            Load::TorsionSpring { stiffness, free_angle, damping } => {
+                let tau = stiffness * (b.theta - a.theta - free_angle) + damping * (b.thetad - a.thetad);
+                if let Some(i) = self.body_b {
+                    q_out[3 * i + 2] -= tau;
+                }
+                if let Some(i) = self.body_a {
+                    q_out[3 * i + 2] += tau;
+                }
+            }
+        }
+    }
+
+    /// The motion law of a force or torque.
+    pub fn law(&self) -> Option<&MotionLaw> {
+        match &self.load {
+            Load::Force { law, .. } | Load::Torque { law } => Some(law),
+            _ => None,
+        }
+    }
+
+    /// `add_to` on jets: the sides' perturbed motions, the load's numbers `p` (in the order
+    /// of `Load::params_mut`). The generalized force at the step is each entry's value and
+    /// its change in each direction (the tau^0 parts); rates come from the motion's jets.
+    pub fn add_jet<const W: usize>(
+        &self,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        t: f64,
+        p: &[Jet<W>],
+        q_out: &mut [Jet<W>],
+    ) {
+        match &self.load {
+            Load::Force { law, .. } => {
+                // the law is of time alone: its numbers' changes only (`MotionLaw::jet`)
+                let f = law.jet(t, &p[4..]);
+                let force = [f * p[2], f * p[3]];
+                add_point_force_jet(q_out, self.body_b, b, pair(p, 0), force);
+            }
+            Load::Torque { law } => {
+                if let Some(i) = self.body_b {
+                    q_out[3 * i + 2] = q_out[3 * i + 2] + law.jet(t, p);
+                }
+            }
+            Load::Spring { .. } => {
+                let (u_a, u_b) = (pair(p, 0), pair(p, 2));
+                let d = jet::sub(b.point(u_b), a.point(u_a));
+                let len = jet::dot(d, d).sqrt();
+                let inv = len.recip();
+                let e = [d[0] * inv, d[1] * inv];
+                // dL/dt along the motion: the rate (tau^1) of the length's jet
+                let tension = p[4] * (len - p[5]) + p[6] * len.coefficient(1);
+                add_point_force_jet(q_out, self.body_b, b, u_b, [-(tension * e[0]), -(tension * e[1])]);
+                add_point_force_jet(q_out, self.body_a, a, u_a, [tension * e[0], tension * e[1]]);
+            }
+            Load::TorsionSpring { .. } => {
+                let turn = b.theta - a.theta;
+                let tau = p[0] * (turn - p[1]) + p[2] * turn.coefficient(1);
+                if let Some(i) = self.body_b {
+                    q_out[3 * i + 2] = q_out[3 * i + 2] - tau;
+                }
+                if let Some(i) = self.body_a {
+                    q_out[3 * i + 2] = q_out[3 * i + 2] + tau;
+                }
+            }
+        }
+    }
+}
+
+/// `add_point_force` on jets.
+#[inline]
+fn add_point_force_jet<const W: usize>(
+    q: &mut [Jet<W>],
+    body: Option<usize>,
+    frame: &JetFrame<W>,
+    u: Vec2<W>,
+    f: Vec2<W>,
+) {
+    if let Some(i) = body {
+        q[3 * i] = q[3 * i] + f[0];
+        q[3 * i + 1] = q[3 * i + 1] + f[1];
+        q[3 * i + 2] = q[3 * i + 2] + jet::dot(jet::perp(frame.rot(u)), f);
+    }
+}
+
+impl Load {
+    /// The load's own numbers, the design parameters it has, named ("u.x", "stiffness";
+    /// a force's or torque's law's after its own, "law.value"), in the order `add_jet`
+    /// reads them. A force's direction is the unit vector the description's normalizes to.
+    pub fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        use crate::constraints::xy;
+        match self {
+            Load::Force { u, dir, law } => {
+                let mut p: Vec<(String, &mut f64)> = xy("u", u).into();
+                p.extend(xy("dir", dir));
+                p.extend(law.params_mut());
+                p
+            }
+            Load::Torque { law } => law.params_mut(),
+            Load::Spring { u_a, u_b, stiffness, free_length, damping } => {
+                let mut p: Vec<(String, &mut f64)> = xy("u_a", u_a).into();
+                p.extend(xy("u_b", u_b));
+                p.push(("stiffness".into(), stiffness));
+                p.push(("free_length".into(), free_length));
+                p.push(("damping".into(), damping));
+                p
+            }
+            Load::TorsionSpring { stiffness, free_angle, damping } => vec![
+                ("stiffness".into(), stiffness),
+                ("free_angle".into(), free_angle),
+                ("damping".into(), damping),
+            ],
+        }
+    }
+}
+
+/// Mass properties of one body.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Inertia {
+    pub mass: f64,
+    /// moment of inertia about the centre of mass
+    pub inertia: f64,
+    /// centre of mass in the body frame
+    pub com: [f64; 2],
+}
+
+impl Inertia {
+    /// Generalized inertia force -M qdd + Q_v of a body: -(m a_c, m (B u_c) . a_c + J_c alpha),
+    /// with a_c = Rdd + B u_c alpha - A u_c w^2 the acceleration of the centre of mass.
+    #[inline]
+    pub fn inertia_force(&self, f: &Frame, qdd: &[f64]) -> [f64; 3] {
+        let s = f.rot(self.com);
+        let bs = perp(s);
+        let w2 = f.thetad * f.thetad;
+        let ac = [qdd[0] + bs[0] * qdd[2] - s[0] * w2, qdd[1] + bs[1] * qdd[2] - s[1] * w2];
+        let m = self.mass;
+        [-m * ac[0], -m * ac[1], -m * dot(bs, ac) - self.inertia * qdd[2]]
+    }
+
+    /// Generalized gravity force (m g, (B u_c) . m g).
+    #[inline]
+    pub fn gravity_force(&self, f: &Frame, g: [f64; 2]) -> [f64; 3] {
+        let mg = [self.mass * g[0], self.mass * g[1]];
+        [mg[0], mg[1], dot(perp(f.rot(self.com)), mg)]
+    }
+
+    /// The numbers of a body's mass properties, in the order `force_jet` reads them.
+    pub const NAMES: [&'static str; 4] = ["mass", "inertia", "com.x", "com.y"];
+
+    /// `inertia_force` + `gravity_force` on jets: the body's perturbed motion `f`, its
+    /// mass properties `p` (mass, inertia, com.x, com.y; `NAMES`) and gravity `g`. The
+    /// centre of mass's acceleration is twice the tau^2 part of its position's jet, so
+    /// its change with the motion's (S, S', S'') is exact.
+    #[inline]
+    pub fn force_jet<const W: usize>(f: &JetFrame<W>, p: &[Jet<W>], g: Vec2<W>) -> [Jet<W>; 3] {
+        let (m, j) = (p[0], p[1]);
+        let s = f.rot(pair(p, 2));
+        let bs = jet::perp(s);
+        let r = f.point(pair(p, 2));
+        let ac = [r[0].coefficient(2) * 2.0, r[1].coefficient(2) * 2.0];
+        let alpha = f.theta.coefficient(2) * 2.0;
+        let mg = [m * g[0], m * g[1]];
+        [mg[0] - m * ac[0], mg[1] - m * ac[1], jet::dot(bs, mg) - m * jet::dot(bs, ac) - j * alpha]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The jets' values at the step are the generalized forces `add_to`, `inertia_force`
+    /// and `gravity_force` give, for every load kind (the same sums in another order: 1e-13
+    /// of forces ~10).
+    #[test]
+    fn jets_value_the_forces_they_differentiate() {
+        let (qa, qda, qdda) = ([0.1, -0.2, 0.7], [0.3, 0.1, -1.2], [0.5, -0.4, 2.0]);
+        let (qb, qdb, qddb) = ([0.4, 0.3, -0.5], [-0.2, 0.6, 0.9], [1.1, 0.2, -3.0]);
+        let motion = |q: [f64; 3], qd: [f64; 3], qdd: [f64; 3]| {
+            let x = [0, 1, 2].map(|j| Jet::<1> { v: [q[j], qd[j], 0.5 * qdd[j]], e: [[0.0; 3]] });
+            JetFrame::new(x)
+        };
+        let (ja, jb) = (motion(qa, qda, qdda), motion(qb, qdb, qddb));
+        let (fa, fb) = (Frame::new(qa, qda), Frame::new(qb, qdb));
+        let law = MotionLaw::Harmonic { mean: 5.0, amplitude: 2.0, omega: 3.0, phase: 0.1 };
+        let loads = [
+            Load::Force { u: [0.2, 0.1], dir: [0.6, -0.8], law: law.clone() },
+            Load::Torque { law },
+            Load::Spring {
+                u_a: [0.1, 0.3],
+                u_b: [-0.2, 0.05],
+                stiffness: 300.0,
+                free_length: 0.1,
+                damping: 4.0,
+            },
+            Load::TorsionSpring { stiffness: 2.0, free_angle: 0.4, damping: 0.3 },
+        ];
+        let t = 0.37;
+        for load in loads {
+            let entry = LoadEntry { name: "L".into(), load, body_a: Some(0), body_b: Some(1) };
+            let mut want = [0.0; 6];
+            entry.add_to(&fa, &fb, t, &mut want);
+            let p: Vec<Jet<1>> =
+                entry.load.clone().params_mut().into_iter().map(|(_, v)| Jet::cst(*v)).collect();
+            let mut got = [Jet::<1>::ZERO; 6];
+            entry.add_jet(&ja, &jb, t, &p, &mut got);
+            for (g, w) in got.iter().zip(want) {
+                assert!(
+                    (g.value() - w).abs() < 1e-13 * (1.0 + w.abs()),
+                    "{:?}: {} vs {w}",
+                    entry.load,
+                    g.value()
+                );
+            }
+        }
+        let body = Inertia { mass: 1.3, inertia: 0.02, com: [0.15, -0.04] };
+        let g = [0.4, -9.81];
+        let p = [body.mass, body.inertia, body.com[0], body.com[1]].map(Jet::<1>::cst);
+        let got = Inertia::force_jet(&jb, &p, [Jet::cst(g[0]), Jet::cst(g[1])]);
+        let (qi, qg) = (body.inertia_force(&fb, &qddb), body.gravity_force(&fb, g));
+        for j in 0..3 {
+            let w = qi[j] + qg[j];
+            assert!((got[j].value() - w).abs() < 1e-13 * (1.0 + w.abs()), "{j}: {} vs {w}", got[j].value());
+        }
+    }
+}

@@ -1,0 +1,233 @@
+//! A model's variants: the same mechanism with some of its numbers moved along design
+//! parameters, as a design study varies it, built and swept on the worker threads.
+//!
+//! A parameter (`sensitivity::Parameter`) is a direction in the joints' and drivers' own
+//! numbers (`Constraint::params_mut`), the named points' local coordinates and the inverse
+//! dynamics' numbers (masses, gravity, loads: `Dynamics`); a pin's
+//! world place, a link length, a law's field all map onto these exactly (affinely), so a
+//! design is the compiled model with those numbers set and its plan re-made from the
+//! same structure: no redraw, no recompile, nothing under the GIL. Its sweep starts from
+//! the model's drawing and assembles the design there (the first step's Newton), as the
+//! redrawn and recompiled design does; the two agree to round-off. Where the model has a
+//! plan, that start is first put on the branches the base model takes at the first time
+//! (each dyad's assembly mode, each Newton block's det sign), by the design's own closed
+//! forms: far from the base, Newton from the base's drawing may converge onto the other
+//! assembly, silently. A design that cannot be assembled there is its named error.
+//!
+//! Each thread keeps one variant model and one sweep output and reuses them for every
+//! design it takes; only the kept figures are written, straight into the caller's arrays.
+
+use std::sync::atomic::Ordering;
+use std::sync::Mutex;
+
+use crate::constraints::Constraint;
+use crate::error::SolveError;
+use crate::model::data::Data;
+use crate::model::params::{Dynamics, Parameter};
+use crate::model::structure::{structure, Structure};
+use crate::model::Model;
+use crate::solve::closed_form::Plan;
+use crate::sweep::batch::on_threads;
+use crate::sweep::branches::{asked_branches, sweep_on};
+use crate::sweep::outputs::{Outputs, Request, SweepOutput};
+
+/// How designs move a model's numbers: the parameters, the base numbers they start from.
+/// Each parameter moves its numbers along its direction, which is exact for every number
+/// the kinematics reads (and for masses, inertias, gravity); a force's direction, which
+/// the engine keeps normalized, moves only to first order (studies vary it by redrawing
+/// whenever forces are asked for).
+#[derive(Debug, Clone)]
+pub struct Variation {
+    pub params: Vec<Parameter>,
+    /// the constraints some parameter moves, with their base numbers (`params_mut` order)
+    base: Vec<(usize, Vec<f64>)>,
+    /// the named points some parameter moves, with their base local coordinates
+    base_points: Vec<(usize, [f64; 2])>,
+    /// the inverse dynamics' numbers (masses, gravity, loads), when a parameter moves one
+    dynamics: Option<Dynamics>,
+    /// the base model's structure, when it has a plan (numbers do not change it)
+    structure: Option<Structure>,
+}
+
+impl Variation {
+    pub fn new(model: &Model, params: Vec<Parameter>) -> Variation {
+        let mut moved: Vec<usize> = params.iter().flat_map(|p| p.seeds.iter().map(|s| s.0)).collect();
+        moved.sort_unstable();
+        moved.dedup();
+        let base = moved
+            .into_iter()
+            .map(|c| {
+                let nums =
+                    model.constraints[c].kind.clone().params_mut().into_iter().map(|(_, v)| *v).collect();
+                (c, nums)
+            })
+            .collect();
+        let mut points: Vec<usize> = params.iter().flat_map(|p| p.points.iter().map(|s| s.0)).collect();
+        points.sort_unstable();
+        points.dedup();
+        let base_points = points.into_iter().map(|k| (k, model.points[k].local)).collect();
+        let structure = model.plan.is_ok().then(|| structure(model));
+        let dynamics = params.iter().any(|p| !p.dynamics.is_empty()).then(|| Dynamics::new(model));
+        Variation { params, base, base_points, dynamics, structure }
+    }
+
+    /// Sets `variant` (a clone of the base model) to the design `delta` (one value per
+    /// parameter: its change from the base) and re-makes its plan. Its description, drawing
+    /// and length scale stay the base's: the drawing is where its sweep assembles from.
+    pub fn apply(&self, base: &Model, variant: &mut Model, delta: &[f64]) {
+        for (c, nums) in &self.base {
+            let mut target = nums.clone();
+            for (p, d) in self.params.iter().zip(delta) {
+                for &(sc, k, w) in &p.seeds {
+                    if sc == *c {
+                        target[k] += w * d;
+                    }
+                }
+            }
+            for ((_, v), t) in variant.constraints[*c].kind.params_mut().into_iter().zip(target) {
+                *v = t;
+            }
+        }
+        for &(k, local) in &self.base_points {
+            let mut u = local;
+            for (p, d) in self.params.iter().zip(delta) {
+                for &(pk, dir) in &p.points {
+                    if pk == k {
+                        u[0] += dir[0] * d;
+                        u[1] += dir[1] * d;
+                    }
+                }
+            }
+            variant.points[k].local = u;
+        }
+        if let Some(dynamics) = &self.dynamics {
+            let mut values = dynamics.values.clone();
+            for (p, d) in self.params.iter().zip(delta) {
+                for &(i, w) in &p.dynamics {
+                    values[i] += w * d;
+                }
+            }
+            dynamics.set(variant, &values);
+        }
+        variant.plan = match &self.structure {
+            Some(s) => Plan::from_structure(variant, s),
+            None => base.plan.clone(),
+        };
+    }
+
+    /// The design `delta` as a model of its own.
+    pub fn model(&self, base: &Model, delta: &[f64]) -> Model {
+        let mut variant = base.clone();
+        self.apply(base, &mut variant, delta);
+        variant
+    }
+}
+
+/// The kept figures of many designs, stacked: design-major arrays.
+#[derive(Debug, Default)]
+pub struct VariantFigures {
+    pub n_designs: usize,
+    pub n_steps: usize,
+    /// n_designs x n_steps x n_kept: the kept coordinates (NaN past a design's n_done)
+    pub q: Vec<f64>,
+    /// n_designs x n_steps x n_points x 2: the kept body points' world positions
+    pub points: Vec<f64>,
+    /// n_designs: the smallest pivot ratio (closeness to singular) over the done steps
+    pub pivot_min: Vec<f64>,
+    /// n_designs: the events located (limits, bifurcations, branch jumps)
+    pub events: Vec<usize>,
+    /// n_designs: steps done
+    pub n_done: Vec<usize>,
+    /// n_designs: the design's error
+    pub errors: Vec<Option<SolveError>>,
+}
+
+impl VariantFigures {
+    /// Bytes the figures of `n` designs take.
+    pub fn bytes(model: &Model, n: usize, n_times: usize, outputs: &Outputs) -> usize {
+        let per_step = outputs.n_kept(model) + 2 * outputs.points.len();
+        n.saturating_mul(n_times.saturating_mul(per_step).saturating_add(4)).saturating_mul(8)
+    }
+}
+
+/// Sweeps the `n` designs `deltas` (n x params, row-major: each row a design's changes
+/// from the base) of `model` over `times` on `threads` threads (0: one per core), solving
+/// what `request` asks and keeping `outputs` (positions); a kept point that is a named
+/// point (`named`, per point) moves with the parameters that move it. `watch(done)` as
+/// for `sweep_batch`.
+#[allow(clippy::too_many_arguments)]
+pub fn sweep_variants(
+    model: &Model,
+    variation: &Variation,
+    n: usize,
+    deltas: &[f64],
+    times: &[f64],
+    request: Request,
+    outputs: &Outputs,
+    named: &[Option<usize>],
+    threads: usize,
+    watch: &mut dyn FnMut(usize) -> bool,
+) -> VariantFigures {
+    let m = variation.params.len();
+    assert_eq!(deltas.len(), n * m, "one change per design and parameter");
+    let request = Request { every: 1, forces: false, ..request };
+    let asked = times.first().and_then(|&t| asked_branches(model, t));
+    let (n_steps, kept, np) = (times.len(), outputs.n_kept(model), outputs.points.len());
+    let mut q = vec![f64::NAN; n * n_steps * kept];
+    let mut points = vec![f64::NAN; n * n_steps * np * 2];
+    {
+        // each design's rows, handed to the thread that sweeps it
+        let q_rows = Mutex::new(split(&mut q, n, n_steps * kept));
+        let point_rows = Mutex::new(split(&mut points, n, n_steps * np * 2));
+        let items = on_threads(
+            n,
+            threads,
+            watch,
+            || (model.clone(), SweepOutput::with_outputs(model, times, request, outputs.clone())),
+            |(variant, out), i, cancel| {
+                variation.apply(model, variant, &deltas[i * m..(i + 1) * m]);
+                for (slot, k) in out.outputs.points.iter_mut().zip(named) {
+                    if let Some(k) = k {
+                        slot.1 = variant.points[*k].local;
+                    }
+                }
+                let mut data = Data::new(variant);
+                let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
+                let err = if cancel.load(Ordering::Relaxed) {
+                    Some(SolveError::Cancelled { step: 0 })
+                } else {
+                    sweep_on(variant, &mut data, times, out, 4096, &mut keep_going, asked.as_ref()).err()
+                };
+                let done = out.n_done;
+                let q_dst = q_rows.lock().expect("rows")[i].take().expect("a design swept once");
+                q_dst[..done * kept].copy_from_slice(&out.q[..done * kept]);
+                let p_dst = point_rows.lock().expect("rows")[i].take().expect("a design swept once");
+                p_dst[..done * np * 2].copy_from_slice(&out.points[..done * np * 2]);
+                let pivot_min = out.pivot_ratio[..done].iter().copied().fold(f64::INFINITY, f64::min);
+                (pivot_min, out.events.len(), done, err)
+            },
+        );
+        let mut figures = VariantFigures { n_designs: n, n_steps, ..VariantFigures::default() };
+        for item in items {
+            let (pivot_min, events, done, err) = item.expect("every design was swept");
+            figures.pivot_min.push(pivot_min);
+            figures.events.push(events);
+            figures.n_done.push(done);
+            figures.errors.push(err);
+        }
+        drop((q_rows, point_rows));
+        VariantFigures { q, points, ..figures }
+    }
+}
+
+/// `buf` cut into `n` consecutive rows of `len` (empty rows when `len` is 0).
+fn split(buf: &mut [f64], n: usize, len: usize) -> Vec<Option<&mut [f64]>> {
+    let mut rows = Vec::with_capacity(n);
+    let mut rest = buf;
+    for _ in 0..n {
+        let (row, tail) = rest.split_at_mut(len);
+        rows.push(Some(row));
+        rest = tail;
+    }
+    rows
+}
