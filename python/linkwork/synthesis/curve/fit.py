@@ -82,6 +82,14 @@ class CurveDesign(DesignPictures):
         """Defect-free and within the constraints (to 1e-12 of the target's size)."""
         return not self.defects and self.violation <= 1e-12 * self.problem.target.size
 
+    def plot(self, path: str, **options: Any) -> list[str]:  # type: ignore[override]
+        """A PNG of the target points against the traced coupler curve, each point's
+        deviation drawn, beside the linkage (`pictures.plot_design`; ``options``:
+        ``title``, ``dpi``)."""
+        from .pictures import plot_design
+
+        return [plot_design(self, path, **options)]
+
     def model(self, name: str = "curve design") -> Mechanism:
         """The design as a linkwork mechanism (time = crank angle theta2 from the ground line)."""
         return self.problem.model(self.x, name)
