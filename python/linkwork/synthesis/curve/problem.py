@@ -5,7 +5,7 @@ its tables checked key by key, the fit run, the ranked table of designs.
     angles = "deg"                 # unit of the file's bare angles ("rad" default)
     [curve]
     file = "points.csv"            # or points = [[x, y], ...] or svg = "drawing.svg"
-    closed = true
+    closed = true                  # default false; an svg: closed when its path ends with Z
     timing = "free"                # or "prescribed": crank_angles = [...] or the CSV's third column
     samples = 64                   # svg: points sampled along the path
     [constraints]                  # all optional
@@ -123,7 +123,8 @@ def read_target(problem: dict[str, Any], base: str = ".") -> TargetCurve:
         if not os.path.isfile(path):
             raise SynthesisError(f"curve.svg: no file {path}")
         samples = _integer("curve", "samples", curve.get("samples", 64), 4)
-        t = from_svg(path, samples=samples, closed=closed)
+        # closed unless stated: as the path says (ending with Z)
+        t = from_svg(path, samples=samples, closed=closed if "closed" in curve else None)
     angles = t.crank_angles
     if "crank_angles" in curve:
         if timing != "prescribed":
@@ -158,7 +159,8 @@ def read_options(problem: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any
         if not isinstance(value, str):
             number = isinstance(value, (int, float)) and not isinstance(value, bool)
             value = f"{value} {unit}" if number else value
-        options["transmission"] = angle("constraints.transmission", value)
+        angle("constraints.transmission", value)  # its form here; its bound in the problem
+        options["transmission"] = value
     if "ordered" in c:
         options["ordered"] = _flag("constraints", "ordered", c["ordered"])
     for key in ("links", "regions", "fixed"):

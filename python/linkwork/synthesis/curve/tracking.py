@@ -157,8 +157,9 @@ class TrackingProblem:
             bound = K.angle("transmission", self.transmission)
             if bound < 0.0 or bound > math.pi / 2:
                 raise SynthesisError(
-                    f"contradictory transmission bound: {math.degrees(bound):.6g} deg; a transmission "
-                    "angle is at most 90 degrees from 0 or 180 (state the unit: '40 deg')"
+                    f"contradictory transmission bound {self.transmission!r} "
+                    f"({math.degrees(bound):.6g} deg): a transmission angle is at most 90 degrees "
+                    "from 0 or 180 (state the unit: '40 deg')"
                 )
         self.transmission = bound
         links = {}
