@@ -178,3 +178,13 @@ def test_double_crank() -> None:
     assert r[0] <= r[1:].min()
     assert best.grashof == "double-crank"
     assert min(best.margins.values()) >= -1e-9 * t.size
+
+
+def test_link_ranges_are_bounds() -> None:
+    """links = {"r2": ..., "r3": ...}: bounds the refinement never leaves; their margins."""
+    t = C.target(OPEN)
+    result = C.fit(t, starts=3, seed=4, max_nfev=60, workers=2, links={"r2": (0.2, 0.3), "r3": (0.8, 1.2)})
+    for d in result.designs:
+        assert 0.2 <= d.x[1] <= 0.3 and 0.8 <= d.x[2] <= 1.2
+        assert min(d.margins["link r2"], d.margins["link r3"]) >= 0.0
+        assert d.margins["link r2"] == pytest.approx(min(d.x[1] - 0.2, 0.3 - d.x[1]), abs=1e-15)

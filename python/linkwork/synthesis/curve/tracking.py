@@ -192,11 +192,11 @@ class TrackingProblem:
                 raise SynthesisError(f"regions are for {', '.join(K.PLACES)}, not {name!r}")
             regions[name] = K.region(name, value)
         self.regions = regions
-        lo, hi = self.lower_upper()
-        if np.any(lo[7:9] > hi[7:9]):
+        xlo, xhi = self.lower_upper()
+        if np.any(xlo[7:9] > xhi[7:9]):
             raise SynthesisError(
                 f"contradictory constraints: the region of O2 ({regions['O2']}) is outside "
-                f"the pivot bounds {list(self.pivot)}"
+                f"the pivot bounds {list(self.pivot or ())}"
             )
         if "O2" in regions and {"x0", "y0"} <= set(self.fixed):
             out, _ = regions["O2"].outside(np.array([self.fixed["x0"], self.fixed["y0"]]))
@@ -372,8 +372,8 @@ class TrackingProblem:
         if self.regions:
             g, _ = self.constraints(x)
             names = self.constraint_names()
-            for k in self.regions:
-                out[f"region {k}"] = -float(g[names.index(f"region {k}")])
+            for place in self.regions:
+                out[f"region {place}"] = -float(g[names.index(f"region {place}")])
         return out
 
     # ---- the model ----------------------------------------------------------------------
