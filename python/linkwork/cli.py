@@ -580,8 +580,9 @@ jumps, the closest approach to a singular configuration) marked on the timeline.
         formatter_class=fmt,
         help="design mechanisms from precision points: every solution, screened, as model files",
         description="""Reads a synthesis problem file (TOML: problem = motion | path | function |
-chained-six-bar, with its poses, points or angles; docs/synthesis.md), finds every exact
-solution (certified), assembles and screens the designs with the engine, and writes:
+chained-six-bar, with its poses, points or angles, or curve, with a target curve;
+docs/synthesis.md), finds every exact solution (certified; for a curve, the designs
+refined from many starts, ranked), assembles and screens the designs with the engine, and writes:
   DIR/PROBLEM_designK.toml   each design as a model file (linkwork run can sweep it)
   DIR/PROBLEM_report.txt     the solutions, their certificates, defects and merit order
   DIR/PROBLEM.png            the designs at position 1 and their coupler paths through

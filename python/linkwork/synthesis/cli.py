@@ -3,7 +3,7 @@ as a model file, a report and a figure of the designs through the precision poin
 
 Problem file (TOML; docs/synthesis.md)::
 
-    problem = "motion"        # motion | path | function | chained-six-bar
+    problem = "motion"        # motion | path | function | chained-six-bar | curve
     angles = "deg"            # units of every angle in the file: "deg" or "rad" (default)
     poses = [[x, y, angle], ...]          # motion: 2 to 5 poses (more: least squares)
     moving = [[x, y], [x, y]]             # motion, 2 or 3 poses: chosen moving pivots
@@ -17,6 +17,7 @@ Problem file (TOML; docs/synthesis.md)::
     input_pivot = [x, y]                  # chained-six-bar: Q (also points,
     output_pivot = [x, y]                 #   input_angles, coupler_angles)
     [torque]                              # chained-six-bar: mass, inertia, gravity, omega
+    [curve], [constraints], [fit]         # curve: linkwork.synthesis.curve.problem
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ if TYPE_CHECKING:
     from ..model.compiled import Model
     from ..model.results import Results
 
-PROBLEMS = ("motion", "path", "function", "chained-six-bar")
+PROBLEMS = ("motion", "path", "function", "chained-six-bar", "curve")
 
 
 def _read(path: str) -> dict[str, Any]:
@@ -73,8 +74,9 @@ def _least_squares_options(problem: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
-    """(report, designs with .model(), precision points to draw) of one problem."""
+def solve(problem: dict[str, Any], base: str = ".") -> tuple[str, list[Any], np.ndarray | None]:
+    """(report, designs with .model(), precision points to draw) of one problem (files it
+    names relative to ``base``)."""
     kind = problem.get("problem")
     unit = problem.get("angles", "rad")
     if unit not in ("rad", "deg"):
@@ -117,6 +119,10 @@ def solve(problem: dict[str, Any]) -> tuple[str, list[Any], np.ndarray | None]:
         return text, [], None
     if kind == "chained-six-bar":
         return _chained_six_bar(problem, unit)
+    if kind == "curve":
+        from .curve.problem import solve_curve
+
+        return solve_curve(problem, base)
     raise SynthesisError(f"problem must be one of {', '.join(PROBLEMS)}; got {kind!r}")
 
 
@@ -177,6 +183,7 @@ def _pictures(
     report's lines (the deviations, or why a design's pictures are not drawn)."""
     from ..view.figures import plot_paths
     from ..view.page import page
+    from .curve.fit import CurveDesign
 
     drawn: list[Drawn] = []
     lines = []
@@ -192,7 +199,10 @@ def _pictures(
         base = os.path.join(out, f"{stem}_design{k}")
         page(res, base + ".html", targets=targets, title=f"{stem}: design {k}")
         res.to_svg(base + ".svg", targets=targets)
-        plot_paths(res, base + ".png", targets=targets)
+        if isinstance(design, CurveDesign):  # the target against the traced curve, zoomed
+            design.plot(base + ".png")
+        else:
+            plot_paths(res, base + ".png", targets=targets)
         drawn.append((k, res.model, res, dev))
         if dev is not None:
             lines.append(f"design {k}, {dev.report()}")
@@ -260,7 +270,7 @@ def _joint_points(compiled: Any) -> list[tuple[str, str, str, float, float]]:
 def synth(args: Any) -> int:
     """The ``synth`` command: status 0 done, 1 no design (report still written)."""
     problem = _read(args.problem)
-    report, designs, points = solve(problem)
+    report, designs, points = solve(problem, os.path.dirname(os.path.abspath(args.problem)))
     os.makedirs(args.out, exist_ok=True)
     stem = os.path.splitext(os.path.basename(args.problem))[0]
     written = []

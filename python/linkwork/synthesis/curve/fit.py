@@ -24,6 +24,7 @@ import numpy as np
 
 from ...errors import SingularError, SolveError, SynthesisError
 from ...mechanism.builder import Mechanism
+from ...view.design import DesignPictures
 from .target import TargetCurve
 from .tracking import TWO_PI, CircuitError, TrackingProblem, coupler_points
 
@@ -36,14 +37,17 @@ _WEIGHTS = (1e1, 1e3, 1e5, 1e7)
 
 
 @dataclass
-class CurveDesign:
+class CurveDesign(DesignPictures):
     """A refined design: ``x`` (the full vector of `TrackingProblem`), its ``circuit``,
     ``f`` (the tracking error), ``max_deviation`` (the largest |C(theta2_i) - P_i|),
     ``transmission`` (the smallest transmission angle over the traced stretch, rad, as its
     distance from 0 or pi), ``violation`` (largest constraint violation, 0 when they
     hold), ``grashof`` (the engine's type), ``defects`` (order, branch, circuit over the
     traced stretch; empty when free of them), ``nfev`` and ``seconds`` of its refinement,
-    ``start`` (the index of its starting design)."""
+    ``start`` (the index of its starting design), ``margins`` (each stated constraint's
+    margin, `TrackingProblem.margins`). Its pictures (`to_html`, `to_svg`, `plot`) draw
+    the traced coupler curve over a crank turn with the target points marked and each
+    point's deviation drawn."""
 
     problem: TrackingProblem = field(repr=False)
     x: np.ndarray
@@ -56,6 +60,18 @@ class CurveDesign:
     nfev: int
     seconds: float
     start: int = -1
+    margins: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def positions(self) -> np.ndarray:
+        """The target points (the pictures' targets)."""
+        return np.array(self.problem.target.points)
+
+    coupler_angles = None
+
+    def precision_times(self) -> np.ndarray:
+        """The model's time at each target point: its crank angle within the turn."""
+        return np.mod(self.x[9:], TWO_PI)
 
     @property
     def circuit(self) -> str:
@@ -65,6 +81,14 @@ class CurveDesign:
     def ok(self) -> bool:
         """Defect-free and within the constraints (to 1e-12 of the target's size)."""
         return not self.defects and self.violation <= 1e-12 * self.problem.target.size
+
+    def plot(self, path: str, **options: Any) -> list[str]:  # type: ignore[override]
+        """A PNG of the target points against the traced coupler curve, each point's
+        deviation drawn, beside the linkage (`pictures.plot_design`; ``options``:
+        ``title``, ``dpi``)."""
+        from .pictures import plot_design
+
+        return [plot_design(self, path, **options)]
 
     def model(self, name: str = "curve design") -> Mechanism:
         """The design as a linkwork mechanism (time = crank angle theta2 from the ground line)."""
@@ -138,7 +162,11 @@ class _Refinement:
         self.dxdz[self.design, np.arange(self.design.size)] = 1.0
         if self.timing:
             self.dxdz[9:, self.design.size :] = np.tril(np.ones((n, n)))
-        self.cache: dict[bytes, tuple[np.ndarray, np.ndarray] | None] = {}
+        self.cache: dict[bytes, tuple[np.ndarray, ...] | None] = {}
+        self.m = len(problem.constraint_names())
+        # the penalties aim a little inside the constraints, so that what a finite weight
+        # leaves of a violation stays inside them
+        self.inset = 1e-10 * problem.target.size
         self.big = 1e6 * max(problem.target.size, 1.0)
 
     def z_of(self, x: np.ndarray) -> np.ndarray:
@@ -155,32 +183,28 @@ class _Refinement:
             x[9:] = np.cumsum(z[self.design.size :])
         return x
 
-    def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, ...] | None:
         key = z.tobytes()
         if key not in self.cache:
             try:
-                self.cache = {key: self.problem.evaluate(self.x_of(z))}
+                self.cache = {key: self.problem.evaluate_all(self.x_of(z))}
             except CircuitError:
                 self.cache = {key: None}
         return self.cache[key]
 
     def residuals(self, z: np.ndarray, weight: float) -> np.ndarray:
         out = self.evaluate(z)
-        g = self.problem.constraints(self.x_of(z))
         if out is None:
-            return np.full(2 * self.problem.n + g.size, self.big)
-        return np.concatenate([out[0], weight * np.maximum(g, 0.0)])
+            return np.full(2 * self.problem.n + self.m, self.big)
+        return np.concatenate([out[0], weight * np.maximum(out[2] + self.inset, 0.0)])
 
     def jacobian(self, z: np.ndarray, weight: float) -> np.ndarray:
         out = self.evaluate(z)
-        x = self.x_of(z)
-        g = self.problem.constraints(x)
-        n = self.problem.n
         if out is None:  # not reached: a rejected step's Jacobian is never asked for
-            return np.zeros((2 * n + g.size, self.lower.size))
-        # the constraints are linear in x: their gradients by differences of unit vectors
-        dg = np.array([self.problem.constraints(x + e) - g for e in np.eye(x.size)]).T
-        dg[g <= 0.0] = 0.0
+            return np.zeros((2 * self.problem.n + self.m, self.lower.size))
+        # the constraints' exact gradients (`TrackingProblem.constraints`), where they bind
+        dg = np.array(out[3], dtype=float).reshape(self.m, -1)
+        dg[out[2] + self.inset <= 0.0] = 0.0
         return np.vstack([out[1], weight * dg]) @ self.dxdz
 
 
@@ -235,6 +259,7 @@ def _design(problem: TrackingProblem, x: np.ndarray, nfev: int, seconds: float, 
         nfev,
         seconds,
         start,
+        problem.margins(x),
     )
 
 
@@ -290,18 +315,25 @@ def _procrustes(c: np.ndarray, p: np.ndarray, rotate: bool) -> tuple[float, floa
 
 
 def random_seeds(
-    target: TargetCurve, count: int, seed: int = 0, circuits: Sequence[str] = ("open", "crossed")
+    target: TargetCurve,
+    count: int,
+    seed: int = 0,
+    circuits: Sequence[str] = ("open", "crossed"),
+    grashof: str = "crank-rocker",
 ) -> list[tuple[str, np.ndarray]]:
     """``count`` starting designs (circuit, full x): random Grashof crank-rockers from a
     seeded generator, crank angles spread over the points (a turn for a closed curve),
     each placed on the target by the similarity that fits its points best (its scale
-    alone where theta0, x0, y0 are prescribed: Cabrera's timed problem has them 0)."""
+    alone where theta0, x0, y0 are prescribed: Cabrera's timed problem has them 0);
+    ``grashof="double-crank"``: double-cranks (the ground the shortest link)."""
     rng = np.random.default_rng(seed)
     n = len(target)
     out: list[tuple[str, np.ndarray]] = []
     while len(out) < count:
         r1, r3, r4 = rng.uniform(1.0, 5.0, 3)
         r2 = rng.uniform(0.1, 1.0) * min(r1, r3, r4)
+        if grashof == "double-crank":  # the same lengths with the shortest as the ground
+            r1, r2 = r2, r1
         lengths = sorted([r1, r2, r3, r4])
         if lengths[0] + lengths[3] > lengths[1] + lengths[2]:
             continue
@@ -336,12 +368,13 @@ def fit(
     `random_seeds` (``starts`` of them, ``seed``)) refined by `refine` on ``workers``
     threads (default: every core; the engine releases the GIL while it sweeps), on the
     `TrackingProblem` of ``target`` with the options ``problem`` (``lengths``,
-    ``coupler``, ``pivot``, ``fixed``, ``ordered``). A start that does not turn fully on
+    ``coupler``, ``pivot``, ``fixed``, ``ordered`` and the designer's constraints
+    ``grashof``, ``transmission``, ``links``, ``ratio``, ``regions``). A start that does not turn fully on
     its circuit is dropped with why (``failures``). The answer does not depend on the
     number of workers."""
     t0 = time.perf_counter()
     if seeds is None:
-        seeds = random_seeds(target, starts, seed)
+        seeds = random_seeds(target, starts, seed, grashof=problem.get("grashof", "crank-rocker"))
     problems = {c: TrackingProblem(target, circuit=c, **problem) for c in ("open", "crossed")}
     jobs = list(enumerate(seeds))
 

@@ -33,6 +33,7 @@ import numpy as np
 from ...errors import InputError, ModelError, SolveError, SynthesisError
 from ...mechanism.builder import Mechanism
 from ...model.compiled import Model
+from . import constraints as K
 from .target import TargetCurve
 
 __all__ = ["CircuitError", "TrackingProblem", "DESIGN", "coupler_points"]
@@ -98,8 +99,17 @@ class TrackingProblem:
     target's size); ``coupler``: for rcx, rcy (default +-10 sizes); ``pivot``: for x0, y0
     (default the target's box grown by 10 sizes); ``fixed``: {"theta0": v, "x0": v,
     "y0": v} held (Cabrera's timed problem fixes all three at 0); ``ordered``: also require
-    r2 <= r3 <= r4 <= r1. The crank is always the shortest link and turns fully on the
-    circuit (a Grashof crank-rocker)."""
+    r2 <= r3 <= r4 <= r1. The crank turns fully on the circuit.
+
+    The designer's constraints (`linkwork.synthesis.curve.constraints`): ``grashof``
+    ("crank-rocker": the crank the shortest link, the default; "double-crank": the ground
+    the shortest; "full-turn": either); ``transmission``: the smallest transmission angle
+    over the traced stretch ("40 deg", "0.7 rad" or rad); ``links``: {"r1": (lo, hi),
+    ...} ranges of single links (bounds); ``ratio``: (lo, hi) of the longest link over
+    the shortest; ``regions``: {"O2" | "O4" | "P": a box {"x": (lo, hi), "y": (lo, hi)}
+    or a disc {"centre": (x, y), "radius": r}}, P's region holding over the traced
+    stretch (at the sweep's steps and the crank angles). Contradictory constraints raise
+    `SynthesisError` naming them."""
 
     target: TargetCurve
     circuit: str = "open"
@@ -108,6 +118,11 @@ class TrackingProblem:
     pivot: tuple[float, float] | None = None
     fixed: Mapping[str, float] = field(default_factory=dict)
     ordered: bool = False
+    grashof: str = "crank-rocker"
+    transmission: Any = None
+    links: Mapping[str, Any] = field(default_factory=dict)
+    ratio: Any = None
+    regions: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.circuit not in ("open", "crossed"):
@@ -125,6 +140,70 @@ class TrackingProblem:
         if bad:
             raise SynthesisError(f"only theta0, x0, y0 can be fixed, not {', '.join(sorted(bad))}")
         self.fixed = {k: float(v) for k, v in self.fixed.items()}
+        self._designer_constraints()
+
+    def _designer_constraints(self) -> None:
+        """Check and normalise the designer's constraints; contradictions are named."""
+        assert self.lengths is not None
+        if self.grashof not in K.GRASHOF:
+            raise SynthesisError(f"grashof is one of {', '.join(K.GRASHOF)}, not {self.grashof!r}")
+        if self.ordered and self.grashof != "crank-rocker":
+            raise SynthesisError(
+                f"contradictory constraints: ordered (r2 <= r3 <= r4 <= r1) makes the crank the "
+                f"shortest link, a crank-rocker, not grashof {self.grashof!r}"
+            )
+        bound = None
+        if self.transmission is not None:
+            bound = K.angle("transmission", self.transmission)
+            if bound < 0.0 or bound > math.pi / 2:
+                raise SynthesisError(
+                    f"contradictory transmission bound {self.transmission!r} "
+                    f"({math.degrees(bound):.6g} deg): a transmission angle is at most 90 degrees "
+                    "from 0 or 180 (state the unit: '40 deg')"
+                )
+        self.transmission = bound
+        links = {}
+        for name, value in dict(self.links).items():
+            if name not in DESIGN[:4]:
+                raise SynthesisError(f"links ranges are for r1, r2, r3, r4, not {name!r}")
+            lo, hi = _bounds(f"link {name}", value, self.lengths)
+            lo, hi = max(lo, self.lengths[0]), min(hi, self.lengths[1])
+            if lo > hi:
+                raise SynthesisError(
+                    f"contradictory range of link {name}: {list(value)} outside the lengths' "
+                    f"bounds {list(self.lengths)}"
+                )
+            links[name] = (lo, hi)
+        self.links = links
+        if self.ratio is not None:
+            lo, hi = _bounds("ratio (longest / shortest link)", self.ratio, (1.0, math.inf))
+            if hi < 1.0:
+                raise SynthesisError(
+                    f"contradictory ratio: the longest link over the shortest is >= 1, not <= {hi}"
+                )
+            if lo > self.lengths[1] / self.lengths[0]:
+                raise SynthesisError(
+                    f"contradictory constraints: ratio >= {lo} with lengths within {list(self.lengths)}"
+                )
+            self.ratio = (lo, hi)
+        regions = {}
+        for name, value in dict(self.regions).items():
+            if name not in K.PLACES:
+                raise SynthesisError(f"regions are for {', '.join(K.PLACES)}, not {name!r}")
+            regions[name] = K.region(name, value)
+        self.regions = regions
+        xlo, xhi = self.lower_upper()
+        if np.any(xlo[7:9] > xhi[7:9]):
+            raise SynthesisError(
+                f"contradictory constraints: the region of O2 ({regions['O2']}) is outside "
+                f"the pivot bounds {list(self.pivot or ())}"
+            )
+        if "O2" in regions and {"x0", "y0"} <= set(self.fixed):
+            out, _ = regions["O2"].outside(np.array([self.fixed["x0"], self.fixed["y0"]]))
+            if out[0] > 0.0:
+                raise SynthesisError(
+                    f"contradictory constraints: O2 is fixed outside its region ({regions['O2']})"
+                )
 
     # ---- the design vector ------------------------------------------------------------
     @property
@@ -137,6 +216,14 @@ class TrackingProblem:
         assert self.lengths and self.coupler and self.pivot
         lo = [self.lengths[0]] * 4 + [self.coupler[0]] * 2 + [-TWO_PI] + [self.pivot[0]] * 2
         hi = [self.lengths[1]] * 4 + [self.coupler[1]] * 2 + [TWO_PI] + [self.pivot[1]] * 2
+        for name, (a, b) in self.links.items():
+            k = DESIGN.index(name)
+            lo[k], hi[k] = a, b
+        box = self.regions.get("O2")
+        if box is not None and box.x is not None and box.y is not None:
+            # a box for O2 bounds x0 and y0 themselves: held exactly
+            for k, (a, b) in ((7, box.x), (8, box.y)):
+                lo[k], hi[k] = max(lo[k], a), min(hi[k], b)
         return np.array(lo + [-np.inf] * self.n), np.array(hi + [np.inf] * self.n)
 
     def free(self) -> np.ndarray:
@@ -159,20 +246,135 @@ class TrackingProblem:
             x[9:] = self.target.crank_angles
         return x
 
-    def constraints(self, x: np.ndarray) -> np.ndarray:
-        """g(x) <= 0: the crank the shortest link (and, ``ordered``, r3 <= r4 <= r1); for a
-        closed curve the crank angles within one turn."""
-        r1, r2, r3, r4 = x[:4]
-        g = [r2 - r1, r2 - r3, r2 - r4]
+    def constraint_names(self) -> list[str]:
+        """The name of each entry of `constraints`, in order."""
+        names = []
+        if self.grashof == "crank-rocker":
+            names += [f"crank shortest (r2 <= {k})" for k in ("r1", "r3", "r4")]
+        elif self.grashof == "double-crank":
+            names += [f"ground shortest (r1 <= {k})" for k in ("r2", "r3", "r4")]
+        names.append("grashof (s + l <= p + q)")
         if self.ordered:
-            g += [r3 - r4, r4 - r1]
+            names += ["ordered (r3 <= r4)", "ordered (r4 <= r1)"]
         if self.target.closed and not self.target.timed:
-            g.append(x[-1] - x[9] - TWO_PI)
-        return np.array(g)
+            names.append("within one turn")
+        if self.ratio is not None:
+            names += ["ratio upper", "ratio lower"]
+        if self.transmission is not None:
+            names.append("transmission")
+        names += [f"region {k}" for k in self.regions]
+        return names
+
+    def constraints(self, x: Any, sweep: Any = None) -> tuple[np.ndarray, np.ndarray]:
+        """g(x) <= 0 (`constraint_names`; length units: the transmission's |cos mu| excess
+        times the target's size, the one-turn entry in rad) and its exact Jacobian in the
+        full x. P's region needs the engine's sweep (``sweep``: `_sweep`'s, else run)."""
+        x = np.asarray(x, dtype=float)
+        r = x[:4]
+        rows: list[tuple[float, np.ndarray]] = []
+
+        def lin(coef: dict[int, float], value: float) -> None:
+            g = np.zeros(x.size)
+            for k, v in coef.items():
+                g[k] += v
+            rows.append((value, g))
+
+        short = {"crank-rocker": 1, "double-crank": 0}.get(self.grashof)
+        if short is not None:
+            for k in (0, 2, 3) if short == 1 else (1, 2, 3):
+                lin({short: 1.0, k: -1.0}, float(r[short] - r[k]))
+        order = np.argsort(r, kind="stable")
+        s_, p_, q_, l_ = order
+        lin({s_: 1.0, l_: 1.0, p_: -1.0, q_: -1.0}, float(r[s_] + r[l_] - r[p_] - r[q_]))
+        if self.ordered:
+            lin({2: 1.0, 3: -1.0}, float(r[2] - r[3]))
+            lin({3: 1.0, 0: -1.0}, float(r[3] - r[0]))
+        if self.target.closed and not self.target.timed:
+            lin({x.size - 1: 1.0, 9: -1.0}, float(x[-1] - x[9] - TWO_PI))
+        if self.ratio is not None:
+            lo, hi = self.ratio
+            if math.isfinite(hi):
+                lin({l_: 1.0, s_: -hi}, float(r[l_] - hi * r[s_]))
+            else:
+                lin({}, -math.inf)
+            lin({s_: lo, l_: -1.0}, float(lo * r[s_] - r[l_]))
+        if self.transmission is not None:
+            mu, dmu = K.smallest_transmission(x, self.target.closed)
+            # |cos mu| above cos(bound), in length units: d|cos mu| = -sin mu d mu
+            size = self.target.size
+            rows.append((size * (math.cos(mu) - math.cos(self.transmission)), -size * math.sin(mu) * dmu))
+        for name, reg in self.regions.items():
+            if name == "P":
+                rows.append(self._coupler_region(x, reg, sweep))
+                continue
+            r1, th0 = x[0], x[6]
+            c, s = math.cos(th0), math.sin(th0)
+            pt = np.array([x[7], x[8]]) + (r1 * np.array([c, s]) if name == "O4" else 0.0)
+            out, grad = reg.outside(pt)
+            g = np.zeros(x.size)
+            g[7:9] = grad[0]
+            if name == "O4":
+                g[0] = grad[0] @ [c, s]
+                g[6] = grad[0] @ [-r1 * s, r1 * c]
+            rows.append((float(out[0]), g))
+        if not rows:
+            return np.zeros(0), np.zeros((0, x.size))
+        vals = np.array([v for v, _ in rows])
+        vals[np.isneginf(vals)] = -1.0  # an unbounded side never binds
+        return vals, np.array([g for _, g in rows])
+
+    def _coupler_region(self, x: np.ndarray, reg: K.Region, sweep: Any) -> tuple[float, np.ndarray]:
+        """The largest distance of P outside its region over the traced stretch (the
+        sweep's steps inside it and the crank angles), with its exact gradient."""
+        times, at, p, jd, val = self._sweep(x) if sweep is None else sweep
+        th = x[9:]
+        inside = np.ones(times.size, dtype=bool)
+        if not self.target.closed and th[-1] - th[0] < TWO_PI:
+            inside = np.mod(times - th[0], TWO_PI) <= th[-1] - th[0]
+        steps = np.flatnonzero(inside)
+        out, grad = reg.outside(p[steps])
+        k = int(np.argmax(out))
+        g = np.zeros(x.size)
+        g[:9] = grad[k] @ jd[steps[k]]
+        # a crank angle's sample moves with that angle: the driver's start sensitivity
+        for i in np.flatnonzero(at == steps[k])[:1]:
+            g[9 + i] = grad[k] @ val[steps[k]]
+        return float(out[k]), g
 
     def violation(self, x: Any) -> float:
         """Largest constraint violation (length units; 0 when every constraint holds)."""
-        return float(max(0.0, self.constraints(self.complete(x)).max()))
+        g, _ = self.constraints(self.complete(x))
+        return float(max(0.0, g.max())) if g.size else 0.0
+
+    def margins(self, x: Any) -> dict[str, float]:
+        """Each stated constraint's margin (>= 0 when it holds; negative: violated by
+        that much): "transmission" in rad, "ratio" in the ratio, the Grashof type, the
+        ordering, the link ranges and the regions in length units."""
+        x = self.complete(x)
+        r = x[:4]
+        out: dict[str, float] = {}
+        s = np.sort(r)
+        grashof = float(s[1] + s[2] - s[0] - s[3])
+        if self.grashof != "full-turn":
+            k = 1 if self.grashof == "crank-rocker" else 0
+            grashof = min(grashof, float(np.delete(r, k).min() - r[k]))
+        out[f"grashof {self.grashof}"] = grashof
+        if self.ordered:
+            out["ordered"] = float(min(r[2] - r[1], r[3] - r[2], r[0] - r[3]))
+        for name, (lo, hi) in self.links.items():
+            v = float(x[DESIGN.index(name)])
+            out[f"link {name}"] = min(v - lo, hi - v)
+        if self.ratio is not None:
+            ratio = float(s[3] / s[0])
+            out["ratio"] = min(ratio - self.ratio[0], self.ratio[1] - ratio)
+        if self.transmission is not None:
+            out["transmission"] = K.smallest_transmission(x, self.target.closed)[0] - self.transmission
+        if self.regions:
+            g, _ = self.constraints(x)
+            names = self.constraint_names()
+            for place in self.regions:
+                out[f"region {place}"] = -float(g[names.index(f"region {place}")])
+        return out
 
     # ---- the model ----------------------------------------------------------------------
     def description(self, x: Any, name: str = "four-bar design") -> dict[str, Any]:
@@ -231,11 +433,10 @@ class TrackingProblem:
         times = np.union1d(np.linspace(0.0, TWO_PI, _STEPS + 1), th)
         return times, np.searchsorted(times, th)
 
-    def evaluate(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
-        """The residuals C(theta2_i) - P_i (2n: x1, y1, x2, ...) and their exact Jacobian
-        with respect to the full x (2n x (9 + n)), from the engine. `CircuitError` if the
-        design does not turn fully on its circuit."""
-        x = self.complete(x)
+    def _sweep(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The engine's sweep of the design over a crank turn (`grid`): the times, the
+        step of each crank angle, P at every step (T x 2), d P / d x[:9] (T x 2 x 9) and
+        d P / d (the driver's start) (T x 2). `CircuitError` off the circuit."""
         r1, th0 = x[0], x[6]
         try:
             model = Model(self.description(x))
@@ -250,7 +451,7 @@ class TrackingProblem:
         miss = float(np.nanmax(np.hypot(*(p - ref).T))) if np.all(np.isfinite(ref)) else math.inf
         if not miss <= 1e-7 * max(self.target.size, float(np.max(x[:4]))):
             raise CircuitError(f"the sweep leaves the {self.circuit} circuit (by {miss:.3g})")
-        S = s.points["P"][at]  # n x 2 x 10
+        S = s.points["P"]  # T x 2 x 10
         o2x, o2y, o4x, o4y, lc, lk, lr, px, py, val = (S[:, :, k] for k in range(10))
         # "point P.x" moves P in world coordinates of the drawing: rotate to the coupler's frame
         t3 = float(model.q_start[model.columns.index("coupler.theta")])
@@ -267,11 +468,30 @@ class TrackingProblem:
             o2x + o4x,
             o2y + o4y,
         ]
+        return times, at, p, np.stack(cols, axis=-1), val
+
+    def evaluate_all(self, x: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """`evaluate`'s residuals and Jacobian and `constraints`' values and Jacobian,
+        from one sweep."""
+        x = self.complete(x)
+        sweep = self._sweep(x)
+        r, jac = self._tracking(x, sweep)
+        g, dg = self.constraints(x, sweep)
+        return r, jac, g, dg
+
+    def evaluate(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
+        """The residuals C(theta2_i) - P_i (2n: x1, y1, x2, ...) and their exact Jacobian
+        with respect to the full x (2n x (9 + n)), from the engine. `CircuitError` if the
+        design does not turn fully on its circuit."""
+        x = self.complete(x)
+        return self._tracking(x, self._sweep(x))
+
+    def _tracking(self, x: np.ndarray, sweep: Any) -> tuple[np.ndarray, np.ndarray]:
+        _, at, p, jd, val = sweep
         n = self.n
         jac = np.zeros((n, 2, 9 + n))
-        for k, col in enumerate(cols):
-            jac[:, :, k] = col
-        jac[np.arange(n), :, 9 + np.arange(n)] = val  # d C / d theta2_i: the driver's start
+        jac[:, :, :9] = jd[at]
+        jac[np.arange(n), :, 9 + np.arange(n)] = val[at]  # d C / d theta2_i: the driver's start
         return (p[at] - self.target.points).reshape(-1), jac.reshape(2 * n, 9 + n)
 
     def objective(self, x: Any) -> float:
