@@ -6,7 +6,7 @@ from."""
 
 from .atlas import Atlas, AtlasHit, build_atlas
 from .atlas import load as load_atlas
-from .descriptors import ShapeFit, descriptors, shape_error
+from .descriptors import ShapeFit, shape_error
 from .fit import CURVE_MERIT, CurveDesign, CurveFit, fit, random_seeds, refine
 from .target import TargetCurve, from_csv, from_svg, svg_path_points, target
 from .tracking import DESIGN, CircuitError, TrackingProblem, coupler_points
@@ -17,7 +17,6 @@ __all__ = [
     "build_atlas",
     "load_atlas",
     "ShapeFit",
-    "descriptors",
     "shape_error",
     "CURVE_MERIT",
     "CurveDesign",
