@@ -3,6 +3,7 @@ curves (linkwork.synthesis.curve.descriptors, .atlas)."""
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 
@@ -12,7 +13,9 @@ import pytest
 import linkwork as lw
 from linkwork.errors import SynthesisError
 from linkwork.synthesis.curve import atlas as A
-from linkwork.synthesis.curve import descriptors as D
+
+# the module (the package's name `descriptors` is the function of that name)
+D = importlib.import_module("linkwork.synthesis.curve.descriptors")
 
 
 def rot(a):

@@ -355,7 +355,7 @@ def fit(
         try:
             d = refine(problems[circuit], x, max_nfev=max_nfev, start=k)
         except CircuitError as e:
-            return f"start {k} ({family[0] if family else 'given'}): {e}"
+            return f"start {k}: {e} ({family[0] if family else 'given'} seed)"
         d.family = str(family[0]) if family else "given"
         return d
 
