@@ -33,6 +33,7 @@ __all__ = [
     "crank_angles_along",
     "design_vectors",
     "nine_along",
+    "seed_error",
     "make_seeds",
 ]
 
@@ -145,13 +146,22 @@ def _crank_rocker(r: np.ndarray) -> bool:
     return bool(r[1] <= s[0] and s[0] + s[3] <= s[1] + s[2])
 
 
+def seed_error(seed: Seed, target: TargetCurve) -> float:
+    """The tracking error of a seed as it stands (closed form; infinity where it does
+    not assemble)."""
+    th = seed.x[9:] if target.crank_angles is None else np.asarray(target.crank_angles, dtype=float)
+    c = coupler_points(seed.x, th, seed.circuit)
+    return float(np.sum((c - target.points) ** 2)) if np.all(np.isfinite(c)) else math.inf
+
+
 def alt_seeds(
-    target: TargetCurve, seconds: float = 10.0, points: Any = None
+    target: TargetCurve, seconds: float = 10.0, points: Any = None, keep: int | None = None
 ) -> tuple[list[Seed], dict[str, Any]]:
     """Every real four-bar of Alt's problem on nine points along the target (`nine_along`,
     or the nine ``points`` given), each of its dyads taken as the crank in turn, kept
-    where that makes a Grashof crank-rocker; the homotopy stops after ``seconds``. Also
-    what it cost: {"seconds", "four_bars" (real ones found), "kept", "failed"}."""
+    where that makes a Grashof crank-rocker; the homotopy stops after ``seconds``. With
+    ``keep``, only that many, the smallest tracking error (`seed_error`) first. Also what
+    it cost: {"seconds", "four_bars" (real ones found), "crank_rockers", "kept", "failed"}."""
     from ..exact import nine_points
 
     nine = nine_along(target) if points is None else np.asarray(points, dtype=float)
@@ -167,9 +177,13 @@ def alt_seeds(
             if not np.all(np.isfinite(coupler_points(x, np.linspace(0.0, TWO_PI, 73), circuit))):
                 continue  # the crank of a crank-rocker drawn on the other circuit's half
             out.append(_with_angles(x, circuit, target, "alt"))
+    found = len(out)
+    if keep is not None:
+        out = sorted(out, key=lambda sd: seed_error(sd, target))[: max(int(keep), 0)]
     info = {
         "seconds": time.perf_counter() - t0,
         "four_bars": len(res.designs),
+        "crank_rockers": found,
         "kept": len(out),
         "failed": int(res.failed),
     }
@@ -179,15 +193,16 @@ def alt_seeds(
 def make_seeds(
     target: TargetCurve,
     atlas: int = 8,
-    alt: bool = True,
+    alt: int = 16,
     random: int = 8,
     seed: int = 0,
     seconds: float = 10.0,
     atlas_data: Atlas | None = None,
 ) -> Seeds:
-    """Starting designs from every direction: ``atlas`` atlas seeds, Alt's four-bars
-    through nine points of the target (with ``alt``; its homotopy bounded by ``seconds``)
-    and ``random`` random crank-rockers (`random_seeds`, ``seed``)."""
+    """Starting designs from every direction: ``atlas`` atlas seeds, ``alt`` of Alt's
+    crank-rockers through nine points of the target (the smallest tracking error as seeds
+    first; its homotopy bounded by ``seconds``) and ``random`` random crank-rockers
+    (`random_seeds`, ``seed``)."""
     from .fit import random_seeds
 
     out: list[Seed] = []
@@ -202,10 +217,11 @@ def make_seeds(
     if alt:
         t0 = time.perf_counter()
         try:
-            got, info = alt_seeds(target, seconds)
+            got, info = alt_seeds(target, seconds, keep=alt)
             notes.append(
-                f"Alt: {info['four_bars']} real four-bars (with cognates), {info['kept']} crank-rocker "
-                f"seeds, {info['failed']} paths failed, {info['seconds']:.2f} s"
+                f"Alt: {info['four_bars']} real four-bars (with cognates), {info['crank_rockers']} "
+                f"crank-rocker seeds, {info['kept']} kept, {info['failed']} paths failed, "
+                f"{info['seconds']:.2f} s"
             )
         except SynthesisError as e:
             got = []
