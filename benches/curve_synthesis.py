@@ -11,6 +11,13 @@ Differential evolution gets the closed form of the objective, vectorised (faster
 evaluation than the engine), the same bounds and crank-angle parametrisation, a penalty
 outside the constraints, and stops at the budget (no final polish).
 
+Then the seeds' effect (atlas + Alt + random against random only, on the free-timing
+problems), the shape problems (McGarva, Ullah and Kota: mean nearest distance after the
+best similarity) and, at linkwork's wall time on each, pylinkage's particle swarm
+(`pylinkage.optimization.particle_swarm_optimization`, its documented entry point, with
+``dimensions`` and an ``eval_func`` that ignores the linkage and scores the same
+closed-form objective) and scipy's differential evolution on the same objective.
+
     python benches/curve_synthesis.py            # print
     python benches/curve_synthesis.py --write    # also add it to the day's log in benches/results/
 """
@@ -32,6 +39,8 @@ from scipy.optimize import differential_evolution
 
 import linkwork
 from linkwork.synthesis import curve as C
+from linkwork.synthesis.curve.descriptors import nearest_distances, shape_error
+from linkwork.synthesis.curve.shape import traced
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(os.environ.get("LINKWORK_PATH_DATA", "/work/shared/data/path-synthesis"))
@@ -184,6 +193,7 @@ def table(starts: int, seed: int) -> str:
     except (OSError, subprocess.CalledProcessError):
         commit = "unknown"
     rows = run(starts, seed)
+    extra = seeds_and_shapes(seed)
     load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
     lines = [
         f"Measured {stamp} with linkwork {linkwork.__version__} at {commit}, "
@@ -207,7 +217,242 @@ def table(starts: int, seed: int) -> str:
             f"| {r['best']:.3g} ({r['source']}) "
             f"| {r['de_f']:.4g} | {r['de_n']} |"
         )
-    return "\n".join(lines)
+    return "\n".join(lines + extra)
+
+
+# ---- seeds, shapes and pylinkage ------------------------------------------------------------
+# free-timing tracking problems (name, file, closed, best known f and its source)
+FREE = [
+    ("Cabrera 6-pt vertical line", "cabrera_6pt_vertical_line.csv", False, 3.9e-28, "Mechanisms.jl"),
+    ("Kunjur 18-pt closed", "kunjur_18pt_closed.csv", True, 0.00314, "local polish of Bulatovic et al.'s"),
+    ("Yu, Tang, Wang 2007 case 1", "yu_2007_case1.csv", True, 0.854, "local polish of Yu et al.'s"),
+]
+# shape problems (name, file, the literature design's mean nearest distance, per the notes)
+SHAPES = [
+    ("McGarva 1994", "mcgarva_1994.csv", 1.52),
+    ("Ullah and Kota 1997", "ullah_kota_1997.csv", 0.070),
+]
+
+
+class _Budget(Exception):
+    """Raised inside an objective when the wall-time budget is spent."""
+
+
+def _pso(objective, lo, hi, budget: float) -> tuple[float, int]:  # noqa: ANN001
+    """pylinkage's particle swarm (defaults but ``verbose``) on ``objective`` (one vector
+    -> cost) within ``lo``..``hi`` for ``budget`` seconds: the best cost it evaluated by
+    then and its evaluations. The linkage it asks for only lends its joints' coordinates,
+    which the objective ignores; pylinkage seeds its generator from the system."""
+    import pylinkage as pl
+    from pylinkage.optimization import particle_swarm_optimization
+
+    o2, o4 = pl.Ground(0.0, 0.0), pl.Ground(3.0, 0.0)
+    crank = pl.Crank(o2, 1.0)
+    linkage = pl.Linkage([o2, o4, crank, pl.RRRDyad(crank.output, o4, 3.0, 1.0)])
+    best, evals, t0 = [math.inf], [0], time.perf_counter()
+
+    def score(_linkage, dims, _coords) -> float:  # noqa: ANN001
+        if time.perf_counter() - t0 > budget:
+            raise _Budget
+        evals[0] += 1
+        v = float(objective(np.asarray(dims, dtype=float)))
+        best[0] = min(best[0], v)
+        return v
+
+    try:
+        particle_swarm_optimization(
+            score,
+            linkage,
+            dimensions=len(lo),
+            bounds=(list(lo), list(hi)),
+            order_relation=min,
+            iterations=10**9,
+            verbose=False,
+        )
+    except _Budget:
+        pass
+    return best[0], evals[0]
+
+
+def _z_space(problem: C.TrackingProblem):  # noqa: ANN202
+    """The bounds and the map z -> x of `de_run` (crank angles as a first angle and increments)."""
+    lo, hi = problem.lower_upper()
+    free = problem.free()
+    design = np.flatnonzero(free[:9])
+    n = problem.n
+    zlo = np.array(list(lo[design]) + [0.0] * n)
+    zhi = np.array(list(hi[design]) + [TWO_PI] * n)
+    base = problem.complete(np.zeros(9 + n))
+
+    def x_of(z: np.ndarray) -> np.ndarray:
+        x = base.copy()
+        x[design] = z[: design.size]
+        x[9:] = np.cumsum(z[design.size :])
+        return x
+
+    return zlo, zhi, x_of
+
+
+def pso_tracking(target: C.TargetCurve, budget: float) -> tuple[float, int]:
+    """pylinkage's swarm on the tracking error (the closed form with `de_run`'s penalty),
+    half the budget on each circuit."""
+    out = []
+    for circuit in ("open", "crossed"):
+        problem = C.TrackingProblem(target, circuit=circuit)
+        zlo, zhi, x_of = _z_space(problem)
+        out.append(
+            _pso(lambda z, p=problem, f=x_of: _closed_form_f(p, f(z)[None, :])[0], zlo, zhi, budget / 2)
+        )
+    return min(o[0] for o in out), sum(o[1] for o in out)
+
+
+def _shape_objective(points: np.ndarray, circuit: str):  # noqa: ANN202
+    """The mean nearest distance of the traced curve of the nine design numbers (the
+    similarity is in them), a large penalty where the crank does not turn fully."""
+    size = float(np.hypot(*np.ptp(points, axis=0)))
+
+    def f(x: np.ndarray) -> float:
+        c = traced(x, circuit, 360)
+        if not np.all(np.isfinite(c)):
+            return 1e3 * size
+        return float(nearest_distances(points, c).mean())
+
+    return f
+
+
+def _shape_bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    size = float(np.hypot(*np.ptp(points, axis=0)))
+    lo, hi = points.min(axis=0) - 2.0 * size, points.max(axis=0) + 2.0 * size
+    return (
+        np.array([1e-3 * size] * 4 + [-3.0 * size] * 2 + [-math.pi, lo[0], lo[1]]),
+        np.array([3.0 * size] * 4 + [3.0 * size] * 2 + [math.pi, hi[0], hi[1]]),
+    )
+
+
+def _de(objective, lo, hi, budget: float, seed: int) -> int:  # noqa: ANN001
+    """scipy's differential evolution on ``objective`` for ``budget`` seconds (no polish):
+    its evaluations."""
+    t0, evals = time.perf_counter(), [0]
+
+    def h(x: np.ndarray) -> float:
+        evals[0] += 1
+        return objective(x)
+
+    differential_evolution(
+        h,
+        list(zip(lo, hi)),
+        seed=seed,
+        maxiter=10**9,
+        tol=0.0,
+        atol=0.0,
+        polish=False,
+        callback=lambda *a, **k: time.perf_counter() - t0 > budget,
+    )
+    return evals[0]
+
+
+class _Best:
+    """An objective that remembers the best point it was asked about."""
+
+    def __init__(self, f) -> None:  # noqa: ANN001
+        self.f, self.x, self.v = f, None, math.inf
+
+    def __call__(self, x: np.ndarray) -> float:
+        v = self.f(x)
+        if v < self.v:
+            self.x, self.v = np.array(x), v
+        return v
+
+
+def baselines_shape(points: np.ndarray, budget: float, seed: int) -> tuple[float, int, float, int]:
+    """pylinkage's swarm and scipy's differential evolution on the shape objective over
+    the nine design numbers, each for ``budget`` (half on each circuit): the mean nearest
+    distance after the best similarity of the best each found, and its evaluations."""
+    lo, hi = _shape_bounds(points)
+    means = {"pso": [math.inf], "de": [math.inf]}
+    evals = {"pso": 0, "de": 0}
+    for circuit in ("open", "crossed"):
+        for key in ("pso", "de"):
+            best = _Best(_shape_objective(points, circuit))
+            if key == "pso":
+                evals[key] += _pso(best, lo, hi, budget / 2)[1]
+            else:
+                evals[key] += _de(best, lo, hi, budget / 2, seed)
+            if best.x is not None and np.all(np.isfinite(traced(best.x, circuit))):
+                means[key].append(shape_error(points, traced(best.x, circuit), polish=False).mean)
+    return min(means["pso"]), evals["pso"], min(means["de"]), evals["de"]
+
+
+def seeds_and_shapes(seed: int) -> list[str]:
+    """The tables of the seeds' effect and of the shape problems, with the baselines."""
+    lines = [
+        "",
+        "Seeds' effect on the free-timing problems: linkwork from 8 atlas seeds, Alt's 16 "
+        "crank-rockers of smallest tracking error through nine points along the target (the "
+        "homotopy bounded by 10 s) and 8 random ones (seeds) against 32 random ones; the time "
+        f"includes the seeds' (seed {seed}). Then pylinkage 1.3.0's particle swarm "
+        "(`particle_swarm_optimization`, its defaults: 100 particles; an `eval_func` scoring the "
+        "same closed-form objective with the same penalty as DE; its generator is not seedable) "
+        "and scipy's DE, each for the seeded run's wall time, half on each circuit, one process.",
+        "",
+        "| problem | seeded f | best from | time | Alt: real four-bars with cognates (seeds kept), time "
+        "| random-only f | time | pylinkage PSO f | PSO evaluations | DE f | best known f |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, file, closed, best, source in FREE:
+        target = C.from_csv(DATA / file, closed=closed)
+        t0 = time.perf_counter()
+        sd = C.make_seeds(target, atlas=8, alt=16, random=8, seed=seed, seconds=10.0)
+        seeded = C.fit(target, seeds=list(sd), workers=2)
+        t_seeded = time.perf_counter() - t0
+        alone = C.fit(target, starts=32, seed=seed, workers=2)
+        top = next((d for d in seeded.designs if d.ok), seeded.best)
+        top_r = next((d for d in alone.designs if d.ok), alone.best)
+        pso_f, pso_n = pso_tracking(target, t_seeded)
+        de_f = min(
+            de_run(C.TrackingProblem(target, circuit=c), t_seeded / 2, seed)[0] for c in ("open", "crossed")
+        )
+        # the penalty's floor: nothing within the constraints was found
+        shown = [f"{v:.4g}" if v < 1e3 * target.size**2 else "none feasible" for v in (pso_f, de_f)]
+        alt_note = next((n for n in sd.notes if n.startswith("Alt:")), "Alt: not run")
+        if "real four-bars" in alt_note:
+            alt = f"{alt_note.split(': ', 1)[1].split(' real')[0]} ({sd.counts.get('alt', 0)} kept), "
+            alt += f"{sd.seconds.get('alt', 0.0):.1f} s"
+        else:
+            alt = "none: no four-bar passes nine collinear points" if "line" in alt_note else alt_note
+        lines.append(
+            f"| {name} | {top.f:.4g}{'' if top.ok else ' (with defects)'} | {top.family} | {t_seeded:.1f} s "
+            f"| {alt} | {top_r.f:.4g} | {alone.seconds:.1f} s | {shown[0]} | {pso_n} | {shown[1]} "
+            f"| {best:.3g} ({source}) |"
+        )
+    lines += [
+        "",
+        "Shape problems: mean nearest distance from the target points to the traced curve after the "
+        "best similarity (position, rotation, scale and start free). linkwork: `shape_fit(points, "
+        f"seed={seed})` (6 atlas seeds, the target run either way, refined by the tracking error with "
+        "free crank angles on 36 of the points, scored on all, the best polished by Nelder-Mead) on 2 "
+        "threads. The atlas alone: its nearest design, placed by the best similarity. pylinkage's "
+        "swarm and scipy's DE on the mean nearest distance itself over the nine design numbers "
+        "(closed form, 360 crank angles), each for linkwork's wall time, half on each circuit.",
+        "",
+        "| problem | points | linkwork mean | largest | time | atlas alone | pylinkage PSO | DE "
+        "| literature design | target (half) |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, file, lit in SHAPES:
+        target = C.from_csv(DATA / file, closed=True)
+        pts = target.points
+        res = C.shape_fit(target, seed=seed, workers=2)
+        hits = C.load_atlas().query(pts, k=6)
+        atlas_alone = min(shape_error(pts, h.curve(720)).mean for h in hits)
+        pso_m, _, de_m, _ = baselines_shape(pts, res.seconds, seed)
+        b = res.best
+        lines.append(
+            f"| {name} | {len(pts)} | {b.mean:.4g} | {b.largest:.3g} | {res.seconds:.1f} s "
+            f"| {atlas_alone:.4g} "
+            f"| {pso_m:.4g} | {de_m:.4g} | {lit:.3g} | {lit / 2:.3g} |"
+        )
+    return lines
 
 
 def main() -> None:

@@ -3,7 +3,6 @@ curves (linkwork.synthesis.curve.descriptors, .atlas)."""
 
 from __future__ import annotations
 
-import importlib
 import math
 import os
 
@@ -13,9 +12,7 @@ import pytest
 import linkwork as lw
 from linkwork.errors import SynthesisError
 from linkwork.synthesis.curve import atlas as A
-
-# the package exports the function `descriptors`, which hides the module of that name
-D = importlib.import_module("linkwork.synthesis.curve.descriptors")
+from linkwork.synthesis.curve import descriptors as D
 
 
 def rot(a):

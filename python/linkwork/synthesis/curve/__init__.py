@@ -1,6 +1,8 @@
 """Synthesis from a curve: four-bars whose coupler point follows a designer's target
 (points, a CSV table or an SVG path), by the tracking error refined with the engine's
-exact sensitivities from many starting designs; the shape of a curve (elliptic Fourier
+exact sensitivities from many starting designs (random, the atlas's nearest curves, Alt's
+four-bars through nine points of the target); the shape problem (position, rotation,
+scale and start free); the shape of a curve (elliptic Fourier
 descriptors, the shape error) and an atlas of normalised four-bar coupler curves to start
 from."""
 
@@ -8,6 +10,8 @@ from .atlas import Atlas, AtlasHit, build_atlas
 from .atlas import load as load_atlas
 from .descriptors import ShapeFit, shape_error
 from .fit import CURVE_MERIT, CurveDesign, CurveFit, fit, random_seeds, refine
+from .seeds import Seed, Seeds, alt_seeds, atlas_seeds, make_seeds
+from .shape import ShapeDesign, ShapeResult, shape_fit
 from .target import TargetCurve, from_csv, from_svg, svg_path_points, target
 from .tracking import DESIGN, CircuitError, TrackingProblem, coupler_points
 
@@ -33,4 +37,12 @@ __all__ = [
     "CircuitError",
     "TrackingProblem",
     "coupler_points",
+    "Seed",
+    "Seeds",
+    "alt_seeds",
+    "atlas_seeds",
+    "make_seeds",
+    "ShapeDesign",
+    "ShapeResult",
+    "shape_fit",
 ]

@@ -44,10 +44,11 @@ class CurveDesign(DesignPictures):
     distance from 0 or pi), ``violation`` (largest constraint violation, 0 when they
     hold), ``grashof`` (the engine's type), ``defects`` (order, branch, circuit over the
     traced stretch; empty when free of them), ``nfev`` and ``seconds`` of its refinement,
-    ``start`` (the index of its starting design), ``margins`` (each stated constraint's
-    margin, `TrackingProblem.margins`). Its pictures (`to_html`, `to_svg`, `plot`) draw
-    the traced coupler curve over a crank turn with the target points marked and each
-    point's deviation drawn."""
+    ``start`` (the index of its starting design), ``family`` (where that came from:
+    "random", "atlas", "alt" or "given"), ``margins`` (each stated constraint's margin,
+    `TrackingProblem.margins`). Its pictures (`to_html`, `to_svg`, `plot`) draw the traced
+    coupler curve over a crank turn with the target points marked and each point's
+    deviation drawn."""
 
     problem: TrackingProblem = field(repr=False)
     x: np.ndarray
@@ -60,6 +61,7 @@ class CurveDesign(DesignPictures):
     nfev: int
     seconds: float
     start: int = -1
+    family: str = "given"
     margins: dict[str, float] = field(default_factory=dict)
 
     @property
@@ -129,7 +131,7 @@ class CurveFit:
             f"{len(self.designs)} designs from {len(self.designs) + len(self.failures)} starts "
             f"in {self.seconds:.2f} s ({len(self.failures)} dropped); sorted: {CURVE_MERIT}"
         ]
-        lines += [f"{k + 1}. {d}" for k, d in enumerate(self.designs[:count])]
+        lines += [f"{k + 1}. [{d.family}] {d}" for k, d in enumerate(self.designs[:count])]
         return "\n".join(lines)
 
 
@@ -357,14 +359,15 @@ def random_seeds(
 
 def fit(
     target: TargetCurve,
-    seeds: Sequence[tuple[str, Any]] | None = None,
+    seeds: Sequence[tuple[Any, ...]] | None = None,
     starts: int = 16,
     seed: int = 0,
     workers: int | None = None,
     max_nfev: int = 400,
     **problem: Any,
 ) -> CurveFit:
-    """Multistart: each starting design (``seeds``: (circuit, x) pairs; default
+    """Multistart: each starting design (``seeds``: (circuit, x) pairs or (circuit, x,
+    family) triples such as `linkwork.synthesis.curve.seeds`' `Seed`; default
     `random_seeds` (``starts`` of them, ``seed``)) refined by `refine` on ``workers``
     threads (default: every core; the engine releases the GIL while it sweeps), on the
     `TrackingProblem` of ``target`` with the options ``problem`` (``lengths``,
@@ -374,18 +377,21 @@ def fit(
     number of workers."""
     t0 = time.perf_counter()
     if seeds is None:
-        seeds = random_seeds(target, starts, seed, grashof=problem.get("grashof", "crank-rocker"))
+        grashof = problem.get("grashof", "crank-rocker")
+        seeds = [(c, x, "random") for c, x in random_seeds(target, starts, seed, grashof=grashof)]
     problems = {c: TrackingProblem(target, circuit=c, **problem) for c in ("open", "crossed")}
     jobs = list(enumerate(seeds))
 
-    def run(job: tuple[int, tuple[str, Any]]) -> CurveDesign | str:
-        k, (circuit, x) = job
+    def run(job: tuple[int, tuple[Any, ...]]) -> CurveDesign | str:
+        k, (circuit, x, *family) = job
         if circuit not in problems:
             return f"start {k}: circuit {circuit!r} is not 'open' or 'crossed'"
         try:
-            return refine(problems[circuit], x, max_nfev=max_nfev, start=k)
+            d = refine(problems[circuit], x, max_nfev=max_nfev, start=k)
         except CircuitError as e:
-            return f"start {k}: {e}"
+            return f"start {k}: {e} ({family[0] if family else 'given'} seed)"
+        d.family = str(family[0]) if family else "given"
+        return d
 
     workers = workers or os.cpu_count() or 1
     with ThreadPoolExecutor(max_workers=workers) as pool:

@@ -1,0 +1,194 @@
+"""The shape problem of synthesis from a curve: a four-bar whose coupler curve has the
+target's shape, its position, rotation, scale and starting point free. The objective is
+the mean nearest distance from the target points to the traced curve after the best
+similarity transform (`shape_error`, the figure of Ullah and Kota 1997 and four-bar-rs).
+
+It is refined through its least-squares surrogate: the tracking error with the crank
+angles free (`fit`), whose design vector already carries position, rotation and scale
+(theta0, x0, y0 and the lengths) and whose free crank angles make each residual, at the
+optimum, the point's distance normal to the curve. The seeds are the atlas's nearest
+curves, the target run either way (the shape has no direction); each refined design is
+then scored by `shape_error` and moved by its similarity onto the target, and, with
+``polish``, the mean nearest distance itself is minimised from the best of them over the
+nine design numbers (Nelder-Mead on the closed-form curve, the crank turning fully).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ...errors import SynthesisError
+from .atlas import Atlas
+from .atlas import load as load_atlas
+from .descriptors import ShapeFit, nearest_distances, shape_error
+from .fit import CurveDesign, fit, random_seeds
+from .seeds import Seed, crank_angles_along
+from .target import TargetCurve
+from .target import target as make_target
+from .tracking import TWO_PI, coupler_points
+
+__all__ = ["ShapeDesign", "ShapeResult", "shape_fit", "traced", "moved"]
+
+# crank angles the traced curve is sampled at for the nearest distances
+_TRACE = 720
+
+
+def traced(x: Any, circuit: str, steps: int = _TRACE) -> np.ndarray:
+    """The coupler curve of design ``x`` (its first nine numbers) over a crank turn
+    (steps x 2, closed form; NaN where it does not assemble)."""
+    return coupler_points(x, np.linspace(0.0, TWO_PI, int(steps), endpoint=False), circuit)
+
+
+def moved(x: Any, sim: ShapeFit) -> np.ndarray:
+    """The design numbers of ``x`` moved by the similarity ``sim`` (a point q of its
+    curve to scale R(rotation) q + offset): lengths and coupler point scaled, the ground
+    line turned, the pivot O2 carried."""
+    x = np.array(x, dtype=float)
+    c, s = math.cos(sim.rotation), math.sin(sim.rotation)
+    out = x.copy()
+    out[:6] = sim.scale * x[:6]
+    out[6] = x[6] + sim.rotation
+    out[7:9] = sim.scale * np.array([c * x[7] - s * x[8], s * x[7] + c * x[8]]) + sim.offset
+    return out
+
+
+@dataclass
+class ShapeDesign:
+    """A design for the shape problem: ``x`` (the nine design numbers, placed on the
+    target), ``circuit``, ``mean`` and ``largest`` nearest distance from the target
+    points to its traced curve, ``family`` of its seed, ``reverse`` (the target run
+    backwards in its tracking refinement), ``tracking`` (that refinement's design)."""
+
+    x: np.ndarray
+    circuit: str
+    mean: float
+    largest: float
+    family: str
+    reverse: bool
+    tracking: CurveDesign | None
+
+    def curve(self, steps: int = _TRACE) -> np.ndarray:
+        return traced(self.x, self.circuit, steps)
+
+    def __str__(self) -> str:
+        r = ", ".join(f"{k} {v:.6g}" for k, v in zip(("r1", "r2", "r3", "r4", "rcx", "rcy"), self.x[:6]))
+        return (
+            f"mean nearest distance {self.mean:.4g} (largest {self.largest:.4g}); {r}; "
+            f"theta0 {self.x[6]:.6g}, O2 ({self.x[7]:.6g}, {self.x[8]:.6g}); {self.circuit}; "
+            f"from {self.family}"
+        )
+
+
+@dataclass
+class ShapeResult:
+    """`shape_fit`'s answer: ``designs`` by mean nearest distance, ``seconds`` (wall)."""
+
+    designs: list[ShapeDesign]
+    seconds: float
+
+    @property
+    def best(self) -> ShapeDesign:
+        if not self.designs:
+            raise SynthesisError("no starting design could be refined for the shape problem")
+        return self.designs[0]
+
+    def report(self, count: int = 5) -> str:
+        lines = [f"{len(self.designs)} designs in {self.seconds:.2f} s, by mean nearest distance"]
+        lines += [f"{k + 1}. {d}" for k, d in enumerate(self.designs[:count])]
+        return "\n".join(lines)
+
+
+def _score(points: np.ndarray, x: np.ndarray, circuit: str) -> tuple[np.ndarray, float, float] | None:
+    """The design moved by its best similarity onto the points, its mean and largest
+    nearest distance; None if it does not turn fully."""
+    c = traced(x, circuit)
+    if not np.all(np.isfinite(c)):
+        return None
+    sim = shape_error(points, c, polish=False)
+    y = moved(x, sim)
+    d = nearest_distances(points, traced(y, circuit))
+    return y, float(d.mean()), float(d.max())
+
+
+def _polish(points: np.ndarray, x: np.ndarray, circuit: str, iterations: int) -> np.ndarray:
+    """Nelder-Mead on the mean nearest distance over the nine design numbers (scaled by
+    the target's size; a design that stops turning fully scores infinity)."""
+    from scipy.optimize import minimize
+
+    size = float(np.hypot(*np.ptp(points, axis=0)))
+    unit = np.array([size] * 6 + [1.0] + [size] * 2)
+
+    def f(z: np.ndarray) -> float:
+        c = traced(z * unit, circuit)
+        if not np.all(np.isfinite(c)):
+            return math.inf
+        return float(nearest_distances(points, c).mean())
+
+    res = minimize(
+        f,
+        x / unit,
+        method="Nelder-Mead",
+        options={"maxiter": iterations, "xatol": 1e-10, "fatol": 1e-12, "adaptive": True},
+    )
+    return res.x * unit if res.fun < f(x / unit) else x
+
+
+def shape_fit(
+    target: TargetCurve | Any,
+    k: int = 6,
+    random: int = 0,
+    seed: int = 0,
+    atlas: Atlas | None = None,
+    workers: int | None = None,
+    max_nfev: int = 60,
+    polish: int = 400,
+    refine_points: int = 36,
+    **problem: Any,
+) -> ShapeResult:
+    """The shape problem for a closed ``target`` (a `TargetCurve` or an n x 2 array):
+    the ``k`` nearest atlas curves (and ``random`` random crank-rockers, ``seed``) as
+    seeds, each refined by the tracking error with free crank angles (`fit`, at most
+    ``max_nfev`` evaluations a weight; ``problem``: its options), scored by the mean
+    nearest distance after the best similarity, the best polished by ``polish``
+    Nelder-Mead iterations on that distance (0: none). The tracking refinement runs on at
+    most ``refine_points`` of the points (evenly by index; its cost grows with their
+    count), the scores on all of them."""
+    t0 = time.perf_counter()
+    tc = target if isinstance(target, TargetCurve) else make_target(target, closed=True)
+    if tc.timed:
+        raise SynthesisError("the shape problem has free timing: the target must not prescribe crank angles")
+    pts = np.asarray(tc.points, dtype=float)
+    step = max(1, math.ceil(len(pts) / max(int(refine_points), 4)))
+    sub = pts[::step]
+    ways = {False: make_target(sub, closed=tc.closed), True: make_target(sub[::-1], closed=tc.closed)}
+    atlas = atlas if atlas is not None else load_atlas()
+    seeds: dict[bool, list[Seed]] = {False: [], True: []}
+    for h in atlas.query(pts, k=k, closed=tc.closed):
+        way = ways[h.reverse]
+        th = crank_angles_along(h.vector, h.circuit, way.points, way.closed)
+        seeds[h.reverse].append(Seed(h.circuit, np.concatenate([h.vector, th]), "atlas"))
+    seeds[False] += [Seed(c, x, "random") for c, x in random_seeds(tc, random, seed)]
+    designs: list[ShapeDesign] = []
+    for rev, group in seeds.items():
+        if not group:
+            continue
+        result = fit(ways[rev], seeds=group, workers=workers, max_nfev=max_nfev, **problem)
+        for d in result.designs:
+            scored = _score(pts, d.x[:9], d.circuit)
+            if scored is not None:
+                y, mean, largest = scored
+                designs.append(ShapeDesign(y, d.circuit, mean, largest, d.family, rev, d))
+    designs.sort(key=lambda d: d.mean)
+    if polish and designs:
+        b = designs[0]
+        y = _polish(pts, b.x, b.circuit, int(polish))
+        scored = _score(pts, y, b.circuit)
+        if scored is not None and scored[1] < b.mean:
+            y, mean, largest = scored
+            designs.insert(0, ShapeDesign(y, b.circuit, mean, largest, b.family, b.reverse, None))
+    return ShapeResult(designs, time.perf_counter() - t0)
