@@ -261,7 +261,7 @@ def _design(problem: TrackingProblem, x: np.ndarray, nfev: int, seconds: float, 
         nfev,
         seconds,
         start,
-        problem.margins(x),
+        margins=problem.margins(x),
     )
 
 
