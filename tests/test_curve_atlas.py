@@ -221,29 +221,6 @@ def test_bad_atlas_arguments(small):
 distributed = pytest.importorskip("distributed")
 
 
-@pytest.fixture(scope="module")
-def client():
-    # worker processes import linkwork from where this process does
-    package_root = os.path.dirname(os.path.dirname(os.path.abspath(lw.__file__)))
-    paths = [package_root, *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep))]
-    old = os.environ.get("PYTHONPATH")
-    os.environ["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=50
-    )
-    c = distributed.Client(cluster, timeout="60s")
-    try:
-        c.wait_for_workers(2, timeout=60)
-        yield c
-    finally:
-        c.close()
-        cluster.close()
-        if old is None:
-            os.environ.pop("PYTHONPATH", None)
-        else:
-            os.environ["PYTHONPATH"] = old
-
-
 def test_atlas_on_a_local_cluster_equals_the_in_process_one(client, small):
     # 400 designs in blocks of 64: seven tasks over two worker processes
     on_cluster = A.build_atlas(400, seed=3, scheduler=client, block=64)

@@ -19,29 +19,6 @@ distributed = pytest.importorskip("distributed")
 TURN = 2 * math.pi / 5.0
 
 
-@pytest.fixture(scope="module")
-def client():
-    # worker processes import linkwork from where this process does
-    package_root = os.path.dirname(os.path.dirname(os.path.abspath(lw.__file__)))
-    paths = [package_root, *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep))]
-    old = os.environ.get("PYTHONPATH")
-    os.environ["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=50
-    )
-    c = distributed.Client(cluster, timeout="60s")
-    try:
-        c.wait_for_workers(2, timeout=60)
-        yield c
-    finally:
-        c.close()
-        cluster.close()
-        if old is None:
-            os.environ.pop("PYTHONPATH", None)
-        else:
-            os.environ["PYTHONPATH"] = old
-
-
 def study():
     times = np.linspace(0.0, TURN, 300)
     return lw.Study(lw.examples.four_bar(), times, ["path P", "angle rocker", "transmission_min", "grashof"])
