@@ -1,5 +1,6 @@
 //! Relative angle driver: theta_b - theta_a - f(t) = 0.
 
+use crate::constraints::compile_context::{CompileContext, Compiled};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::input::motion::MotionLaw;
 use crate::math::jet::{Jet, JetFrame};
@@ -67,4 +68,15 @@ impl super::Described for RelativeAngleDriver {
             fields: &[("name", Name), ("body_a", Body), ("body_b", Body), ("law", Law(Input::RelativeAngle))],
         }]
     };
+}
+
+/// Compiles a relative-angle-driver description: its two bodies.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    law: MotionLaw,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<RelativeAngleDriver>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    Ok(Compiled::new(RelativeAngleDriver { law }, a, b))
 }

@@ -5,6 +5,7 @@ pub mod fixed;
 pub mod prismatic;
 pub mod revolute;
 // joints with their own coordinate, a curve parameter
+pub mod cam_follower;
 pub mod flat_follower;
 pub mod point_on_curve;
 pub mod roller_follower;

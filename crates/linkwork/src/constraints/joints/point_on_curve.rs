@@ -2,8 +2,10 @@
 //! pin of b in a curved slot of a, or a knife-edge follower's tip on a cam profile. 2
 //! rows, r_b(u_b) - (R_a + A_a c(s)) = 0, and one own coordinate: the curve parameter s.
 
+use crate::constraints::compile_context::{finite2, CompileContext, Compiled};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::input::curves::Curve;
+use crate::input::curves::CurveDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -127,4 +129,20 @@ impl super::Described for PointOnCurve {
             },
         ]
     };
+}
+
+/// Compiles a pin-in-slot description: the slot's curve in a, the pin in b.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    at: [f64; 2],
+    curve: &CurveDesc,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<PointOnCurve>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    if !finite2(at) {
+        return Err(format!("position {at:?} is not finite"));
+    }
+    let curve = curve.to_body(cx.pose(a))?;
+    Ok(Compiled::new(PointOnCurve { curve, u_b: cx.local(b, at) }, a, b))
 }
