@@ -1,20 +1,15 @@
-//! Each joint's and driver's description sent to its own file's `compile`, and the
-//! compiler's answers to what it asks there (`CompileContext`): bodies by name, drawn
-//! poses, pins checked against the drawing (`Closer`), the model's size.
+//! The joints and drivers compiled in order, each description by the type the kind list
+//! finds for it (`ConstraintKind::compile`), and the compiler's answers to what a type
+//! asks while it compiles (`CompileContext`): bodies by name, drawn poses, pins checked
+//! against the drawing (`Closer`), the model's size, the slides compiled before.
 
 use std::collections::HashMap;
 
 use crate::compile::close_drawing::{Closer, Side};
-use crate::constraints::compile_context::{local, CompileContext, Compiled, Slide};
-use crate::constraints::drivers::{angle, coordinate, distance, relative_angle, translation};
-use crate::constraints::joints::cam_follower::{self, CamFollower};
-use crate::constraints::joints::{
-    belt, coupler, coupling, fixed, gear, orientation, parallel, point_line, point_on_curve, prismatic,
-    rack_pinion, revolute,
-};
-use crate::constraints::kinds::ConstraintKind as K;
+use crate::constraints::compile_context::{local, CompileContext, Compiled, Desc, Slide};
+use crate::constraints::kinds::ConstraintKind;
 use crate::error::ModelError;
-use crate::input::description::{Description, DriverDesc, JointDesc, GROUND};
+use crate::input::description::{Description, GROUND};
 
 use super::{Bodies, ConstraintDraft};
 
@@ -25,7 +20,7 @@ pub(super) struct Context<'a> {
     bodies: &'a Bodies<'a>,
     length_scale: f64,
     pub closer: Closer,
-    slides: HashMap<&'a str, Slide>,
+    slides: HashMap<&'a str, Compiled<Slide>>,
 }
 
 impl<'a> Context<'a> {
@@ -58,12 +53,12 @@ impl CompileContext for Context<'_> {
         let drawn = at.map(|at| (at, local(pose, at)));
         self.closer.side(Side { joint, body: body_name, pin: key }, pin, drawn, pose, normal)
     }
-    fn slide(&self, joint: &str) -> Option<Slide> {
-        self.slides.get(joint).copied()
+    fn slide(&self, joint: &str) -> Option<Compiled<Slide>> {
+        self.slides.get(joint).cloned()
     }
 }
 
-/// The joints, each compiled by its file, in the description's order.
+/// The joints in the description's order, each compiled by its type.
 pub(super) fn joint_entries<'a>(
     desc: &'a Description,
     cx: &mut Context<'a>,
@@ -71,9 +66,9 @@ pub(super) fn joint_entries<'a>(
     let mut entries = Vec::new();
     for j in &desc.joints {
         let fail = |problem: String| ModelError::Constraint { kind: "joint", name: j.name().into(), problem };
-        let c = joint(j, cx).map_err(fail)?;
-        if let (JointDesc::Prismatic { name, .. }, K::Prismatic(p)) = (j, &c.joint) {
-            cx.slides.insert(name, Slide { u_a: p.u_a, u_b: p.u_b, e_a: p.e_a, a: c.a, b: c.b });
+        let c = ConstraintKind::compile(&Desc::Joint(j), cx).map_err(fail)?;
+        if let Some(slide) = c.joint.slide() {
+            cx.slides.insert(j.name(), Compiled::new(slide, c.a, c.b));
         }
         let name = j.name().to_string();
         let Compiled { joint: kind, a, b, borrowed } = c;
@@ -93,95 +88,10 @@ pub(super) fn driver_entries(
             |problem: String| ModelError::Constraint { kind: "driver", name: d.name().into(), problem };
         let mut law = d.law().clone();
         law.prepare().map_err(fail)?;
-        let Compiled { joint: kind, a, b, .. } = driver(d, law, cx).map_err(fail)?;
+        let Compiled { joint: kind, a, b, .. } =
+            ConstraintKind::compile(&Desc::Driver(d, &law), cx).map_err(fail)?;
         let name = d.name().to_string();
         entries.push(ConstraintDraft { name, role: "driver", kind, body_a: a, body_b: b, borrowed: None });
     }
     Ok(())
-}
-
-/// A joint description to its file's `compile`, its type wrapped in its kind.
-fn joint(j: &JointDesc, cx: &mut dyn CompileContext) -> Result<Compiled<K>, String> {
-    Ok(match j {
-        JointDesc::Revolute { name, body_a, body_b, at, pin_a, pin_b } => {
-            revolute::compile(name, body_a, body_b, *at, *pin_a, *pin_b, cx)?.map(K::Revolute)
-        }
-        JointDesc::Prismatic { name, body_a, body_b, at, axis, pin_a, pin_b, axis_a, angle } => {
-            prismatic::compile(name, body_a, body_b, *at, *axis, *pin_a, *pin_b, *axis_a, *angle, cx)?
-                .map(K::Prismatic)
-        }
-        JointDesc::Fixed { body_a, body_b, .. } => fixed::compile(body_a, body_b, cx)?.map(K::Fixed),
-        JointDesc::Distance { body_a, at_a, body_b, at_b, length, .. } => {
-            coupler::compile(body_a, *at_a, body_b, *at_b, *length, cx)?.map(K::Distance)
-        }
-        JointDesc::PointOnLine { body_a, body_b, at, axis, through, offset, .. } => {
-            point_line::compile(body_a, body_b, *at, *axis, *through, *offset, cx)?.map(K::PointOnLine)
-        }
-        JointDesc::Gear {
-            body_a,
-            body_b,
-            radius_a,
-            radius_b,
-            ratio,
-            centre_a,
-            centre_b,
-            internal,
-            carrier,
-            ..
-        } => gear::compile(
-            body_a, body_b, *radius_a, *radius_b, *ratio, *centre_a, *centre_b, *internal, carrier, cx,
-        )?
-        .map(K::Gear),
-        JointDesc::RackPinion { body_a, body_b, radius, axis, centre, .. } => {
-            rack_pinion::compile(body_a, body_b, *radius, *axis, *centre, cx)?.map(K::RackPinion)
-        }
-        JointDesc::Belt { body_a, body_b, radius_a, radius_b, ratio, crossed, carrier, .. } => {
-            belt::compile(body_a, body_b, *radius_a, *radius_b, *ratio, *crossed, carrier, cx)?.map(K::Belt)
-        }
-        JointDesc::FixedOrientation { body_a, body_b, angle, .. } => {
-            orientation::compile(body_a, body_b, *angle, cx)?.map(K::FixedOrientation)
-        }
-        JointDesc::Parallel { body_a, body_b, axis_a, axis_b, .. } => {
-            parallel::compile(body_a, body_b, *axis_a, *axis_b, cx)?.map(K::Parallel)
-        }
-        JointDesc::LinearCoupling { body_a, body_b, coefficients_a, coefficients_b, value, .. } => {
-            coupling::compile(body_a, body_b, coefficients_a, coefficients_b, *value, cx)?
-                .map(K::LinearCoupling)
-        }
-        JointDesc::PinInSlot { body_a, body_b, at, curve, .. } => {
-            point_on_curve::compile(body_a, body_b, *at, curve, cx)?.map(K::PointOnCurve)
-        }
-        JointDesc::CamFollower { body_a, body_b, follower, at, curve, radius, face, .. } => {
-            cam_follower::compile(body_a, body_b, follower, *at, curve, *radius, *face, cx)?.map(
-                |f| match f {
-                    CamFollower::Knife(j) => K::PointOnCurve(j),
-                    CamFollower::Roller(j) => K::RollerFollower(j),
-                    CamFollower::Flat(j) => K::FlatFollower(j),
-                },
-            )
-        }
-    })
-}
-
-/// A driver description to its file's `compile`, its type wrapped in its kind.
-fn driver(
-    d: &DriverDesc,
-    law: crate::input::motion::MotionLaw,
-    cx: &mut dyn CompileContext,
-) -> Result<Compiled<K>, String> {
-    Ok(match d {
-        DriverDesc::Angle { body, .. } => angle::compile(body, law, cx)?.map(K::AngleDriver),
-        DriverDesc::RelativeAngle { body_a, body_b, .. } => {
-            relative_angle::compile(body_a, body_b, law, cx)?.map(K::RelativeAngleDriver)
-        }
-        DriverDesc::Distance { body_a, at_a, body_b, at_b, .. } => {
-            distance::compile(body_a, *at_a, body_b, *at_b, law, cx)?.map(K::DistanceDriver)
-        }
-        DriverDesc::Coordinate { body, at, axis, .. } => {
-            coordinate::compile(body, *at, axis, law, cx)?.map(K::CoordinateDriver)
-        }
-        DriverDesc::Translation { joint, .. } => {
-            translation::compile(joint, law, cx)?.map(K::TranslationDriver)
-        }
-    })
 }

@@ -2,7 +2,11 @@
 //! name, their drawn poses, its pins checked against the drawing, the model's size. The
 //! compiler answers (`compile/`); each joint's and driver's file holds its own `compile`.
 
+use crate::input::description::{DriverDesc, JointDesc};
+use crate::input::motion::MotionLaw;
+
 /// A joint or driver compiled from its description: the constraint and its two sides.
+#[derive(Debug, Clone)]
 pub(crate) struct Compiled<T> {
     pub joint: T,
     pub a: Option<usize>,
@@ -29,8 +33,24 @@ pub(crate) struct Slide {
     pub u_a: [f64; 2],
     pub u_b: [f64; 2],
     pub e_a: [f64; 2],
-    pub a: Option<usize>,
-    pub b: Option<usize>,
+}
+
+/// A description of a joint, or of a driver with its law (prepared).
+pub(crate) enum Desc<'a> {
+    Joint(&'a JointDesc),
+    Driver(&'a DriverDesc, &'a MotionLaw),
+}
+
+/// A joint or driver type compiled from the descriptions that are its own: every type in
+/// the kind list implements it, and the list sends each description to the type it names.
+pub(crate) trait FromDescription: Sized {
+    /// None where `desc` is another type's; else the type with its sides, or what is
+    /// wrong with the description.
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>>;
+    /// A prismatic joint's slide, for the translation drivers that ride on it.
+    fn slide(&self) -> Option<Slide> {
+        None
+    }
 }
 
 /// The questions a joint or driver asks while it compiles. Bodies are `None` for the
@@ -55,8 +75,8 @@ pub(crate) trait CompileContext {
         at: Option<[f64; 2]>,
         normal: Option<[f64; 2]>,
     ) -> [f64; 2];
-    /// The slide of the prismatic joint named `joint`, compiled before.
-    fn slide(&self, joint: &str) -> Option<Slide>;
+    /// The slide of the prismatic joint named `joint`, compiled before, with its sides.
+    fn slide(&self, joint: &str) -> Option<Compiled<Slide>>;
 
     /// The two sides of a joint by name: two different bodies.
     fn pair(&self, a: &str, b: &str) -> Result<(Option<usize>, Option<usize>), String> {

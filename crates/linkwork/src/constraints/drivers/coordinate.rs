@@ -1,7 +1,8 @@
 //! Coordinate driver: x (axis 0) or y (axis 1) of the point u of body b, minus f(t).
 
-use crate::constraints::compile_context::{finite2, CompileContext, Compiled};
+use crate::constraints::compile_context::{finite2, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::DriverDesc;
 use crate::input::motion::MotionLaw;
 use crate::math::jet::{pair, Jet, JetFrame};
 
@@ -107,4 +108,13 @@ pub(crate) fn compile(
         other => return Err(format!("axis must be \"x\" or \"y\", not {other:?}")),
     };
     Ok(Compiled::new(CoordinateDriver { u: cx.local(b, at), axis, law }, None, b))
+}
+
+impl FromDescription for CoordinateDriver {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Driver(DriverDesc::Coordinate { body, at, axis, .. }, law) = desc else {
+            return None;
+        };
+        Some(compile(body, *at, axis, (*law).clone(), cx))
+    }
 }

@@ -6,8 +6,9 @@
 
 use super::gear::Gear;
 use super::gear::{carrier_of, radii};
-use crate::constraints::compile_context::{CompileContext, Compiled};
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -95,4 +96,16 @@ pub(crate) fn compile(
     let value = k_a * (cx.theta(a) - theta_c) + k_b * (cx.theta(b) - theta_c);
     let belt = Belt(Gear { k_a, k_b, value, carrier: column.is_some(), mesh: None });
     Ok(Compiled { joint: belt, a, b, borrowed: column })
+}
+
+impl FromDescription for Belt {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Belt {
+            body_a, body_b, radius_a, radius_b, ratio, crossed, carrier, ..
+        }) = desc
+        else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *radius_a, *radius_b, *ratio, *crossed, carrier, cx))
+    }
 }

@@ -1,24 +1,13 @@
-//! The cam-follower description: one description, three joint types by its follower (a
-//! knife edge is a point on the profile, a roller and a flat face have their own files).
+//! The cam-follower description, shared by its three types (by its follower: a knife
+//! edge is a point on the profile, `point_on_curve`; a roller, `roller_follower`; a flat
+//! face, `flat_follower`): its checks, the profile in the cam's frame, the follower's point.
 
-use super::flat_follower::FlatFollower;
-use super::point_on_curve::PointOnCurve;
-use super::roller_follower::RollerFollower;
-use crate::constraints::compile_context::{finite2, CompileContext, Compiled};
-use crate::constraints::Frame;
-use crate::input::curves::CurveDesc;
+use crate::constraints::compile_context::{finite2, CompileContext};
+use crate::input::curves::{Curve, CurveDesc};
 
-/// A compiled cam follower, by its follower.
-pub(crate) enum CamFollower {
-    Knife(PointOnCurve),
-    Roller(RollerFollower),
-    Flat(FlatFollower),
-}
-
-/// Compiles a cam-follower description: the profile in a, the follower's point in b, the
-/// radius of a roller or the face of a flat follower.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn compile(
+/// A cam follower's checks, its profile in a's frame and its point in b's, its sides.
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
+pub(crate) fn start(
     body_a: &str,
     body_b: &str,
     follower: &str,
@@ -26,8 +15,8 @@ pub(crate) fn compile(
     curve: &CurveDesc,
     radius: Option<f64>,
     face: Option<[f64; 2]>,
-    cx: &mut dyn CompileContext,
-) -> Result<Compiled<CamFollower>, String> {
+    cx: &dyn CompileContext,
+) -> Result<(Curve, [f64; 2], Option<usize>, Option<usize>), String> {
     let (a, b) = cx.pair(body_a, body_b)?;
     if !finite2(at) {
         return Err(format!("position {at:?} is not finite"));
@@ -42,19 +31,5 @@ pub(crate) fn compile(
         return Err("gives a face direction, which only a flat-faced follower has".into());
     }
     let curve = curve.to_body(cx.pose(a))?;
-    let u_b = cx.local(b, at);
-    let frame = |b: Option<usize>| cx.pose(b).map_or(Frame::GROUND, |p| Frame::new(p, [0.0; 3]));
-    let joint = match follower {
-        "roller" => {
-            let radius = radius.ok_or_else(|| "a roller follower needs a radius".to_string())?;
-            CamFollower::Roller(RollerFollower::new(curve, u_b, radius, &frame(a), &frame(b))?)
-        }
-        "flat" => {
-            let face = face.ok_or_else(|| "a flat-faced follower needs its face direction".to_string())?;
-            CamFollower::Flat(FlatFollower::new(curve, u_b, cx.local_dir(b, face))?)
-        }
-        // a knife edge: its tip on the profile
-        _ => CamFollower::Knife(PointOnCurve { curve, u_b }),
-    };
-    Ok(Compiled::new(joint, a, b))
+    Ok((curve, cx.local(b, at), a, b))
 }

@@ -4,8 +4,11 @@
 //! when d passes near zero; dividing by 2 l makes the row read as a length near the
 //! solution (it equals |d| - l to first order).
 
-use crate::constraints::compile_context::{finite2, positive_or, CompileContext, Compiled};
+use crate::constraints::compile_context::{
+    finite2, positive_or, CompileContext, Compiled, Desc, FromDescription,
+};
 use crate::constraints::{dot, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -114,4 +117,13 @@ pub(crate) fn compile(
     }
     let length = positive_or("length", length, drawn)?;
     Ok(Compiled::new(Coupler { u_a: cx.local(a, at_a), u_b: cx.local(b, at_b), length }, a, b))
+}
+
+impl FromDescription for Coupler {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Distance { body_a, at_a, body_b, at_b, length, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, *at_a, body_b, *at_b, *length, cx))
+    }
 }

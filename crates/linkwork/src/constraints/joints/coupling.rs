@@ -4,9 +4,10 @@
 //! if it involves any x or y, an angle otherwise. Gear-like couplings between angles,
 //! a rack's slide against a pinion's turn, a pantograph's scaled motion.
 
-use crate::constraints::compile_context::{CompileContext, Compiled};
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::input::description::Coefficients;
+use crate::input::description::JointDesc;
 use crate::math::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -141,4 +142,21 @@ pub(crate) fn compile(
         Some(v) => return Err(format!("value {v} is not finite")),
     };
     Ok(Compiled::new(LinearCoupling { c_a, c_b, value }, a, b))
+}
+
+impl FromDescription for LinearCoupling {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::LinearCoupling {
+            body_a,
+            body_b,
+            coefficients_a,
+            coefficients_b,
+            value,
+            ..
+        }) = desc
+        else {
+            return None;
+        };
+        Some(compile(body_a, body_b, coefficients_a, coefficients_b, *value, cx))
+    }
 }

@@ -21,8 +21,11 @@
 
 use std::f64::consts::PI;
 
-use crate::constraints::compile_context::{finite2, positive_or, CompileContext, Compiled};
+use crate::constraints::compile_context::{
+    finite2, positive_or, CompileContext, Compiled, Desc, FromDescription,
+};
 use crate::constraints::{perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -307,4 +310,27 @@ pub(crate) fn carrier_of(
         ));
     }
     Ok((c.map(|i| 3 * i + 2), cx.theta(c)))
+}
+
+impl FromDescription for Gear {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Gear {
+            body_a,
+            body_b,
+            radius_a,
+            radius_b,
+            ratio,
+            centre_a,
+            centre_b,
+            internal,
+            carrier,
+            ..
+        }) = desc
+        else {
+            return None;
+        };
+        Some(compile(
+            body_a, body_b, *radius_a, *radius_b, *ratio, *centre_a, *centre_b, *internal, carrier, cx,
+        ))
+    }
 }

@@ -1,5 +1,5 @@
-//! The joints, one file per type; each implements `Constraint` and `Sample`
-//! (`crate::constraints`) and is listed once in `crate::constraints::kinds`.
+//! The joints, one file per type; each implements `Constraint`, `Sample`, `Described` and
+//! `FromDescription` (`crate::constraints`) and is listed once in `crate::constraints::kinds`.
 
 pub mod fixed;
 pub mod prismatic;

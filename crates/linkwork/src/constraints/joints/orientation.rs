@@ -2,8 +2,9 @@
 //! freely. 1 row, an angle: theta_b - theta_a - angle = 0 (the drawing's angle unless
 //! given).
 
-use crate::constraints::compile_context::{CompileContext, Compiled};
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -78,4 +79,13 @@ pub(crate) fn compile(
         Some(v) => return Err(format!("angle {v} is not finite")),
     };
     Ok(Compiled::new(FixedOrientation { angle }, a, b))
+}
+
+impl FromDescription for FixedOrientation {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::FixedOrientation { body_a, body_b, angle, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *angle, cx))
+    }
 }

@@ -4,8 +4,9 @@
 //! the anti-parallel lines; Newton keeps the one nearest the drawing, where the Jacobian
 //! (the cosine, +-1) is far from singular.
 
-use crate::constraints::compile_context::{unit, CompileContext, Compiled};
+use crate::constraints::compile_context::{unit, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{dot, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -103,4 +104,13 @@ pub(crate) fn compile(
         return Err("its two lines are perpendicular at the start; draw them (nearly) parallel".into());
     }
     Ok(Compiled::new(Parallel { e_a: cx.local_dir(a, e_a), e_b: cx.local_dir(b, e_b) }, a, b))
+}
+
+impl FromDescription for Parallel {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Parallel { body_a, body_b, axis_a, axis_b, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *axis_a, *axis_b, cx))
+    }
 }

@@ -8,8 +8,9 @@
 //! pass through the pin. The rotation of a stays free either way.
 
 use super::prismatic::{line_gamma, line_row};
-use crate::constraints::compile_context::{finite2, unit, CompileContext, Compiled};
+use crate::constraints::compile_context::{finite2, unit, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{perp, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -122,4 +123,14 @@ pub(crate) fn compile(
     };
     let joint = PointOnLine { u_a: cx.local(a, at), u_b: cx.local(b, q), e_b: cx.local_dir(b, e), offset };
     Ok(Compiled::new(joint, a, b))
+}
+
+impl FromDescription for PointOnLine {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::PointOnLine { body_a, body_b, at, axis, through, offset, .. }) = desc
+        else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *at, *axis, *through, *offset, cx))
+    }
 }

@@ -2,8 +2,12 @@
 //! 2 rows: no relative rotation; the point u_b of b stays on the line through u_a of a
 //! along the axis e_a (n . d = 0, n the axis normal, d = r_b(u_b) - r_a(u_a)).
 
-use crate::constraints::compile_context::{finite2, unit, world, CompileContext, Compiled};
+use crate::constraints::compile_context::Slide;
+use crate::constraints::compile_context::{
+    finite2, unit, world, CompileContext, Compiled, Desc, FromDescription,
+};
 use crate::constraints::{dot, perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame, Vec2};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -181,4 +185,18 @@ pub(crate) fn compile(
         None => drawn_angle,
     };
     Ok(Compiled::new(Prismatic { u_a, u_b, e_a: e, theta0 }, a, b))
+}
+
+impl FromDescription for Prismatic {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Prismatic { name, body_a, body_b, at, axis, pin_a, pin_b, axis_a, angle }) =
+            desc
+        else {
+            return None;
+        };
+        Some(compile(name, body_a, body_b, *at, *axis, *pin_a, *pin_b, *axis_a, *angle, cx))
+    }
+    fn slide(&self) -> Option<Slide> {
+        Some(Slide { u_a: self.u_a, u_b: self.u_b, e_a: self.e_a })
+    }
 }

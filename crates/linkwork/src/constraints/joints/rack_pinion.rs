@@ -12,8 +12,11 @@
 //! the mechanism's other joints (the pinion's pivot, the rack's guide).
 
 use super::prismatic::{line_gamma, line_row};
-use crate::constraints::compile_context::{finite2, positive_or, unit, CompileContext, Compiled};
+use crate::constraints::compile_context::{
+    finite2, positive_or, unit, CompileContext, Compiled, Desc, FromDescription,
+};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -135,4 +138,13 @@ pub(crate) fn compile(
         delta0: cx.theta(a) - cx.theta(b),
     };
     Ok(Compiled::new(joint, a, b))
+}
+
+impl FromDescription for RackPinion {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::RackPinion { body_a, body_b, radius, axis, centre, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *radius, *axis, *centre, cx))
+    }
 }

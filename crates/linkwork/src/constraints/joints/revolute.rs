@@ -1,7 +1,8 @@
 //! Revolute (pin) joint: the point u_a of body a and u_b of body b coincide. 2 rows.
 
-use crate::constraints::compile_context::{finite2, CompileContext, Compiled};
+use crate::constraints::compile_context::{finite2, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{pair, sub as jsub, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -130,4 +131,13 @@ pub(crate) fn compile(
     let u_a = cx.pin(name, a, "pin_a", pin_a, at, None);
     let u_b = cx.pin(name, b, "pin_b", pin_b, at, None);
     Ok(Compiled::new(Revolute { u_a, u_b }, a, b))
+}
+
+impl FromDescription for Revolute {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Revolute { name, body_a, body_b, at, pin_a, pin_b }) = desc else {
+            return None;
+        };
+        Some(compile(name, body_a, body_b, *at, *pin_a, *pin_b, cx))
+    }
 }
