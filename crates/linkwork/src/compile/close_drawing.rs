@@ -5,6 +5,7 @@
 //! close it (`close`): keeping the pins given (the bodies moved to a closed configuration
 //! near the drawing, by least squares) or keeping the drawing's points (the pins ignored).
 
+use crate::constraints::compile_context::world;
 use crate::constraints::{Constraint, Frame, RowKind, Rows};
 use crate::model::closing::{Keep, PinMiss};
 use crate::model::rank::{dense_jacobian, RANK_TOL};
@@ -73,17 +74,6 @@ impl Closer {
             (None, Some((_, u))) => u,
             // excluded by the caller, which names the joint
             (None, None) => [0.0, 0.0],
-        }
-    }
-}
-
-/// A body-frame point in world coordinates (pose None: the ground's, the world).
-pub(crate) fn world(pose: Option<[f64; 3]>, u: [f64; 2]) -> [f64; 2] {
-    match pose {
-        None => u,
-        Some([x, y, th]) => {
-            let (s, c) = th.sin_cos();
-            [x + c * u[0] - s * u[1], y + s * u[0] + c * u[1]]
         }
     }
 }

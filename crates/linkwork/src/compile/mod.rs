@@ -10,6 +10,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use crate::compile::close_drawing::{close_given, not_closed, Closer, CLOSE_TOL};
+use crate::constraints::compile_context::{finite2, local};
 use crate::constraints::loads::{Inertia, Load, LoadEntry};
 use crate::constraints::{kinds::ConstraintKind, Constraint, Frame, RowKind, MAX_ROWS};
 use crate::error::ModelError;
@@ -20,21 +21,6 @@ use crate::model::closing::{Closing, Keep, PinMiss};
 use crate::model::rank::analyse;
 
 use crate::model::{ConstraintEntry, Model, NamedPoint, OnRedundant, Options};
-
-fn finite2(p: [f64; 2]) -> bool {
-    p[0].is_finite() && p[1].is_finite()
-}
-
-fn local(q0: Option<[f64; 3]>, p: [f64; 2]) -> [f64; 2] {
-    match q0 {
-        None => p,
-        Some([x, y, th]) => {
-            let (s, c) = th.sin_cos();
-            let d = [p[0] - x, p[1] - y];
-            [c * d[0] + s * d[1], -s * d[0] + c * d[1]]
-        }
-    }
-}
 
 /// A constraint before its rows are laid out: name, role, kind, sides.
 struct ConstraintDraft {
@@ -65,13 +51,6 @@ impl Bodies<'_> {
     }
     fn pose(&self, b: Option<usize>) -> Option<[f64; 3]> {
         b.map(|i| self.poses[i])
-    }
-    fn theta(&self, b: Option<usize>) -> f64 {
-        b.map_or(0.0, |i| self.poses[i][2])
-    }
-    /// The body's origin at the start (the ground's: (0, 0)).
-    fn origin(&self, b: Option<usize>) -> [f64; 2] {
-        self.pose(b).map_or([0.0, 0.0], |p| [p[0], p[1]])
     }
     fn pair(&self, a: &str, b: &str) -> Result<(Option<usize>, Option<usize>), String> {
         let (ia, ib) = (self.find(a)?, self.find(b)?);
@@ -115,12 +94,14 @@ impl Model {
             }
         };
         // where a joint gives a drawn point and its pins, how far apart they are
-        let mut closer = Closer { keep: close, tol: CLOSE_TOL * length_scale, misses: Vec::new() };
-        let (mut entries, prismatic_of) = arms::joint_entries(desc, &bodies, length_scale, &mut closer)?;
-        if close.is_none() && !closer.misses.is_empty() {
-            return Err(not_closed(&closer.misses));
+        let closer = Closer { keep: close, tol: CLOSE_TOL * length_scale, misses: Vec::new() };
+        let mut cx = arms::Context::new(desc, &bodies, length_scale, closer);
+        let mut entries = arms::joint_entries(desc, &mut cx)?;
+        if close.is_none() && !cx.closer.misses.is_empty() {
+            return Err(not_closed(&cx.closer.misses));
         }
-        arms::driver_entries(desc, &bodies, length_scale, &prismatic_of, &mut entries)?;
+        arms::driver_entries(desc, &mut cx, &mut entries)?;
+        let closer = cx.closer;
 
         // rows against coordinates: 3 per body, then one per joint with its own coordinate
         let n_bodies = desc.bodies.len();

@@ -1,5 +1,6 @@
 //! The one list of constraint kinds: every joint and driver type, its variant and label.
 
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription, Slide};
 use crate::constraints::drivers::angle;
 use crate::constraints::drivers::coordinate;
 use crate::constraints::drivers::distance;
@@ -90,6 +91,21 @@ macro_rules! constraint_list {
                 out: &mut [Jet<W>; MAX_ROWS],
             ) {
                 match self { $(ConstraintKind::$variant(j) => j.phi_jet(a, b, s, t, p, out)),* }
+            }
+        }
+
+        impl ConstraintKind {
+            /// Compiles a joint or driver description with the type whose it is.
+            pub(crate) fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Result<Compiled<ConstraintKind>, String> {
+                $(if let Some(c) = <$ty as FromDescription>::compile(desc, cx) {
+                    return Ok(c?.map(ConstraintKind::$variant));
+                })*
+                Err("has a description no joint or driver type compiles".into())
+            }
+
+            /// A prismatic joint's slide, for the translation drivers that ride on it.
+            pub(crate) fn slide(&self) -> Option<Slide> {
+                match self { $(ConstraintKind::$variant(j) => j.slide()),* }
             }
         }
 

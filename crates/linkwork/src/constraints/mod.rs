@@ -5,6 +5,7 @@
 //!
 //! Adding a joint type: one file, one line in `constraint_list!` `kinds`.
 
+pub mod compile_context;
 pub mod drivers;
 pub mod joints;
 pub mod kinds;

@@ -1,6 +1,8 @@
 //! Absolute angle driver: theta_b - f(t) = 0 (side a is the ground).
 
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::DriverDesc;
 use crate::input::motion::MotionLaw;
 use crate::math::jet::{Jet, JetFrame};
 
@@ -67,4 +69,26 @@ impl super::Described for AngleDriver {
             fields: &[("name", Name), ("body", Body), ("law", Law(Input::Angle))],
         }]
     };
+}
+
+/// Compiles an angle-driver description: the body driven (not the ground).
+pub(crate) fn compile(
+    body: &str,
+    law: MotionLaw,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<AngleDriver>, String> {
+    let b = cx.find(body)?;
+    if b.is_none() {
+        return Err("drives the ground, which cannot move".into());
+    }
+    Ok(Compiled::new(AngleDriver { law }, None, b))
+}
+
+impl FromDescription for AngleDriver {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Driver(DriverDesc::Angle { body, .. }, law) = desc else {
+            return None;
+        };
+        Some(compile(body, (*law).clone(), cx))
+    }
 }

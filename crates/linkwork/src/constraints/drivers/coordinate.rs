@@ -1,6 +1,8 @@
 //! Coordinate driver: x (axis 0) or y (axis 1) of the point u of body b, minus f(t).
 
+use crate::constraints::compile_context::{finite2, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::DriverDesc;
 use crate::input::motion::MotionLaw;
 use crate::math::jet::{pair, Jet, JetFrame};
 
@@ -83,4 +85,36 @@ impl super::Described for CoordinateDriver {
             ],
         }]
     };
+}
+
+/// Compiles a coordinate-driver description: the point of the body driven, its axis.
+pub(crate) fn compile(
+    body: &str,
+    at: [f64; 2],
+    axis: &str,
+    law: MotionLaw,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<CoordinateDriver>, String> {
+    let b = cx.find(body)?;
+    if b.is_none() {
+        return Err("drives a point of the ground, which cannot move".into());
+    }
+    if !finite2(at) {
+        return Err(format!("point {at:?} is not finite"));
+    }
+    let axis = match axis {
+        "x" => 0,
+        "y" => 1,
+        other => return Err(format!("axis must be \"x\" or \"y\", not {other:?}")),
+    };
+    Ok(Compiled::new(CoordinateDriver { u: cx.local(b, at), axis, law }, None, b))
+}
+
+impl FromDescription for CoordinateDriver {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Driver(DriverDesc::Coordinate { body, at, axis, .. }, law) = desc else {
+            return None;
+        };
+        Some(compile(body, *at, axis, (*law).clone(), cx))
+    }
 }

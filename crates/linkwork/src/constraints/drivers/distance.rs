@@ -1,7 +1,9 @@
 //! Distance driver (a linear actuator): |r_b(u_b) - r_a(u_a)| - f(t) = 0.
 //! The plain distance, not its square, so the row is a length like the joints' rows.
 
+use crate::constraints::compile_context::{finite2, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{dot, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::DriverDesc;
 use crate::input::motion::MotionLaw;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
@@ -94,4 +96,32 @@ impl super::Described for DistanceDriver {
             ],
         }]
     };
+}
+
+/// Compiles a distance-driver description: its two points in their bodies, apart.
+pub(crate) fn compile(
+    body_a: &str,
+    at_a: [f64; 2],
+    body_b: &str,
+    at_b: [f64; 2],
+    law: MotionLaw,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<DistanceDriver>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    if !finite2(at_a) || !finite2(at_b) {
+        return Err(format!("points {at_a:?}, {at_b:?} are not finite"));
+    }
+    if (at_b[0] - at_a[0]).hypot(at_b[1] - at_a[1]) <= 1e-12 * cx.length_scale() {
+        return Err("its two points coincide at the start; a distance driver needs them apart".into());
+    }
+    Ok(Compiled::new(DistanceDriver { u_a: cx.local(a, at_a), u_b: cx.local(b, at_b), law }, a, b))
+}
+
+impl FromDescription for DistanceDriver {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Driver(DriverDesc::Distance { body_a, at_a, body_b, at_b, .. }, law) = desc else {
+            return None;
+        };
+        Some(compile(body_a, *at_a, body_b, *at_b, (*law).clone(), cx))
+    }
 }

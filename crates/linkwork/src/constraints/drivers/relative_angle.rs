@@ -1,6 +1,8 @@
 //! Relative angle driver: theta_b - theta_a - f(t) = 0.
 
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::DriverDesc;
 use crate::input::motion::MotionLaw;
 use crate::math::jet::{Jet, JetFrame};
 
@@ -67,4 +69,24 @@ impl super::Described for RelativeAngleDriver {
             fields: &[("name", Name), ("body_a", Body), ("body_b", Body), ("law", Law(Input::RelativeAngle))],
         }]
     };
+}
+
+/// Compiles a relative-angle-driver description: its two bodies.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    law: MotionLaw,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<RelativeAngleDriver>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    Ok(Compiled::new(RelativeAngleDriver { law }, a, b))
+}
+
+impl FromDescription for RelativeAngleDriver {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Driver(DriverDesc::RelativeAngle { body_a, body_b, .. }, law) = desc else {
+            return None;
+        };
+        Some(compile(body_a, body_b, (*law).clone(), cx))
+    }
 }

@@ -1,8 +1,10 @@
 //! Translation driver of a prismatic joint: the slide e . d - f(t) = 0, with e the
 //! joint's axis (fixed in a) and d = r_b(u_b) - r_a(u_a); the slide is 0 at the start.
 
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::joints::prismatic::{line_gamma, line_row};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::DriverDesc;
 use crate::input::motion::MotionLaw;
 use crate::math::jet::{pair, Jet, JetFrame};
 
@@ -82,4 +84,25 @@ impl super::Described for TranslationDriver {
             fields: &[("name", Name), ("joint", Joint), ("law", Law(Input::Slide))],
         }]
     };
+}
+
+/// Compiles a translation-driver description: the slide of the prismatic joint it rides on.
+pub(crate) fn compile(
+    joint: &str,
+    law: MotionLaw,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<TranslationDriver>, String> {
+    let Some(s) = cx.slide(joint) else {
+        return Err(format!("refers to '{joint}', which is not a prismatic joint of the model"));
+    };
+    Ok(s.map(|s| TranslationDriver { u_a: s.u_a, u_b: s.u_b, e_a: s.e_a, law }))
+}
+
+impl FromDescription for TranslationDriver {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Driver(DriverDesc::Translation { joint, .. }, law) = desc else {
+            return None;
+        };
+        Some(compile(joint, (*law).clone(), cx))
+    }
 }

@@ -5,7 +5,10 @@
 //! `gear` for the row and its scaling.
 
 use super::gear::Gear;
+use super::gear::{carrier_of, radii};
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -72,4 +75,37 @@ impl super::Described for Belt {
             ],
         }]
     };
+}
+
+/// Compiles a belt description: the pulleys' radii or ratio, open or crossed, on a carrier.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    radius_a: Option<f64>,
+    radius_b: Option<f64>,
+    ratio: Option<f64>,
+    crossed: bool,
+    carrier: &Option<String>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<Belt>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    let (r_a, r_b) = radii(radius_a, radius_b, ratio)?;
+    let (k_a, k_b) = Gear::coefficients(r_a, r_b, !crossed);
+    let (column, theta_c) = carrier_of(&*cx, carrier, a, b)?;
+    let value = k_a * (cx.theta(a) - theta_c) + k_b * (cx.theta(b) - theta_c);
+    let belt = Belt(Gear { k_a, k_b, value, carrier: column.is_some(), mesh: None });
+    Ok(Compiled { joint: belt, a, b, borrowed: column })
+}
+
+impl FromDescription for Belt {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Belt {
+            body_a, body_b, radius_a, radius_b, ratio, crossed, carrier, ..
+        }) = desc
+        else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *radius_a, *radius_b, *ratio, *crossed, carrier, cx))
+    }
 }

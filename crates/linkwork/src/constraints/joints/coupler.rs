@@ -4,7 +4,11 @@
 //! when d passes near zero; dividing by 2 l makes the row read as a length near the
 //! solution (it equals |d| - l to first order).
 
+use crate::constraints::compile_context::{
+    finite2, positive_or, CompileContext, Compiled, Desc, FromDescription,
+};
 use crate::constraints::{dot, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -91,4 +95,35 @@ impl super::Described for Coupler {
             ],
         }]
     };
+}
+
+/// Compiles a distance-joint description: its two points in their bodies, its length
+/// given or drawn.
+pub(crate) fn compile(
+    body_a: &str,
+    at_a: [f64; 2],
+    body_b: &str,
+    at_b: [f64; 2],
+    length: Option<f64>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<Coupler>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    if !finite2(at_a) || !finite2(at_b) {
+        return Err(format!("points {at_a:?}, {at_b:?} are not finite"));
+    }
+    let drawn = (at_b[0] - at_a[0]).hypot(at_b[1] - at_a[1]);
+    if drawn <= 1e-12 * cx.length_scale() {
+        return Err("its two points coincide at the start; a distance joint needs them apart".into());
+    }
+    let length = positive_or("length", length, drawn)?;
+    Ok(Compiled::new(Coupler { u_a: cx.local(a, at_a), u_b: cx.local(b, at_b), length }, a, b))
+}
+
+impl FromDescription for Coupler {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Distance { body_a, at_a, body_b, at_b, length, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, *at_a, body_b, *at_b, *length, cx))
+    }
 }

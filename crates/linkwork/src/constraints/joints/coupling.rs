@@ -4,7 +4,10 @@
 //! if it involves any x or y, an angle otherwise. Gear-like couplings between angles,
 //! a rack's slide against a pinion's turn, a pantograph's scaled motion.
 
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::Coefficients;
+use crate::input::description::JointDesc;
 use crate::math::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -106,4 +109,54 @@ impl super::Described for LinearCoupling {
             ],
         }]
     };
+}
+
+/// Compiles a linear-coupling description: the coefficients checked, the value given or
+/// drawn.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    coefficients_a: &Coefficients,
+    coefficients_b: &Coefficients,
+    value: Option<f64>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<LinearCoupling>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    let c_a = [coefficients_a.x, coefficients_a.y, coefficients_a.theta];
+    let c_b = [coefficients_b.x, coefficients_b.y, coefficients_b.theta];
+    if !c_a.iter().chain(&c_b).all(|c| c.is_finite()) {
+        return Err(format!("coefficients {c_a:?}, {c_b:?} are not finite"));
+    }
+    for (side, body, c) in [("a", a, c_a), ("b", b, c_b)] {
+        if body.is_none() && c.iter().any(|c| *c != 0.0) {
+            return Err(format!("has coefficients_{side} on the ground, whose coordinates are fixed"));
+        }
+    }
+    if c_a.iter().chain(&c_b).all(|c| *c == 0.0) {
+        return Err("has no non-zero coefficient".into());
+    }
+    let (q_a, q_b) = (cx.pose(a).unwrap_or([0.0; 3]), cx.pose(b).unwrap_or([0.0; 3]));
+    let value = match value {
+        None => (0..3).map(|k| c_a[k] * q_a[k] + c_b[k] * q_b[k]).sum(),
+        Some(v) if v.is_finite() => v,
+        Some(v) => return Err(format!("value {v} is not finite")),
+    };
+    Ok(Compiled::new(LinearCoupling { c_a, c_b, value }, a, b))
+}
+
+impl FromDescription for LinearCoupling {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::LinearCoupling {
+            body_a,
+            body_b,
+            coefficients_a,
+            coefficients_b,
+            value,
+            ..
+        }) = desc
+        else {
+            return None;
+        };
+        Some(compile(body_a, body_b, coefficients_a, coefficients_b, *value, cx))
+    }
 }

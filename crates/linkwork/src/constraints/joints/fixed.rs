@@ -2,7 +2,9 @@
 //! stays at the point u_a of a, and the relative angle stays theta0.
 
 use super::revolute::{coincidence, coincidence_gamma};
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -71,4 +73,24 @@ impl super::Described for Fixed {
             fields: &[("name", Name), ("body_a", Body), ("body_b", Body)],
         }]
     };
+}
+
+/// Compiles a weld description: b's origin in a's frame and the drawn relative angle.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<Fixed>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    let joint = Fixed { u_a: cx.local(a, cx.origin(b)), theta0: cx.theta(b) - cx.theta(a) };
+    Ok(Compiled::new(joint, a, b))
+}
+
+impl FromDescription for Fixed {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Fixed { body_a, body_b, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, body_b, cx))
+    }
 }

@@ -7,9 +7,13 @@
 //! Both are lengths (c' is a length per radian). The first row's derivative in s,
 //! n . T, vanishes on the solution, so the follower's motion does not depend on c'''.
 
+use super::cam_follower;
 use super::point_on_curve::{to_local, to_local_dir};
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{dot, perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::input::curves::Curve;
+use crate::input::curves::CurveDesc;
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -151,4 +155,35 @@ impl super::Described for FlatFollower {
             ],
         }]
     };
+}
+
+/// Compiles a cam-follower description with a flat face: its direction in b.
+#[allow(clippy::too_many_arguments)]
+fn compile(
+    body_a: &str,
+    body_b: &str,
+    follower: &str,
+    at: [f64; 2],
+    curve: &CurveDesc,
+    radius: Option<f64>,
+    face: Option<[f64; 2]>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<FlatFollower>, String> {
+    let (curve, u_b, a, b) = cam_follower::start(body_a, body_b, follower, at, curve, radius, face, cx)?;
+    let face = face.ok_or_else(|| "a flat-faced follower needs its face direction".to_string())?;
+    Ok(Compiled::new(FlatFollower::new(curve, u_b, cx.local_dir(b, face))?, a, b))
+}
+
+impl FromDescription for FlatFollower {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::CamFollower { body_a, body_b, follower, at, curve, radius, face, .. }) =
+            desc
+        else {
+            return None;
+        };
+        if follower != "flat" {
+            return None;
+        }
+        Some(compile(body_a, body_b, follower, *at, curve, *radius, *face, cx))
+    }
 }

@@ -21,7 +21,11 @@
 
 use std::f64::consts::PI;
 
+use crate::constraints::compile_context::{
+    finite2, positive_or, CompileContext, Compiled, Desc, FromDescription,
+};
 use crate::constraints::{perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -207,4 +211,126 @@ impl super::Described for Gear {
             ],
         }]
     };
+}
+
+/// Compiles a gear-pair description: the pitch radii (given, or from the ratio and the
+/// centres' distance), on a carrier the mesh against the line of centres.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    radius_a: Option<f64>,
+    radius_b: Option<f64>,
+    ratio: Option<f64>,
+    centre_a: Option<[f64; 2]>,
+    centre_b: Option<[f64; 2]>,
+    internal: bool,
+    carrier: &Option<String>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<Gear>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    let c_a = centre_a.unwrap_or(cx.origin(a));
+    let c_b = centre_b.unwrap_or(cx.origin(b));
+    if !finite2(c_a) || !finite2(c_b) {
+        return Err(format!("centres {c_a:?}, {c_b:?} are not finite"));
+    }
+    let distance = (c_b[0] - c_a[0]).hypot(c_b[1] - c_a[1]);
+    let length_scale = cx.length_scale();
+    let (r_a, r_b) = match (radius_a, radius_b, ratio) {
+        (None, None, Some(k)) => gear_radii(k, distance, internal, 1e-12 * length_scale)?,
+        _ => radii(radius_a, radius_b, ratio)?,
+    };
+    if internal && r_a == r_b {
+        return Err("an internal gear and its pinion need different radii".into());
+    }
+    let (k_a, k_b) = Gear::coefficients(r_a, r_b, internal);
+    let (column, theta_c) = carrier_of(&*cx, carrier, a, b)?;
+    // on a carrier, rolling against the line of centres
+    let mesh = column.map(|_| Mesh {
+        u_a: cx.local(a, c_a),
+        u_b: cx.local(b, c_b),
+        delta: (c_b[1] - c_a[1]).atan2(c_b[0] - c_a[0]) - theta_c,
+    });
+    let phi0 = mesh.as_ref().map_or(0.0, |m| theta_c + m.delta);
+    if mesh.is_some() && distance <= 1e-12 * length_scale {
+        return Err("its centres coincide, so they have no line of centres".into());
+    }
+    let value = k_a * (cx.theta(a) - phi0) + k_b * (cx.theta(b) - phi0);
+    let gear = Gear { k_a, k_b, value, carrier: column.is_some(), mesh };
+    Ok(Compiled { joint: gear, a, b, borrowed: column })
+}
+
+/// Pitch radii of a gear pair or pulleys given by radii, or by the speed ratio r_a / r_b
+/// alone (radii k and 1: only their ratio matters).
+pub(crate) fn radii(
+    radius_a: Option<f64>,
+    radius_b: Option<f64>,
+    ratio: Option<f64>,
+) -> Result<(f64, f64), String> {
+    match (radius_a, radius_b, ratio) {
+        (Some(r_a), Some(r_b), None) => {
+            Ok((positive_or("radius_a", Some(r_a), 0.0)?, positive_or("radius_b", Some(r_b), 0.0)?))
+        }
+        (None, None, Some(k)) => Ok((positive_or("ratio", Some(k), 0.0)?, 1.0)),
+        _ => Err("needs either radius_a and radius_b, or ratio (one of the two, not both)".into()),
+    }
+}
+
+/// Pitch radii of a gear pair from the speed ratio k = r_a / r_b and the distance between
+/// the centres: r_a + r_b = distance (external), |r_a - r_b| = distance (internal).
+fn gear_radii(k: f64, distance: f64, internal: bool, min_distance: f64) -> Result<(f64, f64), String> {
+    let k = positive_or("ratio", Some(k), 0.0)?;
+    if distance <= min_distance {
+        return Err("its centres coincide at the start, so a ratio does not give the radii; \
+                    give radius_a and radius_b or draw the centres apart"
+            .into());
+    }
+    if internal && (k - 1.0).abs() <= 1e-12 {
+        return Err("an internal gear pair cannot have ratio 1".into());
+    }
+    let r_b = if internal { distance / (k - 1.0).abs() } else { distance / (k + 1.0) };
+    Ok((k * r_b, r_b))
+}
+
+/// The carrier of a gear pair or belt: its theta column and starting angle; no carrier
+/// (or the ground) gives (None, 0). The carrier must be a third body.
+pub(crate) fn carrier_of(
+    cx: &dyn CompileContext,
+    carrier: &Option<String>,
+    a: Option<usize>,
+    b: Option<usize>,
+) -> Result<(Option<usize>, f64), String> {
+    let Some(name) = carrier else {
+        return Ok((None, 0.0));
+    };
+    let c = cx.find(name)?;
+    if c == a || c == b {
+        return Err(format!(
+            "its carrier '{name}' is one of its own two bodies; the carrier must be a third body"
+        ));
+    }
+    Ok((c.map(|i| 3 * i + 2), cx.theta(c)))
+}
+
+impl FromDescription for Gear {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Gear {
+            body_a,
+            body_b,
+            radius_a,
+            radius_b,
+            ratio,
+            centre_a,
+            centre_b,
+            internal,
+            carrier,
+            ..
+        }) = desc
+        else {
+            return None;
+        };
+        Some(compile(
+            body_a, body_b, *radius_a, *radius_b, *ratio, *centre_a, *centre_b, *internal, carrier, cx,
+        ))
+    }
 }

@@ -1,10 +1,11 @@
-//! The joints, one file per type; each implements `Constraint` and `Sample`
-//! (`crate::constraints`) and is listed once in `crate::constraints::kinds`.
+//! The joints, one file per type; each implements `Constraint`, `Sample`, `Described` and
+//! `FromDescription` (`crate::constraints`) and is listed once in `crate::constraints::kinds`.
 
 pub mod fixed;
 pub mod prismatic;
 pub mod revolute;
 // joints with their own coordinate, a curve parameter
+pub mod cam_follower;
 pub mod flat_follower;
 pub mod point_on_curve;
 pub mod roller_follower;

@@ -2,7 +2,9 @@
 //! freely. 1 row, an angle: theta_b - theta_a - angle = 0 (the drawing's angle unless
 //! given).
 
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -61,4 +63,29 @@ impl super::Described for FixedOrientation {
             fields: &[("name", Name), ("body_a", Body), ("body_b", Body), ("angle", Angle)],
         }]
     };
+}
+
+/// Compiles a fixed-orientation description: the angle given or drawn.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    angle: Option<f64>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<FixedOrientation>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    let angle = match angle {
+        None => cx.theta(b) - cx.theta(a),
+        Some(v) if v.is_finite() => v,
+        Some(v) => return Err(format!("angle {v} is not finite")),
+    };
+    Ok(Compiled::new(FixedOrientation { angle }, a, b))
+}
+
+impl FromDescription for FixedOrientation {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::FixedOrientation { body_a, body_b, angle, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *angle, cx))
+    }
 }

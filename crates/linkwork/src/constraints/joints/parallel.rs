@@ -4,7 +4,9 @@
 //! the anti-parallel lines; Newton keeps the one nearest the drawing, where the Jacobian
 //! (the cosine, +-1) is far from singular.
 
+use crate::constraints::compile_context::{unit, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{dot, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -85,4 +87,30 @@ impl super::Described for Parallel {
             ],
         }]
     };
+}
+
+/// Compiles a parallel description: each line's direction in its body.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    axis_a: [f64; 2],
+    axis_b: [f64; 2],
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<Parallel>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    let (e_a, e_b) = (unit("axis_a", axis_a)?, unit("axis_b", axis_b)?);
+    // the row's Jacobian is the cosine between the lines: zero when perpendicular
+    if (e_a[0] * e_b[0] + e_a[1] * e_b[1]).abs() <= 1e-6 {
+        return Err("its two lines are perpendicular at the start; draw them (nearly) parallel".into());
+    }
+    Ok(Compiled::new(Parallel { e_a: cx.local_dir(a, e_a), e_b: cx.local_dir(b, e_b) }, a, b))
+}
+
+impl FromDescription for Parallel {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Parallel { body_a, body_b, axis_a, axis_b, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *axis_a, *axis_b, cx))
+    }
 }

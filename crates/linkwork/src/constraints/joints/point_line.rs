@@ -8,7 +8,9 @@
 //! pass through the pin. The rotation of a stays free either way.
 
 use super::prismatic::{line_gamma, line_row};
+use crate::constraints::compile_context::{finite2, unit, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{perp, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -94,4 +96,41 @@ impl super::Described for PointOnLine {
             ],
         }]
     };
+}
+
+/// Compiles a point-on-line description: the point in a, the line (through `through`, or
+/// the point) in b, the offset given or drawn.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    at: [f64; 2],
+    axis: [f64; 2],
+    through: Option<[f64; 2]>,
+    offset: Option<f64>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<PointOnLine>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    let q = through.unwrap_or(at);
+    if !finite2(at) || !finite2(q) {
+        return Err(format!("point {at:?} or line point {q:?} is not finite"));
+    }
+    let e = unit("axis", axis)?;
+    let drawn = -e[1] * (at[0] - q[0]) + e[0] * (at[1] - q[1]);
+    let offset = match offset {
+        None => drawn,
+        Some(o) if o.is_finite() => o,
+        Some(o) => return Err(format!("offset {o} is not finite")),
+    };
+    let joint = PointOnLine { u_a: cx.local(a, at), u_b: cx.local(b, q), e_b: cx.local_dir(b, e), offset };
+    Ok(Compiled::new(joint, a, b))
+}
+
+impl FromDescription for PointOnLine {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::PointOnLine { body_a, body_b, at, axis, through, offset, .. }) = desc
+        else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *at, *axis, *through, *offset, cx))
+    }
 }

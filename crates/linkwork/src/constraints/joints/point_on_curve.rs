@@ -2,8 +2,12 @@
 //! pin of b in a curved slot of a, or a knife-edge follower's tip on a cam profile. 2
 //! rows, r_b(u_b) - (R_a + A_a c(s)) = 0, and one own coordinate: the curve parameter s.
 
+use super::cam_follower;
+use crate::constraints::compile_context::{finite2, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::input::curves::Curve;
+use crate::input::curves::CurveDesc;
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -127,4 +131,38 @@ impl super::Described for PointOnCurve {
             },
         ]
     };
+}
+
+/// Compiles a pin-in-slot description: the slot's curve in a, the pin in b.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    at: [f64; 2],
+    curve: &CurveDesc,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<PointOnCurve>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    if !finite2(at) {
+        return Err(format!("position {at:?} is not finite"));
+    }
+    let curve = curve.to_body(cx.pose(a))?;
+    Ok(Compiled::new(PointOnCurve { curve, u_b: cx.local(b, at) }, a, b))
+}
+
+impl FromDescription for PointOnCurve {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        match desc {
+            Desc::Joint(JointDesc::PinInSlot { body_a, body_b, at, curve, .. }) => {
+                Some(compile(body_a, body_b, *at, curve, cx))
+            }
+            // a knife edge: its tip on the profile (a follower no other type takes, checked)
+            Desc::Joint(JointDesc::CamFollower {
+                body_a, body_b, follower, at, curve, radius, face, ..
+            }) if follower != "roller" && follower != "flat" => Some(
+                cam_follower::start(body_a, body_b, follower, *at, curve, *radius, *face, cx)
+                    .map(|(curve, u_b, a, b)| Compiled::new(PointOnCurve { curve, u_b }, a, b)),
+            ),
+            _ => None,
+        }
+    }
 }

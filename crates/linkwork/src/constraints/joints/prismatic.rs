@@ -2,7 +2,12 @@
 //! 2 rows: no relative rotation; the point u_b of b stays on the line through u_a of a
 //! along the axis e_a (n . d = 0, n the axis normal, d = r_b(u_b) - r_a(u_a)).
 
+use crate::constraints::compile_context::Slide;
+use crate::constraints::compile_context::{
+    finite2, unit, world, CompileContext, Compiled, Desc, FromDescription,
+};
 use crate::constraints::{dot, perp, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame, Vec2};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -131,4 +136,67 @@ impl super::Described for Prismatic {
             ],
         }]
     };
+}
+
+/// Compiles a prismatic description: the axis in a's frame (given there, or the world one
+/// turned into a's), each side's pin as for a revolute but missing only across the line.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn compile(
+    name: &str,
+    body_a: &str,
+    body_b: &str,
+    at: Option<[f64; 2]>,
+    axis: Option<[f64; 2]>,
+    pin_a: Option<[f64; 2]>,
+    pin_b: Option<[f64; 2]>,
+    axis_a: Option<[f64; 2]>,
+    angle: Option<f64>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<Prismatic>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    let points = [at, axis, pin_a, pin_b, axis_a];
+    if let Some(p) = points.into_iter().flatten().find(|p| !finite2(*p)) {
+        return Err(format!("point or axis {p:?} is not finite"));
+    }
+    if at.is_none() && (pin_a.is_none() || pin_b.is_none()) {
+        return Err("needs its point `at` (world), or its pin in each body (pin_a and pin_b)".into());
+    }
+    let a_turn = Some([0.0, 0.0, cx.theta(a)]);
+    if axis_a.or(axis).is_some_and(|e| e[0].hypot(e[1]) == 0.0) {
+        return Err("has a zero-length axis; give the sliding direction".into());
+    }
+    let e = match (axis_a, axis) {
+        (Some(e), _) => unit("axis_a", e)?,
+        (None, Some(e)) => cx.local_dir(a, unit("axis", e)?),
+        (None, None) => {
+            return Err("needs its sliding direction: `axis` (world) or `axis_a` (in body_a's frame)".into())
+        }
+    };
+    // a pin need only be on the slide line: the miss is across it
+    let normal = Some(world(a_turn, [-e[1], e[0]]));
+    let u_a = cx.pin(name, a, "pin_a", pin_a, at, normal);
+    let u_b = cx.pin(name, b, "pin_b", pin_b, at, normal);
+    let lengths_first = pin_a.is_some() || pin_b.is_some();
+    let drawn_angle = cx.theta(b) - cx.theta(a);
+    let theta0 = match angle {
+        Some(v) if v.is_finite() => v,
+        Some(v) => return Err(format!("angle {v} is not finite")),
+        None if lengths_first => 0.0,
+        None => drawn_angle,
+    };
+    Ok(Compiled::new(Prismatic { u_a, u_b, e_a: e, theta0 }, a, b))
+}
+
+impl FromDescription for Prismatic {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Prismatic { name, body_a, body_b, at, axis, pin_a, pin_b, axis_a, angle }) =
+            desc
+        else {
+            return None;
+        };
+        Some(compile(name, body_a, body_b, *at, *axis, *pin_a, *pin_b, *axis_a, *angle, cx))
+    }
+    fn slide(&self) -> Option<Slide> {
+        Some(Slide { u_a: self.u_a, u_b: self.u_b, e_a: self.e_a })
+    }
 }

@@ -12,7 +12,11 @@
 //! the mechanism's other joints (the pinion's pivot, the rack's guide).
 
 use super::prismatic::{line_gamma, line_row};
+use crate::constraints::compile_context::{
+    finite2, positive_or, unit, CompileContext, Compiled, Desc, FromDescription,
+};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -104,4 +108,43 @@ impl super::Described for RackPinion {
             ],
         }]
     };
+}
+
+/// Compiles a rack-and-pinion description: the pinion's centre in both bodies, the rack's
+/// direction in b.
+pub(crate) fn compile(
+    body_a: &str,
+    body_b: &str,
+    radius: f64,
+    axis: [f64; 2],
+    centre: Option<[f64; 2]>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<RackPinion>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    if a.is_none() {
+        return Err("its pinion (body_a) is the ground, which cannot turn; the rack may be".into());
+    }
+    let radius = positive_or("radius", Some(radius), 0.0)?;
+    let c = centre.unwrap_or(cx.origin(a));
+    if !finite2(c) {
+        return Err(format!("centre {c:?} is not finite"));
+    }
+    let e = unit("axis", axis)?;
+    let joint = RackPinion {
+        u_a: cx.local(a, c),
+        u_b: cx.local(b, c),
+        e_b: cx.local_dir(b, e),
+        radius,
+        delta0: cx.theta(a) - cx.theta(b),
+    };
+    Ok(Compiled::new(joint, a, b))
+}
+
+impl FromDescription for RackPinion {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::RackPinion { body_a, body_b, radius, axis, centre, .. }) = desc else {
+            return None;
+        };
+        Some(compile(body_a, body_b, *radius, *axis, *centre, cx))
+    }
 }

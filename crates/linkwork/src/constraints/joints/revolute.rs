@@ -1,6 +1,8 @@
 //! Revolute (pin) joint: the point u_a of body a and u_b of body b coincide. 2 rows.
 
+use crate::constraints::compile_context::{finite2, CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
+use crate::input::description::JointDesc;
 use crate::math::jet::{pair, sub as jsub, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -106,4 +108,36 @@ impl super::Described for Revolute {
             ],
         }]
     };
+}
+
+/// Compiles a revolute description: each side's pin in its frame, given (checked against
+/// the drawing's point where both are) or the drawing's point there.
+pub(crate) fn compile(
+    name: &str,
+    body_a: &str,
+    body_b: &str,
+    at: Option<[f64; 2]>,
+    pin_a: Option<[f64; 2]>,
+    pin_b: Option<[f64; 2]>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<Revolute>, String> {
+    let (a, b) = cx.pair(body_a, body_b)?;
+    if let Some(p) = [at, pin_a, pin_b].into_iter().flatten().find(|p| !finite2(*p)) {
+        return Err(format!("position {p:?} is not finite"));
+    }
+    if at.is_none() && (pin_a.is_none() || pin_b.is_none()) {
+        return Err("needs its position `at`, or its pin in each body (pin_a and pin_b)".into());
+    }
+    let u_a = cx.pin(name, a, "pin_a", pin_a, at, None);
+    let u_b = cx.pin(name, b, "pin_b", pin_b, at, None);
+    Ok(Compiled::new(Revolute { u_a, u_b }, a, b))
+}
+
+impl FromDescription for Revolute {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::Revolute { name, body_a, body_b, at, pin_a, pin_b }) = desc else {
+            return None;
+        };
+        Some(compile(name, body_a, body_b, *at, *pin_a, *pin_b, cx))
+    }
 }

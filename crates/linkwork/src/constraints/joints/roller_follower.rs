@@ -7,9 +7,13 @@
 //! Both are lengths. The first row's derivative in s, -d . T / rho, vanishes on the
 //! solution, so the follower's motion does not depend on c''' (only s'' does).
 
+use super::cam_follower;
 use super::point_on_curve::to_local;
+use crate::constraints::compile_context::{CompileContext, Compiled, Desc, FromDescription};
 use crate::constraints::{dot, sub, Constraint, Extra, Frame, RowKind, Rows, Sample, MAX_ROWS};
 use crate::input::curves::Curve;
+use crate::input::curves::CurveDesc;
+use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -163,4 +167,36 @@ impl super::Described for RollerFollower {
             ],
         }]
     };
+}
+
+/// Compiles a cam-follower description with a roller: its radius, the contact found.
+#[allow(clippy::too_many_arguments)]
+fn compile(
+    body_a: &str,
+    body_b: &str,
+    follower: &str,
+    at: [f64; 2],
+    curve: &CurveDesc,
+    radius: Option<f64>,
+    face: Option<[f64; 2]>,
+    cx: &mut dyn CompileContext,
+) -> Result<Compiled<RollerFollower>, String> {
+    let (curve, u_b, a, b) = cam_follower::start(body_a, body_b, follower, at, curve, radius, face, cx)?;
+    let frame = |b: Option<usize>| cx.pose(b).map_or(Frame::GROUND, |p| Frame::new(p, [0.0; 3]));
+    let radius = radius.ok_or_else(|| "a roller follower needs a radius".to_string())?;
+    Ok(Compiled::new(RollerFollower::new(curve, u_b, radius, &frame(a), &frame(b))?, a, b))
+}
+
+impl FromDescription for RollerFollower {
+    fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
+        let Desc::Joint(JointDesc::CamFollower { body_a, body_b, follower, at, curve, radius, face, .. }) =
+            desc
+        else {
+            return None;
+        };
+        if follower != "roller" {
+            return None;
+        }
+        Some(compile(body_a, body_b, follower, *at, curve, *radius, *face, cx))
+    }
 }
