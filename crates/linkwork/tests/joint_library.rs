@@ -11,7 +11,7 @@ use common::{four_bar_closed, rel_err, FourBar};
 use linkwork::constraints::{Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 use linkwork::joints::gear::Gear;
 use linkwork::joints::{
-    belt::Belt, coupling::LinearCoupling, point_line::PointOnLine, rack_pinion::RackPinion,
+    belt::Belt, linear_coupling::LinearCoupling, point_line::PointOnLine, rack_pinion::RackPinion,
 };
 use linkwork::{sweep, Data, Model, ModelError, Options, SweepOutput};
 use serde_json::{json, Value};

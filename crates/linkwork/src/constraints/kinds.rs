@@ -7,11 +7,11 @@ use crate::constraints::drivers::distance;
 use crate::constraints::drivers::relative_angle;
 use crate::constraints::drivers::translation;
 use crate::constraints::joints::belt;
-use crate::constraints::joints::coupler;
-use crate::constraints::joints::coupling;
 use crate::constraints::joints::fixed;
+use crate::constraints::joints::fixed_distance;
 use crate::constraints::joints::flat_follower;
 use crate::constraints::joints::gear;
+use crate::constraints::joints::linear_coupling;
 use crate::constraints::joints::orientation;
 use crate::constraints::joints::parallel;
 use crate::constraints::joints::point_line;
@@ -131,14 +131,14 @@ constraint_list! {
     DistanceDriver(distance::DistanceDriver) = "distance driver",
     CoordinateDriver(coordinate::CoordinateDriver) = "coordinate driver",
     TranslationDriver(translation::TranslationDriver) = "translation driver",
-    Distance(coupler::Coupler) = "distance",
+    Distance(fixed_distance::FixedDistance) = "distance",
     PointOnLine(point_line::PointOnLine) = "point on line",
     Gear(gear::Gear) = "gear",
     RackPinion(rack_pinion::RackPinion) = "rack and pinion",
     Belt(belt::Belt) = "belt",
     FixedOrientation(orientation::FixedOrientation) = "fixed orientation",
     Parallel(parallel::Parallel) = "parallel",
-    LinearCoupling(coupling::LinearCoupling) = "linear coupling",
+    LinearCoupling(linear_coupling::LinearCoupling) = "linear coupling",
     PointOnCurve(point_on_curve::PointOnCurve) = "point on curve",
     RollerFollower(roller_follower::RollerFollower) = "roller follower",
     FlatFollower(flat_follower::FlatFollower) = "flat follower",

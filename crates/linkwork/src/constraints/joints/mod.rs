@@ -10,11 +10,12 @@ pub mod flat_follower;
 pub mod point_on_curve;
 pub mod roller_follower;
 
-// joints without coordinates of their own: couplers, slots, gears, couplings
+// joints without coordinates of their own: fixed distances (massless rods), slots, gears,
+// linear couplings
 pub mod belt;
-pub mod coupler;
-pub mod coupling;
+pub mod fixed_distance;
 pub mod gear;
+pub mod linear_coupling;
 pub mod orientation;
 pub mod parallel;
 pub mod point_line;

@@ -12,7 +12,7 @@ use crate::input::description::JointDesc;
 use crate::math::jet::{self, pair, Jet, JetFrame};
 
 #[derive(Debug, Clone, PartialEq)]
-pub struct Coupler {
+pub struct FixedDistance {
     /// the coupler's end on a, in a's frame
     pub u_a: [f64; 2],
     /// the coupler's end on b, in b's frame
@@ -21,7 +21,7 @@ pub struct Coupler {
     pub length: f64,
 }
 
-impl Constraint for Coupler {
+impl Constraint for FixedDistance {
     fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
         let mut p = Vec::new();
         p.extend(crate::constraints::xy("u_a", &mut self.u_a));
@@ -72,14 +72,14 @@ impl Constraint for Coupler {
     }
 }
 
-impl Sample for Coupler {
+impl Sample for FixedDistance {
     fn sample() -> Self {
-        Coupler { u_a: [0.2, -0.1], u_b: [-0.05, 0.3], length: 0.45 }
+        FixedDistance { u_a: [0.2, -0.1], u_b: [-0.05, 0.3], length: 0.45 }
     }
 }
 
 /// The description's fields and their roles (`Described`).
-impl super::Described for Coupler {
+impl super::Described for FixedDistance {
     const FORMS: &'static [super::Form] = {
         use super::Role::*;
         &[super::Form {
@@ -106,7 +106,7 @@ pub(crate) fn compile(
     at_b: [f64; 2],
     length: Option<f64>,
     cx: &mut dyn CompileContext,
-) -> Result<Compiled<Coupler>, String> {
+) -> Result<Compiled<FixedDistance>, String> {
     let (a, b) = cx.pair(body_a, body_b)?;
     if !finite2(at_a) || !finite2(at_b) {
         return Err(format!("points {at_a:?}, {at_b:?} are not finite"));
@@ -116,10 +116,10 @@ pub(crate) fn compile(
         return Err("its two points coincide at the start; a distance joint needs them apart".into());
     }
     let length = positive_or("length", length, drawn)?;
-    Ok(Compiled::new(Coupler { u_a: cx.local(a, at_a), u_b: cx.local(b, at_b), length }, a, b))
+    Ok(Compiled::new(FixedDistance { u_a: cx.local(a, at_a), u_b: cx.local(b, at_b), length }, a, b))
 }
 
-impl FromDescription for Coupler {
+impl FromDescription for FixedDistance {
     fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
         let Desc::Joint(JointDesc::Distance { body_a, at_a, body_b, at_b, length, .. }) = desc else {
             return None;
