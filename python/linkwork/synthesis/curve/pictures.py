@@ -13,8 +13,9 @@ import numpy as np
 from ...errors import SynthesisError
 from .tracking import TWO_PI
 
+# type only, named through the package: fit draws through this module
 if TYPE_CHECKING:
-    from .fit import CurveDesign
+    from linkwork.synthesis.curve import CurveDesign
 
 __all__ = ["plot_design"]
 
