@@ -305,19 +305,7 @@ class Synthesis:
         sets = self.dyads if isinstance(self.dyads, list) else [self.dyads]
         for k, s in enumerate(sets):
             which = "" if len(sets) == 1 else f" ({k + 1})"
-            head = f"  dyads{which}: {len(s.dyads)} roots, {len(s.real)} real"
-            if s.paths is not None:
-                head += f"; {s.paths} paths, {s.at_infinity} at infinity, {s.failed} failed"
-                head += f"; distinct: {s.distinct}"
-            lines.append(head)
-            for d in s.dyads:
-                kind = "real" if d.real else "complex"
-                cert = "certified" if d.certified else "NOT certified"
-                lines.append(
-                    f"    ground ({d.ground[0]:.6g}, {d.ground[1]:.6g}) "
-                    f"moving ({d.moving[0]:.6g}, {d.moving[1]:.6g}) "
-                    f"{kind}, {cert}, residual {d.residual:.1e}, radius {d.radius:.1e}"
-                )
+            lines += s.report_lines(f"dyads{which}")
         lines.append(
             f"  designs: {len(self.designs)} ({len(self.defect_free)} defect-free), sorted by: {MERIT}"
         )

@@ -103,6 +103,27 @@ class DyadSolutions:
     def __len__(self) -> int:
         return len(self.dyads)
 
+    def report_lines(
+        self, name: str, ground: str = "ground", moving: str = "moving", gap: str = " "
+    ) -> list[str]:
+        """A report's lines for these roots: a head (counts, what the paths did) and one
+        line per root, its pivots labelled ``ground`` and ``moving``, ``gap`` between
+        the fields."""
+        f = lambda v: f"({v[0]:.6g}, {v[1]:.6g})"  # noqa: E731
+        head = f"  {name}: {len(self.dyads)} roots, {len(self.real)} real"
+        if self.paths is not None:
+            head += f"; {self.paths} paths, {self.at_infinity} at infinity, {self.failed} failed"
+            head += f"; distinct: {self.distinct}"
+        lines = [head]
+        for d in self.dyads:
+            kind = "real" if d.real else "complex"
+            cert = "certified" if d.certified else "NOT certified"
+            lines.append(
+                f"    {ground} {f(d.ground)}{gap}{moving} {f(d.moving)}{gap}"
+                f"{kind}, {cert}, residual {d.residual:.1e}, radius {d.radius:.1e}"
+            )
+        return lines
+
     @classmethod
     def _from_raw(cls, raw: dict[str, Any], method: str) -> DyadSolutions:
         dyads = [

@@ -350,18 +350,7 @@ class ChainedSixBarSynthesis:
             (self.dyads[0], "dyad 1", "A1 (on QA)", "B1 (on the coupler)"),
             (self.dyads[1], "dyad 2", "C1 (on DC)", "D1 (on the coupler)"),
         ):
-            head = f"  {name}: {len(s.dyads)} roots, {len(s.real)} real"
-            if s.paths is not None:
-                head += f"; {s.paths} paths, {s.at_infinity} at infinity, {s.failed} failed"
-                head += f"; distinct: {s.distinct}"
-            lines.append(head)
-            for d in s.dyads:
-                kind = "real" if d.real else "complex"
-                cert = "certified" if d.certified else "NOT certified"
-                lines.append(
-                    f"    {pin} {f(d.ground)}  {body} {f(d.moving)}  "
-                    f"{kind}, {cert}, residual {d.residual:.1e}, radius {d.radius:.1e}"
-                )
+            lines += s.report_lines(name, pin, body, gap="  ")
         lines.append(
             f"  designs: {len(self.designs)} combinations ({len(self.defect_free)} defect-free over the "
             f"stroke, {sum(d.defects.full_turn for d in self.designs)} turning fully)"
