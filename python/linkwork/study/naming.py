@@ -16,7 +16,7 @@ The friendly names are what a designer means:
 ``pin A@crank.x``          the x (or ``.y``) of pin A in body crank, as a world coordinate of
                            the drawing; the other body of A keeps its geometry.
 ``pivot O4.x``             a ground pivot's x (or ``.y``): ``pin O4@ground.x``.
-``point P.x``              a named point's x (or ``.y``) in its body.
+``point P.x``              a named point's drawn x (or ``.y``): world, in the drawing.
 ``mass crank``             a body's mass (``inertia crank``: its moment of inertia).
 ``ratio G1``               a gear or belt joint's ratio (``radius_a G1``, ``radius_b G1`` too).
 ``law crank_angle.rate``   a field of a driver's motion law.
