@@ -3,6 +3,7 @@ motion, circuits, transmission angle, stroke) and assembly modes, against indepe
 formulas and the closed forms of `linkwork.closed_form`."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -201,3 +202,38 @@ def test_no_mode_where_the_input_cannot_be_reached():
 def test_unknown_branch_is_a_clear_error():
     with pytest.raises(ValueError, match="no assembly mode"):
         examples.four_bar().compile().sweep(np.linspace(0, 1, 5), branch="sideways")
+
+
+def test_describe_in_degrees_gives_the_limits_and_transmission_angle_in_degrees():
+    """The crank's limits and the transmission angle read in degrees are the radian
+    values times 180/pi (a non-Grashof four-bar, whose crank rocks between its limits)."""
+    (fb,) = examples.four_bar(0.40, 0.30, 0.25, 0.20, theta0=0.8).compile().linkages()
+    lo, hi = fb.input_limits
+    text = fb.describe(angles="deg")
+    m = re.search(r"crank angle limits (-?[\d.]+) \.\. (-?[\d.]+) deg", text)
+    assert m, text
+    assert float(m.group(1)) == pytest.approx(math.degrees(lo), abs=5e-5)
+    assert float(m.group(2)) == pytest.approx(math.degrees(hi), abs=5e-5)
+    t = re.search(r"transmission angle (-?[\d.]+) deg", text)
+    assert float(t.group(1)) == pytest.approx(math.degrees(fb.transmission_angle), abs=5e-3)
+    rad = re.search(r"crank angle limits (-?[\d.]+) \.\. (-?[\d.]+) rad", fb.describe())
+    assert float(rad.group(1)) == pytest.approx(lo, abs=5e-7)
+
+
+def test_assembly_mode_found_by_each_linkages_circuit():
+    """`find` with {linkage: circuit} returns the one mode with exactly those circuits (a
+    Watt six-bar: two recognised linkages, four modes, each pair of circuits once)."""
+    model = examples.six_bar("watt", theta0=1.0).compile()
+    modes = model.assembly_modes()
+    names = sorted(next(iter(modes)).circuits)
+    assert len(names) == 2, names
+    seen = set()
+    for m in modes:
+        asked = dict(m.circuits)
+        found = modes.find(asked)
+        assert found.circuits == asked
+        assert np.array_equal(found.q, m.q)
+        seen.add(tuple(asked[n] for n in names))
+    assert len(seen) == len(modes)
+    with pytest.raises(ValueError, match="no assembly mode"):
+        modes.find({names[0]: "sideways"})
