@@ -321,3 +321,27 @@ def test_least_squares_path_through_nine_timed_points() -> None:
         S.path_least_squares(np.zeros((7, 2)), np.linspace(0, 1, 7))
     with pytest.raises(SynthesisError, match="no dyad.*coincide"):
         S.motion_least_squares(np.zeros((7, 3)))
+
+
+def test_crank_rotations_and_precision_times_away_from_the_origin() -> None:
+    """Moved off the origin (O2 != 0) and turned the other way round, the generator's crank
+    rotations are recovered from the coupler poses alone, and the design's model, swept at
+    its `precision_times`, puts P on every precision point with the coupler at its angle."""
+    shift = np.array([0.7, -1.3, 0.0])
+    for phis in (PHIS, PHIS[::-1], np.array([0.3, 1.4, 2.6, 3.7, 4.6])):
+        result = S.motion(poses(phis) + shift)
+        o2, o4 = O2 + complex(*shift[:2]), O4 + complex(*shift[:2])
+        near = [d for d in result.designs if abs(complex(*d.o2) - o2) < 1e-9]
+        (gen,) = [d for d in near if abs(complex(*d.o4) - o4) < 1e-9]
+        turned = np.angle(np.exp(1j * (phis - phis[0])))
+        assert np.allclose(np.angle(np.exp(1j * gen.crank_rotations())), turned, atol=1e-10)
+        t = gen.precision_times()
+        assert t[0] == 0.0 and np.all(np.abs(t) < 2 * math.pi)
+        assert np.all(np.diff(np.sign(phis[-1] - phis[0]) * t) > 0), t
+        res = gen.model().compile().sweep(t, derivatives=0)
+        assert np.allclose(res.point("P").position, poses(phis)[:, :2] + shift[:2], atol=1e-10)
+    # timed: the rotations are the prescribed input angles from the first
+    result = S.path(poses(PHIS)[:, :2], PHIS)
+    near = [d for d in result.designs if abs(complex(*d.o2) - O2) < 1e-9]
+    (gen,) = [d for d in near if abs(complex(*d.o4) - O4) < 1e-9]
+    assert np.allclose(gen.crank_rotations(), PHIS - PHIS[0], atol=1e-12)

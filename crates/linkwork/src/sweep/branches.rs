@@ -21,6 +21,8 @@ use crate::sweep::time_loop::{sweep, sweep_observed};
 pub struct Asked {
     work: Work,
     kinds: Vec<&'static str>,
+    /// the base's configuration there: where a Newton block of a design starts from
+    q: Vec<f64>,
 }
 
 /// The branches `model` takes at `t`, assembled from its drawing as its own sweep starts.
@@ -31,7 +33,8 @@ pub fn asked_branches(model: &Model, t: f64) -> Option<Asked> {
     let mut data = Data::new(model);
     let info = crate::sweep::single_time::solve(model, &mut data, t).ok()?;
     closed_form::resync(model, plan, &mut data, t, info.det_sign, true, None);
-    Some(Asked { work: data.blocks, kinds: plan.blocks.iter().map(Block::name).collect() })
+    let q = data.q.clone();
+    Some(Asked { work: data.blocks, kinds: plan.blocks.iter().map(Block::name).collect(), q })
 }
 
 /// Sweeps `design` as `sweep` does, on the `asked` branches (None: as `sweep`). Its first
@@ -76,6 +79,11 @@ pub fn sweep_on(
     out.n_done = 0;
     out.events.clear();
     *data = Data::new(design);
+    // a Newton block has no branch formula: it starts from the base's configuration on the
+    // asked branch (a closed form ignores where it starts)
+    if asked.q.len() == data.q.len() {
+        data.q.copy_from_slice(&asked.q);
+    }
     closed_form::assemble(design, plan, data, t, &asked.work).map_err(|(i, miss)| {
         // named from the design's structure (computed only here, on the rare failure)
         let joints = structure(design)
