@@ -106,6 +106,12 @@ def test_out_of_order_positions_are_an_order_defect() -> None:
     gen = [d for d in result.designs if abs(complex(*d.o2) - O2) < 1e-9 and abs(complex(*d.o4) - O4) < 1e-9]
     assert len(gen) == 1
     assert gen[0].defects.order and not gen[0].defects.ok
+    # out of order, the precision times still reach every position, turning the first way
+    t = gen[0].precision_times()
+    assert np.all((t >= 0) & (t < 2 * math.pi))
+    by_time = np.argsort(t)
+    res = gen[0].model().compile().sweep(t[by_time], derivatives=0)
+    assert np.allclose(res.point("P").position, poses(PHIS)[order][by_time, :2], atol=1e-10)
 
 
 def test_three_and_two_poses() -> None:
