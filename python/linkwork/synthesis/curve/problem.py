@@ -20,6 +20,7 @@ its tables checked key by key, the fit run, the ranked table of designs.
     P = {centre = [x, y], radius = r}
     [fit]
     starts = 16, seed = 1, max_nfev = 400, workers = 2, keep = 5
+    seconds = 20                   # a time budget for the fit (default none)
 
 Every missing, unknown or ill-shaped key raises `SynthesisError` naming it.
 """
@@ -52,7 +53,7 @@ CONSTRAINT_KEYS = (
     "coupler",
     "pivot",
 )
-FIT_KEYS = ("starts", "seed", "max_nfev", "workers", "keep")
+FIT_KEYS = ("starts", "seed", "max_nfev", "workers", "keep", "seconds")
 
 
 def _table(problem: dict[str, Any], name: str, keys: tuple[str, ...], required: bool) -> dict[str, Any]:
@@ -186,6 +187,11 @@ def read_options(problem: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any
     }
     if "workers" in f:
         run["workers"] = _integer("fit", "workers", f["workers"], 1)
+    if "seconds" in f:
+        value = f["seconds"]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+            raise SynthesisError(f"fit.seconds (a time budget) must be a number > 0, not {value!r}")
+        run["seconds"] = float(value)
     return options, run
 
 
@@ -199,6 +205,8 @@ def table(result: CurveFit, count: int, designs: list[CurveDesign] | None = None
         f"{'#':>3}  {'f':>10}  {'largest dev.':>12}  {'transmission':>12}  {'circuit':<8} "
         f"{'Grashof type':<16} defects; constraints",
     ]
+    if result.budget is not None:
+        lines.insert(1, result.budget_note())
     for k, d in enumerate(designs[:count], 1):
         defects = ", ".join(d.defects) or "none"
         state = "hold" if d.violation <= 1e-12 * d.problem.target.size else f"violated by {d.violation:.3g}"

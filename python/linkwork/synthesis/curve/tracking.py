@@ -206,6 +206,9 @@ class TrackingProblem:
                 )
 
     # ---- the design vector ------------------------------------------------------------
+    #: how many design numbers come before the crank angles in x
+    size = len(DESIGN)
+
     @property
     def n(self) -> int:
         return len(self.target)
