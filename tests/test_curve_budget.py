@@ -57,7 +57,7 @@ def test_no_time_left_names_the_budget() -> None:
     result = C.fit(C.target(VERTICAL), starts=3, seed=1, workers=1, seconds=0.0)
     assert result.designs == [] and result.unstarted == 3
     with pytest.raises(SynthesisError, match="time budget of 0 s was spent before any start"):
-        result.best
+        _ = result.best
     with pytest.raises(SynthesisError, match="number of seconds >= 0"):
         C.fit(C.target(VERTICAL), starts=1, seconds=-1.0)
     with pytest.raises(SynthesisError, match="number of seconds"):

@@ -173,7 +173,8 @@ BASE = {"problem": "curve", "curve": {"points": KUNJUR.tolist(), "closed": True}
         ({"curve": {"points": [[0, 0], [1, "a"]]}}, "curve.points must be rows"),
         ({"curve": {"points": [[0, 0], [1, 1]]}}, "at least 3 points"),
         ({"fit": {"starts": 0}}, "fit.starts must be an integer >= 1"),
-        ({"fit": {"seconds": 5}}, r"\[fit\] has unknown key\(s\) seconds"),
+        ({"fit": {"seconds": 5, "budget": 5}}, r"\[fit\] has unknown key\(s\) budget"),
+        ({"fit": {"seconds": "5 s"}}, r"fit.seconds \(a time budget\) must be a number > 0"),
         ({"fit": {"workers": 1.5}}, "fit.workers must be an integer"),
         ({"fit": []}, r"\[fit\] must be a table"),
         (
