@@ -105,6 +105,20 @@ class CurveDesign(DesignPictures):
     def crank_angles(self) -> np.ndarray:
         return np.array(self.x[9:])
 
+    def linkage_at(self, t: float) -> tuple[list[np.ndarray], np.ndarray]:
+        """The bodies (crank, coupler with its point, rocker, each the polygon of its pins)
+        and the ground pivots at crank angle ``t``, in closed form."""
+        x = self.x
+        r1, r2, r3, th0, x0, y0 = x[0], x[1], x[2], x[6], x[7], x[8]
+        o2 = np.array([x0, y0])
+        o4 = o2 + r1 * np.array([math.cos(th0), math.sin(th0)])
+        a = o2 + r2 * np.array([math.cos(th0 + t), math.sin(th0 + t)])
+        probe = np.array(x[:9], dtype=float)
+        probe[4:6] = (r3, 0.0)
+        b = coupler_points(probe, [t], self.circuit)[0]
+        p = coupler_points(x, [t], self.circuit)[0]
+        return [np.array([o2, a]), np.array([a, b, p]), np.array([b, o4])], np.array([o2, o4])
+
     def __str__(self) -> str:
         r = ", ".join(f"{k} {v:.6g}" for k, v in zip(("r1", "r2", "r3", "r4", "rcx", "rcy"), self.x[:6]))
         pose = f"theta0 {self.x[6]:.6g}, O2 ({self.x[7]:.6g}, {self.x[8]:.6g})"
@@ -315,8 +329,7 @@ def start_refinement(problem: Any, x: Any, start: int, deadline: float | None = 
     ref = _Refinement(problem, problem.complete(x), deadline)
     if ref.evaluate(ref.z_of(ref.base)) is None:
         raise CircuitError(
-            f"starting design {start} (within the bounds) does not turn fully on the "
-            f"{problem.circuit} circuit"
+            f"starting design {start} (within the bounds) does not turn fully on the {problem.assembly}"
         )
     return ref
 

@@ -179,7 +179,7 @@ def read_options(problem: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any
             fixed[k] = math.radians(v) if k == "theta0" and unit == "deg" else float(v)
         options["fixed"] = fixed
     f = _table(problem, "fit", FIT_KEYS, False)
-    run = {
+    run: dict[str, Any] = {
         "starts": _integer("fit", "starts", f.get("starts", 16), 1),
         "seed": _integer("fit", "seed", f.get("seed", 0), 0),
         "max_nfev": _integer("fit", "max_nfev", f.get("max_nfev", 400), 1),

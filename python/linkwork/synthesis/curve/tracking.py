@@ -213,6 +213,10 @@ class TrackingProblem:
     def n(self) -> int:
         return len(self.target)
 
+    @property
+    def assembly(self) -> str:
+        return f"{self.circuit} circuit"
+
     def lower_upper(self) -> tuple[np.ndarray, np.ndarray]:
         """Bounds on the full vector x (the crank angles: [0, 2 pi) for the first, then
         within the turns their count allows)."""
