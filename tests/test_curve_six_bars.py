@@ -119,3 +119,46 @@ def test_six_bars_beat_the_best_four_bar_on_a_d_shape(tmp_path: Path) -> None:
     png = best.plot(str(tmp_path / "six.png"))[0]
     assert Path(png).stat().st_size > 10_000
     assert 'class="target' in best.to_svg()
+
+
+@pytest.mark.parametrize("kind", ["stephenson", "watt"])
+def test_transmission_at_d_gradient_agrees_with_central_differences(kind: str) -> None:
+    t = C.target(VERTICAL)
+    rng = np.random.default_rng(3)
+    for circuit, x in C.random_seeds(t, 2, 5):
+        for side, y in C.dyad_seeds((circuit, x), kind, 2, rng):
+            y[13:15] = rng.uniform(-5.0, 5.0, 2)
+            problem = C.SixBarProblem(t, kind=kind, circuit=circuit, side=side, transmission="10 deg")
+            assert problem.constraint_names()[-1] == "transmission at D"
+            g, dg = problem.constraints(y)
+            fd = np.zeros(y.size)
+            for k in range(y.size):
+                h = 1e-6 * max(1.0, abs(y[k]))
+                e = np.zeros_like(y)
+                e[k] = h
+                fd[k] = (problem.constraints(y + e)[0][-1] - problem.constraints(y - e)[0][-1]) / (2.0 * h)
+            assert np.abs(fd - dg[-1]).max() <= 1e-7 * np.abs(dg[-1]).max()
+            # the value is the closed form's largest |cos mu| at D over the sweep's steps on
+            # the traced stretch (the first crank angle to the last: the line is open)
+            times, _ = problem.grid(y)
+            th = y[15:]
+            times = times[np.mod(times - th[0], 2.0 * math.pi) <= th[-1] - th[0]]
+            p = problem.points(y, times)
+            u, v = p["C"] - p["D"], p["F"] - p["D"]
+            cos = np.abs(np.sum(u * v, axis=1)) / (y[9] * y[10])
+            expected = t.size * (cos.max() - math.cos(math.radians(10.0)))
+            assert g[-1] == pytest.approx(expected, rel=1e-9, abs=1e-9 * t.size)
+
+
+def test_a_transmission_bound_holds_at_d() -> None:
+    t = C.target(VERTICAL)
+    bound = math.radians(35.0)
+    four = C.fit(t, starts=4, seed=1, workers=2, transmission=bound)
+    six = C.fit_six_bars(t, four, best=1, dyads=4, seed=2, workers=2, transmission=bound)
+    ok = [d for d in six.designs if d.ok]
+    assert ok and six.designs[: len(ok)] == ok
+    for d in ok:
+        assert d.margins["transmission at D"] >= -1e-9
+        # the screening's finer sweep (361 steps) sees the angle between the constraint's steps
+        assert d.transmission_dyad >= bound - math.radians(1.0)
+        assert d.transmission >= bound - math.radians(1.0)

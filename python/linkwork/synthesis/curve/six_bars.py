@@ -46,6 +46,9 @@ KINDS = ("stephenson", "watt")
 #: Which side of C -> F the pin D is on.
 SIDES = ("left", "right")
 _STEPS = 72
+# the points a sweep reads the dyad's transmission angle from, each at its body's frame
+# origin (so fixed there whatever y): (name, body, joint)
+_PROBES = [("C5", "link5", "C"), ("F6", "link6", "F")]
 
 
 def six_bar_points(y: Any, theta2: Any, kind: str, circuit: str, side: str) -> dict[str, np.ndarray]:
@@ -107,9 +110,10 @@ class SixBarProblem:
     "stephenson"), its four-bar on ``circuit`` ("open" or "crossed") and D on ``side``
     ("left" or "right" of C -> F). ``options``: those of `TrackingProblem`, which hold on
     the four-bar (its Grashof type, lengths, transmission angle at B, ratio, regions for
-    O2 and O4); the dyad's lengths r5, r6 take the length bounds, P's place in link5
-    and E's in the rocker the coupler point's, O6 the pivot's. A region for P is not
-    taken here (`SynthesisError`)."""
+    O2 and O4); ``transmission`` holds at D too, over the traced stretch (at the sweep's
+    steps and the crank angles). The dyad's lengths r5, r6 take the length bounds, P's
+    place in link5 and E's in the rocker the coupler point's, O6 the pivot's. A region
+    for P is not taken here (`SynthesisError`)."""
 
     size = len(SIX_BAR)
 
@@ -170,30 +174,75 @@ class SixBarProblem:
         return y
 
     def constraint_names(self) -> list[str]:
-        return self.four.constraint_names()
+        dyad = ["transmission at D"] if self.four.transmission is not None else []
+        return self.four.constraint_names() + dyad
 
     def constraints(self, y: Any, sweep: Any = None) -> tuple[np.ndarray, np.ndarray]:
-        """The four-bar's constraints (`TrackingProblem.constraints`) in y."""
+        """The four-bar's constraints (`TrackingProblem.constraints`) in y and, with a
+        transmission bound, the dyad's at D (|cos mu| over cos(bound), times the
+        target's size) with its exact gradient (``sweep``: `_sweep`'s, else run)."""
+        y = np.asarray(y, dtype=float)
         g, dg = self.four.constraints(self.four_bar(y))
-        return g, np.insert(dg, [9] * 6, 0.0, axis=1) if dg.size else np.zeros((0, self.size + self.n))
+        dg = np.insert(dg, [9] * 6, 0.0, axis=1) if dg.size else np.zeros((0, self.size + self.n))
+        if self.four.transmission is None:
+            return g, dg
+        value, grad = self._dyad_transmission(y, sweep if sweep is not None else self._sweep(y))
+        return np.append(g, value), np.vstack([dg, grad])
+
+    def _dyad_transmission(self, y: np.ndarray, sweep: Any) -> tuple[float, np.ndarray]:
+        """The largest |cos mu| at D over the traced stretch above cos(bound), in length
+        units, and its exact gradient in y: cos mu = (r5^2 + r6^2 - |C - F|^2) / (2 r5 r6)."""
+        assert self.four.transmission is not None
+        times, at, _, _, _, probes = sweep
+        th = y[self.size :]
+        inside = np.ones(times.size, dtype=bool)
+        if not self.target.closed and th[-1] - th[0] < 2.0 * math.pi:
+            inside = np.mod(times - th[0], 2.0 * math.pi) <= th[-1] - th[0]
+        steps = np.flatnonzero(inside)
+        (c, dc, vc), (f, df, vf) = probes["C5"], probes["F6"]
+        r5, r6 = float(y[9]), float(y[10])
+        w = c - f
+        cos = (r5 * r5 + r6 * r6 - np.sum(w * w, axis=1)) / (2.0 * r5 * r6)
+        k = int(steps[np.argmax(np.abs(cos[steps]))])
+        sign = math.copysign(1.0, float(cos[k]))
+        # d cos = (r5 dr5 + r6 dr6 - w.(dC - dF)) / (r5 r6) - cos (dr5 / r5 + dr6 / r6)
+        grad = np.zeros(y.size)
+        grad[: self.size] = -(w[k] @ (dc[k] - df[k])) / (r5 * r6)
+        grad[9] += 1.0 / r6 - cos[k] / r5
+        grad[10] += 1.0 / r5 - cos[k] / r6
+        for i in np.flatnonzero(at == k)[:1]:
+            grad[self.size + i] = -(w[k] @ (vc[k] - vf[k])) / (r5 * r6)
+        size = self.target.size
+        return size * (abs(float(cos[k])) - math.cos(self.four.transmission)), size * sign * grad
 
     def violation(self, y: Any) -> float:
-        return self.four.violation(self.four_bar(y))
+        g, _ = self.constraints(self.complete(y))
+        return float(max(0.0, g.max())) if g.size else 0.0
 
     def margins(self, y: Any) -> dict[str, float]:
-        return self.four.margins(self.four_bar(self.complete(y)))
+        """The four-bar's margins (`TrackingProblem.margins`) and, with a transmission
+        bound, "transmission at D" (rad)."""
+        y = self.complete(y)
+        out = self.four.margins(self.four_bar(y))
+        if self.four.transmission is not None:
+            value, _ = self._dyad_transmission(y, self._sweep(y))
+            cos = value / self.target.size + math.cos(self.four.transmission)
+            out["transmission at D"] = math.acos(min(cos, 1.0)) - self.four.transmission
+        return out
 
     # ---- the model ----------------------------------------------------------------------
     def points(self, y: Any, theta2: Any) -> dict[str, np.ndarray]:
         """`six_bar_points` of this problem's six-bar."""
         return six_bar_points(y, theta2, self.kind, self.circuit, self.side)
 
-    def description(self, y: Any, name: str = "six-bar design") -> dict[str, Any]:
+    def description(self, y: Any, name: str = "six-bar design", probes: bool = False) -> dict[str, Any]:
         """The design as a model description drawn at theta2 = 0 (closed form): bodies
         crank, coupler, rocker, link5, link6, each framed at its first pin with its x axis
         to the next (link6 at F, towards D); revolutes O2, A, B, O4, C, D and O6
         (Stephenson) or E (Watt); point P on link5; driver crank_angle = theta0 + t, so
-        time is theta2. `CircuitError` if it does not assemble there."""
+        time is theta2. ``probes``: also the points C5 (on link5 at C) and F6 (on link6 at
+        F) the dyad's transmission angle is read from. `CircuitError` if it
+        does not assemble there."""
         y = self.complete(y)
         pts = {k: v[0] for k, v in self.points(y, [0.0]).items()}
         if not all(np.all(np.isfinite(v)) for v in pts.values()):
@@ -235,7 +284,10 @@ class SixBarProblem:
                     "law": {"type": "linear", "value": float(y[6]), "rate": 1.0},
                 }
             ],
-            "points": [{"name": "P", "body": "link5", "at": [float(v) for v in pts["P"]]}],
+            "points": [
+                {"name": n, "body": b, "at": [float(v) for v in pts[at]]}
+                for n, b, at in [("P", "link5", "P")] + (_PROBES if probes else [])
+            ],
         }
 
     def model(self, y: Any, name: str = "six-bar design") -> Mechanism:
@@ -268,17 +320,20 @@ class SixBarProblem:
             ("point P", "link5", {13: (1.0, 0.0), 14: (0.0, 1.0)}),
         ]
 
-    def _sweep(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def _sweep(self, y: np.ndarray) -> tuple[Any, ...]:
         """The engine's sweep over a crank turn (`grid`): the times, the step of each crank
-        angle, P at every step (T x 2), d P / d y[:15] (T x 2 x 15) and d P / d (the
-        driver's start) (T x 2). `CircuitError` if it does not assemble or leaves its
-        assembly."""
+        angle, P at every step (T x 2), d P / d y[:15] (T x 2 x 15), d P / d (the
+        driver's start) (T x 2), and with a transmission bound the same three for the
+        probes C5, F6 ({name: (position, d / d y[:15], d / d start)}). `CircuitError`
+        if it does not assemble or leaves its assembly."""
         pins = self._locals(y)
         names = [f"{p}.{a}" for p, _, _ in pins for a in ("x", "y")] + ["law crank_angle.value"]
+        probes = self.four.transmission is not None
+        points = ["P"] + ([n for n, _, _ in _PROBES] if probes else [])
         try:
-            model = Model(self.description(y))
+            model = Model(self.description(y, probes=probes))
             times, at = self.grid(y)
-            s = model.sensitivities(times, names, points=["P"], derivatives=0)
+            s = model.sensitivities(times, names, points=points, derivatives=0)
         except (SolveError, InputError, ModelError) as e:
             raise CircuitError(f"the six-bar does not assemble over a crank turn: {e}") from None
         p = s.results.point("P").position
@@ -287,25 +342,34 @@ class SixBarProblem:
         miss = float(np.nanmax(np.hypot(*(p - ref).T))) if np.all(np.isfinite(ref)) else math.inf
         if not miss <= 1e-7 * scale:
             raise CircuitError(f"the sweep leaves the six-bar's {self.assembly} (by {miss:.3g})")
-        S = s.points["P"]  # T x 2 x (2 per pin + 1)
-        jd = np.zeros((len(times), 2, self.size))
-        for k, (_, body, grads) in enumerate(pins):
-            sx, sy = S[:, :, 2 * k], S[:, :, 2 * k + 1]
-            # a pin's world place in the drawing moves its local place by A(theta)^T
+        # a pin's world place in the drawing moves its local place by A(theta)^T
+        turns = []
+        for _, body, _ in pins:
             t = 0.0 if body == "ground" else float(model.q_start[model.columns.index(f"{body}.theta")])
-            c, sn = math.cos(t), math.sin(t)
-            du_x, du_y = sx * c + sy * sn, -sx * sn + sy * c
-            for i, (gx, gy) in grads.items():
-                jd[:, :, i] += du_x * gx + du_y * gy
-        val = S[:, :, -1]
-        jd[:, :, 6] += val  # theta0 is the driver's start too
-        return times, at, p, jd, val
+            turns.append((math.cos(t), math.sin(t)))
+
+        def chain(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            jd = np.zeros((len(times), 2, self.size))
+            for k, ((_, _, grads), (c, sn)) in enumerate(zip(pins, turns)):
+                sx, sy = S[:, :, 2 * k], S[:, :, 2 * k + 1]
+                du_x, du_y = sx * c + sy * sn, -sx * sn + sy * c
+                for i, (gx, gy) in grads.items():
+                    jd[:, :, i] += du_x * gx + du_y * gy
+            val = S[:, :, -1]
+            jd[:, :, 6] += val  # theta0 is the driver's start too
+            return jd, val
+
+        jd, val = chain(s.points["P"])
+        extra = {}
+        for name in points[1:]:
+            extra[name] = (s.results.point(name).position, *chain(s.points[name]))
+        return times, at, p, jd, val, extra
 
     def evaluate_all(self, y: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         y = self.complete(y)
         sweep = self._sweep(y)
         r, jac = self._tracking(y, sweep)
-        g, dg = self.constraints(y)
+        g, dg = self.constraints(y, sweep)
         return r, jac, g, dg
 
     def evaluate(self, y: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -315,7 +379,7 @@ class SixBarProblem:
         return self._tracking(y, self._sweep(y))
 
     def _tracking(self, y: np.ndarray, sweep: Any) -> tuple[np.ndarray, np.ndarray]:
-        _, at, p, jd, val = sweep
+        _, at, p, jd, val, _ = sweep
         n, m = self.n, self.size
         jac = np.zeros((n, 2, m + n))
         jac[:, :, :m] = jd[at]
