@@ -51,7 +51,11 @@ def l_shape() -> np.ndarray:
     return np.vstack([up, along])
 
 
-CURVES = [("D (straight side, two corners)", d_shape, True), ("triangle", triangle, True), ("open L", l_shape, False)]
+CURVES = [
+    ("D (straight side, two corners)", d_shape, True),
+    ("triangle", triangle, True),
+    ("open L", l_shape, False),
+]
 
 
 def table(starts: int, seed: int, best: int, dyads: int, budget: float) -> str:
