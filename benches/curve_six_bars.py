@@ -2,7 +2,8 @@
 side with corners), the best four-bar of a multistart (random crank-rockers refined with
 the engine's exact Jacobian) against the Watt I and Stephenson III six-bars grown from
 its best designs (`fit_six_bars`: dyads added on the coupler point, the extended design
-refined the same way), and the whole run under a time budget of 30 s.
+refined the same way), and the whole run under a time budget of 30 s; each curve without
+a transmission bound and with one (15 degrees at B and at D).
 
 The curves (closed unless said, free timing, a Grashof crank-rocker four-bar loop):
 a D (8 points along a straight side of 4, 12 around a half circle back), a triangle
@@ -58,25 +59,29 @@ CURVES = [
 ]
 
 
-def table(starts: int, seed: int, best: int, dyads: int, budget: float) -> str:
+def table(starts: int, seed: int, best: int, dyads: int, budget: float, transmission: float) -> str:
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     try:
         commit = subprocess.check_output(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, text=True).strip()
     except (OSError, subprocess.CalledProcessError):
         commit = "unknown"
     rows = []
-    for name, make, closed in CURVES:
+    for bound, (name, make, closed) in [(b, c) for b in (None, transmission) for c in CURVES]:
         t = C.target(make(), closed=closed)
+        options = {} if bound is None else {"transmission": f"{bound:g} deg"}
         t0 = time.perf_counter()
-        four = C.fit(t, starts=starts, seed=seed, workers=2)
+        four = C.fit(t, starts=starts, seed=seed, workers=2, **options)
         t_four = time.perf_counter() - t0
         t0 = time.perf_counter()
-        six = C.fit_six_bars(t, four, best=best, dyads=dyads, seed=seed, workers=2)
+        six = C.fit_six_bars(t, four, best=best, dyads=dyads, seed=seed, workers=2, **options)
         t_six = time.perf_counter() - t0
-        timed = C.fit_six_bars(t, best=best, dyads=dyads, seed=seed, workers=2, starts=starts, seconds=budget)
+        timed = C.fit_six_bars(
+            t, best=best, dyads=dyads, seed=seed, workers=2, starts=starts, seconds=budget, **options
+        )
         fb, sb, tb = four.best, six.best, timed.best
         rows.append(
-            f"| {name} | {len(t)} | {fb.f:.4g} ({fb.max_deviation:.3g}) | {t_four:.1f} s "
+            f"| {name} | {'-' if bound is None else f'{bound:g} deg'} | {len(t)} "
+            f"| {fb.f:.4g} ({fb.max_deviation:.3g}) | {t_four:.1f} s "
             f"| {sb.f:.4g} ({sb.max_deviation:.3g}) | {sb.kind}, {'defect-free' if sb.ok else 'DEFECTS'}, "
             f"{math.degrees(sb.transmission):.0f} / {math.degrees(sb.transmission_dyad):.0f} deg "
             f"| {t_six:.1f} s | {fb.f / max(sb.f, 1e-300):.3g} "
@@ -87,17 +92,18 @@ def table(starts: int, seed: int, best: int, dyads: int, budget: float) -> str:
         f"Measured {stamp} with linkwork {linkwork.__version__} at {commit}, "
         f"Python {platform.python_version()}, {os.cpu_count()} cores (load average {load}); "
         f"`python benches/curve_six_bars.py --starts {starts} --seed {seed} --best {best} --dyads {dyads} "
-        f"--budget {budget:g}`.",
+        f"--budget {budget:g} --transmission {transmission:g}`.",
         "",
         f"Tracking error f (largest deviation) of the best four-bar of {starts} random crank-rockers "
         f"(seed {seed}) and of the best six-bar grown from its {best} best designs, {dyads} dyads each of "
         "each kind, on 2 threads; the six-bar's kind, screening and smallest transmission angles at B and "
         f"at D over the traced stretch; then both in one call under a time budget of {budget:g} s "
-        "(`fit_six_bars(..., seconds=...)`, half of it for the four-bars).",
+        "(`fit_six_bars(..., seconds=...)`, half of it for the four-bars). Each curve without a "
+        f"transmission bound, then with {transmission:g} degrees at B and at D.",
         "",
-        "| curve | points | four-bar f | time | six-bar f | six-bar | time | four-bar f / six-bar f "
-        f"| in {budget:g} s: f, wall time, budget |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| curve | transmission bound | points | four-bar f | time | six-bar f | six-bar | time "
+        f"| four-bar f / six-bar f | in {budget:g} s: f, wall time, budget |",
+        "|---|---|---|---|---|---|---|---|---|---|",
         *rows,
     ]
     return "\n".join(lines)
@@ -110,9 +116,10 @@ def main() -> None:
     ap.add_argument("--best", type=int, default=2)
     ap.add_argument("--dyads", type=int, default=4)
     ap.add_argument("--budget", type=float, default=30.0)
+    ap.add_argument("--transmission", type=float, default=15.0, help="the bound of the second run, deg")
     ap.add_argument("--write", action="store_true", help="add the run to benches/results/")
     args = ap.parse_args()
-    text = table(args.starts, args.seed, args.best, args.dyads, args.budget)
+    text = table(args.starts, args.seed, args.best, args.dyads, args.budget, args.transmission)
     print(text)
     if args.write:
         stamp = text.split(" with ", 1)[0].removeprefix("Measured ")
