@@ -93,6 +93,11 @@ def test_bad_six_bar_input_is_named() -> None:
         C.SixBarProblem(t).objective(np.ones(15))
     with pytest.raises(SynthesisError, match="no four-bar to grow six-bars from"):
         C.fit_six_bars(t, four_bars=[])
+    # named before any four-bar is fitted
+    with pytest.raises(SynthesisError, match="one of stephenson, watt, not 'hoeken'"):
+        C.fit_six_bars(t, kinds=["hoeken"])
+    with pytest.raises(SynthesisError, match="region for P"):
+        C.fit_six_bars(t, regions={"P": {"centre": (0, 0), "radius": 1}})
 
 
 def test_six_bars_beat_the_best_four_bar_on_a_d_shape(tmp_path: Path) -> None:

@@ -311,6 +311,10 @@ def fit_six_bars(
     workers."""
     t0 = time.perf_counter()
     deadline = None if seconds is None else t0 + budget_seconds(seconds)
+    for k in kinds:
+        if k not in KINDS:
+            raise SynthesisError(f"a six-bar is one of {', '.join(KINDS)}, not {k!r}")
+    SixBarProblem(target, **problem)  # the options checked before any four-bar is fitted
     if four_bars is None:
         half = None if seconds is None else budget_seconds(seconds) / 2.0
         four_bars = fit(
@@ -319,9 +323,6 @@ def fit_six_bars(
     base = four_bars if isinstance(four_bars, CurveFit) else CurveFit(list(four_bars), [], 0.0)
     if not base.designs:
         raise SynthesisError("no four-bar to grow six-bars from: " + "; ".join(base.failures[:3]))
-    for k in kinds:
-        if k not in KINDS:
-            raise SynthesisError(f"a six-bar is one of {', '.join(KINDS)}, not {k!r}")
     rng = np.random.default_rng(seed)
     jobs: list[tuple[str, str, str, np.ndarray, str]] = []
     for rank, d in enumerate(base.designs[: max(int(best), 0)], 1):
