@@ -3,10 +3,10 @@ designs gets dyads C-D-F (`dyad_seeds`: F a ground pivot O6 for a Stephenson III
 E on the rocker for a Watt I; lengths that assemble over the whole crank turn; D on
 either side) with the tracer P put at C, so every start traces its four-bar's curve and
 begins at its tracking error; the refinement is the four-bar's bounded trust-region least
-squares on the extended design vector of `SixBarProblem`. Each
-refined six-bar is screened by the engine's sweep over its traced stretch for order,
-branch and circuit defects, with the smallest transmission angles at B (the four-bar
-loop) and at D (the dyad).
+squares on the extended design vector of `SixBarProblem`. Each refined six-bar is
+screened by the engine's sweep over its traced stretch for order, branch and circuit
+defects, with the smallest transmission angles at B (the four-bar loop) and at D (the
+dyad).
 """
 
 from __future__ import annotations
