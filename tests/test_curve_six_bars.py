@@ -172,13 +172,13 @@ def test_a_transmission_bound_holds_at_d() -> None:
 def test_six_bars_do_not_depend_on_the_workers_and_keep_to_a_budget() -> None:
     t = C.target(VERTICAL)
     four = C.fit(t, starts=2, seed=1, workers=2, max_nfev=30)
-    a = C.fit_six_bars(t, four, best=2, dyads=2, seed=4, workers=1, max_nfev=30)
-    b = C.fit_six_bars(t, four, best=2, dyads=2, seed=4, workers=2, max_nfev=30, seconds=600.0)
-    assert len(a.designs) + len(a.failures) == 8
+    a = C.fit_six_bars(t, four, best=2, dyads=1, seed=4, workers=1, max_nfev=30)
+    b = C.fit_six_bars(t, four, best=2, dyads=1, seed=4, workers=2, max_nfev=30, seconds=600.0)
+    assert len(a.designs) + len(a.failures) == 4
     assert [d.f for d in a.designs] == [d.f for d in b.designs]
     assert all(np.array_equal(d.x, e.x) for d, e in zip(a.designs, b.designs))
     assert not b.budget_ended and "did not end the fit" in b.report()
-    spent = C.fit_six_bars(t, four, best=2, dyads=2, seed=4, workers=1, seconds=0.0)
-    assert spent.unstarted == 8 and spent.budget_ended
+    spent = C.fit_six_bars(t, four, best=2, dyads=1, seed=4, workers=1, seconds=0.0)
+    assert spent.unstarted == 4 and spent.budget_ended
     with pytest.raises(SynthesisError, match="time budget of 0 s was spent first"):
         _ = spent.best
