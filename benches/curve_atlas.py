@@ -163,8 +163,8 @@ def main() -> None:
             "|---|---:|---:|---:|---:|",
             *build,
             "",
-            "Query (`Atlas.query(points, k=5)`: the target's descriptors both ways round and from both ends "
-            "of its major axis, four k-d tree lookups; median of 200):",
+            "Query (`Atlas.query(points, k=5)`: the target's descriptors and its mirror image's, both ways "
+            "round and from both ends of the major axis, eight k-d tree lookups; median of 200):",
             "",
             "| target | atlas designs | ms |",
             "|---|---:|---:|",

@@ -97,7 +97,7 @@ def _closed_form_f(problem: C.TrackingProblem, xs: np.ndarray) -> np.ndarray:
     for k, x in enumerate(xs):
         r = sorted(x[:4])
         grashof_gap = r[0] + r[3] - r[1] - r[2]
-        g = np.append(problem.constraints(x), grashof_gap)
+        g = np.append(problem.constraints(x)[0], grashof_gap)
         bad = float(np.maximum(g, 0.0).sum())
         c = C.coupler_points(x, x[9:], problem.circuit)
         if bad > 0.0 or not np.all(np.isfinite(c)):

@@ -187,6 +187,33 @@ def test_query_returns_the_design_a_curve_was_sampled_from(small, i):
     np.testing.assert_allclose(local @ rot(theta0).T + [x0, y0], hit.curve(720), atol=1e-9 * size)
 
 
+@pytest.mark.parametrize("i", [7, 150, 333])
+def test_query_matches_the_mirror_image_of_an_atlas_design(small, i):
+    # the target: the curve of the atlas design's mirror image (y -> -y: its coupler point
+    # mirrored, the other circuit), moved; the atlas holds the design, not its mirror
+    row = small.designs[i].astype(np.float64)
+    mirror = row.copy()
+    mirror[5], mirror[6] = -row[5], 1.0 - row[6]
+    target = moved(coupler_curve(mirror, 240), 30.0, 0.7 + i, np.array([5.0, -7.0]), 17)
+    size = np.ptp(target, axis=0).max()
+    hit = small.query(target, k=3)[0]
+    assert hit.index == i and hit.mirrored and hit.distance < 1e-3
+    np.testing.assert_allclose(hit.design, mirror)
+    assert hit.circuit == A.CIRCUITS[int(mirror[6])]
+    # the mirrored design in the target's frame traces the target (the engine's sweep)
+    assert D.nearest_distances(target, hit.curve(720)).max() < 2e-3 * size
+    # without the mirror the atlas's best is another shape, much farther
+    plain = small.query(target, k=1, mirror=False)[0]
+    assert not plain.mirrored and plain.distance > 10 * hit.distance
+    # asked to keep the target's direction, the mirrored hit's crank runs the points in order
+    ahead = small.query(target, k=1, reverse=False)[0]
+    assert ahead.index == i and ahead.mirrored and not ahead.reverse
+    t = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    curve = ahead.curve(720)
+    near = np.argmin(np.sum((target[:, None, :] - curve[None, :, :]) ** 2, axis=-1), axis=1)
+    assert np.all(np.mod(np.diff(t[near]), 2 * math.pi) < math.pi)
+
+
 def test_atlas_saves_and_reads(small, tmp_path):
     path = tmp_path / "atlas.npz"
     small.save(path)

@@ -173,7 +173,8 @@ BASE = {"problem": "curve", "curve": {"points": KUNJUR.tolist(), "closed": True}
         ({"curve": {"points": [[0, 0], [1, "a"]]}}, "curve.points must be rows"),
         ({"curve": {"points": [[0, 0], [1, 1]]}}, "at least 3 points"),
         ({"fit": {"starts": 0}}, "fit.starts must be an integer >= 1"),
-        ({"fit": {"seconds": 5}}, r"\[fit\] has unknown key\(s\) seconds"),
+        ({"fit": {"seconds": 5, "budget": 5}}, r"\[fit\] has unknown key\(s\) budget"),
+        ({"fit": {"seconds": "5 s"}}, r"fit.seconds \(a time budget\) must be a number > 0"),
         ({"fit": {"workers": 1.5}}, "fit.workers must be an integer"),
         ({"fit": []}, r"\[fit\] must be a table"),
         (
@@ -210,3 +211,71 @@ def test_a_bad_file_exits_with_its_name(tmp_path: Path, capsys: pytest.CaptureFi
     bad.write_text('problem = "curve"\n[curve]\nfile = "nowhere.csv"\n')
     assert main(["synth", str(bad), "--out", str(tmp_path / "out")]) == 1
     assert "curve.file: no file" in capsys.readouterr().err
+
+
+def test_six_bars_from_a_problem_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from linkwork.cli import main
+
+    line = [[20.0, y] for y in (20.0, 25.0, 30.0, 35.0, 40.0, 45.0)]
+    text = "\n".join(
+        [
+            'problem = "curve"',
+            "[curve]",
+            f"points = {line}",
+            "[fit]",
+            "starts = 2",
+            "seed = 1",
+            "max_nfev = 30",
+            "workers = 2",
+            "keep = 1",
+            "seconds = 120",
+            "[six_bars]",
+            'kinds = ["stephenson"]',
+            "best = 1",
+            "dyads = 2",
+        ]
+    )
+    path = tmp_path / "six.toml"
+    path.write_text(text)
+    assert main(["synth", str(path), "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "2 six-bars from 2 starts" in out and "the time budget of 120 s did not end the fit" in out
+    assert re.search(r"^six-bar 1: stephenson six-bar: f ", out, re.M)
+    # the model file written is the six-bar's: five bodies, the dyad's joints, P on link5
+    model = linkwork.Mechanism.load(tmp_path / "six_design1.toml").to_dict()
+    assert [b["name"] for b in model["bodies"]] == ["crank", "coupler", "rocker", "link5", "link6"]
+    assert {j["name"] for j in model["joints"]} == {"O2", "A", "B", "O4", "C", "D", "O6"}
+    assert [(p["name"], p["body"]) for p in model["points"]] == [("P", "link5")]
+    for ext in ("html", "svg", "png"):
+        assert (tmp_path / f"six_design1.{ext}").stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    ("six_bars", "message"),
+    [
+        ({"kinds": ["hoeken"]}, "six_bars.kinds must be a list of stephenson, watt"),
+        ({"kinds": "watt"}, "six_bars.kinds must be a list"),
+        ({"best": 0}, "six_bars.best must be an integer >= 1"),
+        ({"dyads": 1.5}, "six_bars.dyads must be an integer"),
+        ({"sides": 2}, r"\[six_bars\] has unknown key\(s\) sides"),
+    ],
+)
+def test_bad_six_bar_tables_are_named(six_bars: dict[str, Any], message: str) -> None:
+    from linkwork.synthesis.curve.problem import read_six_bars
+
+    with pytest.raises(SynthesisError, match=message):
+        read_six_bars({"six_bars": six_bars})
+    assert read_six_bars({}) is None
+
+
+def test_the_six_bar_example_reads() -> None:
+    # run in full by `linkwork synth examples/synthesis/curve_six_bars.toml` (about 30 s
+    # on 2 cores); here its tables are read and checked
+    from linkwork.synthesis.curve.problem import read_options, read_six_bars, read_target
+
+    problem = _toml(FOLDER / "curve_six_bars.toml")
+    t = read_target(problem, str(FOLDER))
+    assert len(t) == 20 and t.closed and not t.timed
+    options, run = read_options(problem)
+    assert options["lengths"] == (0.2, 30.0) and run["seconds"] == 60.0
+    assert read_six_bars(problem) == {"kinds": ("watt", "stephenson"), "best": 2, "dyads": 2}

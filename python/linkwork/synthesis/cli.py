@@ -18,6 +18,7 @@ Problem file (TOML; docs/synthesis.md)::
     output_pivot = [x, y]                 #   input_angles, coupler_angles)
     [torque]                              # chained-six-bar: mass, inertia, gravity, omega
     [curve], [constraints], [fit]         # curve: linkwork.synthesis.curve.problem
+    [six_bars]                            # curve: six-bars grown from the best four-bars
 """
 
 from __future__ import annotations
@@ -184,6 +185,7 @@ def _pictures(
     from ..view.figures import plot_paths
     from ..view.page import page
     from .curve.fit import CurveDesign
+    from .curve.six_bar_fit import SixBarDesign
 
     drawn: list[Drawn] = []
     lines = []
@@ -199,7 +201,7 @@ def _pictures(
         base = os.path.join(out, f"{stem}_design{k}")
         page(res, base + ".html", targets=targets, title=f"{stem}: design {k}")
         res.to_svg(base + ".svg", targets=targets)
-        if isinstance(design, CurveDesign):  # the target against the traced curve, zoomed
+        if isinstance(design, (CurveDesign, SixBarDesign)):  # the target against the traced curve
             design.plot(base + ".png")
         else:
             plot_paths(res, base + ".png", targets=targets)

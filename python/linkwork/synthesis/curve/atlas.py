@@ -278,9 +278,11 @@ def _worker_task(designs: np.ndarray, steps: int, harmonics: int) -> tuple[np.nd
 @dataclass(frozen=True)
 class AtlasHit:
     """An atlas design matched to a target: ``index`` in the atlas, ``distance`` between
-    descriptors, ``design`` its normalised row [r1, r2, r3, r4, rcx, rcy, circuit],
-    ``circuit`` ("open" or "crossed"), ``reverse`` (the target matched run backwards)
-    and the similarity transform onto the target (``scale``, ``rotation``, ``offset``)."""
+    descriptors, ``design`` its normalised row [r1, r2, r3, r4, rcx, rcy, circuit] (for
+    a mirrored hit, the mirror image of the atlas's: rcy negated, the other circuit),
+    ``circuit`` ("open" or "crossed"), ``reverse`` (the target matched run backwards),
+    the similarity transform onto the target (``scale``, ``rotation``, ``offset``) and
+    ``mirrored`` (the atlas design's mirror image is the one that matched)."""
 
     index: int
     distance: float
@@ -290,6 +292,7 @@ class AtlasHit:
     scale: float
     rotation: float
     offset: np.ndarray
+    mirrored: bool = False
 
     @property
     def vector(self) -> np.ndarray:
@@ -354,28 +357,38 @@ class Atlas:
             raise SynthesisError(f"cannot read an atlas from {path}: {e}") from e
 
     def query(
-        self, points: Any, k: int = 5, closed: bool = True, reverse: bool | None = None
+        self, points: Any, k: int = 5, closed: bool = True, reverse: bool | None = None, mirror: bool = True
     ) -> list[AtlasHit]:
         """The ``k`` designs whose normalised coupler curves are nearest the curve through
         ``points`` (m, 2), best first, each mapped onto the target. ``reverse``: None tries
-        the target both ways (the shape objective ignores direction), False or True one."""
+        the target both ways (the shape objective ignores direction), False or True one.
+        ``mirror``: also match the target's mirror image, each such hit the mirror image
+        of its atlas design (a mirrored four-bar traces the mirrored curve), which
+        doubles the atlas at the cost of a second set of lookups."""
         if not isinstance(k, (int, np.integer)) or k < 1:
             raise SynthesisError(f"k must be a positive integer, got {k!r}")
         k = min(int(k), len(self))
         ways = (False, True) if reverse is None else (bool(reverse),)
-        found: dict[int, AtlasHit] = {}
-        for rev in ways:
-            t = descriptors(points, self.harmonics, closed, reverse=rev)
-            for flipped in (False, True):
-                q = flip_even(t.coeffs) if flipped else t.coeffs
-                dist, idx = self.tree.query(q.reshape(-1), k=k)
-                for d, i in zip(np.atleast_1d(dist), np.atleast_1d(idx)):
-                    hit = self._hit(int(i), float(d), t, flipped, rev)
-                    if int(i) not in found or d < found[int(i)].distance:
-                        found[int(i)] = hit
-        return sorted(found.values(), key=lambda h: h.distance)[:k]
+        found: dict[tuple[int, bool], AtlasHit] = {}
+        pts = np.asarray(points, dtype=np.float64)
+        for mirrored in (False, True) if mirror else (False,):
+            for rev in ways:
+                # a mirrored four-bar turning its crank forwards runs the mirrored curve
+                # backwards: the direction asked is the other one on the mirror image
+                seen = pts * [1.0, -1.0] if mirrored else pts
+                t = descriptors(seen, self.harmonics, closed, reverse=rev != mirrored)
+                for flipped in (False, True):
+                    q = flip_even(t.coeffs) if flipped else t.coeffs
+                    dist, idx = self.tree.query(q.reshape(-1), k=k)
+                    for d, i in zip(np.atleast_1d(dist), np.atleast_1d(idx)):
+                        key = (int(i), mirrored)
+                        if key not in found or d < found[key].distance:
+                            found[key] = self._hit(int(i), float(d), t, flipped, rev, mirrored)
+        return sorted(found.values(), key=lambda h: (h.distance, h.mirrored))[:k]
 
-    def _hit(self, i: int, dist: float, target: Any, flipped: bool, reverse: bool) -> AtlasHit:
+    def _hit(
+        self, i: int, dist: float, target: Any, flipped: bool, reverse: bool, mirrored: bool = False
+    ) -> AtlasHit:
         lx, ly, scale_d, psi_d = (float(v) for v in self.poses[i])
         scale = float(target.scale) / scale_d
         rot = math.remainder(float(target.psi) + (math.pi if flipped else 0.0) - psi_d, 2.0 * math.pi)
@@ -383,8 +396,13 @@ class Atlas:
         offset = np.asarray(target.locus, dtype=np.float64) - scale * np.array(
             [c * lx - s * ly, s * lx + c * ly]
         )
-        row = np.asarray(self.designs[i], dtype=np.float64)
-        return AtlasHit(i, dist, row, CIRCUITS[int(row[6])], reverse, scale, rot, offset)
+        row = np.array(self.designs[i], dtype=np.float64)
+        if mirrored:
+            # the mirror M (y -> -y) of the design and of the similarity S: M S M is
+            # s R(-a) q + M t; the design's coupler point mirrored, its circuit the other
+            row[5], row[6] = -row[5], 1.0 - row[6]
+            rot, offset = -rot, offset * [1.0, -1.0]
+        return AtlasHit(i, dist, row, CIRCUITS[int(row[6])], reverse, scale, rot, offset, mirrored)
 
 
 _LOADED: dict[str, Atlas] = {}

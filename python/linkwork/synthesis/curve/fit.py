@@ -8,6 +8,10 @@ are not bounds (the crank the shortest link, the ordering, a closed curve's one 
 are penalty residuals whose weight grows until they hold. A trial step whose design
 leaves its circuit or stops turning fully scores as a very large residual, so the trust
 region rejects it and shrinks: every accepted design turns fully on its circuit.
+
+A time budget (``seconds``) is checked before each start and at each evaluation: once it
+is spent no start begins, and a refinement under way stops with the best design it has
+evaluated. Within the budget the answer is the one without it (the clock is only read).
 """
 
 from __future__ import annotations
@@ -46,7 +50,8 @@ class CurveDesign(DesignPictures):
     traced stretch; empty when free of them), ``nfev`` and ``seconds`` of its refinement,
     ``start`` (the index of its starting design), ``family`` (where that came from:
     "random", "atlas", "alt" or "given"), ``margins`` (each stated constraint's margin,
-    `TrackingProblem.margins`). Its pictures (`to_html`, `to_svg`, `plot`) draw the traced
+    `TrackingProblem.margins`), ``cut`` (True: the time budget stopped its refinement,
+    this is the best it had evaluated). Its pictures (`to_html`, `to_svg`, `plot`) draw the traced
     coupler curve over a crank turn with the target points marked and each point's
     deviation drawn."""
 
@@ -63,6 +68,7 @@ class CurveDesign(DesignPictures):
     start: int = -1
     family: str = "given"
     margins: dict[str, float] = field(default_factory=dict)
+    cut: bool = False
 
     @property
     def positions(self) -> np.ndarray:
@@ -99,12 +105,28 @@ class CurveDesign(DesignPictures):
     def crank_angles(self) -> np.ndarray:
         return np.array(self.x[9:])
 
+    def linkage_at(self, t: float) -> tuple[list[np.ndarray], np.ndarray]:
+        """The bodies (crank, coupler with its point, rocker, each the polygon of its pins)
+        and the ground pivots at crank angle ``t``, in closed form."""
+        x = self.x
+        r1, r2, r3, th0, x0, y0 = x[0], x[1], x[2], x[6], x[7], x[8]
+        o2 = np.array([x0, y0])
+        o4 = o2 + r1 * np.array([math.cos(th0), math.sin(th0)])
+        a = o2 + r2 * np.array([math.cos(th0 + t), math.sin(th0 + t)])
+        probe = np.array(x[:9], dtype=float)
+        probe[4:6] = (r3, 0.0)
+        b = coupler_points(probe, [t], self.circuit)[0]
+        p = coupler_points(x, [t], self.circuit)[0]
+        return [np.array([o2, a]), np.array([a, b, p]), np.array([b, o4])], np.array([o2, o4])
+
     def __str__(self) -> str:
         r = ", ".join(f"{k} {v:.6g}" for k, v in zip(("r1", "r2", "r3", "r4", "rcx", "rcy"), self.x[:6]))
         pose = f"theta0 {self.x[6]:.6g}, O2 ({self.x[7]:.6g}, {self.x[8]:.6g})"
         state = "defect-free" if not self.defects else "defects: " + ", ".join(self.defects)
         if self.violation > 1e-12 * self.problem.target.size:
             state += f"; constraints violated by {self.violation:.3g}"
+        if self.cut:
+            state += "; refinement cut short by the time budget"
         return (
             f"f {self.f:.4g} (largest deviation {self.max_deviation:.4g}); {r}; {pose}; {self.circuit}; "
             f"{self.grashof}; smallest transmission {math.degrees(self.transmission):.1f} deg; {state}"
@@ -114,23 +136,50 @@ class CurveDesign(DesignPictures):
 @dataclass
 class CurveFit:
     """`fit`'s answer: ``designs`` sorted by `CURVE_MERIT`, ``failures`` (starting designs
-    dropped, with why), ``seconds`` (wall time)."""
+    dropped, with why), ``seconds`` (wall time), ``budget`` (the time budget asked, s;
+    None: none) and ``unstarted`` (starts the budget left unrefined)."""
 
     designs: list[CurveDesign]
     failures: list[str]
     seconds: float
+    budget: float | None = None
+    unstarted: int = 0
+
+    @property
+    def budget_ended(self) -> bool:
+        """True when the time budget ended the fit: a start was left or cut short."""
+        return self.unstarted > 0 or any(d.cut for d in self.designs)
+
+    def budget_note(self) -> str:
+        """A line saying whether the time budget ended the fit ("" without a budget)."""
+        if self.budget is None:
+            return ""
+        if not self.budget_ended:
+            return f"every start refined to the end within the time budget of {self.budget:.4g} s"
+        cut = sum(d.cut for d in self.designs)
+        return (
+            f"the time budget of {self.budget:.4g} s ended the fit: {cut} refinements cut short, "
+            f"{self.unstarted} starts not begun"
+        )
 
     @property
     def best(self) -> CurveDesign:
         if not self.designs:
-            raise SynthesisError("no starting design could be refined: " + "; ".join(self.failures[:3]))
+            why = "; ".join(self.failures[:3])
+            if self.unstarted:
+                why = f"the time budget of {self.budget:.4g} s was spent before any start" + (
+                    f"; {why}" if why else ""
+                )
+            raise SynthesisError("no starting design could be refined: " + why)
         return self.designs[0]
 
     def report(self, count: int = 5) -> str:
         lines = [
-            f"{len(self.designs)} designs from {len(self.designs) + len(self.failures)} starts "
-            f"in {self.seconds:.2f} s ({len(self.failures)} dropped); sorted: {CURVE_MERIT}"
+            f"{len(self.designs)} designs from {len(self.designs) + len(self.failures) + self.unstarted} "
+            f"starts in {self.seconds:.2f} s ({len(self.failures)} dropped); sorted: {CURVE_MERIT}"
         ]
+        if self.budget is not None:
+            lines.append(self.budget_note())
         lines += [f"{k + 1}. [{d.family}] {d}" for k, d in enumerate(self.designs[:count])]
         return "\n".join(lines)
 
@@ -143,15 +192,24 @@ def _least_squares() -> Any:
     return least_squares
 
 
-class _Refinement:
-    """The map between the refinement's variables z and the design vector x."""
+class _Spent(Exception):
+    """The time budget ran out during a refinement."""
 
-    def __init__(self, problem: TrackingProblem, x: np.ndarray) -> None:
+
+class _Refinement:
+    """The map between the refinement's variables z and the design vector x (its first
+    ``problem.size`` entries the design numbers, then the crank angles), and the best
+    point evaluated at the current weight (what a refinement the budget stops returns)."""
+
+    def __init__(self, problem: Any, x: np.ndarray, deadline: float | None = None) -> None:
         self.problem = problem
+        self.deadline = deadline
+        self.best: tuple[float, np.ndarray | None] = (math.inf, None)
         self.base = problem.complete(x)
         free = problem.free()
-        self.design = np.flatnonzero(free[:9])
-        self.timing = bool(free[9:].any())
+        nd = self.nd = int(problem.size)
+        self.design = np.flatnonzero(free[:nd])
+        self.timing = bool(free[nd:].any())
         n = problem.n
         lo, hi = problem.lower_upper()
         zlo, zhi = [lo[self.design]], [hi[self.design]]
@@ -160,10 +218,10 @@ class _Refinement:
             zhi.append(np.full(n, TWO_PI))
         self.lower, self.upper = np.concatenate(zlo), np.concatenate(zhi)
         # d x / d z: the design entries one to one, each crank angle the sum of increments
-        self.dxdz = np.zeros((9 + n, self.lower.size))
+        self.dxdz = np.zeros((nd + n, self.lower.size))
         self.dxdz[self.design, np.arange(self.design.size)] = 1.0
         if self.timing:
-            self.dxdz[9:, self.design.size :] = np.tril(np.ones((n, n)))
+            self.dxdz[nd:, self.design.size :] = np.tril(np.ones((n, n)))
         self.cache: dict[bytes, tuple[np.ndarray, ...] | None] = {}
         self.m = len(problem.constraint_names())
         # the penalties aim a little inside the constraints, so that what a finite weight
@@ -174,7 +232,7 @@ class _Refinement:
     def z_of(self, x: np.ndarray) -> np.ndarray:
         z = [x[self.design]]
         if self.timing:
-            th = x[9:]
+            th = x[self.nd :]
             z.append(np.concatenate([[np.mod(th[0], TWO_PI)], np.diff(th)]))
         return np.clip(np.concatenate(z), self.lower, self.upper)
 
@@ -182,7 +240,7 @@ class _Refinement:
         x = self.base.copy()
         x[self.design] = z[: self.design.size]
         if self.timing:
-            x[9:] = np.cumsum(z[self.design.size :])
+            x[self.nd :] = np.cumsum(z[self.design.size :])
         return x
 
     def evaluate(self, z: np.ndarray) -> tuple[np.ndarray, ...] | None:
@@ -195,10 +253,50 @@ class _Refinement:
         return self.cache[key]
 
     def residuals(self, z: np.ndarray, weight: float) -> np.ndarray:
+        if self.deadline is not None and time.perf_counter() >= self.deadline:
+            raise _Spent
         out = self.evaluate(z)
         if out is None:
             return np.full(2 * self.problem.n + self.m, self.big)
-        return np.concatenate([out[0], weight * np.maximum(out[2] + self.inset, 0.0)])
+        res = np.concatenate([out[0], weight * np.maximum(out[2] + self.inset, 0.0)])
+        cost = float(res @ res)
+        if cost < self.best[0]:
+            self.best = (cost, z.copy())
+        return res
+
+    def minimise(self, z: np.ndarray, max_nfev: int) -> tuple[np.ndarray, int, bool]:
+        """The least-squares refinement from z under growing penalty weights: (the
+        refined z, evaluations, True if the time budget stopped it)."""
+        least_squares = _least_squares()
+        nfev = 0
+        for w in _WEIGHTS:
+            self.best = (math.inf, None)
+            try:
+                sol = least_squares(
+                    self.residuals,
+                    z,
+                    jac=self.jacobian,
+                    bounds=(self.lower, self.upper),
+                    method="trf",
+                    x_scale="jac",
+                    ftol=1e-15,
+                    xtol=1e-15,
+                    gtol=1e-15,
+                    max_nfev=max_nfev,
+                    args=(w,),
+                )
+            except _Spent:
+                # the best point evaluated at this weight (it turns fully: a point that
+                # does not scores far above the start)
+                if self.best[1] is not None and self.evaluate(self.best[1]) is not None:
+                    z = self.best[1]
+                return z, nfev, True
+            nfev += int(sol.nfev)
+            if self.evaluate(sol.x) is not None:
+                z = sol.x
+            if self.problem.violation(self.x_of(z)) <= 1e-12 * self.problem.target.size:
+                break
+        return z, nfev, False
 
     def jacobian(self, z: np.ndarray, weight: float) -> np.ndarray:
         out = self.evaluate(z)
@@ -210,39 +308,30 @@ class _Refinement:
         return np.vstack([out[1], weight * dg]) @ self.dxdz
 
 
-def refine(problem: TrackingProblem, x: Any, max_nfev: int = 400, start: int = -1) -> CurveDesign:
-    """One design refined from ``x`` (a full design vector). `CircuitError` if ``x``
-    itself does not turn fully on the problem's circuit."""
-    least_squares = _least_squares()
+def refine(
+    problem: TrackingProblem, x: Any, max_nfev: int = 400, start: int = -1, deadline: float | None = None
+) -> CurveDesign:
+    """One design refined from ``x`` (a full design vector), stopped at ``deadline`` (a
+    `time.perf_counter` instant) if given, with the best design evaluated by then
+    (``cut``). `CircuitError` if ``x`` itself does not turn fully on the problem's
+    circuit."""
     t0 = time.perf_counter()
-    ref = _Refinement(problem, problem.complete(x))
-    z = ref.z_of(ref.base)
-    if ref.evaluate(z) is None:
+    ref = start_refinement(problem, x, start, deadline)
+    z, nfev, cut = ref.minimise(ref.z_of(ref.base), max_nfev)
+    d = _design(problem, ref.x_of(z), nfev, time.perf_counter() - t0, start)
+    d.cut = cut
+    return d
+
+
+def start_refinement(problem: Any, x: Any, start: int, deadline: float | None = None) -> _Refinement:
+    """The refinement's map for a start ``x``; `CircuitError` if ``x`` does not turn
+    fully on its circuit."""
+    ref = _Refinement(problem, problem.complete(x), deadline)
+    if ref.evaluate(ref.z_of(ref.base)) is None:
         raise CircuitError(
-            f"starting design {start} (within the bounds) does not turn fully on the "
-            f"{problem.circuit} circuit"
+            f"starting design {start} (within the bounds) does not turn fully on the {problem.assembly}"
         )
-    nfev = 0
-    for w in _WEIGHTS:
-        sol = least_squares(
-            ref.residuals,
-            z,
-            jac=ref.jacobian,
-            bounds=(ref.lower, ref.upper),
-            method="trf",
-            x_scale="jac",
-            ftol=1e-15,
-            xtol=1e-15,
-            gtol=1e-15,
-            max_nfev=max_nfev,
-            args=(w,),
-        )
-        nfev += int(sol.nfev)
-        if ref.evaluate(sol.x) is not None:
-            z = sol.x
-        if problem.violation(ref.x_of(z)) <= 1e-12 * problem.target.size:
-            break
-    return _design(problem, ref.x_of(z), nfev, time.perf_counter() - t0, start)
+    return ref
 
 
 def _design(problem: TrackingProblem, x: np.ndarray, nfev: int, seconds: float, start: int) -> CurveDesign:
@@ -364,6 +453,7 @@ def fit(
     seed: int = 0,
     workers: int | None = None,
     max_nfev: int = 400,
+    seconds: float | None = None,
     **problem: Any,
 ) -> CurveFit:
     """Multistart: each starting design (``seeds``: (circuit, x) pairs or (circuit, x,
@@ -374,20 +464,28 @@ def fit(
     ``coupler``, ``pivot``, ``fixed``, ``ordered`` and the designer's constraints
     ``grashof``, ``transmission``, ``links``, ``ratio``, ``regions``). A start that does not turn fully on
     its circuit is dropped with why (``failures``). The answer does not depend on the
-    number of workers."""
+    number of workers.
+
+    ``seconds``: a time budget for the whole fit (from its call). Once spent no start
+    begins and the refinements under way stop with the best design each has evaluated
+    (`CurveFit.budget_ended`, `CurveFit.budget_note`); when it does not end the fit the
+    answer is the one without it, reproducible with ``seed``."""
     t0 = time.perf_counter()
+    deadline = None if seconds is None else t0 + budget_seconds(seconds)
     if seeds is None:
         grashof = problem.get("grashof", "crank-rocker")
         seeds = [(c, x, "random") for c, x in random_seeds(target, starts, seed, grashof=grashof)]
     problems = {c: TrackingProblem(target, circuit=c, **problem) for c in ("open", "crossed")}
     jobs = list(enumerate(seeds))
 
-    def run(job: tuple[int, tuple[Any, ...]]) -> CurveDesign | str:
+    def run(job: tuple[int, tuple[Any, ...]]) -> CurveDesign | str | None:
         k, (circuit, x, *family) = job
         if circuit not in problems:
             return f"start {k}: circuit {circuit!r} is not 'open' or 'crossed'"
+        if deadline is not None and time.perf_counter() >= deadline:
+            return None  # the budget is spent: not begun
         try:
-            d = refine(problems[circuit], x, max_nfev=max_nfev, start=k)
+            d = refine(problems[circuit], x, max_nfev=max_nfev, start=k, deadline=deadline)
         except CircuitError as e:
             return f"start {k}: {e} ({family[0] if family else 'given'} seed)"
         d.family = str(family[0]) if family else "given"
@@ -398,4 +496,17 @@ def fit(
         done = list(pool.map(run, jobs))
     designs = [d for d in done if isinstance(d, CurveDesign)]
     designs.sort(key=lambda d: (not d.ok, d.f, d.start))
-    return CurveFit(designs, [d for d in done if isinstance(d, str)], time.perf_counter() - t0)
+    failures = [d for d in done if isinstance(d, str)]
+    budget = None if seconds is None else float(seconds)
+    return CurveFit(designs, failures, time.perf_counter() - t0, budget, sum(d is None for d in done))
+
+
+def budget_seconds(seconds: Any) -> float:
+    """A time budget checked: a number of seconds >= 0 (`SynthesisError` otherwise)."""
+    try:
+        value = float(seconds)
+    except (TypeError, ValueError):
+        raise SynthesisError(f"the time budget is a number of seconds, not {seconds!r}") from None
+    if isinstance(seconds, bool) or not value >= 0.0:
+        raise SynthesisError(f"the time budget is a number of seconds >= 0, not {seconds!r}")
+    return value

@@ -1,7 +1,8 @@
-"""The picture of a curve design: its target points against the coupler curve it traces
-(the engine's sweep over a crank turn, the traced stretch drawn solid), each point's
-deviation drawn from the target to the coupler point at its crank angle; beside it the
-whole linkage at the first target's crank angle."""
+"""The picture of a curve design (a four-bar or a six-bar): its target points against the
+curve it traces (the engine's sweep over a crank turn, the traced stretch drawn solid),
+each point's deviation drawn from the target to the traced point at its crank angle;
+beside it the whole linkage at the first target's crank angle (the design's
+``linkage_at``)."""
 
 from __future__ import annotations
 
@@ -15,20 +16,22 @@ from .tracking import TWO_PI
 
 # type only, named through the package: fit draws through this module
 if TYPE_CHECKING:
-    from linkwork.synthesis.curve import CurveDesign
+    from linkwork.synthesis.curve import CurveDesign, SixBarDesign
 
 __all__ = ["plot_design"]
 
 
-def _stretch(design: CurveDesign, times: np.ndarray) -> np.ndarray:
+def _stretch(design: CurveDesign | SixBarDesign, times: np.ndarray) -> np.ndarray:
     """Which sweep times lie on the traced stretch (all of them for a closed curve)."""
-    th = design.x[9:]
+    th = design.crank_angles()
     if design.problem.target.closed or th[-1] - th[0] >= TWO_PI:
         return np.ones(times.size, dtype=bool)
     return np.asarray(np.mod(times - th[0], TWO_PI) <= th[-1] - th[0] + 1e-12)
 
 
-def plot_design(design: CurveDesign, path: str, title: str | None = None, dpi: int = 110) -> str:
+def plot_design(
+    design: CurveDesign | SixBarDesign, path: str, title: str | None = None, dpi: int = 110
+) -> str:
     """Write the PNG at ``path`` and return it."""
     try:
         import matplotlib
@@ -45,7 +48,7 @@ def plot_design(design: CurveDesign, path: str, title: str | None = None, dpi: i
     on = _stretch(design, times)
     target = design.problem.target.points
     r, _ = design.problem.evaluate(design.x)
-    at = target + r.reshape(-1, 2)  # the coupler point at each target's crank angle
+    at = target + r.reshape(-1, 2)  # the traced point at each target's crank angle
 
     fig, (ax, whole) = plt.subplots(1, 2, figsize=(12, 5.5), gridspec_kw={"width_ratios": [3, 2]})
     for a in (ax, whole):
@@ -57,7 +60,7 @@ def plot_design(design: CurveDesign, path: str, title: str | None = None, dpi: i
         a.grid(alpha=0.3)
     for p, q in zip(target, at):
         ax.plot([p[0], q[0]], [p[1], q[1]], "-", color=TARGET_COLOUR, lw=1.2)
-    ax.plot(at[:, 0], at[:, 1], ".", color="C0", ms=5, label="coupler point at each crank angle")
+    ax.plot(at[:, 0], at[:, 1], ".", color="C0", ms=5, label="traced point at each crank angle")
     for j, p in enumerate(target, 1):
         ax.annotate(str(j), p, textcoords="offset points", xytext=(4, 4), fontsize=7, color=TARGET_COLOUR)
     ax.set_title(
@@ -73,19 +76,18 @@ def plot_design(design: CurveDesign, path: str, title: str | None = None, dpi: i
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     # the linkage at the first target's crank angle, from the sweep's nearest step
-    k = int(np.argmin(np.abs(np.mod(times - design.x[9], TWO_PI))))
-    r1, r2, th0, x0, y0 = design.x[0], design.x[1], design.x[6], design.x[7], design.x[8]
-    o2, o4 = np.array([x0, y0]), np.array([x0 + r1 * math.cos(th0), y0 + r1 * math.sin(th0)])
-    t2 = th0 + times[k]
-    a_pin = o2 + r2 * np.array([math.cos(t2), math.sin(t2)])
-    b_pin = res.point_at("rocker", (design.x[3], 0.0)).position[k]
-    p_k = curve[k]
-    whole.plot(*np.array([o2, a_pin]).T, "-", color="0.3", lw=2.5)
-    whole.fill(*np.array([a_pin, b_pin, p_k]).T, color="C1", alpha=0.35, lw=1.5, ec="C1")
-    whole.plot(*np.array([b_pin, o4]).T, "-", color="0.3", lw=2.5)
-    whole.plot(*np.array([o2, o4]).T, "^", color="k", ms=9)
+    k = int(np.argmin(np.abs(np.mod(times - design.crank_angles()[0], TWO_PI))))
+    bodies, pivots = design.linkage_at(float(times[k]))
+    for body in bodies:
+        if len(body) == 2:
+            whole.plot(*body.T, "-", color="0.3", lw=2.5)
+        else:
+            whole.fill(*body.T, color="C1", alpha=0.35, lw=1.5, ec="C1")
+    whole.plot(*pivots.T, "^", color="k", ms=9)
+    six = getattr(design, "kind", None)
+    kind = f"{six} six-bar, " if six else ""
     whole.set_title(
-        f"{design.circuit} circuit, {design.grashof}, smallest transmission "
+        f"{kind}{design.circuit} circuit, {design.grashof}, smallest transmission "
         f"{math.degrees(design.transmission):.1f} deg",
         fontsize=10,
     )

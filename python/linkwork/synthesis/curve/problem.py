@@ -20,8 +20,14 @@ its tables checked key by key, the fit run, the ranked table of designs.
     P = {centre = [x, y], radius = r}
     [fit]
     starts = 16, seed = 1, max_nfev = 400, workers = 2, keep = 5
+    seconds = 20                   # a time budget for the fit (default none)
+    [six_bars]                     # optional: six-bars grown from the best four-bars
+    kinds = ["watt", "stephenson"] # default both
+    best = 2, dyads = 4            # four-bars grown from, dyads added to each (per kind)
 
-Every missing, unknown or ill-shaped key raises `SynthesisError` naming it.
+Every missing, unknown or ill-shaped key raises `SynthesisError` naming it. With
+[six_bars] the designs kept are the six-bars (the four-bars' table is reported above
+theirs) and the time budget spans both, half of it for the four-bars.
 """
 
 from __future__ import annotations
@@ -35,9 +41,19 @@ import numpy as np
 from ...errors import SynthesisError
 from .constraints import angle
 from .fit import CURVE_MERIT, CurveDesign, CurveFit, fit
+from .six_bar_fit import SIX_BAR_MERIT, SixBarDesign, SixBarFit, fit_six_bars
+from .six_bars import KINDS
 from .target import TargetCurve, from_csv, from_svg, target
 
-__all__ = ["read_target", "read_options", "solve_curve", "table", "distinct"]
+__all__ = [
+    "read_target",
+    "read_options",
+    "read_six_bars",
+    "solve_curve",
+    "table",
+    "six_bar_table",
+    "distinct",
+]
 
 CURVE_KEYS = ("points", "file", "svg", "samples", "closed", "timing", "crank_angles")
 CONSTRAINT_KEYS = (
@@ -52,7 +68,8 @@ CONSTRAINT_KEYS = (
     "coupler",
     "pivot",
 )
-FIT_KEYS = ("starts", "seed", "max_nfev", "workers", "keep")
+FIT_KEYS = ("starts", "seed", "max_nfev", "workers", "keep", "seconds")
+SIX_BAR_KEYS = ("kinds", "best", "dyads")
 
 
 def _table(problem: dict[str, Any], name: str, keys: tuple[str, ...], required: bool) -> dict[str, Any]:
@@ -178,7 +195,7 @@ def read_options(problem: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any
             fixed[k] = math.radians(v) if k == "theta0" and unit == "deg" else float(v)
         options["fixed"] = fixed
     f = _table(problem, "fit", FIT_KEYS, False)
-    run = {
+    run: dict[str, Any] = {
         "starts": _integer("fit", "starts", f.get("starts", 16), 1),
         "seed": _integer("fit", "seed", f.get("seed", 0), 0),
         "max_nfev": _integer("fit", "max_nfev", f.get("max_nfev", 400), 1),
@@ -186,7 +203,54 @@ def read_options(problem: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any
     }
     if "workers" in f:
         run["workers"] = _integer("fit", "workers", f["workers"], 1)
+    if "seconds" in f:
+        value = f["seconds"]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+            raise SynthesisError(f"fit.seconds (a time budget) must be a number > 0, not {value!r}")
+        run["seconds"] = float(value)
     return options, run
+
+
+def read_six_bars(problem: dict[str, Any]) -> dict[str, Any] | None:
+    """`fit_six_bars`' options of the [six_bars] table (None without one)."""
+    if "six_bars" not in problem:
+        return None
+    t = _table(problem, "six_bars", SIX_BAR_KEYS, True)
+    kinds = t.get("kinds", list(KINDS))
+    if not (isinstance(kinds, list) and kinds and all(k in KINDS for k in kinds)):
+        raise SynthesisError(f"six_bars.kinds must be a list of {', '.join(KINDS)}, not {kinds!r}")
+    return {
+        "kinds": tuple(kinds),
+        "best": _integer("six_bars", "best", t.get("best", 2), 1),
+        "dyads": _integer("six_bars", "dyads", t.get("dyads", 4), 1),
+    }
+
+
+def six_bar_table(result: SixBarFit, count: int) -> str:
+    """The ranked table of the first ``count`` six-bars."""
+    designs = result.designs
+    starts = len(designs) + len(result.failures) + result.unstarted
+    lines = [
+        f"{len(designs)} six-bars from {starts} starts in {result.seconds:.2f} s "
+        f"({len(result.failures)} dropped); sorted: {SIX_BAR_MERIT}",
+        f"{'#':>3}  {'f':>10}  {'largest dev.':>12}  {'at B':>8}  {'at D':>8}  {'kind':<11} "
+        "defects; constraints",
+    ]
+    if result.budget is not None:
+        ended = "ended" if result.budget_ended else "did not end"
+        lines.insert(1, f"the time budget of {result.budget:.4g} s {ended} the fit")
+    for k, d in enumerate(designs[:count], 1):
+        defects = ", ".join(d.defects) or "none"
+        state = "hold" if d.violation <= 1e-12 * d.problem.target.size else f"violated by {d.violation:.3g}"
+        lines.append(
+            f"{k:>3}  {d.f:>10.4g}  {d.max_deviation:>12.4g}  {math.degrees(d.transmission):>4.1f} deg  "
+            f"{math.degrees(d.transmission_dyad):>4.1f} deg  {d.kind:<11} {defects}; {state}"
+        )
+    for k, d in enumerate(designs[:count], 1):
+        lines.append(f"six-bar {k}: {d}")
+        if d.margins:
+            lines.append("  margins: " + ", ".join(f"{n} {v:.4g}" for n, v in d.margins.items()))
+    return "\n".join(lines)
 
 
 def table(result: CurveFit, count: int, designs: list[CurveDesign] | None = None) -> str:
@@ -199,6 +263,8 @@ def table(result: CurveFit, count: int, designs: list[CurveDesign] | None = None
         f"{'#':>3}  {'f':>10}  {'largest dev.':>12}  {'transmission':>12}  {'circuit':<8} "
         f"{'Grashof type':<16} defects; constraints",
     ]
+    if result.budget is not None:
+        lines.insert(1, result.budget_note())
     for k, d in enumerate(designs[:count], 1):
         defects = ", ".join(d.defects) or "none"
         state = "hold" if d.violation <= 1e-12 * d.problem.target.size else f"violated by {d.violation:.3g}"
@@ -213,19 +279,28 @@ def table(result: CurveFit, count: int, designs: list[CurveDesign] | None = None
     return "\n".join(lines)
 
 
-def solve_curve(problem: dict[str, Any], base: str = ".") -> tuple[str, list[CurveDesign], np.ndarray]:
-    """(the ranked table, the best designs, the target points) of a curve problem file."""
+def solve_curve(
+    problem: dict[str, Any], base: str = "."
+) -> tuple[str, list[CurveDesign] | list[SixBarDesign], np.ndarray]:
+    """(the ranked table, the best designs, the target points) of a curve problem file:
+    the four-bars, or with [six_bars] the six-bars grown from them."""
     t = read_target(problem, base)
     options, run = read_options(problem)
+    six = read_six_bars(problem)
     keep = run.pop("keep")
-    result = fit(t, **run, **options)
     timing = "prescribed" if t.timed else "free"
     head = (
         f"curve synthesis: {len(t)} target points ({'closed' if t.closed else 'open'}, {timing} timing), "
         f"{run['starts']} starts, seed {run['seed']}"
     )
-    designs = distinct(result.designs)
-    return head + "\n" + table(result, keep, designs), designs[:keep], t.points
+    if six is None:
+        result = fit(t, **run, **options)
+        designs = distinct(result.designs)
+        return head + "\n" + table(result, keep, designs), designs[:keep], t.points
+    grown = fit_six_bars(t, **six, **run, **options)
+    four = grown.four_bars
+    text = [head, table(four, keep, distinct(four.designs)), six_bar_table(grown, keep)]
+    return "\n".join(text), grown.designs[:keep], t.points
 
 
 def distinct(designs: list[CurveDesign]) -> list[CurveDesign]:

@@ -206,9 +206,16 @@ class TrackingProblem:
                 )
 
     # ---- the design vector ------------------------------------------------------------
+    #: how many design numbers come before the crank angles in x
+    size = len(DESIGN)
+
     @property
     def n(self) -> int:
         return len(self.target)
+
+    @property
+    def assembly(self) -> str:
+        return f"{self.circuit} circuit"
 
     def lower_upper(self) -> tuple[np.ndarray, np.ndarray]:
         """Bounds on the full vector x (the crank angles: [0, 2 pi) for the first, then
