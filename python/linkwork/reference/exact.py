@@ -17,7 +17,7 @@ Sources: the IFToMM multibody benchmark library (A01, A02); the Bari/CWI IVP tes
 problem "andrews"; E. Hairer, G. Wanner, Solving ODEs II, VII.7.
 
 >>> x, y = pendulum_tip([0.0, 1.0])
->>> [round(float(v), 12) for v in (x[0], y[0], np.hypot(x[1], y[1]))]
+>>> [round(float(v), 12) + 0.0 for v in (x[0], y[0], np.hypot(x[1], y[1]))]
 [1.0, 0.0, 1.0]
 """
 
