@@ -150,15 +150,15 @@ def andrews_squeezer() -> Benchmark:
     frames += [(F, a4, (0.0, -(p["e"] - p["ea"]))), (A, a5, (p["ta"], p["tb"]))]
     frames += [(G, a6, (p["zf"] - p["fa"], 0.0)), (A, a7, (p["ua"], p["ub"]))]
     bodies = []
-    for k, (origin, angle, u_c) in enumerate(frames):
+    for k, (frame, angle, u_c) in enumerate(frames):
         bodies.append(
             m.body(
                 f"body{k + 1}",
-                tuple(origin),
+                tuple(frame),
                 angle,
                 mass=mass[k],
                 inertia=inertia[k],
-                com=local(origin, angle, u_c),
+                com=local(frame, angle, u_c),
             )  # fmt: skip
         )
     b1, b2, b3, b4, b5, b6, b7 = bodies
