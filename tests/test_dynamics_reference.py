@@ -176,6 +176,22 @@ def test_squeezer_reaches_the_published_angles() -> None:
     assert potential_energy(ref, run["q"][0])["springs"] == pytest.approx(run["springs"][0], rel=1e-15)
 
 
+def test_drift_without_projection_is_measured_and_bad_input_named() -> None:
+    """Without projection the constraints drift by about the integration error and the
+    run says by how much; with it the outputs sit on them to rounding."""
+    b = benchmarks.n_four_bar(1)
+    times = np.linspace(0.0, 0.6, 7)
+    free = simulate(b.mechanism, times, qd0=b.qd0, rtol=1e-6, atol=1e-6, project_outputs=False)
+    kept = simulate(b.mechanism, times, qd0=b.qd0, rtol=1e-6, atol=1e-6)
+    ref = ReferenceModel(b.mechanism)
+    assert 1e-12 < np.max(free["drift_position"]) < 1e-4
+    assert max(np.max(np.abs(ref.phi(q, 0.0))) for q in kept["q"]) < 1e-14
+    with pytest.raises(ValueError, match="strictly increasing"):
+        simulate(b.mechanism, [0.0, 0.0])
+    with pytest.raises(ValueError, match="9 entries"):
+        simulate(b.mechanism, [0.0, 0.1], qd0=[1.0])
+
+
 def test_scd_is_digits_of_the_worst_component() -> None:
     ref = exact.ANDREWS_REFERENCE
     assert exact.scd(ref) == math.inf
