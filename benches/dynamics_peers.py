@@ -1,12 +1,14 @@
 """Forward dynamics side by side: Exudyn's integrators against the exact references of
-IFToMM A01 (simple pendulum) and A02 (N-four-bar, N = 2), 10 s of motion each.
+IFToMM A01 (simple pendulum) and A02 (N-four-bar, N = 2), 10 s of motion each, and
+against the published angles of Andrews' squeezer (0.03 s).
 
 Exudyn (``pip install exudyn``, the ``bench`` extra) runs its generalized-alpha (index 3)
 and its trapezoidal index-2 solvers at a ladder of fixed step sizes; each row gives the
 wall time of ``SolveDynamic``, the largest error of the reported point (A01's tip P1,
 A02's B0) against the exact solution at the sampled times (every 0.01 s), and for A02
-whether the run stayed on the branch (every crank at the same angle). The engine's
-``Model.simulate`` is a column of its own when it exists (a ladder of tolerances), with
+whether the run stayed on the branch (every crank at the same angle); for Andrews'
+squeezer the error is the test set's, the worst relative error of the seven angles.
+The engine's ``Model.simulate`` is a column of its own when it exists (a ladder of tolerances), with
 the speed ratio at equal error; the NumPy reference (``linkwork.reference.simulate``) is
 listed for accuracy, not speed.
 
@@ -159,9 +161,87 @@ def exudyn_n_four_bar(h: float, solver: str, n: int = 2, t_end: float = T_END) -
     return {"wall": wall, "error": error, "branch": spread < BRANCH_TOL, "spread": spread}
 
 
+def exudyn_andrews(h: float, solver: str) -> dict[str, Any]:
+    """Andrews' squeezer in Exudyn, built from the same description: a RigidBody2D per
+    body (its node at the centre of mass, turned by the body's angle), RevoluteJoint2D
+    pins, a spring-damper from C to D and the torque on body 1. Its error is the test
+    set's: 10^-scd, the worst relative error of the seven angles at t = 0.03."""
+    import exudyn as exu
+    from exudyn.itemInterface import (
+        MarkerBodyPosition,
+        MarkerBodyRigid,
+        NodeRigidBody2D,
+        ObjectConnectorSpringDamper,
+        ObjectGround,
+        RevoluteJoint2D,
+        RigidBody2D,
+        SensorNode,
+        Torque,
+    )
+
+    from linkwork.reference import ReferenceModel
+
+    b = benchmarks.andrews_squeezer()
+    ref = ReferenceModel(b.mechanism)
+    q = ref.q_start()
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    ground = mbs.AddObject(ObjectGround())
+    bodies: dict[str, tuple[int, np.ndarray]] = {}
+    sensors = []
+    for k, name in enumerate(ref.body_names):
+        mp = ref.mass_properties[name]
+        x, y, th = q[3 * k : 3 * k + 3]
+        c, s = math.cos(th), math.sin(th)
+        com = np.array([x, y]) + np.array([[c, -s], [s, c]]) @ mp.u_c
+        node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[com[0], com[1], th]))
+        body = mbs.AddObject(RigidBody2D(nodeNumber=node, mass=mp.mass, inertia=mp.inertia))
+        bodies[name] = (body, mp.u_c)
+        kind = exu.OutputVariableType.Coordinates  # displacements from the reference coordinates
+        sensor = SensorNode(nodeNumber=node, storeInternal=True, outputVariableType=kind)
+        sensors.append(mbs.AddSensor(sensor))
+
+    def marker(name: str, u: np.ndarray) -> int:
+        if name == "ground":
+            return mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground, localPosition=[u[0], u[1], 0.0]))
+        body, u_c = bodies[name]
+        d = u - u_c  # from the centre of mass, in the body's axes
+        return mbs.AddMarker(MarkerBodyPosition(bodyNumber=body, localPosition=[d[0], d[1], 0.0]))
+
+    for joint in ref.constraints:
+        mbs.AddObject(RevoluteJoint2D(markerNumbers=[marker(joint.a, joint.ua), marker(joint.b, joint.ub)]))
+    for load in ref.loads:
+        if load.kind == "spring":
+            assert load.u_a is not None and load.u_b is not None
+            mbs.AddObject(ObjectConnectorSpringDamper(
+                markerNumbers=[marker(load.a, load.u_a), marker(load.b, load.u_b)],
+                referenceLength=load.free_length, stiffness=load.stiffness, damping=0.0))  # fmt: skip
+        else:
+            rigid = mbs.AddMarker(MarkerBodyRigid(bodyNumber=bodies[load.b][0], localPosition=[0, 0, 0]))
+            mbs.AddLoad(Torque(markerNumber=rigid, loadVector=[0, 0, exact.ANDREWS["mom"]]))
+    mbs.Assemble()
+    settings = _settings(exu, h, exact.ANDREWS_T_END)
+    settings.solution.sensors.writePeriod = exact.ANDREWS_T_END / 3
+    start = time.perf_counter()
+    try:
+        mbs.SolveDynamic(settings, solverType=getattr(exu.DynamicSolverType, solver))
+    except Exception:  # Exudyn reports a failed run (Newton not converging) by raising
+        return {"wall": time.perf_counter() - start, "error": math.inf, "branch": False, "failed": True}
+    wall = time.perf_counter() - start
+    theta = q[2::3] + np.array([mbs.GetSensorStoredData(sensor)[-1, 3] for sensor in sensors])
+    angles = benchmarks.andrews_angles(np.column_stack([np.zeros(7), np.zeros(7), theta]).ravel())
+    return {"wall": wall, "error": 10.0 ** -exact.scd(angles), "branch": True}
+
+
 def reference_row(problem: str, rtol: float, t_end: float = T_END) -> dict[str, Any]:
     """The NumPy reference (index 1, DOP853, projection every 0.1 s)."""
     times = np.linspace(0.0, t_end, int(round(t_end / 0.1)) + 1)
+    if problem == "andrews":
+        b = benchmarks.andrews_squeezer()
+        times = np.linspace(0.0, exact.ANDREWS_T_END, 4)
+        run = reference_simulate(b.mechanism, times, rtol=rtol, atol=rtol * 1e-2)
+        angles = benchmarks.andrews_angles(run["q"][-1])
+        return {"wall": run["wall"], "error": 10.0 ** -exact.scd(angles), "branch": True}
     if problem == "A01":
         b = benchmarks.pendulum()
         run = reference_simulate(b.mechanism, times, qd0=b.qd0, rtol=rtol, atol=rtol)
@@ -180,13 +260,18 @@ def reference_row(problem: str, rtol: float, t_end: float = T_END) -> dict[str, 
 def engine_row(problem: str, rtol: float, t_end: float = T_END) -> dict[str, Any]:
     """The engine's ``Model.simulate`` (measured only where it exists): the model compiled
     with its free coordinates, started from the benchmark's initial velocities."""
-    b = benchmarks.pendulum() if problem == "A01" else benchmarks.n_four_bar(2)
+    makers = {"A01": benchmarks.pendulum, "A02": lambda: benchmarks.n_four_bar(2)}
+    b = makers.get(problem, benchmarks.andrews_squeezer)()
     model = b.mechanism.compile(free=True)
+    if problem == "andrews":
+        t_end = exact.ANDREWS_T_END
     times = np.arange(0.0, t_end + 0.5 * SAMPLE, SAMPLE)
     start = time.perf_counter()
     res = model.simulate(times, rtol=rtol, atol=rtol, qd0=b.qd0)
     wall = time.perf_counter() - start
     q = np.asarray(res.q)
+    if problem == "andrews":
+        return {"wall": wall, "error": 10.0 ** -exact.scd(benchmarks.andrews_angles(q[-1])), "branch": True}
     xs, ys = q[:, 0] + np.cos(q[:, 2]), q[:, 1] + np.sin(q[:, 2])
     if problem == "A01":
         x, y = exact.pendulum_tip(times)
@@ -211,12 +296,17 @@ def time_at_error(rows: list[dict[str, Any]], error: float) -> float | None:
 
 
 def table(
-    title: str, column: str, ladder: list[Any], rows: list[dict[str, Any]], extra: str = ""
+    title: str,
+    column: str,
+    ladder: list[Any],
+    rows: list[dict[str, Any]],
+    extra: str = "",
+    error: str = "max error (m)",
 ) -> list[str]:
     out = [
         f"#### {title}",
         "",
-        f"| {column} | wall (s) | max error (m) | on branch |{extra}",
+        f"| {column} | wall (s) | {error} | on branch |{extra}",
         "|---|---|---|---|",
     ]
     if extra:
@@ -230,27 +320,41 @@ def table(
     return out + [""]
 
 
+ANDREWS_STEPS = [1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 2e-6, 1e-6]
+TITLES = {
+    "A01": f"A01, {T_END:g} s",
+    "A02": f"A02 (N = 2), {T_END:g} s",
+    "andrews": "Andrews' squeezer, 0.03 s",
+}
+
+
 def run(problems: list[str], steps: list[float], rtols: list[float], with_reference: bool) -> str:
-    peers: dict[str, Callable[..., dict[str, Any]]] = {"A01": exudyn_pendulum, "A02": exudyn_n_four_bar}
+    peers: dict[str, Callable[..., dict[str, Any]]] = {
+        "A01": exudyn_pendulum,
+        "A02": exudyn_n_four_bar,
+        "andrews": exudyn_andrews,
+    }
     lines: list[str] = []
     has_engine = hasattr(Model, "simulate")
     for problem in problems:
-        lines += [f"### {problem}{' (N = 2)' if problem == 'A02' else ''}, {T_END:g} s", ""]
+        lines += [f"### {TITLES[problem]}", ""]
+        ladder = ANDREWS_STEPS if problem == "andrews" else steps
+        error = "worst relative angle error (10^-scd)" if problem == "andrews" else "max error (m)"
         engine = [engine_row(problem, r) for r in rtols] if has_engine else []
         for solver in SOLVERS:
-            rows = [peers[problem](h, solver) for h in steps]
+            rows = [peers[problem](h, solver) for h in ladder]
             for r in rows:
                 t_engine = time_at_error(engine, r["error"]) if has_engine else None
                 r["ratio"] = "" if t_engine is None else f"{r['wall'] / t_engine:.1f}x"
             extra = " linkwork faster by |" if has_engine else ""
-            lines += table(f"Exudyn {solver}", "step (s)", steps, rows, extra)
+            lines += table(f"Exudyn {solver}", "step (s)", ladder, rows, extra, error)
         if has_engine:
-            lines += table("linkwork Model.simulate", "rtol", rtols, engine)
+            lines += table("linkwork Model.simulate", "rtol", rtols, engine, error=error)
         else:
             lines += ["linkwork: `Model.simulate` does not exist in this build; not measured.", ""]
         if with_reference:
             rows = [reference_row(problem, r) for r in rtols]
-            lines += table("NumPy reference (accuracy, not speed)", "rtol", rtols, rows)
+            lines += table("NumPy reference (accuracy, not speed)", "rtol", rtols, rows, error=error)
     return "\n".join(lines)
 
 
@@ -259,7 +363,7 @@ def main() -> None:
     parser.add_argument(
         "--write", action="store_true", help="add the run to benches/results/dynamics-<day>.md"
     )
-    parser.add_argument("--problems", nargs="+", default=["A01", "A02"], choices=["A01", "A02"])
+    parser.add_argument("--problems", nargs="+", default=["A01", "A02", "andrews"], choices=sorted(TITLES))
     parser.add_argument("--steps", nargs="+", type=float, default=STEPS)
     parser.add_argument("--rtols", nargs="+", type=float, default=[1e-6, 1e-8, 1e-10, 1e-12])
     parser.add_argument("--reference", action="store_true", help="also run the NumPy reference")
