@@ -5,7 +5,9 @@ It reads the model description only (``Mechanism.to_dict()`` or the dict itself)
 never imports the engine. Dense matrices, ``np.linalg.solve``, one small class per joint
 and driver type (``formulation``), motion laws in ``laws``, assembly and solves in
 ``model``, and the inverse dynamics (M, Q, Phi_q^T lambda = Q - M qdd, reactions) in
-``dynamics`` (``ReferenceModel.inverse_dynamics``, ``sweep_forces``, ``statics``).
+``dynamics`` (``ReferenceModel.inverse_dynamics``, ``sweep_forces``, ``statics``); the
+forward dynamics, index 1 with projection, in ``forward`` (``simulate``) and the exact
+and published solutions of its benchmarks in ``exact``.
 ``closed_form`` (also ``linkwork.closed_form``) holds the textbook closed forms of the
 four-bar and the offset slider-crank, a check independent of both.
 
@@ -21,7 +23,8 @@ four-bar and the offset slider-crank, a check independent of both.
 (1.0, 2.0)
 """
 
+from .forward import simulate
 from .laws import check_law, motion_law
 from .model import ConvergenceError, ReferenceModel
 
-__all__ = ["ReferenceModel", "ConvergenceError", "motion_law", "check_law"]
+__all__ = ["ReferenceModel", "ConvergenceError", "motion_law", "check_law", "simulate"]
