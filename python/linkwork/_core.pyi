@@ -130,6 +130,7 @@ class Model:
         dense_max: int | None = None,
         redundant: str = "error",
         solver: str = "auto",
+        free: bool = False,
         python_laws: dict[str, Callable[[float], Any]] | None = None,
     ) -> Model: ...
     @property
@@ -140,6 +141,8 @@ class Model:
     def n_coords(self) -> int: ...
     @property
     def n_rows(self) -> int: ...
+    @property
+    def dof(self) -> int: ...
     @property
     def nnz(self) -> int: ...
     @property
