@@ -16,13 +16,19 @@ use crate::math::pivots::Pivots;
 use crate::math::sparse_lu::{colamd_order, SparseLu};
 use crate::model::Model;
 
-/// A pivot ratio below this makes `solve_robust` regularise: the matrix is within round-off
-/// of singular (a singular configuration of the constraints).
-pub const REGULARISE_BELOW: f64 = 1e-11;
-/// The regularisation, -mu on the multipliers' diagonal of the equilibrated matrix.
-const MU: f64 = 1e-12;
-/// Refinement sweeps of a regularised solve.
-const REFINE: usize = 12;
+/// A pivot ratio below this makes `factor_solve` regularise: the constraints are near a
+/// singular configuration, where an exact solve would amplify the state's small
+/// inconsistencies (a stage off the constraints by its truncation error) along the
+/// directions the rows stop constraining, and push the motion onto another branch.
+pub const REGULARISE_BELOW: f64 = 1e-4;
+/// The regularisation, -mu on the multipliers' diagonal of the equilibrated matrix: the
+/// rows' components with singular values below sqrt(mu) are relaxed. Chosen on the N-four-bar
+/// (A02): 1e-8 costs accuracy near every crossing (a floor near 5e-9), 1e-10 lets the
+/// amplification through (errors 3e-8 and branch jumps at 1e-11).
+const MU: f64 = 1e-9;
+/// Refinement sweeps of a regularised solve: the components well above sqrt(mu) converge
+/// (by mu / sigma^2 each sweep), those below stay relaxed.
+const REFINE: usize = 5;
 
 /// Slots of one constraint's Jacobian entries (and of their transposes).
 #[derive(Debug, Clone, Copy)]
@@ -307,24 +313,26 @@ impl Augmented {
         }
     }
 
-    /// Factors and solves A x = b (x in `b` on return). Where the pivots say A is within
-    /// round-off of singular (a singular configuration: the constraints' rows dependent,
-    /// the multipliers not unique), the regularised matrix is factored instead and the
-    /// solution refined against A (augmented-Lagrangian iterations): the accelerations
-    /// converge, the multipliers tend to the smallest set. Returns the pivots of A.
+    /// Factors and solves A x = b (x in `b` on return). Near a singular configuration
+    /// (pivot ratio below `REGULARISE_BELOW`: the constraints' rows close to dependent, the
+    /// multipliers not unique) the regularised matrix is factored instead and the solution
+    /// refined against A a few times (augmented-Lagrangian iterations, as in Bayo and
+    /// Ledesma's ALI3-P): what the rows determine converges, the nearly dependent
+    /// directions stay relaxed. Returns the pivots of A.
     pub fn factor_solve(&mut self, b: &mut [f64]) -> Pivots {
+        let (mu, refine, below) = (MU, REFINE, REGULARISE_BELOW);
         let pivots = self.factor(0.0);
-        if pivots.ratio >= REGULARISE_BELOW {
+        if pivots.ratio >= below {
             self.solve(b);
             return pivots;
         }
-        self.factor(MU);
+        self.factor(mu);
         let size = self.n + self.m;
         let rhs = b.to_vec();
         let mut x = vec![0.0; size];
         let mut r = rhs.clone();
         let norm_b = rhs.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE);
-        for _ in 0..REFINE {
+        for _ in 0..refine {
             self.solve(&mut r);
             for (xi, d) in x.iter_mut().zip(&r) {
                 *xi += d;
