@@ -51,13 +51,33 @@ def n_four_bar(n: int) -> tuple[dict, np.ndarray]:
     couplers translating at (1, 0))."""
     bodies, joints, qd0 = [], [], []
     for k in range(n + 1):
-        bodies.append({"name": f"crank{k}", "x": k, "y": 0.5, "theta": math.pi / 2, "mass": 1.0, "inertia": 1 / 12})
-        joints.append({"type": "revolute", "name": f"O{k}", "body_a": "ground", "body_b": f"crank{k}", "at": [k, 0.0]})
+        bodies.append(
+            {"name": f"crank{k}", "x": k, "y": 0.5, "theta": math.pi / 2, "mass": 1.0, "inertia": 1 / 12}
+        )
+        joints.append(
+            {"type": "revolute", "name": f"O{k}", "body_a": "ground", "body_b": f"crank{k}", "at": [k, 0.0]}
+        )
         qd0 += [0.5, 0.0, -1.0]
     for k in range(1, n + 1):
         bodies.append({"name": f"coupler{k}", "x": k - 0.5, "y": 1.0, "mass": 1.0, "inertia": 1 / 12})
-        joints.append({"type": "revolute", "name": f"A{k}", "body_a": f"crank{k - 1}", "body_b": f"coupler{k}", "at": [k - 1, 1.0]})
-        joints.append({"type": "revolute", "name": f"B{k}", "body_a": f"crank{k}", "body_b": f"coupler{k}", "at": [k, 1.0]})
+        joints.append(
+            {
+                "type": "revolute",
+                "name": f"A{k}",
+                "body_a": f"crank{k - 1}",
+                "body_b": f"coupler{k}",
+                "at": [k - 1, 1.0],
+            }
+        )
+        joints.append(
+            {
+                "type": "revolute",
+                "name": f"B{k}",
+                "body_a": f"crank{k}",
+                "body_b": f"coupler{k}",
+                "at": [k, 1.0],
+            }
+        )
         qd0 += [1.0, 0.0, 0.0]
     desc = {"name": f"A02 N={n}", "gravity": [0.0, -G], "bodies": bodies, "joints": joints}
     return desc, np.array(qd0)
@@ -127,7 +147,9 @@ def test_a01_pendulum_against_the_exact_solution(method: str, rtol: float, bound
         (2, 10.0, "gen-alpha", 1e-8, 2e-3),
     ],
 )
-def test_a02_n_four_bar_stays_on_its_branch(n: int, t_end: float, method: str, rtol: float, bound: float) -> None:
+def test_a02_n_four_bar_stays_on_its_branch(
+    n: int, t_end: float, method: str, rtol: float, bound: float
+) -> None:
     desc, qd0 = n_four_bar(n)
     model = Model(desc, free=True)
     assert (model.n_coords, model.n_rows, model.dof) == (3 * (2 * n + 1), 2 * (3 * n + 1), 1)
