@@ -77,11 +77,12 @@ fn a_run_out_of_steps_keeps_the_rows_done() {
     let e = simulate(&model, &times, None, None, &opts, &mut out, &mut |_| true).unwrap_err();
     assert!(matches!(e, SolveError::Step { .. }), "{e}");
     assert!(out.n_done > 1 && out.n_done < times.len());
-    for k in 0..out.n_done {
-        assert!((out.q[3 * k] - exact(times[k])).abs() < 1e-8);
+    for (k, &t) in times.iter().enumerate().take(out.n_done) {
+        assert!((out.q[3 * k] - exact(t)).abs() < 1e-8);
     }
     // cancelled from the progress poll: a named error too
     let mut out = SimOutput::new(&model, &times);
-    let e = simulate(&model, &times, None, None, &SimOptions::default(), &mut out, &mut |_| false).unwrap_err();
+    let e =
+        simulate(&model, &times, None, None, &SimOptions::default(), &mut out, &mut |_| false).unwrap_err();
     assert_eq!(e, SolveError::Cancelled { step: 1 });
 }

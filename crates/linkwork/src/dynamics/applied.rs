@@ -3,6 +3,7 @@
 //! inertia term (an off-centre centre of mass: m A u_c w^2). Its exact tangents come from
 //! the jets the loads and bodies already have (forward-mode differentiation in the
 //! directions of every coordinate and rate of the bodies involved): no differences.
+#![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
 use crate::constraints::loads::{Inertia, LoadEntry};
 use crate::constraints::Frame;

@@ -6,6 +6,7 @@
 //! Rows and columns are equilibrated symmetrically (Ruiz) at every factorization, so that
 //! masses, lengths and 1/h^2 of any size meet pivots of one size. Constraint rows are
 //! the engine's scaled ones (length rows / L): lambda here is the scaled multiplier.
+#![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
 use std::collections::HashMap;
 

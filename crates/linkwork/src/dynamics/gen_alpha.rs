@@ -11,6 +11,7 @@
 //! at every factorization. The local error is estimated as Zienkiewicz and Xie do for
 //! Newmark: (beta - 1/6) h^2 (a_{n+1} - a_n), the leading term of the position's error, and
 //! the step adapted to it (order 3 in h). Steps are cut to land on the asked times.
+#![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
 use crate::dynamics::applied::{applied_force, tangents};
 use crate::dynamics::energy::load_power;

@@ -4,9 +4,7 @@
 //! qd), reporting how far each moved; beyond a tolerance, a named error. The augmented
 //! matrix at t0 also tells whether M has mass on every motion the constraints allow.
 
-use crate::constraints::Frame;
 use crate::dynamics::augmented::Augmented;
-use crate::dynamics::mass::frames_of;
 use crate::dynamics::system::System;
 use crate::error::SolveError;
 use crate::model::Model;
@@ -64,12 +62,12 @@ pub fn make_consistent(
     let mut phi = vec![0.0; model.n_rows];
     sys.aug.fill(model, &sys.data.frames, q, t0, 1.0, &mut phi);
     let pivots = sys.aug.factor(0.0);
-    if !(pivots.ratio >= MASSLESS_BELOW) {
+    if pivots.ratio.is_nan() || pivots.ratio < MASSLESS_BELOW {
         return Err(massless(model, &mut sys.aug, t0));
     }
     let (_, _, residual) = sys.project_positions(model, q, t0, model.options.tol_residual);
     let (moved_q, at_q) = largest(model, q, &q0);
-    if !(residual <= model.options.tol_residual) {
+    if residual.is_nan() || residual > model.options.tol_residual {
         return Err(SolveError::Inconsistent {
             what: "positions (no configuration near them satisfies the constraints)",
             moved: moved_q,
@@ -87,7 +85,7 @@ pub fn make_consistent(
     }
     sys.project_velocities(model, q, qd, t0);
     let (moved_qd, at_qd) = largest(model, qd, &qd0);
-    if !(moved_qd <= tol) {
+    if moved_qd.is_nan() || moved_qd > tol {
         return Err(SolveError::Inconsistent {
             what: "velocities",
             moved: moved_qd,
@@ -101,8 +99,9 @@ pub fn make_consistent(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::constraints::Frame;
     use crate::dynamics::applied::tests::loaded_pair;
-    use crate::dynamics::mass::mass_times;
+    use crate::dynamics::mass::{frames_of, mass_times};
 
     /// Positions moved off the constraints by ~1e-4 come back onto them (|phi| at
     /// round-off), the rates onto Phi_q qd = nu, each reporting how far it moved; the

@@ -75,10 +75,10 @@ impl SimOptions {
         if !(0.0..=1.0).contains(&self.rho_inf) {
             return Err(format!("rho_inf must be in [0, 1], not {}", self.rho_inf));
         }
-        if self.h0.is_some_and(|h| !positive(h)) || !(self.h_max > 0.0) {
+        if self.h0.is_some_and(|h| !positive(h)) || self.h_max.is_nan() || self.h_max <= 0.0 {
             return Err(format!("h0 and h_max must be > 0, not {:?} and {}", self.h0, self.h_max));
         }
-        if !(self.ic_tol >= 0.0) {
+        if self.ic_tol.is_nan() || self.ic_tol < 0.0 {
             return Err(format!("ic_tol must be >= 0, not {}", self.ic_tol));
         }
         Ok(())

@@ -19,6 +19,7 @@ pub struct StepInfo {
 
 /// Projects (q, qd) at t onto the constraints and stores row k: qdd and lambda from the
 /// index-1 solve there, the drift before the projection, the energies.
+#[allow(clippy::too_many_arguments)]
 pub fn store_state(
     model: &Model,
     sys: &mut System,
@@ -30,7 +31,7 @@ pub fn store_state(
     info: StepInfo,
 ) -> Result<(), SolveError> {
     let (iterations, drift, residual) = sys.project_positions(model, q, t, 1e-15);
-    if !(residual <= model.options.tol_residual) {
+    if residual.is_nan() || residual > model.options.tol_residual {
         return Err(SolveError::Step {
             step: k,
             time: t,

@@ -6,6 +6,7 @@
 //! at round-off and the motion on the manifold it started on. Step sizes follow Hairer's
 //! error control (the 5th- and 3rd-order estimators combined); results at the asked
 //! times come from the dense output of order 7, then projected the same way.
+#![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
 use crate::dynamics::dop853 as tab;
 use crate::dynamics::energy::load_power;
@@ -16,6 +17,9 @@ use crate::dynamics::system::System;
 use crate::error::SolveError;
 use crate::model::Model;
 use crate::solve::assembly::nu_into;
+
+/// The error scale of component i between two states.
+type Scale<'a> = dyn Fn(&[f64], &[f64], usize) -> f64 + 'a;
 
 const SAFETY: f64 = 0.9;
 const MIN_FACTOR: f64 = 0.2;
@@ -205,7 +209,7 @@ pub fn integrate(
         y.copy_from_slice(&y_new);
         let (qs, rest) = y.split_at_mut(n);
         let (_, _, residual) = sys.project_positions(model, qs, t_new, 1e-15);
-        if !(residual <= model.options.tol_residual) {
+        if residual.is_nan() || residual > model.options.tol_residual {
             return Err(step_error(
                 out,
                 t_new,
@@ -230,14 +234,7 @@ fn step_error(out: &SimOutput, t: f64, h: f64, why: String) -> SolveError {
 }
 
 /// Hairer's error norm of DOP853: the 5th-order estimate, corrected by the 3rd's.
-fn error_norm(
-    k: &[Vec<f64>],
-    h: f64,
-    y: &[f64],
-    y_new: &[f64],
-    n: usize,
-    scale_of: &dyn Fn(&[f64], &[f64], usize) -> f64,
-) -> f64 {
+fn error_norm(k: &[Vec<f64>], h: f64, y: &[f64], y_new: &[f64], n: usize, scale_of: &Scale) -> f64 {
     let (mut e5, mut e3) = (0.0, 0.0);
     for i in 0..2 * n {
         let sc = scale_of(y, y_new, i);
