@@ -217,3 +217,25 @@ def test_a_failed_step_keeps_the_good_ones() -> None:
 def test_method_names_are_checked() -> None:
     with pytest.raises(linkwork.InputError, match="method"):
         Model(pendulum(), free=True).simulate([0.0, 1.0], method="euler")
+
+
+def test_progress_is_reported_and_an_exception_in_it_stops_the_run_keeping_the_rows_done() -> None:
+    model = Model(pendulum(), free=True)
+    t = np.linspace(0.0, 10.0, 101)
+    calls: list[tuple[int, int]] = []
+    model.simulate(t, rtol=1e-10, atol=1e-10, progress=lambda done, total: calls.append((done, total)))
+    assert calls[0][1] == len(t) and calls[-1] == (len(t), len(t))
+    assert [c[0] for c in calls] == sorted(c[0] for c in calls)
+
+    class Stop(Exception):
+        pass
+
+    def stop(done: int, total: int) -> None:
+        if done >= 20:
+            raise Stop
+
+    with pytest.raises(Stop) as info:
+        model.simulate(t, rtol=1e-10, atol=1e-10, progress=stop)
+    partial = info.value.partial  # type: ignore[attr-defined]
+    assert 20 <= partial.n_steps < len(t)
+    assert np.abs(partial.point_at("bar", (1.0, 0.0)).position - pendulum_exact(t[: partial.n_steps])).max() < 1e-8
