@@ -550,8 +550,9 @@ class Model:
         ``times`` (strictly increasing). The GIL is released meanwhile.
 
         The initial conditions are projected onto the constraints first (the smallest
-        change in the mass metric; ``moved_q``, ``moved_qd`` say how far): beyond
-        ``ic_tol`` (scaled: lengths / L) an `InitialConditionError`. A free coordinate
+        change in the mass metric; ``moved_q``, ``moved_qd`` say how far): those given
+        beyond ``ic_tol`` (scaled: lengths / L) raise `InitialConditionError`; the defaults
+        are made consistent with the drivers whatever it takes. A free coordinate
         without mass raises `MasslessError` naming its body.
         ``method``: "rk8" (default; DOP853, the 8th-order Runge-Kutta with error control,
         on the index-1 equations, q and qd projected onto the constraints after every

@@ -44,16 +44,18 @@ pub fn massless(model: &Model, aug: &mut Augmented, t: f64) -> SolveError {
     SolveError::Massless { time: t, body, coordinate: model.columns[col].clone() }
 }
 
-/// Projects q and qd (in place) onto the constraints at t0; `tol` bounds how far each may
-/// move (scaled). Errors: positions or rates moved beyond tol, no mass on a free
-/// coordinate, positions that cannot be projected (no assembly near them).
+/// Projects q and qd (in place) onto the constraints at t0; `tol_q` and `tol_qd` bound
+/// how far each may move (scaled). Errors: positions or rates moved beyond their
+/// tolerance, no mass on a free coordinate, positions that cannot be projected (no
+/// assembly near them).
 pub fn make_consistent(
     model: &Model,
     sys: &mut System,
     q: &mut [f64],
     qd: &mut [f64],
     t0: f64,
-    tol: f64,
+    tol_q: f64,
+    tol_qd: f64,
 ) -> Result<Moved, SolveError> {
     let (q0, qd0) = (q.to_vec(), qd.to_vec());
     // the augmented matrix at the given positions: singular means no mass on some motion
@@ -71,25 +73,25 @@ pub fn make_consistent(
         return Err(SolveError::Inconsistent {
             what: "positions (no configuration near them satisfies the constraints)",
             moved: moved_q,
-            tol,
+            tol: tol_q,
             coordinate: model.columns[at_q].clone(),
         });
     }
-    if moved_q > tol {
+    if moved_q > tol_q {
         return Err(SolveError::Inconsistent {
             what: "positions",
             moved: moved_q,
-            tol,
+            tol: tol_q,
             coordinate: model.columns[at_q].clone(),
         });
     }
     sys.project_velocities(model, q, qd, t0);
     let (moved_qd, at_qd) = largest(model, qd, &qd0);
-    if moved_qd.is_nan() || moved_qd > tol {
+    if moved_qd.is_nan() || moved_qd > tol_qd {
         return Err(SolveError::Inconsistent {
             what: "velocities",
             moved: moved_qd,
-            tol,
+            tol: tol_qd,
             coordinate: model.columns[at_qd].clone(),
         });
     }
@@ -119,7 +121,7 @@ mod tests {
             *x += b;
         }
         let (q0, qd0) = (q.clone(), qd.clone());
-        let moved = make_consistent(&model, &mut sys, &mut q, &mut qd, 0.0, 1.0).unwrap();
+        let moved = make_consistent(&model, &mut sys, &mut q, &mut qd, 0.0, 1.0, 1.0).unwrap();
         let aug = &mut sys.aug;
         let mut frames = vec![Frame::GROUND; model.n_bodies];
         let mut phi = vec![0.0; m];
@@ -158,7 +160,7 @@ mod tests {
         let mut q = model.q_start.clone();
         q[3] += 0.05;
         let mut qd = vec![0.0; 6];
-        let e = make_consistent(&model, &mut sys, &mut q, &mut qd, 0.0, 1e-6).unwrap_err();
+        let e = make_consistent(&model, &mut sys, &mut q, &mut qd, 0.0, 1e-6, 1e-6).unwrap_err();
         assert!(matches!(e, SolveError::Inconsistent { what: "positions", .. }), "{e}");
     }
 }

@@ -37,7 +37,8 @@ pub fn check_times(model: &Model, times: &[f64]) -> Result<(), SolveError> {
 }
 
 /// Simulates the model over `times` (strictly increasing) from q0, qd0 (default: the
-/// drawing at rest), made consistent with the constraints first (`ic_tol`). `poll(rows
+/// drawing at rest), made consistent with the constraints first (those given within
+/// `ic_tol`). `poll(rows
 /// done)` is called every few steps and may return false to cancel. On error, `out`
 /// keeps the rows done (`n_done`).
 pub fn simulate(
@@ -68,7 +69,11 @@ pub fn simulate(
     let mut q = q0.map_or_else(|| model.q_start.clone(), <[f64]>::to_vec);
     let mut qd = qd0.map_or_else(|| vec![0.0; n], <[f64]>::to_vec);
     let mut sys = System::new(model);
-    out.moved = make_consistent(model, &mut sys, &mut q, &mut qd, times[0], opts.ic_tol)?;
+    // what was given is checked against ic_tol; the defaults (the drawing, at rest) are
+    // made consistent whatever it takes (drivers' positions and rates at times[0])
+    let tol = |given: bool| if given { opts.ic_tol } else { f64::INFINITY };
+    out.moved =
+        make_consistent(model, &mut sys, &mut q, &mut qd, times[0], tol(q0.is_some()), tol(qd0.is_some()))?;
     let start = StepInfo { step: 0.0, iterations: 0, work: 0.0 };
     store_state(model, &mut sys, out, 0, times[0], &mut q, &mut qd, start)?;
     match opts.method {
