@@ -28,6 +28,7 @@ __all__ = [
     "write_model",
     "screw_transport",
     "sweep_batch",
+    "simulate",
     "sweep_variants",
     "sensitivities",
     "_check_panic_guard",
@@ -52,6 +53,21 @@ def sweep_batch(
     locks: bool = False,
     branches_of: Model | None = None,
 ) -> list[tuple[dict[str, Any], BaseException | None]]: ...
+def simulate(
+    model: Model,
+    times: npt.NDArray[np.float64],
+    q0: npt.NDArray[np.float64] | None = None,
+    qd0: npt.NDArray[np.float64] | None = None,
+    method: str = "rk8",
+    rtol: float = 1e-8,
+    atol: float = 1e-8,
+    rho_inf: float = 0.9,
+    h0: float | None = None,
+    h_max: float | None = None,
+    max_steps: int | None = None,
+    ic_tol: float = 1e-6,
+    progress: Callable[[int, int], Any] | None = None,
+) -> tuple[dict[str, Any], BaseException | None]: ...
 def sensitivities(
     model: Model,
     times: npt.NDArray[np.float64],
@@ -130,6 +146,7 @@ class Model:
         dense_max: int | None = None,
         redundant: str = "error",
         solver: str = "auto",
+        free: bool = False,
         python_laws: dict[str, Callable[[float], Any]] | None = None,
     ) -> Model: ...
     @property
@@ -140,6 +157,8 @@ class Model:
     def n_coords(self) -> int: ...
     @property
     def n_rows(self) -> int: ...
+    @property
+    def dof(self) -> int: ...
     @property
     def nnz(self) -> int: ...
     @property

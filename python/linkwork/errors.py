@@ -24,7 +24,13 @@
         ├── ConvergenceError    Newton-Raphson did not converge at a later step
         ├── SingularError       Phi_q is singular there (dead point, lock-up, redundancy)
         ├── NonFiniteError      a NaN or infinity appeared
-        └── CancelledError      the sweep was stopped by its progress callback
+        ├── CancelledError      the sweep was stopped by its progress callback
+        ├── FreeModelError      a kinematic solve of a model with free coordinates
+        │                       (``compile(free=True)``): simulate it or add drivers
+        ├── InitialConditionError   initial positions or rates too far from the
+        │                       constraints (projecting them would move them beyond ``ic_tol``)
+        ├── MasslessError       no mass on a free coordinate (names the body)
+        └── IntegrationError    a simulation step failed (``partial``: the steps done)
     InternalError           a bug in linkwork (an engine panic, caught): please report it
     LinkworkWarning         a warning (a UserWarning): e.g. a model file without units whose
                             numbers look like mm or degrees
@@ -55,6 +61,10 @@ __all__ = [
     "SingularError",
     "NonFiniteError",
     "CancelledError",
+    "FreeModelError",
+    "InitialConditionError",
+    "MasslessError",
+    "IntegrationError",
     "InternalError",
     "LinkworkWarning",
 ]
@@ -153,6 +163,27 @@ class NonFiniteError(SolveError):
 
 class CancelledError(SolveError):
     """The sweep was stopped by its progress callback."""
+
+
+class FreeModelError(SolveError):
+    """A kinematic solve (sweep, solve, batch) of a model compiled with free coordinates
+    (``compile(free=True)``): simulate it (``Model.simulate``) or add drivers."""
+
+
+class InitialConditionError(SolveError):
+    """Initial positions or rates that the constraints do not hold: projecting them onto
+    the constraints would move them by more than the tolerance (the message says how far
+    and where)."""
+
+
+class MasslessError(SolveError):
+    """The mass matrix is singular on the motions the constraints allow: a free
+    coordinate without mass; the message names the body."""
+
+
+class IntegrationError(SolveError):
+    """A simulation step could not be taken (the step size fell below its floor, Newton
+    diverged); ``partial`` holds the steps done."""
 
 
 class InternalError(LinkworkError):

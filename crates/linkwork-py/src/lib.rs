@@ -12,6 +12,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+mod dynamics;
 mod events;
 mod laws;
 mod linkages;
@@ -35,6 +36,10 @@ pyo3::import_exception!(linkwork.errors, ConvergenceError);
 pyo3::import_exception!(linkwork.errors, SingularError);
 pyo3::import_exception!(linkwork.errors, NonFiniteError);
 pyo3::import_exception!(linkwork.errors, CancelledError);
+pyo3::import_exception!(linkwork.errors, FreeModelError);
+pyo3::import_exception!(linkwork.errors, InitialConditionError);
+pyo3::import_exception!(linkwork.errors, MasslessError);
+pyo3::import_exception!(linkwork.errors, IntegrationError);
 
 fn model_err(e: ModelError) -> PyErr {
     let inner = match &e {
@@ -99,6 +104,10 @@ fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
         SolveError::TooLarge { .. } | SolveError::Outputs { .. } => (InputError::new_err(msg), None),
         SolveError::Cancelled { .. } => (CancelledError::new_err(msg), None),
         SolveError::Event { time, .. } => (SingularError::new_err(msg), Some(*time)),
+        SolveError::Free { .. } => (FreeModelError::new_err(msg), None),
+        SolveError::Inconsistent { .. } => (InitialConditionError::new_err(msg), None),
+        SolveError::Massless { time, .. } => (MasslessError::new_err(msg), Some(*time)),
+        SolveError::Step { time, .. } => (IntegrationError::new_err(msg), Some(*time)),
     };
     let value = err.value(py);
     // attributes of an exception we created ourselves: setting them cannot fail in practice
@@ -457,7 +466,7 @@ impl PyModel {
     #[new]
     #[pyo3(signature = (description_json, *, tol_residual=None, tol_step=None, max_iter=None,
                         max_iter_assembly=None, singular_tol=None, linear="auto", dense_max=None,
-                        redundant="error", solver="auto", python_laws=None))]
+                        redundant="error", solver="auto", free=false, python_laws=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         description_json: &str,
@@ -470,6 +479,7 @@ impl PyModel {
         dense_max: Option<usize>,
         redundant: &str,
         solver: &str,
+        free: bool,
         python_laws: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let solver = match solver {
@@ -501,6 +511,7 @@ impl PyModel {
             dense_max: dense_max.unwrap_or(d.dense_max),
             redundant,
             solver,
+            free,
         };
         let mut desc = guard("reading a description", || Description::from_json(description_json))?
             .map_err(model_err)?;
@@ -527,6 +538,11 @@ impl PyModel {
     #[getter]
     fn n_rows(&self) -> usize {
         self.model.n_rows
+    }
+    /// Degrees of freedom left free (`free=True`); 0 for a kinematic model.
+    #[getter]
+    fn dof(&self) -> usize {
+        self.model.dof()
     }
     #[getter]
     fn nnz(&self) -> usize {
@@ -852,6 +868,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synthesis::synth_start_set, m)?)?;
     m.add_function(wrap_pyfunction!(synthesis::synth_alt, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamics::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity::sensitivities, m)?)?;
     m.add_function(wrap_pyfunction!(variants::sweep_variants, m)?)?;
     m.add_function(wrap_pyfunction!(panics::_check_panic_guard, m)?)?;

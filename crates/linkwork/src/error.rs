@@ -129,6 +129,28 @@ pub enum SolveError {
     /// The outputs asked for name a coordinate or body the model does not have.
     #[error("outputs: {problem}")]
     Outputs { problem: String },
+    /// A kinematic solve of a model compiled with free coordinates (`Options::free`).
+    #[error(
+        "this model has {dof} free coordinate(s): simulate it (model.simulate) or add drivers \
+         for a kinematic analysis"
+    )]
+    Free { dof: usize },
+    /// Initial conditions too far from the constraints to be made consistent silently.
+    #[error(
+        "inconsistent initial {what}: projecting them onto the constraints moves them by {moved:.3e} \
+         (scaled; tolerance {tol:.3e}), most in {coordinate}"
+    )]
+    Inconsistent { what: &'static str, moved: f64, tol: f64, coordinate: String },
+    /// M is singular on the motions the constraints allow: a free coordinate has no mass.
+    #[error(
+        "no mass on a free coordinate at t = {time}: the mass matrix is singular on the motions the \
+         constraints allow, at {coordinate} (body '{body}'); give it a mass and a moment of inertia, \
+         or drive it"
+    )]
+    Massless { time: f64, body: String, coordinate: String },
+    /// The integrator could not take a step (step size underflow, Newton divergence).
+    #[error("integration failed at step {step} (t = {time}, step size {h:.3e}): {why}")]
+    Step { step: usize, time: f64, h: f64, why: String },
 }
 
 impl SolveError {
@@ -141,8 +163,13 @@ impl SolveError {
             | SolveError::Event { step, .. }
             | SolveError::NonFinite { step, .. }
             | SolveError::Times { step, .. }
-            | SolveError::Cancelled { step } => Some(*step),
-            SolveError::OutOfRange { .. } | SolveError::TooLarge { .. } | SolveError::Outputs { .. } => None,
+            | SolveError::Cancelled { step }
+            | SolveError::Step { step, .. } => Some(*step),
+            SolveError::Inconsistent { .. } | SolveError::Massless { .. } => Some(0),
+            SolveError::OutOfRange { .. }
+            | SolveError::TooLarge { .. }
+            | SolveError::Outputs { .. }
+            | SolveError::Free { .. } => None,
         }
     }
 }

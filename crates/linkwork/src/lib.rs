@@ -9,6 +9,7 @@
 pub mod analysis;
 pub mod compile;
 pub mod constraints;
+pub mod dynamics;
 pub mod error;
 pub mod input;
 pub mod math;

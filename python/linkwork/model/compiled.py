@@ -19,6 +19,7 @@ from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
 from .progress import ProgressBar
 from .results import Kept, Results, State, Statics
+from .simulation import Simulation
 from .structure import Structure
 
 __all__ = ["Model", "Cycle", "sweep_batch"]
@@ -100,6 +101,9 @@ class Model:
     mechanism's structure allows (closed-form dyads, small Newton blocks; ``structure()``
     shows how), the general sparse Newton otherwise and at every step near a singular
     configuration; "general" always the general path.
+    ``free``: True keeps degrees of freedom free: a model with fewer rows than
+    coordinates compiles, its motion following from forces (`simulate`); every kinematic
+    solve refuses it (`FreeModelError`).
     ``python_laws``: name -> function for the description's ``{"type": "python"}`` laws
     (a `Mechanism` passes its own).
     """
@@ -147,6 +151,10 @@ class Model:
         doc="Coordinates: 3 per moving body, then one per joint with its own (a curve parameter).",
     )
     n_rows = property(lambda self: self._core.n_rows, doc="Constraint rows (joints and drivers).")
+    dof = property(
+        lambda self: self._core.dof,
+        doc="Degrees of freedom left free (a model compiled with ``free=True``; 0 otherwise).",
+    )
     columns = property(lambda self: self._columns, doc="Names of the coordinates (do not modify).")
     body_names = property(lambda self: self._body_names, doc="Names of the moving bodies (do not modify).")
     linear = property(lambda self: self._core.linear, doc="'dense' or 'sparse' LU.")
@@ -520,6 +528,75 @@ class Model:
             raise error
         return results
 
+    def simulate(
+        self,
+        times: Sequence[float] | np.ndarray,
+        *,
+        method: str = "rk8",
+        rtol: float = 1e-8,
+        atol: float = 1e-8,
+        q0: Sequence[float] | np.ndarray | None = None,
+        qd0: Sequence[float] | np.ndarray | None = None,
+        rho_inf: float = 0.9,
+        h0: float | None = None,
+        h_max: float | None = None,
+        max_steps: int | None = None,
+        ic_tol: float = 1e-6,
+        progress: Callable[[int, int], Any] | bool | None = None,
+    ) -> Simulation:
+        """Forward dynamics: the motion under gravity, the loads and the drivers of a
+        model compiled with free coordinates (``compile(free=True)``), from ``q0``, ``qd0``
+        (default: the drawing, at rest) at ``times[0]``, reported at every one of
+        ``times`` (strictly increasing). The GIL is released meanwhile.
+
+        The initial conditions are projected onto the constraints first (the smallest
+        change in the mass metric; ``moved_q``, ``moved_qd`` say how far): those given
+        beyond ``ic_tol`` (scaled: lengths / L) raise `InitialConditionError`; the defaults
+        are made consistent with the drivers whatever it takes. A free coordinate
+        without mass raises `MasslessError` naming its body.
+        ``method``: "rk8" (default; DOP853, the 8th-order Runge-Kutta with error control,
+        on the index-1 equations, q and qd projected onto the constraints after every
+        step; the times come from its dense output) or "gen-alpha" (implicit index-3
+        generalized-alpha with spectral radius ``rho_inf``, steps adapted to a local error
+        estimate and cut to land on the times). ``rtol``, ``atol``: the local error
+        allowed per step, atol in the model's length unit for lengths (rad for angles).
+        ``h0``, ``h_max``, ``max_steps``: the first and largest step, the most steps.
+        A failed step raises `IntegrationError` with ``partial``: the times reached.
+        """
+        t = _args.times(times)
+        method = _args.choice(method, "method", ("rk8", "gen-alpha"))
+        rtol = _args.number(rtol, "rtol", positive=True)
+        atol = _args.number(atol, "atol", positive=True)
+        rho_inf = _args.number(rho_inf, "rho_inf")
+        h0 = _args.optional_number(h0, "h0", positive=True)
+        h_max = _args.optional_number(h_max, "h_max", positive=True)
+        max_steps = _args.optional_integer(max_steps, "max_steps", 1)
+        ic_tol = _args.number(ic_tol, "ic_tol")
+        progress = _args.callback(progress, "progress", allow_true=True)
+        callback = ProgressBar() if progress is True else (progress or None)
+        q0a = _args.optional_vector(q0, "q0", self.n_coords)
+        qd0a = _args.optional_vector(qd0, "qd0", self.n_coords)
+        raw, error = _core.simulate(
+            self._core,
+            t,
+            q0a,
+            qd0a,
+            method=method,
+            rtol=rtol,
+            atol=atol,
+            rho_inf=rho_inf,
+            h0=h0,
+            h_max=h_max,
+            max_steps=max_steps,
+            ic_tol=ic_tol,
+            progress=callback,
+        )
+        results = Simulation(self, raw, method)
+        if error is not None:
+            error.partial = results
+            raise error
+        return results
+
     def sensitivities(
         self,
         times: Sequence[float] | np.ndarray,
@@ -642,6 +719,7 @@ def _options(options: dict[str, Any]) -> dict[str, Any]:
         "linear": lambda v, n: _args.choice(v, n, LINEAR),
         "redundant": lambda v, n: _args.choice(v, n, ("error", "solve")),
         "solver": lambda v, n: _args.choice(v, n, ("auto", "general")),
+        "free": lambda v, n: _args.flag(v, n),
         "python_laws": lambda v, n: v if v is None else dict(_args.mapping(v, n)),
     }
     unknown = sorted(set(options) - set(checks))

@@ -201,6 +201,9 @@ impl Model {
         let linear = match options.linear {
             // a redundant model solved anyway: dense QR, least squares (small by nature)
             _ if n_rows > n_coords => LinearKind::LeastSquares,
+            // a free model: never factored by kinematics (refused); the dense layout
+            // (n x n, rows m < n) keeps Data::new valid, dynamics builds its own pattern
+            _ if n_rows < n_coords => LinearKind::Small,
             LinearKind::Auto => LinearKind::Refactor,
             k => k,
         };
@@ -242,7 +245,11 @@ impl Model {
             plan: Err(String::new()),
             closing,
         };
-        model.plan = crate::solve::closed_form::Plan::new(&model);
+        model.plan = if model.dof() > 0 {
+            Err("free model".into())
+        } else {
+            crate::solve::closed_form::Plan::new(&model)
+        };
         Ok(model)
     }
 }
@@ -365,10 +372,14 @@ fn redundancy(
             }
         }
     }
-    if n_rows != n_coords && indeterminate.is_empty() {
+    // free coordinates kept on purpose: their motion follows from forces
+    let free = options.free && n_rows < n_coords;
+    if n_rows != n_coords && indeterminate.is_empty() && !free {
         let dof = n_coords as i64 - n_rows as i64;
         let advice = if dof > 0 {
-            "add drivers (or joints) until none is left"
+            "add drivers (or joints) until none is left for a kinematic analysis; or keep them free and \
+             simulate the motion under forces (Options::free, Python: compile(free=True), then \
+             model.simulate)"
         } else {
             "remove drivers or redundant joints (kinematic analysis needs exactly as many rows as coordinates)"
         };

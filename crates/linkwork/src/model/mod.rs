@@ -46,6 +46,9 @@ pub struct Options {
     /// another (closed-form dyads, small Newton blocks; `blocks`) where its structure
     /// allows, the general sparse Newton otherwise; `General` always the general one.
     pub solver: SolverKind,
+    /// Keep degrees of freedom free: a model with fewer rows than coordinates compiles
+    /// (its motion follows from forces: `dynamics`); every kinematic solve refuses it.
+    pub free: bool,
 }
 
 /// See `Options::solver`.
@@ -83,6 +86,7 @@ impl Default for Options {
             dense_max: 48,
             redundant: OnRedundant::Error,
             solver: SolverKind::Auto,
+            free: false,
         }
     }
 }
@@ -182,6 +186,19 @@ impl Model {
     /// Which linear algebra the model uses.
     pub fn linear_kind(&self) -> LinearKind {
         self.symbolic.kind()
+    }
+
+    /// Degrees of freedom left free (coordinates minus rows; 0 for a kinematic model).
+    pub fn dof(&self) -> usize {
+        self.n_coords.saturating_sub(self.n_rows)
+    }
+
+    /// A kinematic solve needs no free coordinate: the error saying to simulate instead.
+    pub fn check_kinematic(&self) -> Result<(), crate::error::SolveError> {
+        match self.dof() {
+            0 => Ok(()),
+            dof => Err(crate::error::SolveError::Free { dof }),
+        }
     }
 
     /// Number of structurally non-zero entries of Phi_q.

@@ -66,6 +66,7 @@ pub fn solve_position(
     step: usize,
     assembly: bool,
 ) -> Result<PositionInfo, SolveError> {
+    model.check_kinematic()?;
     let opts = &model.options;
     let max_iter = if assembly { opts.max_iter_assembly } else { opts.max_iter };
     let mut residual = f64::NAN;

@@ -22,6 +22,7 @@ use crate::sweep::stepping::tracking::{is_jump, Tracker, JUMP_FLOOR, JUMP_FLOOR_
 /// Checks that the times can be swept: finite, strictly monotone, inside every
 /// driver's table.
 pub fn check_times(model: &Model, times: &[f64]) -> Result<(), SolveError> {
+    model.check_kinematic()?;
     if times.is_empty() {
         return Err(SolveError::Times { step: 0, problem: "no times given".into() });
     }

@@ -1,0 +1,121 @@
+//! Forward dynamics: a free model simulated over times, the GIL released, progress and
+//! Ctrl-C polled every few steps, the rows done kept on failure.
+
+use std::sync::Arc;
+
+use linkwork::dynamics::{Method, SimOptions, SimOutput};
+use numpy::ndarray::Array3;
+use numpy::{IntoPyArray, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::{guard, laws, poll_progress, rows_to_array, InputError, PyModel};
+
+fn optional(a: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Option<Vec<f64>>> {
+    a.map(|a| Ok(a.as_slice()?.to_vec())).transpose()
+}
+
+/// Simulates `model` (compiled with free=True) over `times` from q0, qd0 (default: the
+/// drawing at rest), made consistent first. Returns (dict of arrays, error or None):
+/// "times", "q", "qd", "qdd" (n x n_coords), "lambda" (n x n_rows), "reactions"
+/// (n x n_constraints x 4), "drift", "drift_d", "kinetic", "potential", "work", "step",
+/// "iterations", "pivot_ratio" (n), "n_steps", "n_rejected", "n_evaluations",
+/// "moved_q", "moved_qd". `progress(done, total)` counts the asked times reached.
+#[pyfunction]
+#[pyo3(signature = (model, times, q0=None, qd0=None, method="rk8", rtol=1e-8, atol=1e-8, rho_inf=0.9,
+                    h0=None, h_max=None, max_steps=None, ic_tol=1e-6, progress=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn simulate<'py>(
+    py: Python<'py>,
+    model: PyRef<'py, PyModel>,
+    times: PyReadonlyArray1<'py, f64>,
+    q0: Option<PyReadonlyArray1<'py, f64>>,
+    qd0: Option<PyReadonlyArray1<'py, f64>>,
+    method: &str,
+    rtol: f64,
+    atol: f64,
+    rho_inf: f64,
+    h0: Option<f64>,
+    h_max: Option<f64>,
+    max_steps: Option<usize>,
+    ic_tol: f64,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
+    let method = Method::from_name(method).ok_or_else(|| {
+        InputError::new_err(format!("method must be \"rk8\" or \"gen-alpha\", not {method:?}"))
+    })?;
+    let d = SimOptions::default();
+    let opts = SimOptions {
+        method,
+        rtol,
+        atol,
+        rho_inf,
+        h0,
+        h_max: h_max.unwrap_or(d.h_max),
+        max_steps: max_steps.unwrap_or(d.max_steps),
+        ic_tol,
+    };
+    opts.check().map_err(InputError::new_err)?;
+    let m = Arc::clone(&model.model);
+    let times = times.as_slice()?.to_vec();
+    let (q0, qd0) = (optional(q0)?, optional(qd0)?);
+    let total = times.len();
+    laws::clear(&model.failures);
+    let mut out = SimOutput::new(&m, &times);
+    let (result, interrupt) = py.detach(|| {
+        let mut interrupt: Option<PyErr> = None;
+        let mut poll = |k: usize| poll_progress(&progress, total, k, &mut interrupt);
+        let r = guard("simulating", || {
+            linkwork::dynamics::simulate(
+                &m,
+                &times,
+                q0.as_deref(),
+                qd0.as_deref(),
+                &opts,
+                &mut out,
+                &mut poll,
+            )
+        });
+        (r, interrupt)
+    });
+    if matches!(result, Ok(Ok(()))) {
+        if let Some(cb) = &progress {
+            cb.call1(py, (total, total))?;
+        }
+    }
+    let error = match (result, interrupt) {
+        (Err(panic), _) => Some(panic),
+        (Ok(Ok(())), _) => None,
+        (Ok(Err(_)), Some(py_err)) => Some(py_err),
+        (Ok(Err(e)), None) => Some(model.solve_err(py, &e)),
+    };
+    out.truncate();
+    let (k, n, r, nc) = (out.n_done, out.n_coords, out.n_rows, m.constraints.len());
+    let d = PyDict::new(py);
+    d.set_item("times", out.times.into_pyarray(py))?;
+    d.set_item("q", rows_to_array(py, out.q, k, n))?;
+    d.set_item("qd", rows_to_array(py, out.qd, k, n))?;
+    d.set_item("qdd", rows_to_array(py, out.qdd, k, n))?;
+    d.set_item("lambda", rows_to_array(py, out.lambda, k, r))?;
+    let reactions = Array3::from_shape_vec((k, nc, linkwork::REACTION_COLUMNS), out.reactions)
+        .expect("n x constraints x 4 buffer");
+    d.set_item("reactions", reactions.into_pyarray(py))?;
+    for (name, v) in [
+        ("drift", out.drift),
+        ("drift_d", out.drift_d),
+        ("kinetic", out.kinetic),
+        ("potential", out.potential),
+        ("work", out.work),
+        ("step", out.step),
+        ("pivot_ratio", out.pivot_ratio),
+    ] {
+        d.set_item(name, v.into_pyarray(py))?;
+    }
+    d.set_item("iterations", out.iterations.into_pyarray(py))?;
+    d.set_item("n_steps", out.n_steps)?;
+    d.set_item("n_rejected", out.n_rejected)?;
+    d.set_item("n_evaluations", out.n_evaluations)?;
+    d.set_item("moved_q", out.moved.q)?;
+    d.set_item("moved_qd", out.moved.qd)?;
+    Ok((d, error))
+}

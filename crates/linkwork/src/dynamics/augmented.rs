@@ -1,0 +1,368 @@
+//! The augmented matrix [[A, Phi_q^T], [Phi_q, 0]] of the equations of motion: A is M for
+//! the index-1 solve of (qdd, lambda), M c_m + C c_c + K c_k for an implicit step's
+//! Newton iteration. One pattern (each body's 3 x 3 block, the blocks that loads couple,
+//! the constraints' Jacobian and its transpose, every diagonal entry) is compiled once;
+//! each step writes values in place and the fixed-pivot `SparseLu` replays its program.
+//! Rows and columns are equilibrated symmetrically (Ruiz) at every factorization, so that
+//! masses, lengths and 1/h^2 of any size meet pivots of one size. Constraint rows are
+//! the engine's scaled ones (length rows / L): lambda here is the scaled multiplier.
+#![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
+
+use std::collections::HashMap;
+
+use crate::constraints::{Constraint, Frame, Rows, MAX_ROWS};
+use crate::dynamics::applied::TangentBlock;
+use crate::dynamics::mass::mass_block;
+use crate::math::pivots::Pivots;
+use crate::math::sparse_lu::{colamd_order, SparseLu};
+use crate::model::Model;
+
+/// A pivot ratio below this makes `factor_solve` regularise: the constraints are near a
+/// singular configuration, where an exact solve would amplify the state's small
+/// inconsistencies (a stage off the constraints by its truncation error) along the
+/// directions the rows stop constraining, and push the motion onto another branch.
+pub const REGULARISE_BELOW: f64 = 1e-4;
+/// The regularisation, -mu on the multipliers' diagonal of the equilibrated matrix: the
+/// rows' components with singular values below sqrt(mu) are relaxed. Chosen on the N-four-bar
+/// (A02): 1e-8 costs accuracy near every crossing (a floor near 5e-9), 1e-10 lets the
+/// amplification through (errors 3e-8 and branch jumps at 1e-11).
+const MU: f64 = 1e-9;
+/// Refinement sweeps of a regularised solve: the components well above sqrt(mu) converge
+/// (by mu / sigma^2 each sweep), those below stay relaxed.
+const REFINE: usize = 5;
+
+/// Slots of one constraint's Jacobian entries (and of their transposes).
+#[derive(Debug, Clone, Copy)]
+struct JacSlots {
+    a: [[u32; 3]; MAX_ROWS],
+    b: [[u32; 3]; MAX_ROWS],
+    s: [u32; MAX_ROWS],
+    at: [[u32; 3]; MAX_ROWS],
+    bt: [[u32; 3]; MAX_ROWS],
+    st: [u32; MAX_ROWS],
+}
+
+/// The compiled pattern, its values and factors (n coordinates, m rows).
+#[derive(Debug, Clone)]
+pub struct Augmented {
+    pub n: usize,
+    pub m: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    lu: SparseLu,
+    /// values in the pattern's order (unscaled)
+    pub values: Vec<f64>,
+    scaled: Vec<f64>,
+    /// the symmetric equilibration of the last factorization
+    scale: Vec<f64>,
+    blocks: HashMap<(usize, usize), [u32; 9]>,
+    jac: Vec<JacSlots>,
+    diag: Vec<u32>,
+    /// whether the last factorization was regularised
+    pub regularised: bool,
+    work: Vec<f64>,
+}
+
+impl Augmented {
+    pub fn new(model: &Model) -> Augmented {
+        let (n, m) = (model.n_coords, model.n_rows);
+        let mut cells: Vec<(usize, usize)> = Vec::new();
+        let block = |cells: &mut Vec<(usize, usize)>, a: usize, b: usize| {
+            for j in 0..3 {
+                for k in 0..3 {
+                    cells.push((3 * a + j, 3 * b + k));
+                }
+            }
+        };
+        let mut pairs = Vec::new();
+        for i in 0..model.n_bodies {
+            pairs.push((i, i));
+        }
+        for l in &model.loads {
+            if let (Some(a), Some(b)) = (l.body_a, l.body_b) {
+                pairs.extend([(a, b), (b, a)]);
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        for &(a, b) in &pairs {
+            block(&mut cells, a, b);
+        }
+        for k in 0..n + m {
+            cells.push((k, k));
+        }
+        for c in &model.constraints {
+            for i in 0..c.n_rows {
+                let r = n + c.row0 + i;
+                for body in [c.body_a, c.body_b].into_iter().flatten() {
+                    for j in 0..3 {
+                        cells.extend([(r, 3 * body + j), (3 * body + j, r)]);
+                    }
+                }
+                if let Some(s) = c.extra {
+                    cells.extend([(r, s), (s, r)]);
+                }
+            }
+        }
+        let size = n + m;
+        let mut entries: Vec<(usize, usize)> = cells.iter().map(|&(r, c)| (c, r)).collect();
+        entries.sort_unstable();
+        entries.dedup();
+        let mut col_ptr = vec![0usize; size + 1];
+        for &(c, _) in &entries {
+            col_ptr[c + 1] += 1;
+        }
+        for c in 0..size {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let row_idx: Vec<usize> = entries.iter().map(|&(_, r)| r).collect();
+        let slot = |r: usize, c: usize| -> u32 {
+            let range = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+            (col_ptr[c] + range.binary_search(&r).expect("entry in the pattern")) as u32
+        };
+        let blocks = pairs
+            .iter()
+            .map(|&(a, b)| ((a, b), std::array::from_fn(|e| slot(3 * a + e / 3, 3 * b + e % 3))))
+            .collect();
+        let none = [[u32::MAX; 3]; MAX_ROWS];
+        let jac = model
+            .constraints
+            .iter()
+            .map(|c| {
+                let mut s = JacSlots {
+                    a: none,
+                    b: none,
+                    s: [u32::MAX; MAX_ROWS],
+                    at: none,
+                    bt: none,
+                    st: [u32::MAX; MAX_ROWS],
+                };
+                for i in 0..c.n_rows {
+                    let r = n + c.row0 + i;
+                    for j in 0..3 {
+                        if let Some(a) = c.body_a {
+                            s.a[i][j] = slot(r, 3 * a + j);
+                            s.at[i][j] = slot(3 * a + j, r);
+                        }
+                        if let Some(b) = c.body_b {
+                            s.b[i][j] = slot(r, 3 * b + j);
+                            s.bt[i][j] = slot(3 * b + j, r);
+                        }
+                    }
+                    if let Some(k) = c.extra {
+                        s.s[i] = slot(r, k);
+                        s.st[i] = slot(k, r);
+                    }
+                }
+                s
+            })
+            .collect();
+        let diag = (0..size).map(|k| slot(k, k)).collect();
+        let order = colamd_order(size, &col_ptr, &row_idx);
+        let lu = SparseLu::new(size, &col_ptr, &row_idx, &order);
+        let nnz = row_idx.len();
+        Augmented {
+            n,
+            m,
+            col_ptr,
+            row_idx,
+            lu,
+            values: vec![0.0; nnz],
+            scaled: vec![0.0; nnz],
+            scale: vec![1.0; size],
+            blocks,
+            jac,
+            diag,
+            regularised: false,
+            work: vec![0.0; 2 * size],
+        }
+    }
+
+    /// Writes c_m M(q) in the top-left block (zeroing the rest of it), Phi_q and Phi_q^T
+    /// (scaled rows) at the frames and q (own coordinates), and phi into `phi` (m).
+    pub fn fill(&mut self, model: &Model, frames: &[Frame], q: &[f64], t: f64, c_m: f64, phi: &mut [f64]) {
+        self.values.fill(0.0);
+        for (i, body) in model.inertias.iter().enumerate() {
+            let mb = mass_block(body, &frames[i]);
+            let slots = self.blocks[&(i, i)];
+            for e in 0..9 {
+                self.values[slots[e] as usize] = c_m * mb[e / 3][e % 3];
+            }
+        }
+        for (c, s) in model.constraints.iter().zip(&self.jac) {
+            let side = |b: Option<usize>| b.map_or(&Frame::GROUND, |i| &frames[i]);
+            let mut rows = Rows::default();
+            let extra = c.extra(q, &[]);
+            c.kind.position(side(c.body_a), side(c.body_b), &extra, t, &mut rows);
+            for i in 0..c.n_rows {
+                let rs = c.row_scale[i];
+                phi[c.row0 + i] = rows.phi[i] * rs;
+                for j in 0..3 {
+                    if c.body_a.is_some() {
+                        self.values[s.a[i][j] as usize] = rows.jac_a[i][j] * rs;
+                        self.values[s.at[i][j] as usize] = rows.jac_a[i][j] * rs;
+                    }
+                    if c.body_b.is_some() {
+                        self.values[s.b[i][j] as usize] = rows.jac_b[i][j] * rs;
+                        self.values[s.bt[i][j] as usize] = rows.jac_b[i][j] * rs;
+                    }
+                }
+                if c.extra.is_some() {
+                    self.values[s.s[i] as usize] += rows.jac_s[i] * rs;
+                    self.values[s.st[i] as usize] += rows.jac_s[i] * rs;
+                }
+            }
+        }
+    }
+
+    /// Adds c_k K + c_c C of one tangent block to the top-left block.
+    pub fn add_tangent(&mut self, b: &TangentBlock, c_k: f64, c_c: f64) {
+        let slots = self.blocks[&(b.row, b.col)];
+        for e in 0..9 {
+            self.values[slots[e] as usize] += c_k * b.k[e / 3][e % 3] + c_c * b.c[e / 3][e % 3];
+        }
+    }
+
+    /// Adds v to the diagonal entry k.
+    pub fn add_diagonal(&mut self, k: usize, v: f64) {
+        self.values[self.diag[k] as usize] += v;
+    }
+
+    /// phi_q qd (m): the constraints' rates from the Jacobian in `values`.
+    pub fn jacobian_times(&self, x: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        let n = self.n;
+        for c in 0..n {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let r = self.row_idx[p];
+                if r >= n {
+                    out[r - n] += self.values[p] * x[c];
+                }
+            }
+        }
+    }
+
+    /// Phi_q^T y (n): the multipliers' generalized forces.
+    pub fn jacobian_transpose_times(&self, y: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        let n = self.n;
+        for c in 0..n {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let r = self.row_idx[p];
+                if r >= n {
+                    out[c] += self.values[p] * y[r - n];
+                }
+            }
+        }
+    }
+
+    /// r = b - A x with the unregularised values.
+    fn residual(&self, x: &[f64], b: &[f64], r: &mut [f64]) {
+        r.copy_from_slice(b);
+        for c in 0..self.n + self.m {
+            let xc = x[c];
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                r[self.row_idx[p]] -= self.values[p] * xc;
+            }
+        }
+    }
+
+    /// Equilibrates (Ruiz, symmetric: a few sweeps of 1 / sqrt of each row's largest
+    /// entry) and factors, with -mu on the multipliers' diagonal of the equilibrated
+    /// matrix. Returns the pivots.
+    pub fn factor(&mut self, mu: f64) -> Pivots {
+        let size = self.n + self.m;
+        self.scale.fill(1.0);
+        let big = &mut self.work[..size];
+        for _ in 0..3 {
+            big.fill(0.0);
+            for c in 0..size {
+                for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                    let r = self.row_idx[p];
+                    let v = (self.values[p] * self.scale[r] * self.scale[c]).abs();
+                    big[c] = big[c].max(v);
+                }
+            }
+            for (s, b) in self.scale.iter_mut().zip(big.iter()) {
+                if *b > 0.0 && b.is_finite() {
+                    *s /= b.sqrt();
+                }
+            }
+        }
+        for c in 0..size {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                self.scaled[p] = self.values[p] * self.scale[self.row_idx[p]] * self.scale[c];
+            }
+        }
+        if mu > 0.0 {
+            for k in self.n..size {
+                self.scaled[self.diag[k] as usize] -= mu;
+            }
+        }
+        self.regularised = mu > 0.0;
+        self.lu.factor(&self.scaled)
+    }
+
+    /// Solves with the last factors: b in, x out (in place).
+    pub fn solve(&mut self, b: &mut [f64]) {
+        for (x, s) in b.iter_mut().zip(&self.scale) {
+            *x *= s;
+        }
+        self.lu.solve(b);
+        for (x, s) in b.iter_mut().zip(&self.scale) {
+            *x *= s;
+        }
+    }
+
+    /// Factors and solves A x = b (x in `b` on return). Near a singular configuration
+    /// (pivot ratio below `REGULARISE_BELOW`: the constraints' rows close to dependent, the
+    /// multipliers not unique) the regularised matrix is factored instead and the solution
+    /// refined against A a few times (augmented-Lagrangian iterations, as in Bayo and
+    /// Ledesma's ALI3-P): what the rows determine converges, the nearly dependent
+    /// directions stay relaxed. Returns the pivots of A.
+    pub fn factor_solve(&mut self, b: &mut [f64]) -> Pivots {
+        let (mu, refine, below) = (MU, REFINE, REGULARISE_BELOW);
+        let pivots = self.factor(0.0);
+        if pivots.ratio >= below {
+            self.solve(b);
+            return pivots;
+        }
+        self.factor(mu);
+        let size = self.n + self.m;
+        let rhs = b.to_vec();
+        let mut x = vec![0.0; size];
+        let mut r = rhs.clone();
+        let norm_b = rhs.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE);
+        for _ in 0..refine {
+            self.solve(&mut r);
+            for (xi, d) in x.iter_mut().zip(&r) {
+                *xi += d;
+            }
+            self.residual(&x, &rhs, &mut r);
+            if r.iter().fold(0.0f64, |m, v| m.max(v.abs())) <= 1e-14 * norm_b {
+                break;
+            }
+        }
+        b.copy_from_slice(&x);
+        pivots
+    }
+
+    /// The column of the coordinate most involved in a (near) null direction of A: one
+    /// inverse iteration with the equilibrated matrix shifted to quasi-definite (+d on the
+    /// coordinates, -d on the multipliers), from a vector of ones on the coordinates. Names
+    /// the body a singular M leaves free.
+    pub fn null_coordinate(&mut self) -> usize {
+        let size = self.n + self.m;
+        self.factor(1e-9);
+        for k in 0..self.n {
+            self.scaled[self.diag[k] as usize] += 1e-9;
+        }
+        self.lu.factor(&self.scaled);
+        let mut y = vec![0.0; size];
+        for (k, v) in y.iter_mut().enumerate().take(self.n) {
+            *v = 1.0 + 0.1 * (k as f64).sin();
+        }
+        self.lu.solve(&mut y);
+        (0..self.n).max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs())).unwrap_or(0)
+    }
+}

@@ -1,0 +1,209 @@
+//! Implicit index-3 generalized-alpha (Arnold and Bruls 2007; Chung and Hulbert's
+//! parameters from rho_inf): with the pseudo-acceleration a,
+//!   (1 - a_m) a_{n+1} + a_m a_n = (1 - a_f) qdd_{n+1} + a_f qdd_n,
+//!   q_{n+1} = q_n + h qd_n + h^2 (1/2 - beta) a_n + h^2 beta a_{n+1},
+//!   qd_{n+1} = qd_n + h (1 - gamma) a_n + h gamma a_{n+1},
+//! and the equations of motion and Phi(q, t) = 0 at t_{n+1} solved by Newton in the
+//! position increment on the iteration matrix
+//!   [[M / (beta' h^2) + C gamma' / (beta' h) + K, Phi_q^T], [Phi_q, 0]]
+//! (beta' = beta (1 - a_f) / (1 - a_m), gamma' likewise; K, C the exact tangents of
+//! M qdd - Q_A; the constraint forces' own stiffness left out: a quasi-Newton), equilibrated
+//! at every factorization. The local error is estimated as Zienkiewicz and Xie do for
+//! Newmark: (beta - 1/6) h^2 (a_{n+1} - a_n), the leading term of the position's error, and
+//! the step adapted to it (order 3 in h). Steps are cut to land on the asked times.
+#![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
+
+use crate::dynamics::applied::{applied_force, tangents};
+use crate::dynamics::energy::load_power;
+use crate::dynamics::mass::mass_times;
+use crate::dynamics::options::SimOptions;
+use crate::dynamics::output::SimOutput;
+use crate::dynamics::record::{store_state, StepInfo};
+use crate::dynamics::system::{max_abs, System};
+use crate::error::SolveError;
+use crate::model::Model;
+use crate::solve::assembly::nu_into;
+
+/// Newton iterations per step before it is retried smaller.
+const MAX_NEWTON: usize = 12;
+const SAFETY: f64 = 0.9;
+const MIN_FACTOR: f64 = 0.2;
+const MAX_FACTOR: f64 = 5.0;
+const POLL_EVERY: usize = 64;
+
+/// The method's constants from rho_inf.
+#[derive(Debug, Clone, Copy)]
+pub struct Coefficients {
+    pub alpha_m: f64,
+    pub alpha_f: f64,
+    pub beta: f64,
+    pub gamma: f64,
+}
+
+impl Coefficients {
+    pub fn new(rho_inf: f64) -> Coefficients {
+        let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+        let alpha_f = rho_inf / (rho_inf + 1.0);
+        let gamma = 0.5 + alpha_f - alpha_m;
+        let beta = 0.25 * (gamma + 0.5) * (gamma + 0.5);
+        Coefficients { alpha_m, alpha_f, beta, gamma }
+    }
+}
+
+/// Integrates from out's row 0 (q, qd consistent at times[0]) to the last time.
+pub fn integrate(
+    model: &Model,
+    sys: &mut System,
+    opts: &SimOptions,
+    q: &[f64],
+    qd: &[f64],
+    out: &mut SimOutput,
+    poll: &mut dyn FnMut(usize) -> bool,
+) -> Result<(), SolveError> {
+    let (n, m) = (model.n_coords, model.n_rows);
+    let co = Coefficients::new(opts.rho_inf);
+    let times = out.times.clone();
+    let t_end = *times.last().expect("times checked non-empty");
+    let (mut q, mut qd) = (q.to_vec(), qd.to_vec());
+    let (mut qdd, mut lambda) = (vec![0.0; n], vec![0.0; m]);
+    let mut t = times[0];
+    sys.accelerations(model, &q, &qd, t, &mut qdd, &mut lambda);
+    let mut a = qdd.clone();
+    let mut nu = vec![0.0; m];
+    let power = |sys: &System, lambda: &[f64], nu: &mut [f64], t: f64| {
+        nu_into(model, t, nu);
+        load_power(model, sys.frames(), t) - lambda.iter().zip(nu.iter()).map(|(l, v)| l * v).sum::<f64>()
+    };
+    sys.set_state(&q, &qd);
+    let mut p_old = power(sys, &lambda, &mut nu, t);
+    let mut work = 0.0;
+    let scale: Vec<f64> = model.col_scale.iter().map(|s| opts.atol * s).collect();
+    // the first step: a small fraction of the first interval, then adapted
+    let mut h_nat = opts.h0.unwrap_or(((times[1.min(times.len() - 1)] - t).max(t_end - t) * 1e-3).max(1e-9));
+    h_nat = h_nat.min(opts.h_max);
+    let (mut q1, mut qd1, mut qdd1, mut lambda1, mut a1) =
+        (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; m], vec![0.0; n]);
+    let (mut qa, mut mq, mut pl) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut phi = vec![0.0; m];
+    let mut rhs = vec![0.0; n + m];
+    let mut next = 1;
+    while next < times.len() {
+        if out.n_steps >= opts.max_steps {
+            return Err(step_error(
+                out,
+                t,
+                h_nat,
+                format!("{} steps taken, the most allowed (max_steps)", out.n_steps),
+            ));
+        }
+        if out.n_steps % POLL_EVERY == 0 && !poll(out.n_done) {
+            return Err(SolveError::Cancelled { step: out.n_done });
+        }
+        let min_step = 10.0 * (t.abs() * f64::EPSILON).max(f64::MIN_POSITIVE);
+        let to_next = times[next] - t;
+        let h = h_nat.min(to_next);
+        if h < min_step {
+            return Err(step_error(out, t, h, "the step size fell below its floor (10 ulp of t)".into()));
+        }
+        let lands = h == to_next;
+        let t1 = if lands { times[next] } else { t + h };
+        let beta_p = co.beta * (1.0 - co.alpha_f) / (1.0 - co.alpha_m);
+        let gamma_p = co.gamma * (1.0 - co.alpha_f) / (1.0 - co.alpha_m);
+        // predictor: the acceleration and multipliers kept
+        qdd1.copy_from_slice(&qdd);
+        lambda1.copy_from_slice(&lambda);
+        let pseudo = |qdd1: &[f64], a1: &mut [f64]| {
+            for i in 0..n {
+                a1[i] = ((1.0 - co.alpha_f) * qdd1[i] + co.alpha_f * qdd[i] - co.alpha_m * a[i])
+                    / (1.0 - co.alpha_m);
+            }
+        };
+        pseudo(&qdd1, &mut a1);
+        for i in 0..n {
+            q1[i] = q[i] + h * qd[i] + h * h * ((0.5 - co.beta) * a[i] + co.beta * a1[i]);
+            qd1[i] = qd[i] + h * ((1.0 - co.gamma) * a[i] + co.gamma * a1[i]);
+        }
+        let (c_m, c_c) = (1.0 / (beta_p * h * h), gamma_p / (beta_p * h));
+        let mut converged = false;
+        let mut iterations = 0;
+        for it in 1..=MAX_NEWTON {
+            iterations = it;
+            sys.set_state(&q1, &qd1);
+            sys.aug.fill(model, &sys.data.frames, &q1, t1, c_m, &mut phi);
+            applied_force(model, &sys.data.frames, t1, &mut qa);
+            mass_times(model, &sys.data.frames, &qdd1, &mut mq);
+            sys.aug.jacobian_transpose_times(&lambda1, &mut pl);
+            for i in 0..n {
+                rhs[i] = qa[i] - mq[i] - pl[i];
+            }
+            for (r, p) in rhs[n..].iter_mut().zip(&phi) {
+                *r = -p;
+            }
+            let System { aug, loads, .. } = &mut *sys;
+            tangents(model, loads, &q1, &qd1, &qdd1, t1, &mut |b| aug.add_tangent(&b, 1.0, c_c));
+            sys.aug.factor_solve(&mut rhs);
+            if !rhs.iter().all(|v| v.is_finite()) {
+                break;
+            }
+            let mut size = 0.0f64;
+            for i in 0..n {
+                let d = rhs[i];
+                q1[i] += d;
+                qd1[i] += c_c * d;
+                qdd1[i] += c_m * d;
+                size = size.max(d.abs() / (scale[i] + opts.rtol * q1[i].abs()));
+            }
+            for (l, d) in lambda1.iter_mut().zip(&rhs[n..]) {
+                *l += d;
+            }
+            if size <= 1e-3 && max_abs(&phi) <= model.options.tol_residual.max(1e-3 * opts.atol) {
+                converged = true;
+                break;
+            }
+        }
+        out.n_steps += 1;
+        if !converged {
+            out.n_rejected += 1;
+            h_nat = h * 0.25;
+            continue;
+        }
+        pseudo(&qdd1, &mut a1);
+        // Zienkiewicz-Xie: the position error's leading term, (beta - 1/6) h^2 (a1 - a)
+        let c_err = (co.beta - 1.0 / 6.0).abs() * h * h;
+        let err = (0..n).fold(0.0f64, |e, i| {
+            e.max(c_err * (a1[i] - a[i]).abs() / (scale[i] + opts.rtol * q1[i].abs().max(q[i].abs())))
+        });
+        let factor = if err == 0.0 { MAX_FACTOR } else { MAX_FACTOR.min(SAFETY * err.powf(-1.0 / 3.0)) };
+        if err > 1.0 {
+            out.n_rejected += 1;
+            h_nat = h * factor.max(MIN_FACTOR);
+            continue;
+        }
+        // accepted
+        q.copy_from_slice(&q1);
+        qd.copy_from_slice(&qd1);
+        qdd.copy_from_slice(&qdd1);
+        lambda.copy_from_slice(&lambda1);
+        a.copy_from_slice(&a1);
+        sys.set_state(&q, &qd);
+        let p_new = power(sys, &lambda, &mut nu, t1);
+        work += 0.5 * h * (p_old + p_new);
+        p_old = p_new;
+        t = t1;
+        out.n_evaluations += iterations;
+        if !lands || h >= h_nat {
+            h_nat = (h * factor).min(opts.h_max);
+        }
+        if lands {
+            let (mut qs, mut qds) = (q.clone(), qd.clone());
+            let info = StepInfo { step: h, iterations: iterations as u32, work };
+            store_state(model, sys, out, next, t, &mut qs, &mut qds, info)?;
+            next += 1;
+        }
+    }
+    Ok(())
+}
+
+fn step_error(out: &SimOutput, t: f64, h: f64, why: String) -> SolveError {
+    SolveError::Step { step: out.n_done, time: t, h, why: format!("{why}; {} steps taken", out.n_steps) }
+}

@@ -1,0 +1,290 @@
+//! The higher-order path: DOP853 (`dop853`) on the index-1 equations of motion,
+//! y = (q, qd, W) with y' = (qd, qdd(q, qd, t), P_nc), qdd from the augmented solve at
+//! every stage (`System::accelerations`, regularised where the constraints are singular).
+//! After every accepted step q and qd are projected onto Phi = 0 and Phi_q qd = nu
+//! (coordinate projection, the smallest change in the mass metric), which keeps the drift
+//! at round-off and the motion on the manifold it started on. Step sizes follow Hairer's
+//! error control (the 5th- and 3rd-order estimators combined); results at the asked
+//! times come from the dense output of order 7, then projected the same way.
+#![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
+
+use crate::dynamics::dop853 as tab;
+use crate::dynamics::energy::load_power;
+use crate::dynamics::options::SimOptions;
+use crate::dynamics::output::SimOutput;
+use crate::dynamics::record::{store_state, StepInfo};
+use crate::dynamics::system::System;
+use crate::error::SolveError;
+use crate::model::Model;
+use crate::solve::assembly::nu_into;
+
+/// The error scale of component i between two states.
+type Scale<'a> = dyn Fn(&[f64], &[f64], usize) -> f64 + 'a;
+
+const SAFETY: f64 = 0.9;
+const MIN_FACTOR: f64 = 0.2;
+const MAX_FACTOR: f64 = 10.0;
+/// Steps between two polls of progress and cancellation.
+const POLL_EVERY: usize = 32;
+
+/// The right-hand side and its scratch.
+struct Rhs {
+    n: usize,
+    qdd: Vec<f64>,
+    lambda: Vec<f64>,
+    nu: Vec<f64>,
+    evaluations: usize,
+}
+
+impl Rhs {
+    /// f = (qd, qdd, P_nc) at (t, y); false if anything is not finite.
+    fn eval(&mut self, model: &Model, sys: &mut System, t: f64, y: &[f64], f: &mut [f64]) -> bool {
+        let n = self.n;
+        self.evaluations += 1;
+        sys.accelerations(model, &y[..n], &y[n..2 * n], t, &mut self.qdd, &mut self.lambda);
+        f[..n].copy_from_slice(&y[n..2 * n]);
+        f[n..2 * n].copy_from_slice(&self.qdd);
+        nu_into(model, t, &mut self.nu);
+        let constraint_power: f64 = -self.lambda.iter().zip(&self.nu).map(|(l, v)| l * v).sum::<f64>();
+        f[2 * n] = load_power(model, sys.frames(), t) + constraint_power;
+        f.iter().all(|v| v.is_finite())
+    }
+}
+
+/// Integrates from out's row 0 (stored: q, qd consistent at times[0], work 0) to the last
+/// time, storing every asked time. On error the rows done stay in `out`.
+pub fn integrate(
+    model: &Model,
+    sys: &mut System,
+    opts: &SimOptions,
+    q: &[f64],
+    qd: &[f64],
+    out: &mut SimOutput,
+    poll: &mut dyn FnMut(usize) -> bool,
+) -> Result<(), SolveError> {
+    let n = model.n_coords;
+    let len = 2 * n + 1;
+    let times = out.times.clone();
+    let t_end = *times.last().expect("times checked non-empty");
+    let mut rhs = Rhs {
+        n,
+        qdd: vec![0.0; n],
+        lambda: vec![0.0; model.n_rows],
+        nu: vec![0.0; model.n_rows],
+        evaluations: 0,
+    };
+    let mut y = vec![0.0; len];
+    y[..n].copy_from_slice(q);
+    y[n..2 * n].copy_from_slice(qd);
+    let mut t = times[0];
+    let mut k: Vec<Vec<f64>> = vec![vec![0.0; len]; tab::STAGES_EXTENDED];
+    let mut f = vec![0.0; len];
+    if !rhs.eval(model, sys, t, &y, &mut f) {
+        return Err(SolveError::NonFinite {
+            step: 0,
+            time: t,
+            what: "the accelerations at the start".into(),
+        });
+    }
+    // the error's scale per controlled component (q and qd): atol in the model's units
+    let abs_scale: Vec<f64> = model.col_scale.iter().chain(&model.col_scale).map(|s| opts.atol * s).collect();
+    let scale_of = |a: &[f64], b: &[f64], i: usize| abs_scale[i] + opts.rtol * a[i].abs().max(b[i].abs());
+    let rms = |v: &[f64], y: &[f64]| {
+        (v[..2 * n].iter().enumerate().map(|(i, x)| (x / scale_of(y, y, i)).powi(2)).sum::<f64>()
+            / (2 * n) as f64)
+            .sqrt()
+    };
+    let mut h = match opts.h0 {
+        Some(h) => h,
+        None => {
+            // Hairer's starting step: from the sizes of y, f and of f's change
+            let (d0, d1) = (rms(&y, &y), rms(&f, &y));
+            let h0 = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };
+            let y1: Vec<f64> = y.iter().zip(&f).map(|(a, b)| a + h0 * b).collect();
+            let mut f1 = vec![0.0; len];
+            rhs.eval(model, sys, t + h0, &y1, &mut f1);
+            let df: Vec<f64> = f1.iter().zip(&f).map(|(a, b)| a - b).collect();
+            let d2 = rms(&df, &y) / h0;
+            let h1 =
+                if d1.max(d2) <= 1e-15 { (h0 * 1e-3).max(1e-6) } else { (0.01 / d1.max(d2)).powf(1.0 / 8.0) };
+            (100.0 * h0).min(h1)
+        }
+    }
+    .min(opts.h_max);
+    let mut next = 1;
+    let mut y_new = vec![0.0; len];
+    let mut stage = vec![0.0; len];
+    let mut dense: Vec<Vec<f64>> = vec![vec![0.0; len]; tab::INTERPOLATOR_POWER];
+    let mut y_out = vec![0.0; len];
+    let mut rejected = false;
+    while next < times.len() {
+        if out.n_steps >= opts.max_steps {
+            return Err(step_error(
+                out,
+                t,
+                h,
+                format!("{} steps taken, the most allowed (max_steps)", out.n_steps),
+            ));
+        }
+        if out.n_steps % POLL_EVERY == 0 && !poll(out.n_done) {
+            return Err(SolveError::Cancelled { step: out.n_done });
+        }
+        // one step from (t, y) with f = y'(t): retried smaller until its error passes
+        let min_step = 10.0 * (t.abs() * f64::EPSILON).max(f64::MIN_POSITIVE);
+        let (h_step, factor) = loop {
+            h = h.min(t_end - t);
+            if h < min_step {
+                return Err(step_error(out, t, h, "the step size fell below its floor (10 ulp of t)".into()));
+            }
+            k[0].copy_from_slice(&f);
+            let mut finite = true;
+            for s in 1..tab::STAGES {
+                for i in 0..len {
+                    let dy: f64 = (0..s).map(|j| tab::A[s][j] * k[j][i]).sum();
+                    stage[i] = y[i] + h * dy;
+                }
+                let (head, tail) = k.split_at_mut(s);
+                let _ = head;
+                finite &= rhs.eval(model, sys, t + tab::C[s] * h, &stage, &mut tail[0]);
+                if !finite {
+                    break;
+                }
+            }
+            if finite {
+                for i in 0..len {
+                    let dy: f64 = (0..tab::STAGES).map(|j| tab::B[j] * k[j][i]).sum();
+                    y_new[i] = y[i] + h * dy;
+                }
+                let (head, tail) = k.split_at_mut(tab::STAGES);
+                let _ = head;
+                finite = rhs.eval(model, sys, t + h, &y_new, &mut tail[0]);
+            }
+            let error = if finite { error_norm(&k, h, &y, &y_new, n, &scale_of) } else { f64::INFINITY };
+            out.n_steps += 1;
+            if error < 1.0 {
+                let mut factor =
+                    if error == 0.0 { MAX_FACTOR } else { MAX_FACTOR.min(SAFETY * error.powf(-1.0 / 8.0)) };
+                if rejected {
+                    factor = factor.min(1.0);
+                }
+                rejected = false;
+                break (h, factor);
+            }
+            out.n_rejected += 1;
+            rejected = true;
+            h *= if error.is_finite() { MIN_FACTOR.max(SAFETY * error.powf(-1.0 / 8.0)) } else { 0.25 };
+        };
+        let t_new = t + h_step;
+        // the asked times this step reached, from the dense output
+        let mut have_dense = false;
+        while next < times.len() && times[next] <= t_new {
+            let tk = times[next];
+            if tk == t_new {
+                y_out.copy_from_slice(&y_new);
+            } else {
+                if !have_dense {
+                    dense_coefficients(
+                        model, sys, &mut rhs, &mut k, &mut dense, t, h_step, &y, &y_new, &f, &mut stage,
+                    );
+                    have_dense = true;
+                }
+                let x = (tk - t) / h_step;
+                y_out.fill(0.0);
+                for (i, fc) in dense.iter().rev().enumerate() {
+                    for (v, c) in y_out.iter_mut().zip(fc) {
+                        *v += c;
+                        *v *= if i % 2 == 0 { x } else { 1.0 - x };
+                    }
+                }
+                for (v, y0) in y_out.iter_mut().zip(&y) {
+                    *v += y0;
+                }
+            }
+            let (qo, rest) = y_out.split_at_mut(n);
+            let info = StepInfo { step: h_step, iterations: 0, work: rest[n] };
+            store_state(model, sys, out, next, tk, qo, &mut rest[..n], info)?;
+            next += 1;
+        }
+        // the step's end, projected onto the constraints; its derivative evaluated there
+        y.copy_from_slice(&y_new);
+        let (qs, rest) = y.split_at_mut(n);
+        let (_, _, residual) = sys.project_positions(model, qs, t_new, 1e-15);
+        if residual.is_nan() || residual > model.options.tol_residual {
+            return Err(step_error(
+                out,
+                t_new,
+                h_step,
+                format!("projection onto the constraints left |phi| = {residual:.3e}"),
+            ));
+        }
+        sys.project_velocities(model, qs, &mut rest[..n], t_new);
+        t = t_new;
+        if !rhs.eval(model, sys, t, &y, &mut f) {
+            return Err(step_error(out, t, h_step, "the accelerations are not finite".into()));
+        }
+        h = h_step * factor;
+        h = h.min(opts.h_max);
+    }
+    out.n_evaluations += rhs.evaluations;
+    Ok(())
+}
+
+fn step_error(out: &SimOutput, t: f64, h: f64, why: String) -> SolveError {
+    SolveError::Step { step: out.n_done, time: t, h, why: format!("{why}; {} steps taken", out.n_steps) }
+}
+
+/// Hairer's error norm of DOP853: the 5th-order estimate, corrected by the 3rd's.
+fn error_norm(k: &[Vec<f64>], h: f64, y: &[f64], y_new: &[f64], n: usize, scale_of: &Scale) -> f64 {
+    let (mut e5, mut e3) = (0.0, 0.0);
+    for i in 0..2 * n {
+        let sc = scale_of(y, y_new, i);
+        let (mut a, mut b) = (0.0, 0.0);
+        for j in 0..13 {
+            a += tab::E5[j] * k[j][i];
+            b += tab::E3[j] * k[j][i];
+        }
+        e5 += (a / sc).powi(2);
+        e3 += (b / sc).powi(2);
+    }
+    if e5 == 0.0 && e3 == 0.0 {
+        return 0.0;
+    }
+    h.abs() * e5 / ((e5 + 0.01 * e3) * (2 * n) as f64).sqrt()
+}
+
+/// The dense output's coefficients of the step (t, y) -> (t + h, y_new): three more
+/// stages, then F0..F6 (Hairer's contd8).
+#[allow(clippy::too_many_arguments)]
+fn dense_coefficients(
+    model: &Model,
+    sys: &mut System,
+    rhs: &mut Rhs,
+    k: &mut [Vec<f64>],
+    dense: &mut [Vec<f64>],
+    t: f64,
+    h: f64,
+    y: &[f64],
+    y_new: &[f64],
+    f_old: &[f64],
+    stage: &mut [f64],
+) {
+    let len = y.len();
+    for s in tab::STAGES + 1..tab::STAGES_EXTENDED {
+        for i in 0..len {
+            let dy: f64 = (0..s).map(|j| tab::A[s][j] * k[j][i]).sum();
+            stage[i] = y[i] + h * dy;
+        }
+        let (_, tail) = k.split_at_mut(s);
+        rhs.eval(model, sys, t + tab::C[s] * h, stage, &mut tail[0]);
+    }
+    let f_new = &k[tab::STAGES];
+    for i in 0..len {
+        let dy = y_new[i] - y[i];
+        dense[0][i] = dy;
+        dense[1][i] = h * f_old[i] - dy;
+        dense[2][i] = 2.0 * dy - h * (f_new[i] + f_old[i]);
+        for r in 0..4 {
+            dense[3 + r][i] = h * (0..tab::STAGES_EXTENDED).map(|j| tab::D[r][j] * k[j][i]).sum::<f64>();
+        }
+    }
+}

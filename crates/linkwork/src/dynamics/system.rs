@@ -1,0 +1,147 @@
+//! The equations of motion at one state, on one workspace: the index-1 solve of the
+//! accelerations and multipliers,
+//!   [[M, Phi_q^T], [Phi_q, 0]] [qdd; lambda] = [Q_A; gamma],
+//! and the projections of q onto Phi(q, t) = 0 and of qd onto Phi_q qd = nu, each the
+//! smallest change in the mass metric (Gauss-Newton on the same augmented matrix).
+
+use crate::constraints::Frame;
+use crate::dynamics::applied::{applied_force, LoadJet};
+use crate::dynamics::augmented::Augmented;
+use crate::dynamics::mass::mass_times;
+use crate::math::pivots::Pivots;
+use crate::model::data::Data;
+use crate::model::Model;
+use crate::solve::assembly::{gamma, nu_into, update_frames};
+
+/// Gauss-Newton iterations allowed to project positions.
+pub const MAX_PROJECTION: usize = 50;
+
+/// The workspace of the equations of motion of one model.
+pub struct System {
+    pub aug: Augmented,
+    pub loads: Vec<LoadJet>,
+    /// q, qd, the frames and gamma (`assembly::gamma`) live here
+    pub data: Data,
+    pub phi: Vec<f64>,
+    /// n + m: right-hand side and solution of the augmented solves
+    pub x: Vec<f64>,
+    target: Vec<f64>,
+    dq: Vec<f64>,
+    pub pivots: Pivots,
+}
+
+/// Largest |v|, NaN kept.
+pub fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |a, x| if x.abs() > a || x.is_nan() { x.abs() } else { a })
+}
+
+impl System {
+    pub fn new(model: &Model) -> System {
+        let size = model.n_coords + model.n_rows;
+        System {
+            aug: Augmented::new(model),
+            loads: model.loads.iter().map(LoadJet::new).collect(),
+            data: Data::new(model),
+            phi: vec![0.0; model.n_rows],
+            x: vec![0.0; size],
+            target: vec![0.0; model.n_coords],
+            dq: vec![0.0; model.n_coords],
+            pivots: Pivots::NONE,
+        }
+    }
+
+    /// Sets the state the frames describe.
+    pub fn set_state(&mut self, q: &[f64], qd: &[f64]) {
+        self.data.q.copy_from_slice(q);
+        self.data.qd.copy_from_slice(qd);
+        update_frames(&mut self.data);
+    }
+
+    pub fn frames(&self) -> &[Frame] {
+        &self.data.frames
+    }
+
+    /// qdd and the scaled multipliers at (q, qd, t), index-1; returns the pivots of the
+    /// augmented matrix (regularised and refined where it is singular: `factor_solve`).
+    pub fn accelerations(
+        &mut self,
+        model: &Model,
+        q: &[f64],
+        qd: &[f64],
+        t: f64,
+        qdd: &mut [f64],
+        lambda: &mut [f64],
+    ) -> Pivots {
+        let n = model.n_coords;
+        self.set_state(q, qd);
+        self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+        applied_force(model, &self.data.frames, t, &mut self.x[..n]);
+        gamma(model, &mut self.data, t);
+        self.x[n..].copy_from_slice(&self.data.rhs);
+        self.pivots = self.aug.factor_solve(&mut self.x);
+        qdd.copy_from_slice(&self.x[..n]);
+        lambda.copy_from_slice(&self.x[n..]);
+        self.pivots
+    }
+
+    /// Projects q onto Phi(q, t) = 0 by the smallest change in the mass metric; returns
+    /// (iterations, scaled |phi| before, after). Stops when |phi| <= tol, when it no
+    /// longer halves (round-off), or after `MAX_PROJECTION` iterations (the caller judges
+    /// |phi|).
+    pub fn project_positions(&mut self, model: &Model, q: &mut [f64], t: f64, tol: f64) -> (usize, f64, f64) {
+        let n = model.n_coords;
+        self.target.copy_from_slice(q);
+        let (mut before, mut residual) = (f64::NAN, f64::NAN);
+        let mut last = f64::INFINITY;
+        for it in 0..MAX_PROJECTION {
+            self.data.q.copy_from_slice(q);
+            update_frames(&mut self.data);
+            self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+            residual = max_abs(&self.phi);
+            if it == 0 {
+                before = residual;
+            }
+            // done, or stalled at round-off (no longer halving)
+            if !residual.is_finite() || residual <= tol || residual > 0.5 * last {
+                return (it, before, residual);
+            }
+            last = residual;
+            for ((d, a), b) in self.dq.iter_mut().zip(&self.target).zip(q.iter()) {
+                *d = a - b;
+            }
+            mass_times(model, &self.data.frames, &self.dq, &mut self.x[..n]);
+            for (r, p) in self.x[n..].iter_mut().zip(&self.phi) {
+                *r = -p;
+            }
+            self.pivots = self.aug.factor_solve(&mut self.x);
+            for (qk, d) in q.iter_mut().zip(&self.x[..n]) {
+                *qk += d;
+            }
+        }
+        (MAX_PROJECTION, before, residual)
+    }
+
+    /// Projects qd onto Phi_q qd = nu at q (one solve; the augmented matrix is filled at
+    /// q here). Returns the scaled |Phi_q qd - nu| before the projection.
+    pub fn project_velocities(&mut self, model: &Model, q: &[f64], qd: &mut [f64], t: f64) -> f64 {
+        let n = model.n_coords;
+        self.set_state(q, qd);
+        self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+        let before = self.velocity_drift(model, qd, t);
+        mass_times(model, &self.data.frames, qd, &mut self.x[..n]);
+        nu_into(model, t, &mut self.x[n..]);
+        self.pivots = self.aug.factor_solve(&mut self.x);
+        qd.copy_from_slice(&self.x[..n]);
+        before
+    }
+
+    /// Scaled |Phi_q qd - nu| with the Jacobian last filled.
+    pub fn velocity_drift(&mut self, model: &Model, qd: &[f64], t: f64) -> f64 {
+        let m = model.n_rows;
+        let mut rate = vec![0.0; m];
+        self.aug.jacobian_times(qd, &mut rate);
+        let mut nu = vec![0.0; m];
+        nu_into(model, t, &mut nu);
+        rate.iter().zip(&nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()))
+    }
+}
