@@ -6,7 +6,8 @@
 //! four-bar/src/mech/fb.rs, `curve_interval`). Every path is checked against the closed
 //! form to 1e-13.
 //!
-//! `cargo bench -p linkwork --bench atlas -- [designs] [rounds]` (defaults 10000, 3).
+//! `cargo bench -p linkwork --bench atlas -- [designs] [rounds] [steps]` (defaults 10000, 3,
+//! 360).
 //! Prints M design-steps/s for each, on one thread and on two, alternating in rounds.
 
 #[path = "../tests/common/mod.rs"]
@@ -19,7 +20,7 @@ use linkwork::sensitivity::Parameter;
 use linkwork::{sweep_variants, Model, Outputs, PointDesc, Request, Variation};
 
 const OMEGA: f64 = 5.0;
-const STEPS: usize = 360;
+/// Steps of one turn (the atlas's 360; a third argument sets another).
 /// The base drawing: a crank-rocker drawn at crank angle 0.
 const BASE: FourBar = FourBar { r1: 0.38, r2: 0.2, r3: 0.35, r4: 0.25 };
 /// The coupler point of the base, in the world at the drawing.
@@ -125,13 +126,30 @@ fn fourbar_rs_atlas(designs: &[Design], inv: &[bool], angles: &[f64], out: &mut 
     failed
 }
 
+/// The process's CPU time (every thread's), seconds: on a shared machine the work's own
+/// time, where the wall clock also counts the other processes' turns.
+fn cpu_time() -> f64 {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes the timespec it is given
+    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + 1e-9 * ts.tv_nsec as f64
+}
+
+/// Runs `f`, returning its wall and CPU seconds.
+fn timed<T>(f: impl FnOnce() -> T) -> (f64, f64) {
+    let (w0, c0) = (Instant::now(), cpu_time());
+    std::hint::black_box(f());
+    (w0.elapsed().as_secs_f64(), cpu_time() - c0)
+}
+
 fn main() {
     let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
     let n = args.first().copied().unwrap_or(10_000);
     let rounds = args.get(1).copied().unwrap_or(3);
+    let steps = args.get(2).copied().unwrap_or(360);
     let designs = designs(n);
     let turn = std::f64::consts::TAU / OMEGA;
-    let times: Vec<f64> = (0..STEPS).map(|k| turn * k as f64 / STEPS as f64).collect();
+    let times: Vec<f64> = (0..steps).map(|k| turn * k as f64 / steps as f64).collect();
     let angles: Vec<f64> = times.iter().map(|t| OMEGA * t).collect();
 
     // the base model with its coupler point P; the designs move the pins' and P's places
@@ -188,43 +206,41 @@ fn main() {
     let failed: Vec<usize> = (0..n).filter(|&i| figures.errors[i].is_some()).collect();
     let inv: Vec<bool> = (0..n)
         .map(|i| {
-            let p = &figures.points[i * STEPS * 2..i * STEPS * 2 + 2];
+            let p = &figures.points[i * steps * 2..i * steps * 2 + 2];
             let q = fourbar_rs_step(&designs[i], angles[0], false).expect("closes at 0");
             (p[0] - q[0]).abs() + (p[1] - q[1]).abs() > 1e-9
         })
         .collect();
-    let mut reference = vec![f64::NAN; n * STEPS * 2];
+    let mut reference = vec![f64::NAN; n * steps * 2];
     let rs_failed = fourbar_rs_atlas(&designs, &inv, &angles, &mut reference);
     let worst = figures.points.iter().zip(&reference).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     println!(
-        "{n} designs x {STEPS} steps: linkwork errors {}, four-bar-rs failed steps {rs_failed}, \
+        "{n} designs x {steps} steps: linkwork errors {}, four-bar-rs failed steps {rs_failed}, \
          open circuit (four-bar-rs inv = false) {}; worst |linkwork - closed form| {worst:.2e} (<= 1e-13: {})",
         failed.len(),
         inv.iter().filter(|&&x| !x).count(),
         worst <= 1e-13
     );
 
-    let per = (n * STEPS) as f64 * 1e-6;
-    let mut out = vec![0.0; n * STEPS * 2];
+    let per = (n * steps) as f64 * 1e-6;
+    let mut out = vec![0.0; n * steps * 2];
+    println!("M design-steps/s: by wall time, and by CPU time (per core: the work's own time)");
     for round in 0..rounds {
-        let t0 = Instant::now();
-        let f = fourbar_rs_atlas(&designs, &inv, &angles, &mut out);
-        let rs = t0.elapsed().as_secs_f64();
-        std::hint::black_box((&out, f));
-        let t0 = Instant::now();
-        std::hint::black_box(run_linkwork(1));
-        let lw1 = t0.elapsed().as_secs_f64();
-        let t0 = Instant::now();
-        std::hint::black_box(run_linkwork(2));
-        let lw2 = t0.elapsed().as_secs_f64();
+        let (rs_w, rs_c) = timed(|| fourbar_rs_atlas(&designs, &inv, &angles, &mut out));
+        let (one_w, one_c) = timed(|| run_linkwork(1));
+        let (two_w, two_c) = timed(|| run_linkwork(2));
         println!(
-            "round {round}: four-bar-rs loop {:.2} M/s; linkwork variants 1 thread {:.2} M/s ({:.2}x), \
-             2 threads {:.2} M/s ({:.2}x the one-thread run)",
-            per / rs,
-            per / lw1,
-            rs / lw1,
-            per / lw2,
-            lw1 / lw2
+            "round {round}: four-bar-rs loop {:.2} wall, {:.2} cpu | linkwork 1 thread {:.2} wall, {:.2} cpu \
+             ({:.2}x, {:.2}x per core) | 2 threads {:.2} wall, {:.2} cpu per core ({:.2}x the 1-thread wall)",
+            per / rs_w,
+            per / rs_c,
+            per / one_w,
+            per / one_c,
+            rs_w / one_w,
+            rs_c / one_c,
+            per / two_w,
+            per / two_c,
+            one_w / two_w,
         );
     }
 }

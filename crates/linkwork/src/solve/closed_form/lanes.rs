@@ -13,7 +13,7 @@
 use super::NEAR_SINGULAR;
 use crate::constraints::Constraint;
 use crate::input::motion::MotionLaw;
-use crate::math::angle::{angle_of, turned};
+use crate::math::angle::{angle_of, turned, SMALL_TURN};
 use crate::model::data::Data;
 use crate::model::plan::{Block, Link, Plan};
 use crate::model::Model;
@@ -239,13 +239,10 @@ impl<'m> Lanes<'m> {
                 let cl = closeness[j];
                 // as `closed_form::step`: near singular (NaN too), or a trend reaching zero
                 // within the step
-                if cl.is_nan()
+                ok[j] &= !(cl.is_nan()
                     || cl < NEAR_SINGULAR
                     || c1[j] + rate[j] * h < 0.25 * c1[j]
-                    || cl < 0.25 * c1[j]
-                {
-                    ok[j] = false;
-                }
+                    || cl < 0.25 * c1[j]);
                 self.close[i][1][j] = (cl - c1[j]) / h;
                 self.close[i][0][j] = cl;
                 closeness_min[j] = closeness_min[j].min(cl);
@@ -253,9 +250,7 @@ impl<'m> Lanes<'m> {
             }
         }
         for j in 0..LANES {
-            if !residual[j].is_finite() {
-                ok[j] = false;
-            }
+            ok[j] &= residual[j].is_finite();
         }
         self.ratio = closeness_min;
         ok
@@ -298,9 +293,7 @@ fn crank(c: &CrankLanes, bodies: &mut [BodyLanes], f: &[[f64; 3]; LANES], ok: &m
     let body = &mut bodies[c.body];
     let mut theta = [0.0; LANES];
     for j in 0..LANES {
-        if !f[j].iter().all(|v| v.is_finite()) {
-            ok[j] = false;
-        }
+        ok[j] &= f[j][0].is_finite() & f[j][1].is_finite() & f[j][2].is_finite();
         theta[j] = 0.0 + c.sign[j] * f[j][0];
     }
     // cos and sin per lane (turned from its base or in full); a lane on the first lane's
@@ -396,15 +389,11 @@ fn rrr(l1: &LinkLanes, l2: &LinkLanes, bodies: &mut [BodyLanes], sign: &V, ok: &
         let (r1, r2) = (l1.length[j], l2.length[j]);
         let d = [c[0] - a[0], c[1] - a[1]];
         let dd = d[0] * d[0] + d[1] * d[1];
-        if dd.is_nan() || dd <= 0.0 {
-            ok[j] = false;
-        }
+        ok[j] &= !(dd.is_nan() || dd <= 0.0);
         let inv_dd = 1.0 / dd;
         let along = 0.5 * (dd + r1 * r1 - r2 * r2) * inv_dd;
         let h2 = r1 * r1 * inv_dd - along * along;
-        if h2.is_nan() || h2 < 0.0 {
-            ok[j] = false;
-        }
+        ok[j] &= !(h2.is_nan() || h2 < 0.0);
         let height = sign[j] * h2.sqrt();
         b[0][j] = a[0] + along * d[0] - height * d[1];
         b[1][j] = a[1] + along * d[1] + height * d[0];
@@ -455,9 +444,24 @@ fn place(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2]) -> V {
         cs[j] = l.dir[0][j] * w[0] + l.dir[1][j] * w[1];
         sn[j] = l.dir[0][j] * w[1] - l.dir[1][j] * w[0];
     }
-    // the angle per lane: its series from the base, or atan2
+    // the angle per lane: `angle_of`'s series from the base in every lane at once (the same
+    // operations), and `angle_of` itself (atan2) in a lane the series does not serve
+    let mut series = [0.0; LANES];
+    let mut served = [false; LANES];
     for j in 0..LANES {
-        body.th[j] = angle_of(cs[j], sn[j], body.th[j], &mut body.base[j]);
+        let [theta0, c0, s0] = body.base[j];
+        let (c, s) = (cs[j], sn[j]);
+        let (cd, sd) = (c0 * c + s0 * s, c0 * s - s0 * c);
+        let x = sd / cd;
+        let (x2, x4) = (x * x, x * x * (x * x));
+        let d = x * ((1.0 - x2 * (1.0 / 3.0)) + x4 * ((1.0 / 5.0 - x2 * (1.0 / 7.0)) + x4 * (1.0 / 9.0)));
+        series[j] = theta0 + d;
+        served[j] =
+            cd > 0.0 && sd.abs() < SMALL_TURN * cd && (series[j] - body.th[j]).abs() <= std::f64::consts::PI;
+    }
+    for j in 0..LANES {
+        body.th[j] =
+            if served[j] { series[j] } else { angle_of(cs[j], sn[j], body.th[j], &mut body.base[j]) };
     }
     let mut res = [0.0; LANES];
     for j in 0..LANES {
