@@ -261,6 +261,7 @@ fn each_lane_keeps_its_own_branch_and_first_missed_step() {
                 &s.outputs,
                 &points,
                 rows,
+                &|| false,
             )
             .expect("one plan shape")
         };
@@ -278,5 +279,38 @@ fn each_lane_keeps_its_own_branch_and_first_missed_step() {
             assert_eq!(bits(&q[j][1..took]), bits(&out.q[1..took]), "lane {j}: angle");
             assert_eq!(bits(&p[j][4..took * 4]), bits(&out.points[4..took * 4]), "lane {j}: points");
         }
+    }
+}
+
+/// A cancelled batch stops its lanes at their next poll (every 4096 steps): each design
+/// then reports its cancellation, none runs on to its last step.
+#[test]
+fn a_cancelled_batch_stops_its_lanes() {
+    let designs = designs();
+    let s = setup(&designs[..LANES]);
+    let turn = std::f64::consts::TAU / OMEGA;
+    // ten turns of 10,000 steps each (the lanes poll every 4096 steps), cancelled at the
+    // first look: before the lanes start or while they run
+    let t: Vec<f64> = (0..100_000).map(|k| 10.0 * turn * k as f64 / 100_000.0).collect();
+    let request = Request { derivatives: 0, ..Request::default() };
+    let f = sweep_variants(
+        &s.model,
+        &s.variation,
+        LANES,
+        &s.deltas,
+        &t,
+        request,
+        &s.outputs,
+        &s.named,
+        1,
+        &mut |_| false,
+    );
+    for i in 0..LANES {
+        assert!(f.n_done[i] < t.len(), "design {i} ran on to the end");
+        assert!(
+            matches!(f.errors[i], Some(linkwork::SolveError::Cancelled { .. })),
+            "design {i}: {:?}",
+            f.errors[i]
+        );
     }
 }

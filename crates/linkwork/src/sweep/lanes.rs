@@ -35,8 +35,9 @@ pub struct LaneRows<'a> {
 /// Steps 1.. of `LANES` designs started at step 0 in `data` (each solved there by its
 /// own sweep, with no event), writing each step's kept figures into `rows` as it is taken;
 /// per lane, the first step it missed (None: every step taken). `points`: each kept
-/// point's body and, per lane, its place in the body. None where the designs' plans are
-/// not of one shape (the caller sweeps them one by one).
+/// point's body and, per lane, its place in the body. `cancelled()`, polled every 4096
+/// steps, stops the lanes: every lane not yet missed misses there. None where the designs'
+/// plans are not of one shape (the caller sweeps them one by one).
 pub fn sweep_lanes(
     models: [&Model; LANES],
     data: [&Data; LANES],
@@ -44,10 +45,11 @@ pub fn sweep_lanes(
     outputs: &Outputs,
     points: &[(Option<usize>, [[f64; 2]; LANES])],
     rows: &mut [LaneRows; LANES],
+    cancelled: &dyn Fn() -> bool,
 ) -> Option<[Option<usize>; LANES]> {
     let lanes = Lanes::new(models, data)?;
     // the whole loop under the machine's widest registers (the lanes' arithmetic inlined)
-    Some(pulp::Arch::new().dispatch(Steps { lanes, times, outputs, points, rows }))
+    Some(pulp::Arch::new().dispatch(Steps { lanes, times, outputs, points, rows, cancelled }))
 }
 
 /// The steps as `pulp`'s operation: `with_simd`, inlined into the function its dispatch
@@ -58,6 +60,7 @@ struct Steps<'a, 'm, 'r> {
     outputs: &'a Outputs,
     points: &'a [(Option<usize>, [[f64; 2]; LANES])],
     rows: &'a mut [LaneRows<'r>; LANES],
+    cancelled: &'a dyn Fn() -> bool,
 }
 
 impl pulp::WithSimd for Steps<'_, '_, '_> {
@@ -65,7 +68,7 @@ impl pulp::WithSimd for Steps<'_, '_, '_> {
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
-        steps(self.lanes, self.times, self.outputs, self.points, self.rows)
+        steps(self.lanes, self.times, self.outputs, self.points, self.rows, self.cancelled)
     }
 }
 
@@ -76,6 +79,7 @@ fn steps(
     outputs: &Outputs,
     points: &[(Option<usize>, [[f64; 2]; LANES])],
     rows: &mut [LaneRows; LANES],
+    cancelled: &dyn Fn() -> bool,
 ) -> [Option<usize>; LANES] {
     let n = lanes.inv_scale.len();
     let kept: Vec<usize> = outputs.coords.clone().unwrap_or_else(|| (0..n).collect());
@@ -85,6 +89,12 @@ fn steps(
     let mut q = vec![[0.0; LANES]; n];
     let (mut qd, mut qdd) = (vec![[0.0; LANES]; n], vec![[0.0; LANES]; n]);
     for k in 1..times.len() {
+        if k % 4096 == 0 && cancelled() {
+            for m in missed.iter_mut().filter(|m| m.is_none()) {
+                *m = Some(k);
+            }
+            break;
+        }
         let (t, h) = (times[k], times[k] - times[k - 1]);
         lanes.coords(&mut q_prev);
         let ok = lanes.step(t, h);

@@ -286,6 +286,7 @@ impl Worker {
         let mut data = Data::new(variant);
         let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
         let err = if cancel.load(Ordering::Relaxed) {
+            out.n_done = 0; // nothing of this design was swept
             Some(SolveError::Cancelled { step: 0 })
         } else {
             sweep_on(variant, &mut data, ctx.times, out, 4096, &mut keep_going, ctx.asked).err()
@@ -344,7 +345,10 @@ impl Worker {
         let data = std::array::from_fn(|j| &data[j]);
         let Ok(rows) = <&mut [LaneRows; LANES]>::try_from(&mut lane_rows[..]) else { return };
         let outputs = &self.full.outputs;
-        let Some(missed) = sweep_lanes(models, data, ctx.times, outputs, &points, rows) else { return };
+        let cancelled = || cancel.load(Ordering::Relaxed);
+        let Some(missed) = sweep_lanes(models, data, ctx.times, outputs, &points, rows, &cancelled) else {
+            return;
+        };
         for (j, row) in lane_rows.iter().enumerate() {
             if missed[j].is_none() {
                 done[j] = Some((row.pivot_min, 0, ctx.times.len(), None));
