@@ -573,10 +573,10 @@ def sweep_batch(
     the GIL released: one `Results` per model, in order.
 
     ``outputs``: what each model's results keep, as for `Model.sweep` (a body, a column, a
-    named point, joint or driver, or (body, (u_x, u_y))), named in each model (default:
-    each model's own ``outputs``, else every coordinate); what is not kept is neither
-    stored nor allocated. With ``derivatives=0`` and one coupler point, an atlas of
-    coupler curves keeps two numbers a step.
+    named point, joint or driver, or (body, (u_x, u_y))), named in each model (default: every
+    coordinate of each); what is not kept is neither stored nor allocated. With
+    ``derivatives=0`` and one coupler point, an atlas of coupler curves keeps two numbers a
+    step.
 
     ``branches_of``: a model of the same mechanism (a study's base) whose assembly mode at
     the first time every model is started on, by its own closed forms (each dyad on the
@@ -602,7 +602,7 @@ def sweep_batch(
     forces, locks = _args.flag(forces, "forces"), _args.flag(locks, "locks")
     if branches_of is not None:
         branches_of = _args.of_type(branches_of, "branches_of", Model, "a compiled Model")
-    kept = [m._default_outputs if outputs is None else m._outputs(outputs, InputError) for m in models]
+    kept = [None if outputs is None else m._outputs(outputs, InputError) for m in models]
     asked = None
     if any(k is not None for k in kept):
         asked = [(None, None) if k is None else (k.coords, k.points) for k in kept]
