@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use common::{four_bar, FourBar};
 use linkwork::sensitivity::Parameter;
-use linkwork::{sweep_variants, Model, Outputs, PointDesc, Request, Variation};
+use linkwork::{sweep_batch_kept, sweep_variants, Model, Outputs, PointDesc, Request, Variation};
 
 const OMEGA: f64 = 5.0;
 /// Steps of one turn (the atlas's 360; a third argument sets another).
@@ -224,6 +224,22 @@ fn main() {
 
     let per = (n * steps) as f64 * 1e-6;
     let mut out = vec![0.0; n * steps * 2];
+    // the per-design path, for comparison: every design a model of its own (built
+    // beforehand), swept one by one (`sweep_batch_kept`), the same point kept
+    let built: Vec<Model> = (0..n).map(|i| variation.model(&model, &deltas[i * 6..(i + 1) * 6])).collect();
+    let refs: Vec<&Model> = built.iter().collect();
+    let kept: Vec<Outputs> = built
+        .iter()
+        .map(|m| Outputs { coords: Some(vec![]), points: vec![(Some(coupler), m.points[p_index].local)] })
+        .collect();
+    let (alone_w, alone_c) =
+        timed(|| sweep_batch_kept(&refs, &times, request, Some(&kept), Some(&model), 1, &mut |_| true));
+    println!(
+        "linkwork one design at a time (sweep_batch_kept, 1 thread): {:.2} M/s wall, {:.2} cpu",
+        per / alone_w,
+        per / alone_c
+    );
+    drop(built);
     println!("M design-steps/s: by wall time, and by CPU time (per core: the work's own time)");
     for round in 0..rounds {
         let (rs_w, rs_c) = timed(|| fourbar_rs_atlas(&designs, &inv, &angles, &mut out));
