@@ -51,6 +51,24 @@ def test_a_batch_equals_the_sweeps_one_by_one(threads):
         assert np.array_equal(r.q, one.q) and np.array_equal(r.qdd, one.qdd)
 
 
+@pytest.mark.parametrize("derivatives", [0, 2])
+def test_a_batch_keeps_only_what_is_asked(derivatives):
+    """``outputs=``: each model keeps the asked point and column, the same bits as its own
+    sweep asked the same; nothing else is stored."""
+    models = designs(3)
+    t = revolution(n=361)
+    out = lw.sweep_batch(models, t, derivatives=derivatives, outputs=["P", "rocker.theta"], threads=2)
+    for model, r in zip(models, out):
+        one = model.sweep(t, derivatives=derivatives, outputs=["P", "rocker.theta"])
+        assert r.q.shape == (361, 1) and np.array_equal(r.q, one.q)
+        assert np.array_equal(r.point("P").position, one.point("P").position)
+        assert (r.qd is None) == (derivatives == 0)
+        with pytest.raises(KeyError, match="not kept"):
+            r.body("coupler")
+    with pytest.raises(lw.InputError, match="nowhere"):
+        lw.sweep_batch(models, t, outputs=["nowhere"])
+
+
 def test_a_batch_with_forces_and_positions_only():
     models = designs(3)
     t = revolution(n=361)

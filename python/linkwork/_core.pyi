@@ -52,6 +52,7 @@ def sweep_batch(
     on_singular: str = "continue",
     locks: bool = False,
     branches_of: Model | None = None,
+    outputs: list[tuple[list[int] | None, list[tuple[int, float, float]] | None]] | None = None,
 ) -> list[tuple[dict[str, Any], BaseException | None]]: ...
 def simulate(
     model: Model,

@@ -255,6 +255,9 @@ fn parse_request(
 
 /// The coordinates (None: all) and body points ((body index, -1 the ground; u_x, u_y))
 /// a sweep keeps.
+/// One model's kept coordinates and points, as Python passes them (`parse_outputs`).
+type KeptArg = (Option<Vec<usize>>, Option<Vec<(i64, f64, f64)>>);
+
 fn parse_outputs(
     coords: Option<Vec<usize>>,
     points: Option<Vec<(i64, f64, f64)>>,
@@ -326,7 +329,7 @@ fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, Py
 /// `branches_of`: the model whose branches at the first time each model starts on.
 #[pyfunction]
 #[pyo3(signature = (models, times, threads=0, derivatives=2, forces=false, progress=None, every=1,
-                    on_singular="continue", locks=false, branches_of=None))]
+                    on_singular="continue", locks=false, branches_of=None, outputs=None))]
 #[allow(clippy::too_many_arguments)]
 fn sweep_batch<'py>(
     py: Python<'py>,
@@ -340,17 +343,41 @@ fn sweep_batch<'py>(
     on_singular: &str,
     locks: bool,
     branches_of: Option<PyRef<'py, PyModel>>,
+    outputs: Option<Vec<KeptArg>>,
 ) -> PyResult<Vec<(Bound<'py, PyDict>, Option<PyErr>)>> {
     let request = parse_request(derivatives, forces, every, on_singular, locks)?;
     let arcs: Vec<Arc<Model>> = models.iter().map(|m| Arc::clone(&m.model)).collect();
     let refs: Vec<&Model> = arcs.iter().map(|m| m.as_ref()).collect();
+    // each model's kept coordinates and points (None: all of every model's coordinates)
+    let kept: Option<Vec<linkwork::Outputs>> = match outputs {
+        Some(o) if o.len() != refs.len() => {
+            return Err(InputError::new_err(format!(
+                "outputs: one entry per model ({} models, {} entries)",
+                refs.len(),
+                o.len()
+            )))
+        }
+        Some(o) => Some(
+            o.into_iter()
+                .zip(&refs)
+                .map(|((coords, points), m)| {
+                    let out = parse_outputs(coords, points)?;
+                    out.check(m).map_err(|e| solve_err(py, &e))?;
+                    Ok(out)
+                })
+                .collect::<PyResult<_>>()?,
+        ),
+        None => None,
+    };
     let asked: Option<Arc<Model>> = branches_of.map(|m| Arc::clone(&m.model));
     let times = times.as_slice()?;
     let total = refs.len();
     // every model's outputs are kept until all are returned: refused up front if they
     // cannot all fit
-    let (bytes, what) = refs.iter().fold((0usize, String::new()), |(b, _), m| {
-        let (mb, what) = SweepOutput::bytes(m, times.len(), request, &linkwork::Outputs::all());
+    let all = linkwork::Outputs::all();
+    let (bytes, what) = refs.iter().enumerate().fold((0usize, String::new()), |(b, _), (i, m)| {
+        let o = kept.as_ref().map_or(&all, |k| &k[i]);
+        let (mb, what) = SweepOutput::bytes(m, times.len(), request, o);
         (b.saturating_add(mb), what)
     });
     let available = linkwork::available_memory();
@@ -368,7 +395,15 @@ fn sweep_batch<'py>(
         let mut interrupt: Option<PyErr> = None;
         let mut watch = batch_watch(&progress, total, &mut interrupt);
         let items = guard("sweeping a batch", || {
-            linkwork::sweep_batch_on(&refs, times, request, asked.as_deref(), threads, &mut watch)
+            linkwork::sweep_batch_kept(
+                &refs,
+                times,
+                request,
+                kept.as_deref(),
+                asked.as_deref(),
+                threads,
+                &mut watch,
+            )
         });
         drop(watch);
         (items, interrupt)

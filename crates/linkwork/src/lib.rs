@@ -30,7 +30,7 @@ pub use solve::{acceleration, assembly, forces, position, velocity};
 pub use sweep::{batch, branches, stepping, variants};
 
 pub use acceleration::solve_acceleration;
-pub use batch::{sweep_batch, sweep_batch_on, BatchItem};
+pub use batch::{sweep_batch, sweep_batch_kept, sweep_batch_on, BatchItem};
 pub use data::Data;
 pub use description::{BodyDesc, Description, DriverDesc, JointDesc, PointDesc, GROUND};
 pub use error::{ModelError, SolveError};

@@ -644,9 +644,16 @@ def sweep_batch(
     on_singular: str = "continue",
     locks: bool = False,
     branches_of: Model | None = None,
+    outputs: Sequence[Any] | None = None,
 ) -> list[Any]:
     """Sweeps many models (a design study) over the same times on worker threads, with
     the GIL released: one `Results` per model, in order.
+
+    ``outputs``: what each model's results keep, as for `Model.sweep` (a body, a column, a
+    named point, joint or driver, or (body, (u_x, u_y))), named in each model (default: every
+    coordinate of each); what is not kept is neither stored nor allocated. With
+    ``derivatives=0`` and one coupler point, an atlas of coupler curves keeps two numbers a
+    step.
 
     ``branches_of``: a model of the same mechanism (a study's base) whose assembly mode at
     the first time every model is started on, by its own closed forms (each dyad on the
@@ -672,6 +679,10 @@ def sweep_batch(
     forces, locks = _args.flag(forces, "forces"), _args.flag(locks, "locks")
     if branches_of is not None:
         branches_of = _args.of_type(branches_of, "branches_of", Model, "a compiled Model")
+    kept = [None if outputs is None else m._outputs(outputs, InputError) for m in models]
+    asked = None
+    if any(k is not None for k in kept):
+        asked = [(None, None) if k is None else (k.coords, k.points) for k in kept]
     cores = [m._core for m in models]
     items = _core.sweep_batch(
         cores,
@@ -684,10 +695,11 @@ def sweep_batch(
         on_singular,
         locks,
         None if branches_of is None else branches_of._core,
+        asked,
     )
     out: list[Any] = []
     for i, (model, (raw, error)) in enumerate(zip(models, items)):
-        results = Results(model, raw)
+        results = Results(model, raw, kept[i])
         if error is None:
             out.append(results)
             continue

@@ -3,7 +3,7 @@
 
 /// An angle change below this turns cos and sin from the last ones computed in full, by
 /// their Taylor series to d^7: the first term left out, d^8 / 8!, is below 2^-70.
-const SMALL_TURN: f64 = 1.0 / 64.0;
+pub(crate) const SMALL_TURN: f64 = 1.0 / 64.0;
 
 /// cos and sin of `theta`: turned from `base` (theta0, cos theta0, sin theta0) when
 /// theta is within `SMALL_TURN` of theta0, else in full, and then `base` becomes theta's.

@@ -10,7 +10,7 @@ use crate::error::SolveError;
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::sweep::branches::{asked_branches, sweep_on};
-use crate::sweep::outputs::{Request, SweepOutput};
+use crate::sweep::outputs::{Outputs, Request, SweepOutput};
 
 /// One model's sweep: its outputs (the completed steps) and its error, if any.
 pub type BatchItem = (SweepOutput, Option<SolveError>);
@@ -39,6 +39,24 @@ pub fn sweep_batch_on(
     threads: usize,
     watch: &mut dyn FnMut(usize) -> bool,
 ) -> Vec<BatchItem> {
+    sweep_batch_kept(models, times, request, None, asked, threads, watch)
+}
+
+/// `sweep_batch_on` keeping, of model i, only `outputs[i]` (its coordinates and points, as
+/// `SweepOutput::with_outputs` keeps them; None: every coordinate of every model): what is
+/// not kept is neither stored nor allocated.
+pub fn sweep_batch_kept(
+    models: &[&Model],
+    times: &[f64],
+    request: Request,
+    outputs: Option<&[Outputs]>,
+    asked: Option<&Model>,
+    threads: usize,
+    watch: &mut dyn FnMut(usize) -> bool,
+) -> Vec<BatchItem> {
+    if let Some(o) = outputs {
+        assert_eq!(o.len(), models.len(), "one set of outputs per model");
+    }
     let asked = asked.zip(times.first()).and_then(|(m, &t)| asked_branches(m, t));
     let items = on_threads(
         models.len(),
@@ -48,7 +66,10 @@ pub fn sweep_batch_on(
         |_, i, cancel| {
             let model = models[i];
             let mut data = Data::new(model);
-            let mut out = SweepOutput::with_request(model, times, request);
+            let mut out = match outputs {
+                Some(o) => SweepOutput::with_outputs(model, times, request, o[i].clone()),
+                None => SweepOutput::with_request(model, times, request),
+            };
             let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
             let err = if cancel.load(Ordering::Relaxed) {
                 Some(SolveError::Cancelled { step: 0 })

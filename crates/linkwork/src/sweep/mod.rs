@@ -5,6 +5,7 @@
 
 pub mod batch;
 pub mod branches;
+pub mod lanes;
 pub mod outputs;
 pub mod single_time;
 pub mod stepping;

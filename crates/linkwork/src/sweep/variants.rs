@@ -17,7 +17,7 @@
 //! Each thread keeps one variant model and one sweep output and reuses them for every
 //! design it takes; only the kept figures are written, straight into the caller's arrays.
 
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 use crate::constraints::Constraint;
@@ -26,10 +26,13 @@ use crate::model::data::Data;
 use crate::model::params::{Dynamics, Parameter};
 use crate::model::structure::{structure, Structure};
 use crate::model::Model;
+use crate::solve::closed_form::lanes::LANES;
 use crate::solve::closed_form::Plan;
 use crate::sweep::batch::on_threads;
-use crate::sweep::branches::{asked_branches, sweep_on};
+use crate::sweep::branches::{asked_branches, sweep_on, Asked};
+use crate::sweep::lanes::{self, sweep_lanes, LaneRows};
 use crate::sweep::outputs::{Outputs, Request, SweepOutput};
+use crate::sweep::time_loop::check_times;
 
 /// How designs move a model's numbers: the parameters, the base numbers they start from.
 /// Each parameter moves its numbers along its direction, which is exact for every number
@@ -175,48 +178,182 @@ pub fn sweep_variants(
     let (n_steps, kept, np) = (times.len(), outputs.n_kept(model), outputs.points.len());
     let mut q = vec![f64::NAN; n * n_steps * kept];
     let mut points = vec![f64::NAN; n * n_steps * np * 2];
-    {
+    let ctx = Ctx { model, variation, deltas, times, named, asked: asked.as_ref(), kept, np };
+    // designs of a plan the lanes step, LANES at a time; the rest one by one
+    let lanes = lanes::fit(model, &request) && check_times(model, times).is_ok();
+    let width = if lanes { LANES } else { 1 };
+    let chunks = n.div_ceil(width);
+    let items = {
         // each design's rows, handed to the thread that sweeps it
         let q_rows = Mutex::new(split(&mut q, n, n_steps * kept));
         let point_rows = Mutex::new(split(&mut points, n, n_steps * np * 2));
-        let items = on_threads(
-            n,
+        let mut watch_designs = |done: usize| watch((done * width).min(n));
+        on_threads(
+            chunks,
             threads,
-            watch,
-            || (model.clone(), SweepOutput::with_outputs(model, times, request, outputs.clone())),
-            |(variant, out), i, cancel| {
-                variation.apply(model, variant, &deltas[i * m..(i + 1) * m]);
-                for (slot, k) in out.outputs.points.iter_mut().zip(named) {
-                    if let Some(k) = k {
-                        slot.1 = variant.points[*k].local;
+            &mut watch_designs,
+            || Worker::new(model, times, request, outputs),
+            |worker, c, cancel| {
+                let ids = c * width..((c + 1) * width).min(n);
+                let mut rows: Vec<(&mut [f64], &mut [f64])> = {
+                    let (mut qr, mut pr) = (q_rows.lock().expect("rows"), point_rows.lock().expect("rows"));
+                    ids.clone()
+                        .map(|i| {
+                            let q = qr[i].take().expect("a design swept once");
+                            (q, pr[i].take().expect("a design swept once"))
+                        })
+                        .collect()
+                };
+                let mut done: Vec<Option<Figures>> = vec![None; rows.len()];
+                if lanes && rows.len() == LANES && !cancel.load(Ordering::Relaxed) {
+                    worker.lanes(&ctx, ids.start, &mut rows, &mut done, cancel);
+                }
+                for ((i, row), slot) in ids.zip(rows.iter_mut()).zip(done.iter_mut()) {
+                    if slot.is_none() {
+                        *slot = Some(worker.one(&ctx, i, row, cancel));
                     }
                 }
-                let mut data = Data::new(variant);
-                let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
-                let err = if cancel.load(Ordering::Relaxed) {
-                    Some(SolveError::Cancelled { step: 0 })
-                } else {
-                    sweep_on(variant, &mut data, times, out, 4096, &mut keep_going, asked.as_ref()).err()
-                };
-                let done = out.n_done;
-                let q_dst = q_rows.lock().expect("rows")[i].take().expect("a design swept once");
-                q_dst[..done * kept].copy_from_slice(&out.q[..done * kept]);
-                let p_dst = point_rows.lock().expect("rows")[i].take().expect("a design swept once");
-                p_dst[..done * np * 2].copy_from_slice(&out.points[..done * np * 2]);
-                let pivot_min = out.pivot_ratio[..done].iter().copied().fold(f64::INFINITY, f64::min);
-                (pivot_min, out.events.len(), done, err)
+                done
             },
-        );
-        let mut figures = VariantFigures { n_designs: n, n_steps, ..VariantFigures::default() };
-        for item in items {
-            let (pivot_min, events, done, err) = item.expect("every design was swept");
-            figures.pivot_min.push(pivot_min);
-            figures.events.push(events);
-            figures.n_done.push(done);
-            figures.errors.push(err);
+        )
+    };
+    let mut figures = VariantFigures { n_designs: n, n_steps, ..VariantFigures::default() };
+    for item in items.into_iter().flat_map(|c| c.expect("every design was swept")) {
+        let (pivot_min, events, done, err) = item.expect("every design was swept");
+        figures.pivot_min.push(pivot_min);
+        figures.events.push(events);
+        figures.n_done.push(done);
+        figures.errors.push(err);
+    }
+    VariantFigures { q, points, ..figures }
+}
+
+/// A design's figures beside its rows: smallest pivot ratio, events, steps done, error.
+type Figures = (f64, usize, usize, Option<SolveError>);
+
+/// What every design's sweep reads.
+struct Ctx<'a> {
+    model: &'a Model,
+    variation: &'a Variation,
+    deltas: &'a [f64],
+    times: &'a [f64],
+    named: &'a [Option<usize>],
+    asked: Option<&'a Asked>,
+    kept: usize,
+    np: usize,
+}
+
+/// A thread's variant models and outputs, reused for every design it takes: one per lane,
+/// each with its start (step 0) and the one-by-one path's full sweep.
+struct Worker {
+    variants: Vec<Model>,
+    starts: Vec<SweepOutput>,
+    full: SweepOutput,
+}
+
+impl Worker {
+    fn new(model: &Model, times: &[f64], request: Request, outputs: &Outputs) -> Worker {
+        let start = SweepOutput::with_outputs(model, &times[..times.len().min(1)], request, outputs.clone());
+        Worker {
+            variants: vec![model.clone(); LANES],
+            starts: vec![start; LANES],
+            full: SweepOutput::with_outputs(model, times, request, outputs.clone()),
         }
-        drop((q_rows, point_rows));
-        VariantFigures { q, points, ..figures }
+    }
+
+    /// Design `i` on lane `j`'s variant model, its kept points moved with it.
+    fn set(&mut self, ctx: &Ctx, j: usize, i: usize, out_full: bool) {
+        let m = ctx.variation.params.len();
+        ctx.variation.apply(ctx.model, &mut self.variants[j], &ctx.deltas[i * m..(i + 1) * m]);
+        let out = if out_full { &mut self.full } else { &mut self.starts[j] };
+        for (slot, k) in out.outputs.points.iter_mut().zip(ctx.named) {
+            if let Some(k) = k {
+                slot.1 = self.variants[j].points[*k].local;
+            }
+        }
+    }
+
+    /// Design `i` swept alone by the general per-design path, into its rows.
+    fn one(
+        &mut self,
+        ctx: &Ctx,
+        i: usize,
+        (q_dst, p_dst): &mut (&mut [f64], &mut [f64]),
+        cancel: &AtomicBool,
+    ) -> Figures {
+        self.set(ctx, 0, i, true);
+        let (variant, out) = (&self.variants[0], &mut self.full);
+        let mut data = Data::new(variant);
+        let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
+        let err = if cancel.load(Ordering::Relaxed) {
+            out.n_done = 0; // nothing of this design was swept
+            Some(SolveError::Cancelled { step: 0 })
+        } else {
+            sweep_on(variant, &mut data, ctx.times, out, 4096, &mut keep_going, ctx.asked).err()
+        };
+        let (done, kept, np) = (out.n_done, ctx.kept, ctx.np);
+        q_dst[..done * kept].copy_from_slice(&out.q[..done * kept]);
+        p_dst[..done * np * 2].copy_from_slice(&out.points[..done * np * 2]);
+        let pivot_min = out.pivot_ratio[..done].iter().copied().fold(f64::INFINITY, f64::min);
+        (pivot_min, out.events.len(), done, err)
+    }
+
+    /// Designs `first..first + LANES` in lanes (`sweep::lanes`): each started alone (step
+    /// 0 on its asked branches), then stepped side by side. A design the lanes take to the
+    /// end gets its figures in `done`; the others (a start that fails or has an event, a
+    /// missed step) are left to the one-by-one path, whose sweep overwrites their rows.
+    fn lanes(
+        &mut self,
+        ctx: &Ctx,
+        first: usize,
+        rows: &mut [(&mut [f64], &mut [f64])],
+        done: &mut [Option<Figures>],
+        cancel: &AtomicBool,
+    ) {
+        let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
+        let start = &ctx.times[..1];
+        let mut data = Vec::with_capacity(LANES);
+        for j in 0..LANES {
+            self.set(ctx, j, first + j, false);
+            let mut d = Data::new(&self.variants[j]);
+            let out = &mut self.starts[j];
+            let r = sweep_on(&self.variants[j], &mut d, start, out, 4096, &mut keep_going, ctx.asked);
+            if r.is_err() || !out.events.is_empty() || out.n_done != 1 {
+                return;
+            }
+            data.push(d);
+        }
+        let (kept, np) = (ctx.kept, ctx.np);
+        let mut lane_rows: Vec<LaneRows> = rows
+            .iter_mut()
+            .zip(&self.starts)
+            .map(|((q, p), out)| {
+                q[..kept].copy_from_slice(&out.q[..kept]);
+                p[..np * 2].copy_from_slice(&out.points[..np * 2]);
+                LaneRows { q, points: p, pivot_min: f64::INFINITY.min(out.pivot_ratio[0]) }
+            })
+            .collect();
+        let points: Vec<_> = (0..np)
+            .map(|p| {
+                (
+                    self.starts[0].outputs.points[p].0,
+                    std::array::from_fn(|j| self.starts[j].outputs.points[p].1),
+                )
+            })
+            .collect();
+        let models = std::array::from_fn(|j| &self.variants[j]);
+        let data = std::array::from_fn(|j| &data[j]);
+        let Ok(rows) = <&mut [LaneRows; LANES]>::try_from(&mut lane_rows[..]) else { return };
+        let outputs = &self.full.outputs;
+        let cancelled = || cancel.load(Ordering::Relaxed);
+        let Some(missed) = sweep_lanes(models, data, ctx.times, outputs, &points, rows, &cancelled) else {
+            return;
+        };
+        for (j, row) in lane_rows.iter().enumerate() {
+            if missed[j].is_none() {
+                done[j] = Some((row.pivot_min, 0, ctx.times.len(), None));
+            }
+        }
     }
 }
 

@@ -16,6 +16,7 @@
 
 pub mod affine;
 pub mod crank;
+pub mod lanes;
 pub mod newton;
 pub mod rpr;
 pub mod rrp;

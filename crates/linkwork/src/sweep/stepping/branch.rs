@@ -55,7 +55,7 @@ impl State {
 /// jump in velocity times h, a fraction of the motion of order one.
 pub const CONSISTENCY: f64 = 0.1;
 /// Scaled misfit below which two states always agree (round-off of converged solves).
-const CONSISTENCY_FLOOR: f64 = 1e-9;
+pub const CONSISTENCY_FLOOR: f64 = 1e-9;
 
 /// Whether `b` continues `a`'s branch: see `CONSISTENCY`.
 pub fn consistent(model: &Model, a: &State, b: &State) -> bool {
