@@ -65,7 +65,11 @@ pub fn add_constraint_curvature(
         for (along, col_j) in cols.iter().enumerate() {
             let Some(col_j) = *col_j else { continue };
             let side = |body: Option<usize>, l0: usize| match body {
-                Some(_) => JetFrame::new([coordinate(l0, along), coordinate(l0 + 1, along), coordinate(l0 + 2, along)]),
+                Some(_) => JetFrame::new([
+                    coordinate(l0, along),
+                    coordinate(l0 + 1, along),
+                    coordinate(l0 + 2, along),
+                ]),
                 None => JetFrame::ground(),
             };
             let (a, b) = (side(c.body_a, 0), side(c.body_b, 3));
@@ -134,7 +138,8 @@ mod tests {
         for model in [mixed(), crate::dynamics::applied::tests::loaded_pair()] {
             let n = model.n_coords;
             let mut aug = Augmented::new(&model);
-            let q: Vec<f64> = model.q_start.iter().enumerate().map(|(i, v)| v + 0.05 * (i as f64).sin()).collect();
+            let q: Vec<f64> =
+                model.q_start.iter().enumerate().map(|(i, v)| v + 0.05 * (i as f64).sin()).collect();
             let lambda: Vec<f64> = (0..model.n_rows).map(|i| 1.0 + 0.7 * (1.3 * i as f64).cos()).collect();
             let t = 0.4;
             let mut k = vec![0.0; n * n];
@@ -151,7 +156,10 @@ mod tests {
                 for i in 0..n {
                     let fd = (gu[i] - gd[i]) / (2.0 * h);
                     let got = k[i * n + j];
-                    assert!((got - fd).abs() < 1e-8 * (1.0 + fd.abs()), "({i}, {j}): jets {got} vs differences {fd}");
+                    assert!(
+                        (got - fd).abs() < 1e-8 * (1.0 + fd.abs()),
+                        "({i}, {j}): jets {got} vs differences {fd}"
+                    );
                 }
             }
             // symmetric (a sum of Hessians) and not all zero: the test can fail
