@@ -75,6 +75,14 @@ def sweep_variants(
     threads: int = 0,
     progress: Callable[[int, int], Any] | None = None,
 ) -> dict[str, Any]: ...
+def equilibrium(
+    model: Model,
+    t: float = 0.0,
+    q_guess: npt.NDArray[np.float64] | None = None,
+    max_iter: int = 100,
+    tol_force: float = 1e-12,
+    max_step: float = 0.5,
+) -> dict[str, Any]: ...
 def parse_expression(text: str, variable: str = "t") -> None: ...
 def evaluate_law(
     law_json: str,

@@ -17,7 +17,10 @@ use crate::constraints::{Constraint, Frame, Rows};
 use crate::dynamics::applied::{applied_force, tangents, LoadJet};
 use crate::dynamics::curvature::{add_constraint_curvature, ConstraintJet};
 use crate::dynamics::mass::frames_of;
+use crate::model::data::Data;
 use crate::model::Model;
+use crate::solve::assembly::update_frames;
+use crate::solve::forces::{reactions, REACTION_COLUMNS};
 
 /// Settings of the equilibrium solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -344,4 +347,22 @@ pub fn equilibrium(
         stiffness,
         null_basis: ev.null,
     })
+}
+
+impl Equilibrium {
+    /// The multipliers in the rows' units and each constraint's reaction on its side b
+    /// (Fx, Fy, torque about its anchor, power: `forces::reactions`) at rest.
+    pub fn reactions(&self, model: &Model) -> (Vec<f64>, Vec<f64>) {
+        let mut data = Data::new(model);
+        data.q.copy_from_slice(&self.q);
+        for c in &model.constraints {
+            for i in 0..c.n_rows {
+                data.lambda[c.row0 + i] = self.lambda[c.row0 + i] * c.row_scale[i];
+            }
+        }
+        update_frames(&mut data);
+        let mut out = vec![0.0; REACTION_COLUMNS * model.constraints.len()];
+        reactions(model, &data, self.t, &mut out);
+        (data.lambda, out)
+    }
 }
