@@ -28,6 +28,7 @@ __all__ = [
     "write_model",
     "screw_transport",
     "sweep_batch",
+    "equilibrium",
     "sweep_variants",
     "sensitivities",
     "_check_panic_guard",
