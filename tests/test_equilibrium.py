@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from linkwork import Constant, EquilibriumError, Mechanism
+from linkwork import Constant, EquilibriumError, MasslessError, Mechanism
 
 G = 9.81
 
@@ -163,3 +163,23 @@ def test_spring_loaded_four_bar_matches_virtual_work_and_the_reduced_energy():
     # the mode moves the crank by 1 / sqrt(m*) (mass-normalised)
     (mode,) = eq.modes()
     assert abs(mode.shape[2]) == pytest.approx(1.0 / math.sqrt(generalized_mass(phi)), rel=1e-10)
+
+
+def test_modes_of_a_massless_free_motion_are_refused_by_name():
+    """A massless flap on a spring at the bar's tip: at rest and stable (the spring holds
+    it), but its motion carries no mass, so there is no frequency to give."""
+    mech = Mechanism("flap")
+    mech.gravity = (0.0, -G)
+    bar = mech.body("bar", origin=(0.3, 0.0), mass=1.0, inertia=0.01)
+    flap = mech.body("flap", origin=(0.6, 0.0))
+    mech.revolute(mech.ground, bar, at=(0.0, 0.0))
+    mech.revolute(bar, flap, at=(0.6, 0.0))
+    mech.torsion_spring(mech.ground, bar, stiffness=30.0, free_angle=0.5)
+    mech.torsion_spring(bar, flap, stiffness=2.0, free_angle=0.3)
+    eq = mech.compile(free=True).equilibrium()
+    assert eq.stable and len(eq.eigenvalues) == 2
+    # the flap rests at its spring's free angle to the bar
+    assert eq.body("flap").theta - eq.body("bar").theta == pytest.approx(0.3, abs=1e-12)
+    assert eq.omega2 is None
+    with pytest.raises(MasslessError, match="flap"):
+        eq.modes()
