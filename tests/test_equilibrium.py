@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from linkwork import Constant, EquilibriumError, MasslessError, Mechanism
+from linkwork import Constant, EquilibriumError, Linear, MasslessError, Mechanism
 
 G = 9.81
 
@@ -183,3 +183,24 @@ def test_modes_of_a_massless_free_motion_are_refused_by_name():
     assert eq.omega2 is None
     with pytest.raises(MasslessError, match="flap"):
         eq.modes()
+
+
+def test_a_driver_holds_its_coordinate_at_the_time_asked():
+    """A driven arm (angle 0.2 + 0.5 t) carrying a free pendulum: at t = 1 the arm is at
+    0.7 rad, the pendulum hangs straight down from its tip and swings as a compound
+    pendulum about it; the driver supplies the torque of both weights about the ground pin."""
+    m1, m2, arm, reach, jc = 0.8, 1.1, 0.25, 0.5, 0.015
+    mech = Mechanism("driven arm")
+    mech.gravity = (0.0, -G)
+    upper = mech.body("upper", origin=(0.0, 0.0), mass=m1, inertia=0.02, com=(arm, 0.0))
+    lower = mech.body("lower", origin=(reach + 0.3, 0.0), mass=m2, inertia=jc)
+    mech.revolute(mech.ground, upper, at=(0.0, 0.0))
+    mech.revolute(upper, lower, at=(reach, 0.0))
+    mech.drive_angle(upper, Linear(0.2, 0.5), name="hold")
+    eq = mech.compile(free=True).equilibrium(t=1.0)
+    assert eq.body("upper").theta == pytest.approx(0.7, abs=1e-14)
+    assert eq.body("lower").theta == pytest.approx(-math.pi / 2, abs=1e-10)
+    assert eq.stable and len(eq.eigenvalues) == 1
+    assert eq.omega2[0] == pytest.approx(m2 * G * 0.3 / (jc + m2 * 0.3**2), rel=1e-10)
+    torque = (m1 * arm + m2 * reach) * G * math.cos(0.7)
+    assert eq.effort("hold") == pytest.approx(torque, rel=1e-10)
