@@ -29,6 +29,7 @@ __all__ = [
     "screw_transport",
     "sweep_batch",
     "simulate",
+    "equilibrium",
     "sweep_variants",
     "sensitivities",
     "_check_panic_guard",
@@ -91,6 +92,14 @@ def sweep_variants(
     on_singular: str = "continue",
     threads: int = 0,
     progress: Callable[[int, int], Any] | None = None,
+) -> dict[str, Any]: ...
+def equilibrium(
+    model: Model,
+    t: float = 0.0,
+    q_guess: npt.NDArray[np.float64] | None = None,
+    max_iter: int = 100,
+    tol_force: float = 1e-12,
+    max_step: float = 0.5,
 ) -> dict[str, Any]: ...
 def parse_expression(text: str, variable: str = "t") -> None: ...
 def evaluate_law(

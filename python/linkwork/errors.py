@@ -30,7 +30,8 @@
         ├── InitialConditionError   initial positions or rates too far from the
         │                       constraints (projecting them would move them beyond ``ic_tol``)
         ├── MasslessError       no mass on a free coordinate (names the body)
-        └── IntegrationError    a simulation step failed (``partial``: the steps done)
+        ├── IntegrationError    a simulation step failed (``partial``: the steps done)
+        └── EquilibriumError    no rest configuration found (``q``: the last iterate)
     InternalError           a bug in linkwork (an engine panic, caught): please report it
     LinkworkWarning         a warning (a UserWarning): e.g. a model file without units whose
                             numbers look like mm or degrees
@@ -65,6 +66,7 @@ __all__ = [
     "InitialConditionError",
     "MasslessError",
     "IntegrationError",
+    "EquilibriumError",
     "InternalError",
     "LinkworkWarning",
 ]
@@ -184,6 +186,19 @@ class MasslessError(SolveError):
 class IntegrationError(SolveError):
     """A simulation step could not be taken (the step size fell below its floor, Newton
     diverged); ``partial`` holds the steps done."""
+
+
+class EquilibriumError(SolveError):
+    """No rest configuration was found (`Model.equilibrium`): the loads do not balance
+    near the guess (a constant torque on a free crank), or Newton ran out of iterations.
+    ``q`` is the last iterate, ``iterations`` how many were taken, ``force`` the
+    unbalanced generalized force left (scaled coordinates) and ``coordinate`` where it is
+    largest."""
+
+    q: Any = None
+    iterations: int = 0
+    force: float = float("nan")
+    coordinate: str = ""
 
 
 class InternalError(LinkworkError):

@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 mod dynamics;
+mod equilibrium;
 mod events;
 mod laws;
 mod linkages;
@@ -904,6 +905,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synthesis::synth_alt, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(equilibrium::equilibrium, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity::sensitivities, m)?)?;
     m.add_function(wrap_pyfunction!(variants::sweep_variants, m)?)?;
     m.add_function(wrap_pyfunction!(panics::_check_panic_guard, m)?)?;

@@ -14,6 +14,7 @@ from .. import _args, _core
 from ..errors import InputError, ModelError
 from ..kinds import kind as kind_of
 from .anchors import Anchor, traceable
+from .equilibrium import Equilibrium
 from .events import Event, MotionLimits
 from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
@@ -596,6 +597,46 @@ class Model:
             error.partial = results
             raise error
         return results
+
+    def equilibrium(
+        self,
+        t: float = 0.0,
+        q_guess: Sequence[float] | np.ndarray | None = None,
+        *,
+        max_iter: int = 100,
+        tol_force: float = 1e-12,
+        max_step: float = 0.5,
+    ) -> Equilibrium:
+        """The rest configuration under gravity, the springs and the applied loads at time
+        ``t`` (drivers hold their coordinates), from ``q_guess`` (default: the drawing):
+        Q_A(q, 0, t) = Phi_q^T lambda, Phi(q, t) = 0, by Newton with the exact tangent
+        stiffness (the loads' and the constraint forces' own), globalized by a line search
+        on the residual. Converged when the unbalanced force along the free motions is
+        below ``tol_force`` times the largest applied one and |Phi| below ``tol_residual``;
+        ``max_step`` bounds one iteration's scaled move. Newton finds the rest position
+        nearest the guess, stable or not: ``stable`` says which. Its stability, and the
+        linearized vibration modes about it, come with the result (`Equilibrium`).
+        No rest found raises `EquilibriumError` with the last iterate (``q``).
+
+        >>> import math
+        >>> from linkwork import Mechanism
+        >>> m = Mechanism("lid")
+        >>> m.gravity = (0.0, -9.81)
+        >>> lid = m.body("lid", origin=(0.2, 0.0), mass=1.0, inertia=0.01)
+        >>> _ = m.revolute(m.ground, lid, at=(0.0, 0.0))
+        >>> _ = m.torsion_spring(m.ground, lid, stiffness=5.0, free_angle=1.2)
+        >>> eq = m.compile(free=True).equilibrium()
+        >>> theta = eq.body("lid").theta
+        >>> bool(abs(5.0 * (theta - 1.2) + 1.0 * 9.81 * 0.2 * math.cos(theta)) < 1e-12), eq.stable
+        (True, True)
+        """
+        t = _args.number(t, "t")
+        g = self._guess(q_guess)
+        max_iter = _args.integer(max_iter, "max_iter", 1)
+        tol_force = _args.number(tol_force, "tol_force", positive=True)
+        max_step = _args.number(max_step, "max_step", positive=True)
+        raw = _core.equilibrium(self._core, t, g, max_iter=max_iter, tol_force=tol_force, max_step=max_step)
+        return Equilibrium(self, float(t), raw)
 
     def sensitivities(
         self,

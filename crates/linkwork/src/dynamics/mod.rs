@@ -7,6 +7,9 @@
 //! - `augmented`: the sparse augmented matrix [[A, Phi_q^T], [Phi_q, 0]], compiled once.
 //! - `system`: the index-1 solve of (qdd, lambda) and the projections onto the constraints.
 //! - `initial`: consistent initial conditions.
+//! - `curvature`: the constraint forces' own stiffness d(Phi_q^T lambda)/dq, exact.
+//! - `equilibrium`, `modes`: the rest configuration under the loads, its stability and
+//!   its linearized vibration modes.
 //! - `energy`: kinetic and potential energy, the power of what is not conservative.
 //! - `rk` (with `dop853`): DOP853 on the index-1 form with coordinate projection.
 //! - `gen_alpha`: implicit index-3 generalized-alpha with step-size adaptation.
@@ -15,11 +18,14 @@
 
 pub mod applied;
 pub mod augmented;
+pub mod curvature;
 pub mod dop853;
 pub mod energy;
+pub mod equilibrium;
 pub mod gen_alpha;
 pub mod initial;
 pub mod mass;
+pub mod modes;
 pub mod options;
 pub mod output;
 pub mod record;
