@@ -9,7 +9,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{guard, laws, poll_progress, rows_to_array, InputError, PyModel};
+use crate::{guard, laws, poll_progress, rows_to_array, run_error, InputError, PyModel};
 
 fn optional(a: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Option<Vec<f64>>> {
     a.map(|a| Ok(a.as_slice()?.to_vec())).transpose()
@@ -83,12 +83,7 @@ pub(crate) fn simulate<'py>(
             cb.call1(py, (total, total))?;
         }
     }
-    let error = match (result, interrupt) {
-        (Err(panic), _) => Some(panic),
-        (Ok(Ok(())), _) => None,
-        (Ok(Err(_)), Some(py_err)) => Some(py_err),
-        (Ok(Err(e)), None) => Some(model.solve_err(py, &e)),
-    };
+    let error = run_error(result, interrupt, |e| model.solve_err(py, e));
     out.truncate();
     let (k, n, r, nc) = (out.n_done, out.n_coords, out.n_rows, m.constraints.len());
     let d = PyDict::new(py);

@@ -497,6 +497,22 @@ pub(crate) fn poll_progress(
     })
 }
 
+/// The error of a long solve run by `guard` with `poll_progress`: its panic, else the
+/// exception that stopped it from the poll (Ctrl-C, the progress callback's own), else the
+/// engine's error made a Python one by `solve_err`; None when it finished.
+pub(crate) fn run_error(
+    result: PyResult<Result<(), SolveError>>,
+    interrupt: Option<PyErr>,
+    solve_err: impl FnOnce(&SolveError) -> PyErr,
+) -> Option<PyErr> {
+    match (result, interrupt) {
+        (Err(panic), _) => Some(panic),
+        (Ok(Ok(())), _) => None,
+        (Ok(Err(_)), Some(py_err)) => Some(py_err),
+        (Ok(Err(e)), None) => Some(solve_err(&e)),
+    }
+}
+
 #[pymethods]
 impl PyModel {
     #[new]
@@ -749,12 +765,7 @@ impl PyModel {
             }
         }
         // a panic keeps the steps stored before it, as a solve error does
-        let error = match (result, interrupt) {
-            (Err(panic), _) => Some(panic),
-            (Ok(Ok(())), _) => None,
-            (Ok(Err(_)), Some(py_err)) => Some(py_err),
-            (Ok(Err(e)), None) => Some(self.solve_err(py, &e)),
-        };
+        let error = run_error(result, interrupt, |e| self.solve_err(py, e));
         out.truncate();
         Ok((output_dict(py, out)?, error))
     }

@@ -9,7 +9,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{guard, laws, output_dict, poll_progress, InputError, PyModel};
+use crate::{guard, laws, output_dict, poll_progress, run_error, InputError, PyModel};
 
 pyo3::import_exception!(linkwork.errors, ParameterError);
 
@@ -99,12 +99,7 @@ pub(crate) fn sensitivities<'py>(
         });
         (r, interrupt)
     });
-    let error = match (result, interrupt) {
-        (Err(panic), _) => Some(panic),
-        (Ok(Ok(())), _) => None,
-        (Ok(Err(_)), Some(py_err)) => Some(py_err),
-        (Ok(Err(e)), None) => Some(model.solve_err(py, &e)),
-    };
+    let error = run_error(result, interrupt, |e| model.solve_err(py, e));
     let SensitivityOutput {
         mut sweep,
         names,
