@@ -259,6 +259,65 @@ def run(args: argparse.Namespace) -> int:
     return status
 
 
+def simulate(args: argparse.Namespace) -> int:
+    """Forward dynamics of a model file whose free coordinates follow from its forces."""
+    from .mechanism.builder import Mechanism
+
+    try:
+        model = Mechanism.load(args.model).compile(free=True)
+    except (OSError, ValueError, TypeError, KeyError, AttributeError, LinkworkError) as e:
+        raise _Failed(f"{args.model}: {e}") from None
+    if model.dof == 0:
+        raise _Failed(f"{args.model}: every coordinate is driven: nothing to simulate (use linkwork run)")
+    qd0 = None
+    if args.qd0:
+        qd0 = np.zeros(len(model.columns))
+        for item in args.qd0:
+            name, _, value = item.partition("=")
+            if name not in model.columns or not value:
+                raise _Failed(
+                    f"--qd0 {item!r}: give COLUMN=VALUE, a column of the model: {', '.join(model.columns)}",
+                    2,
+                )
+            qd0[model.columns.index(name)] = float(value)
+    t1 = args.t0 + 1.0 if args.t1 is None else args.t1
+    times = np.linspace(args.t0, t1, args.steps)
+    print(f"{model!r}: {model.dof} free coordinate(s), {args.method}, rtol {args.rtol:g}")
+    status = 0
+    try:
+        sim = model.simulate(
+            times, method=args.method, rtol=args.rtol, atol=args.rtol, qd0=qd0, progress=sys.stderr.isatty()
+        )
+    except KeyboardInterrupt as e:
+        sim = getattr(e, "partial", None)
+        if sim is None or len(sim) == 0:
+            raise
+        print(f"interrupted: writing the {len(sim)} times reached", file=sys.stderr)
+        status = 130
+    except LinkworkError as e:
+        sim = getattr(e, "partial", None)
+        if sim is None or len(sim) == 0:
+            raise _Failed(f"{args.model}: {e}") from None
+        print(f"error: {args.model}: {e}", file=sys.stderr)
+        print(f"(the {len(sim)} times reached before it are in the output)", file=sys.stderr)
+        status = 1
+    energy = sim.energy()
+    print(
+        f"{sim.n_steps_taken} steps ({sim.n_rejected} rejected), {sim.n_evaluations} evaluations; "
+        f"largest drift before projection {float(np.max(sim.drift)):.2e} (positions), "
+        f"{float(np.max(sim.drift_d)):.2e} (rates); energy balance within "
+        f"{float(np.max(np.abs(energy.balance))):.2e}"
+    )
+    os.makedirs(args.out, exist_ok=True)
+    path = f"{_stem(args)}.csv"
+    sim.to_csv(path, points=True)
+    written = [path]
+    if args.plot:
+        written += _figures(args, sim, plots=True)
+    print("wrote " + ", ".join(written))
+    return status
+
+
 def plot(args: argparse.Namespace) -> int:
     model = _load(args.model)
     _check_figures(args, model)
@@ -564,6 +623,34 @@ jumps, the closest approach to a singular configuration) marked on the timeline.
         help="output folder (default linkwork-out), or the page's file name if it ends in .html",
     )
 
+    sim = sub.add_parser(
+        "simulate",
+        formatter_class=fmt,
+        help="forward dynamics: the motion a model's forces produce (its free coordinates)",
+        description="""Compiles a model file keeping its undriven coordinates free and integrates its
+equations of motion from the drawing (at rest, or with --qd0) under gravity, springs,
+dampers and applied loads (docs/dynamics.md), and writes:
+  DIR/MODEL.csv     time, every coordinate with its rate and acceleration, the named
+                    points, and per row the constraints' drift before projection
+                    (residual) and the augmented matrix's pivot ratio
+  DIR/MODEL.png     with --plot: coordinates over time; DIR/MODEL_paths.png the paths
+A run that fails part way writes the times it reached and exits with status 1.""",
+    )
+    _sweep_arguments(sim)
+    sim.add_argument("--method", choices=("rk8", "gen-alpha"), default="rk8", help="integrator (default rk8)")
+    sim.add_argument(
+        "--rtol", type=float, default=1e-8, help="relative and absolute tolerance (default 1e-8)"
+    )
+    sim.add_argument(
+        "--qd0",
+        type=_names,
+        metavar="COLUMN=VALUE,...",
+        help="initial rates of coordinates (crank.theta=-1,...; the rest 0); they must be consistent "
+        "with the joints",
+    )
+    sim.add_argument("--plot", action="store_true", help="also write the PNGs of coordinates and paths")
+    _figure_arguments(sim)
+
     c = sub.add_parser(
         "check",
         help="count bodies, rows, degrees of freedom; find redundancy and limits",
@@ -624,7 +711,8 @@ Designs that fail are listed, not dropped; exit status 1 when every design faile
     st.add_argument(
         "--out", default="linkwork-out", metavar="DIR", help="output folder (default linkwork-out)"
     )
-    return parser, {"demo": d, "run": r, "plot": p, "check": c, "synth": s, "study": st, "view": v}
+    commands = {"demo": d, "run": r, "plot": p, "check": c, "synth": s, "study": st, "view": v}
+    return parser, {**commands, "simulate": sim}
 
 
 def _usage_problem(args: argparse.Namespace) -> str | None:
@@ -678,6 +766,7 @@ def main(argv: list[str] | None = None) -> int:
         "synth": _synth,
         "study": _study,
         "view": view,
+        "simulate": simulate,
     }
     try:
         return int(do[args.command](args))

@@ -40,7 +40,7 @@ class Simulation(Results):
     projected); ``step`` (n,): the size of the step that reached each time;
     ``iterations``: its Newton (or projection) iterations; ``pivot_ratio``: of the
     augmented matrix (near 0 at a singular configuration of the constraints);
-    ``n_steps``, ``n_rejected``, ``n_evaluations``; ``moved_q`` and ``moved_qd``: how
+    ``n_steps_taken``, ``n_rejected``, ``n_evaluations``; ``moved_q`` and ``moved_qd``: how
     far the initial conditions were moved onto the constraints (scaled); ``method``.
     """
 

@@ -1,0 +1,62 @@
+"""`linkwork simulate`: a model file with free coordinates integrated from the command
+line, its CSV against the exact solutions of IFToMM A01 and A02, and its refusals."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+
+from linkwork.cli import main
+from linkwork.mechanism import benchmarks, examples
+from linkwork.reference import exact
+
+
+def read(path) -> dict[str, np.ndarray]:  # type: ignore[no-untyped-def]
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    names = [h.split(" [")[0] for h in rows[0]]
+    data = np.array(rows[1:], dtype=float)
+    return {n: data[:, k] for k, n in enumerate(names)}
+
+
+def test_the_pendulum_file_is_simulated_to_its_exact_motion(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    benchmarks.pendulum().mechanism.save(tmp_path / "a01.toml")
+    argv = [
+        "simulate", str(tmp_path / "a01.toml"), "--t1", "10", "--steps", "201",
+        "--rtol", "1e-10", "--out", str(tmp_path), "--plot",
+    ]  # fmt: skip
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "1 free coordinate" in out and "energy balance within" in out
+    table = read(tmp_path / "a01.csv")
+    x, y = exact.pendulum_tip(table["t"])
+    # rk8 at rtol 1e-10: ~1e-9 over 10 s (tests/test_dynamics_forward.py)
+    assert np.abs(table["P1.x"] - x).max() < 1e-8 and np.abs(table["P1.y"] - y).max() < 1e-8
+    assert (tmp_path / "a01.png").exists() and (tmp_path / "a01_paths.png").exists()
+
+
+def test_initial_rates_by_column_name_start_the_n_four_bar(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    bench = benchmarks.n_four_bar(1)
+    bench.mechanism.save(tmp_path / "a02.toml")
+    model = bench.mechanism.compile(free=True)
+    rates = [f"{c}={v:g}" for c, v in zip(model.columns, bench.qd0) if v != 0.0]
+    argv = [
+        "simulate", str(tmp_path / "a02.toml"), "--t1", "3", "--steps", "61",
+        "--rtol", "1e-11", "--qd0", ",".join(rates), "--out", str(tmp_path),
+    ]  # fmt: skip
+    assert main(argv) == 0
+    table = read(tmp_path / "a02.csv")
+    phi, _ = exact.n_four_bar_branch(1, 3.0).phi(table["t"])
+    for k in (0, 1):
+        assert np.abs(np.angle(np.exp(1j * (table[f"crank{k}.theta"] - phi)))).max() < 1e-8
+
+
+def test_a_driven_model_and_a_bad_rate_are_refused(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    examples.four_bar().save(tmp_path / "fb.toml")
+    assert main(["simulate", str(tmp_path / "fb.toml"), "--out", str(tmp_path)]) == 1
+    assert "nothing to simulate" in capsys.readouterr().err
+    benchmarks.pendulum().mechanism.save(tmp_path / "a01.toml")
+    argv = ["simulate", str(tmp_path / "a01.toml"), "--qd0", "bar.omega=1", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    assert "bar.omega" in (err := capsys.readouterr().err) and "bar.theta" in err
