@@ -234,3 +234,19 @@ def test_a_partly_driven_model_balances_the_drivers_work() -> None:
     assert np.abs(e.work).max() > 1.0 and np.abs(e.balance).max() < 5e-8
     with pytest.raises(InitialConditionError, match="velocities"):
         model.simulate(t, qd0=np.zeros(6))
+
+
+def test_bad_settings_and_starting_values_are_named() -> None:
+    """Tolerances, rho_inf and the initial q0 / qd0 are checked before anything is
+    integrated, each refusal an `InputError` saying what is wrong with which setting."""
+    model = benchmarks.pendulum().mechanism.compile(free=True)
+    cases = [
+        (dict(rtol=-1.0), r"rtol must be a finite number > 0"),
+        (dict(method="gen-alpha", rho_inf=2.0), r"rho_inf must be in \[0, 1\]"),
+        (dict(qd0=[1.0, 2.0]), r"qd0 has 2 entries; the model has 3 coordinates"),
+        (dict(q0=[0.0, 0.0, np.inf]), r"q0 must be finite: 1 of its 3 values are not"),
+    ]
+    for kwargs, message in cases:
+        with pytest.raises(linkwork.InputError, match=message) as e:
+            model.simulate([0.0, 1.0], **kwargs)
+        assert "time grid" not in str(e.value)

@@ -102,7 +102,9 @@ fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
         SolveError::NonFinite { time, .. } => (NonFiniteError::new_err(msg), Some(*time)),
         SolveError::Times { .. } => (InputError::new_err(msg), None),
         SolveError::OutOfRange { time, .. } => (InputError::new_err(msg), Some(*time)),
-        SolveError::TooLarge { .. } | SolveError::Outputs { .. } => (InputError::new_err(msg), None),
+        SolveError::TooLarge { .. } | SolveError::Outputs { .. } | SolveError::Settings { .. } => {
+            (InputError::new_err(msg), None)
+        }
         SolveError::Cancelled { .. } => (CancelledError::new_err(msg), None),
         SolveError::Event { time, .. } => (SingularError::new_err(msg), Some(*time)),
         SolveError::Free { .. } => (FreeModelError::new_err(msg), None),

@@ -129,6 +129,10 @@ pub enum SolveError {
     /// The outputs asked for name a coordinate or body the model does not have.
     #[error("outputs: {problem}")]
     Outputs { problem: String },
+    /// A setting or starting value of a solve that cannot be used (a simulation's
+    /// tolerances, its initial q0 or qd0).
+    #[error("{problem}")]
+    Settings { problem: String },
     /// A kinematic solve of a model compiled with free coordinates (`Options::free`).
     #[error(
         "this model has {dof} free coordinate(s): simulate it (model.simulate) or add drivers \
@@ -169,6 +173,7 @@ impl SolveError {
             SolveError::OutOfRange { .. }
             | SolveError::TooLarge { .. }
             | SolveError::Outputs { .. }
+            | SolveError::Settings { .. }
             | SolveError::Free { .. } => None,
         }
     }

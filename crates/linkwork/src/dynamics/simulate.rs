@@ -50,19 +50,19 @@ pub fn simulate(
     out: &mut SimOutput,
     poll: &mut dyn FnMut(usize) -> bool,
 ) -> Result<(), SolveError> {
-    opts.check().map_err(|problem| SolveError::Times { step: 0, problem })?;
+    opts.check().map_err(|problem| SolveError::Settings { problem })?;
     check_times(model, times)?;
     let n = model.n_coords;
     for (what, v) in [("q0", q0), ("qd0", qd0)] {
         if let Some(v) = v {
             if v.len() != n || !v.iter().all(|x| x.is_finite()) {
-                return Err(SolveError::Times {
-                    step: 0,
-                    problem: format!(
-                        "{what} must hold {n} finite values (one per coordinate), not {}",
-                        v.len()
-                    ),
-                });
+                let bad = v.iter().filter(|x| !x.is_finite()).count();
+                let problem = if v.len() != n {
+                    format!("{what} must hold {n} values (one per coordinate), not {}", v.len())
+                } else {
+                    format!("{what} must be finite: {bad} of its {n} values are not")
+                };
+                return Err(SolveError::Settings { problem });
             }
         }
     }
