@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 
 import numpy as np
+import pytest
 
 from linkwork.cli import main
 from linkwork.mechanism import benchmarks, examples
@@ -60,3 +61,30 @@ def test_a_driven_model_and_a_bad_rate_are_refused(tmp_path, capsys) -> None:  #
     argv = ["simulate", str(tmp_path / "a01.toml"), "--qd0", "bar.omega=1", "--out", str(tmp_path)]
     assert main(argv) == 2
     assert "bar.omega" in (err := capsys.readouterr().err) and "bar.theta" in err
+    # rates the pin does not allow: refused before any step, nothing written
+    argv = ["simulate", str(tmp_path / "a01.toml"), "--qd0", "bar.x=1", "--out", str(tmp_path / "x")]
+    assert main(argv) == 1
+    assert "inconsistent initial" in capsys.readouterr().err
+    assert not (tmp_path / "x" / "a01.csv").exists()
+
+
+def test_default_span_and_a_run_that_stops_early_writes_what_it_reached(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """Without --t1 the run spans t0 .. t0 + 1; a run out of steps (--max-steps) exits 1
+    and writes the times it reached, each on the exact motion."""
+    benchmarks.pendulum().mechanism.save(tmp_path / "a01.toml")
+    assert (
+        main(["simulate", str(tmp_path / "a01.toml"), "--t0", "0.5", "--steps", "11", "--out", str(tmp_path)])
+        == 0
+    )
+    assert read(tmp_path / "a01.csv")["t"] == pytest.approx(np.linspace(0.5, 1.5, 11), abs=1e-15)
+    argv = [
+        "simulate", str(tmp_path / "a01.toml"), "--t1", "10", "--steps", "101", "--rtol", "1e-10",
+        "--max-steps", "40", "--out", str(tmp_path),
+    ]  # fmt: skip
+    assert main(argv) == 1
+    err = capsys.readouterr().err
+    assert "times reached before it are in the output" in err
+    table = read(tmp_path / "a01.csv")
+    assert 1 < len(table["t"]) < 101
+    x, y = exact.pendulum_tip(table["t"])
+    assert np.abs(table["P1.x"] - x).max() < 1e-8

@@ -286,7 +286,13 @@ def simulate(args: argparse.Namespace) -> int:
     status = 0
     try:
         sim = model.simulate(
-            times, method=args.method, rtol=args.rtol, atol=args.rtol, qd0=qd0, progress=sys.stderr.isatty()
+            times,
+            method=args.method,
+            rtol=args.rtol,
+            atol=args.rtol,
+            qd0=qd0,
+            max_steps=args.max_steps,
+            progress=sys.stderr.isatty(),
         )
     except KeyboardInterrupt as e:
         sim = getattr(e, "partial", None)
@@ -647,6 +653,9 @@ A run that fails part way writes the times it reached and exits with status 1.""
         metavar="COLUMN=VALUE,...",
         help="initial rates of coordinates (crank.theta=-1,...; the rest 0); they must be consistent "
         "with the joints",
+    )
+    sim.add_argument(
+        "--max-steps", type=_positive_int, default=None, metavar="N", help="stop after N integration steps"
     )
     sim.add_argument("--plot", action="store_true", help="also write the PNGs of coordinates and paths")
     _figure_arguments(sim)
