@@ -83,7 +83,7 @@ def test_default_span_and_a_run_that_stops_early_writes_what_it_reached(tmp_path
     ]  # fmt: skip
     assert main(argv) == 1
     err = capsys.readouterr().err
-    assert "times reached before it are in the output" in err
+    assert "times before the failure are in the output" in err
     table = read(tmp_path / "a01.csv")
     assert 1 < len(table["t"]) < 101
     x, y = exact.pendulum_tip(table["t"])

@@ -149,21 +149,26 @@ def _sweep(
             derivatives=derivatives,
         )
         return results, 0
-    except KeyboardInterrupt as e:
-        # Ctrl-C: the steps done are kept and written, and the exit status says so
-        partial = getattr(e, "partial", None)
-        if partial is None or len(partial) == 0:
-            raise
+    except (KeyboardInterrupt, LinkworkError) as e:
+        return _stopped(args, e, "steps")
+
+
+def _stopped(args: argparse.Namespace, e: BaseException, rows: str) -> tuple[Any, int]:
+    """What a sweep or simulation stopped part way kept, and the exit status: 130 after
+    Ctrl-C, 1 after a failure (its good ``rows`` are written); with nothing kept, the
+    interrupt goes on and the failure is reported."""
+    partial = getattr(e, "partial", None)
+    if partial is None or len(partial) == 0:
+        if isinstance(e, KeyboardInterrupt):
+            raise e
+        raise _Failed(f"{args.model}: {e}") from None
+    if isinstance(e, KeyboardInterrupt):
         last = float(partial.times[-1])
-        print(f"interrupted at t = {last:g}: writing the {len(partial)} steps done", file=sys.stderr)
+        print(f"interrupted at t = {last:g}: writing the {len(partial)} {rows} done", file=sys.stderr)
         return partial, 130
-    except LinkworkError as e:
-        partial = getattr(e, "partial", None)
-        if partial is None or len(partial) == 0:
-            raise _Failed(f"{args.model}: {e}") from None
-        print(f"error: {args.model}: {e}", file=sys.stderr)
-        print(f"(the {len(partial)} steps before the failure are in the output)", file=sys.stderr)
-        return partial, 1
+    print(f"error: {args.model}: {e}", file=sys.stderr)
+    print(f"(the {len(partial)} {rows} before the failure are in the output)", file=sys.stderr)
+    return partial, 1
 
 
 def _t1(args: argparse.Namespace, model: Model) -> float:
@@ -283,7 +288,6 @@ def simulate(args: argparse.Namespace) -> int:
     t1 = args.t0 + 1.0 if args.t1 is None else args.t1
     times = np.linspace(args.t0, t1, args.steps)
     print(f"{model!r}: {model.dof} free coordinate(s), {args.method}, rtol {args.rtol:g}")
-    status = 0
     try:
         sim = model.simulate(
             times,
@@ -294,19 +298,9 @@ def simulate(args: argparse.Namespace) -> int:
             max_steps=args.max_steps,
             progress=sys.stderr.isatty(),
         )
-    except KeyboardInterrupt as e:
-        sim = getattr(e, "partial", None)
-        if sim is None or len(sim) == 0:
-            raise
-        print(f"interrupted: writing the {len(sim)} times reached", file=sys.stderr)
-        status = 130
-    except LinkworkError as e:
-        sim = getattr(e, "partial", None)
-        if sim is None or len(sim) == 0:
-            raise _Failed(f"{args.model}: {e}") from None
-        print(f"error: {args.model}: {e}", file=sys.stderr)
-        print(f"(the {len(sim)} times reached before it are in the output)", file=sys.stderr)
-        status = 1
+        status = 0
+    except (KeyboardInterrupt, LinkworkError) as e:
+        sim, status = _stopped(args, e, "times")
     energy = sim.energy()
     print(
         f"{sim.n_steps_taken} steps ({sim.n_rejected} rejected), {sim.n_evaluations} evaluations; "

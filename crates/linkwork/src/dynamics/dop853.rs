@@ -288,21 +288,20 @@ pub const C: [f64; 16] = [
     0.2,
     0.7777777777777778,
 ];
-/// b_i: the order-8 solution's weights.
-pub const B: [f64; 12] = [
-    0.054293734116568765,
-    0.0,
-    0.0,
-    0.0,
-    0.0,
-    4.450312892752409,
-    1.8915178993145003,
-    -5.801203960010585,
-    0.3111643669578199,
-    -0.1521609496625161,
-    0.20136540080403034,
-    0.04471061572777259,
-];
+/// b_i: the order-8 solution's weights: the first twelve of A's row 12, the stage that
+/// is the new point's derivative (first same as last).
+pub const B: [f64; 12] = first_twelve(A[12]);
+
+const fn first_twelve(row: [f64; 16]) -> [f64; 12] {
+    let mut b = [0.0; 12];
+    let mut i = 0;
+    while i < 12 {
+        b[i] = row[i];
+        i += 1;
+    }
+    b
+}
+
 /// The order-5 error estimator's weights (over 13 stages).
 pub const E5: [f64; 13] = [
     0.01312004499419488,
