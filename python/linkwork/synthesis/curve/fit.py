@@ -17,10 +17,8 @@ evaluated. Within the budget the answer is the one without it (the clock is only
 from __future__ import annotations
 
 import math
-import os
 import time
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -30,6 +28,7 @@ from ...errors import SingularError, SolveError, SynthesisError
 from ...mechanism.builder import Mechanism
 from ...view.design import DesignPictures
 from .target import TargetCurve
+from .threads import map_starts
 from .tracking import TWO_PI, CircuitError, TrackingProblem, coupler_points
 
 __all__ = ["CurveDesign", "CurveFit", "refine", "random_seeds", "fit", "CURVE_MERIT"]
@@ -201,9 +200,13 @@ class _Refinement:
     ``problem.size`` entries the design numbers, then the crank angles), and the best
     point evaluated at the current weight (what a refinement the budget stops returns)."""
 
-    def __init__(self, problem: Any, x: np.ndarray, deadline: float | None = None) -> None:
+    def __init__(
+        self, problem: Any, x: np.ndarray, deadline: float | None = None, weights: Any = None
+    ) -> None:
         self.problem = problem
         self.deadline = deadline
+        # each point's weight on both its residuals (None: all 1)
+        self.rows = None if weights is None else np.repeat(np.asarray(weights, dtype=float), 2)
         self.best: tuple[float, np.ndarray | None] = (math.inf, None)
         self.base = problem.complete(x)
         free = problem.free()
@@ -258,7 +261,8 @@ class _Refinement:
         out = self.evaluate(z)
         if out is None:
             return np.full(2 * self.problem.n + self.m, self.big)
-        res = np.concatenate([out[0], weight * np.maximum(out[2] + self.inset, 0.0)])
+        r = out[0] if self.rows is None else self.rows * out[0]
+        res = np.concatenate([r, weight * np.maximum(out[2] + self.inset, 0.0)])
         cost = float(res @ res)
         if cost < self.best[0]:
             self.best = (cost, z.copy())
@@ -305,28 +309,37 @@ class _Refinement:
         # the constraints' exact gradients (`TrackingProblem.constraints`), where they bind
         dg = np.array(out[3], dtype=float).reshape(self.m, -1)
         dg[out[2] + self.inset <= 0.0] = 0.0
-        return np.vstack([out[1], weight * dg]) @ self.dxdz
+        jac = out[1] if self.rows is None else self.rows[:, None] * out[1]
+        return np.vstack([jac, weight * dg]) @ self.dxdz
 
 
 def refine(
-    problem: TrackingProblem, x: Any, max_nfev: int = 400, start: int = -1, deadline: float | None = None
+    problem: TrackingProblem,
+    x: Any,
+    max_nfev: int = 400,
+    start: int = -1,
+    deadline: float | None = None,
+    weights: Any = None,
 ) -> CurveDesign:
     """One design refined from ``x`` (a full design vector), stopped at ``deadline`` (a
     `time.perf_counter` instant) if given, with the best design evaluated by then
-    (``cut``). `CircuitError` if ``x`` itself does not turn fully on the problem's
-    circuit."""
+    (``cut``). ``weights``: one a point, multiplying both its residuals (the design's
+    ``f`` stays the unweighted tracking error). `CircuitError` if ``x`` itself does not
+    turn fully on the problem's circuit."""
     t0 = time.perf_counter()
-    ref = start_refinement(problem, x, start, deadline)
+    ref = start_refinement(problem, x, start, deadline, weights)
     z, nfev, cut = ref.minimise(ref.z_of(ref.base), max_nfev)
     d = _design(problem, ref.x_of(z), nfev, time.perf_counter() - t0, start)
     d.cut = cut
     return d
 
 
-def start_refinement(problem: Any, x: Any, start: int, deadline: float | None = None) -> _Refinement:
+def start_refinement(
+    problem: Any, x: Any, start: int, deadline: float | None = None, weights: Any = None
+) -> _Refinement:
     """The refinement's map for a start ``x``; `CircuitError` if ``x`` does not turn
     fully on its circuit."""
-    ref = _Refinement(problem, problem.complete(x), deadline)
+    ref = _Refinement(problem, problem.complete(x), deadline, weights)
     if ref.evaluate(ref.z_of(ref.base)) is None:
         raise CircuitError(
             f"starting design {start} (within the bounds) does not turn fully on the {problem.assembly}"
@@ -491,9 +504,7 @@ def fit(
         d.family = str(family[0]) if family else "given"
         return d
 
-    workers = workers or os.cpu_count() or 1
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        done = list(pool.map(run, jobs))
+    done = map_starts(run, jobs, workers)
     designs = [d for d in done if isinstance(d, CurveDesign)]
     designs.sort(key=lambda d: (not d.ok, d.f, d.start))
     failures = [d for d in done if isinstance(d, str)]

@@ -10,7 +10,9 @@ optimum, the point's distance normal to the curve. The seeds are the atlas's nea
 curves, the target run either way (the shape has no direction); each refined design is
 then scored by `shape_error` and moved by its similarity onto the target, and, with
 ``polish``, the mean nearest distance itself is minimised from the best of them over the
-nine design numbers (Nelder-Mead on the closed-form curve, the crank turning fully).
+nine design numbers and the crank angles, by reweighted least squares on all the points
+(each point weighted by 1 / sqrt of its distance, the exact Jacobian, the crank turning
+fully).
 """
 
 from __future__ import annotations
@@ -26,11 +28,12 @@ from ...errors import SynthesisError
 from .atlas import Atlas
 from .atlas import load as load_atlas
 from .descriptors import ShapeFit, nearest_distances, shape_error
-from .fit import CurveDesign, fit, random_seeds
+from .fit import CurveDesign, fit, random_seeds, refine
 from .seeds import Seed, crank_angles_along
 from .target import TargetCurve
 from .target import target as make_target
-from .tracking import TWO_PI, coupler_points
+from .threads import one_blas_thread
+from .tracking import TWO_PI, CircuitError, TrackingProblem, coupler_points
 
 __all__ = ["ShapeDesign", "ShapeResult", "shape_fit", "traced", "moved"]
 
@@ -52,7 +55,7 @@ def moved(x: Any, sim: ShapeFit) -> np.ndarray:
     c, s = math.cos(sim.rotation), math.sin(sim.rotation)
     out = x.copy()
     out[:6] = sim.scale * x[:6]
-    out[6] = x[6] + sim.rotation
+    out[6] = math.remainder(x[6] + sim.rotation, TWO_PI)  # within the refinement's bounds
     out[7:9] = sim.scale * np.array([c * x[7] - s * x[8], s * x[7] + c * x[8]]) + sim.offset
     return out
 
@@ -115,49 +118,63 @@ def _score(points: np.ndarray, x: np.ndarray, circuit: str) -> tuple[np.ndarray,
     return y, float(d.mean()), float(d.max())
 
 
-def _polish(points: np.ndarray, x: np.ndarray, circuit: str, iterations: int) -> np.ndarray:
-    """Nelder-Mead on the mean nearest distance over the nine design numbers (scaled by
-    the target's size; a design that stops turning fully scores infinity)."""
-    from scipy.optimize import minimize
-
-    size = float(np.hypot(*np.ptp(points, axis=0)))
-    unit = np.array([size] * 6 + [1.0] + [size] * 2)
-
-    def f(z: np.ndarray) -> float:
-        c = traced(z * unit, circuit)
-        if not np.all(np.isfinite(c)):
-            return math.inf
-        return float(nearest_distances(points, c).mean())
-
-    res = minimize(
-        f,
-        x / unit,
-        method="Nelder-Mead",
-        options={"maxiter": iterations, "xatol": 1e-10, "fatol": 1e-12, "adaptive": True},
-    )
-    return res.x * unit if res.fun < f(x / unit) else x
+def _polish(
+    points: np.ndarray, design: ShapeDesign, rounds: int, max_nfev: int, problem: dict[str, Any]
+) -> np.ndarray | None:
+    """The mean nearest distance itself minimised from ``design``, by iteratively
+    reweighted least squares on the tracking error over all the points, crank angles
+    free: each round weights a point by 1 / sqrt(its distance), so the weighted sum of
+    squares is the sum of distances at the round's start (Weiszfeld's device), and
+    refines with the exact Jacobian. The nine design numbers of the best round by the
+    mean nearest distance; None if no round improves on ``design``."""
+    # the points run the way the design runs them: the one its crank angles fit better
+    starts = []
+    for way in (points, points[::-1]):
+        x = np.concatenate([design.x, crank_angles_along(design.x, design.circuit, way, True)])
+        c = coupler_points(x, x[9:], design.circuit)
+        starts.append((float(np.sum((c - way) ** 2)), way, x))
+    _, way, x = min(starts, key=lambda s: s[0])
+    tracking = TrackingProblem(make_target(way, closed=True), circuit=design.circuit, **problem)
+    best, found = design.mean, None
+    for _ in range(int(rounds)):
+        c = coupler_points(x, x[9:], design.circuit)
+        d = np.hypot(*(c - way).T)
+        # a floor on the distances keeps a point on the curve from taking all the weight
+        w = 1.0 / np.sqrt(np.maximum(d, 1e-3 * max(float(d.mean()), 1e-300)))
+        try:
+            with one_blas_thread():
+                x = refine(tracking, x, max_nfev=max_nfev, weights=w / w.max()).x
+        except (CircuitError, SynthesisError):
+            break
+        scored = _score(points, x[:9], design.circuit)
+        if scored is None:
+            break
+        if scored[1] < best:
+            best, found = scored[1], x[:9].copy()
+    return found
 
 
 def shape_fit(
     target: TargetCurve | Any,
-    k: int = 6,
+    k: int = 12,
     random: int = 0,
     seed: int = 0,
     atlas: Atlas | None = None,
     workers: int | None = None,
-    max_nfev: int = 60,
-    polish: int = 400,
+    max_nfev: int = 200,
+    polish: int = 4,
     refine_points: int = 36,
     **problem: Any,
 ) -> ShapeResult:
     """The shape problem for a closed ``target`` (a `TargetCurve` or an n x 2 array):
     the ``k`` nearest atlas curves (and ``random`` random crank-rockers, ``seed``) as
     seeds, each refined by the tracking error with free crank angles (`fit`, at most
-    ``max_nfev`` evaluations a weight; ``problem``: its options), scored by the mean
-    nearest distance after the best similarity, the best polished by ``polish``
-    Nelder-Mead iterations on that distance (0: none). The tracking refinement runs on at
-    most ``refine_points`` of the points (evenly by index; its cost grows with their
-    count), the scores on all of them."""
+    ``max_nfev`` evaluations a weight; ``problem``: its options, bounds and constraints),
+    scored by the mean nearest distance after the best similarity, the best polished by
+    ``polish`` rounds of reweighted least squares on all the points, which minimise that
+    mean distance itself (0: none). The tracking refinement runs on at most
+    ``refine_points`` of the points (evenly by index; its cost grows with their count),
+    the scores on all of them."""
     t0 = time.perf_counter()
     tc = target if isinstance(target, TargetCurve) else make_target(target, closed=True)
     if tc.timed:
@@ -172,7 +189,7 @@ def shape_fit(
         way = ways[h.reverse]
         th = crank_angles_along(h.vector, h.circuit, way.points, way.closed)
         seeds[h.reverse].append(Seed(h.circuit, np.concatenate([h.vector, th]), "atlas"))
-    seeds[False] += [Seed(c, x, "random") for c, x in random_seeds(tc, random, seed)]
+    seeds[False] += [Seed(c, x, "random") for c, x in random_seeds(ways[False], random, seed)]
     designs: list[ShapeDesign] = []
     for rev, group in seeds.items():
         if not group:
@@ -186,8 +203,8 @@ def shape_fit(
     designs.sort(key=lambda d: d.mean)
     if polish and designs:
         b = designs[0]
-        y = _polish(pts, b.x, b.circuit, int(polish))
-        scored = _score(pts, y, b.circuit)
+        y = _polish(pts, b, int(polish), max_nfev, problem)
+        scored = None if y is None else _score(pts, y, b.circuit)
         if scored is not None and scored[1] < b.mean:
             y, mean, largest = scored
             designs.insert(0, ShapeDesign(y, b.circuit, mean, largest, b.family, b.reverse, None))

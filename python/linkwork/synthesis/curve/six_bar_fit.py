@@ -12,10 +12,8 @@ dyad).
 from __future__ import annotations
 
 import math
-import os
 import time
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -27,6 +25,7 @@ from ...view.design import DesignPictures
 from .fit import CurveDesign, CurveFit, budget_seconds, fit, start_refinement
 from .six_bars import KINDS, SIDES, SixBarProblem, six_bar_points
 from .target import TargetCurve
+from .threads import map_starts
 from .tracking import TWO_PI, CircuitError, coupler_points
 
 __all__ = ["SixBarDesign", "SixBarFit", "dyad_seeds", "fit_six_bars", "refine_six_bar", "SIX_BAR_MERIT"]
@@ -347,8 +346,7 @@ def fit_six_bars(
         d.family = family
         return d
 
-    with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
-        done = list(pool.map(run, enumerate(jobs)))
+    done = map_starts(run, enumerate(jobs), workers)
     designs = [d for d in done if isinstance(d, SixBarDesign)]
     designs.sort(key=lambda d: (not d.ok, d.f, d.start))
     return SixBarFit(
