@@ -150,3 +150,37 @@ def test_shape_polish_lowers_the_mean_distance() -> None:
     plain = C.shape_fit(pts, k=4, seed=0, workers=2, polish=0).best
     polished = C.shape_fit(pts, k=4, seed=0, workers=2, polish=4).best
     assert polished.mean < 0.995 * plain.mean
+
+
+@pytest.mark.parametrize("circuit", ["open", "crossed"])
+def test_timed_dyads_give_back_the_four_bar(circuit: str) -> None:
+    # five points of a known four-bar at prescribed crank angles: its crank is a timed
+    # dyad, its rocker a Burmester dyad of the poses, and the pair is among the seeds
+    th = np.array([0.3, 1.2, 2.0, 3.1, 4.4])
+    t = C.target(C.coupler_points(KNOWN, th, circuit), crank_angles=th)
+    got, info = S.timed_seeds(t)
+    assert info["kept"] == len(got) > 0
+    assert all(s.family == "timed" for s in got)
+    mine = [s for s in got if s.circuit == circuit]
+    assert min(_gap(s.x, KNOWN) for s in mine) < 1e-9
+    assert min(S.seed_error(s, t) for s in got) < 1e-20
+    # kept by the smallest tracking error
+    best, _ = S.timed_seeds(t, keep=1)
+    assert S.seed_error(best[0], t) == min(S.seed_error(s, t) for s in got)
+
+
+def test_timed_seeds_in_make_seeds_and_refusals() -> None:
+    th = np.linspace(0.2, 4.0, 8)
+    t = C.target(C.coupler_points(KNOWN, th, "open"), crank_angles=th)
+    got = S.make_seeds(t, atlas=0, alt=0, random=2, timed=3, seed=1)
+    assert got.counts["timed"] == 3 and [s.family for s in got][:3] == ["timed"] * 3
+    assert any(n.startswith("timed dyads:") for n in got.notes)
+    fitted = C.fit(t, seeds=list(got), workers=2)
+    assert min(d.f for d in fitted.designs if d.family == "timed") < 1e-18
+    # a free-timing target has no timed dyads; four points are too few
+    untimed = C.target(C.coupler_points(KNOWN, th, "open"))
+    assert "timed" not in S.make_seeds(untimed, atlas=0, alt=0, random=1).counts
+    with pytest.raises(SynthesisError, match="prescribed crank angles"):
+        S.timed_seeds(untimed)
+    with pytest.raises(SynthesisError, match="five timed points"):
+        S.timed_seeds(C.target(C.coupler_points(KNOWN, th[:4], "open"), crank_angles=th[:4]))

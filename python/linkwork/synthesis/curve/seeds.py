@@ -1,7 +1,8 @@
 """Starting designs for synthesis from a curve, from every direction: the atlas of
 normalised coupler curves (its nearest curves placed on the target), Alt's nine-point
-problem on nine points sampled along the target (every real four-bar through them) and
-random Grashof crank-rockers. Each is a `Seed` (circuit, x, family) that `fit` takes in
+problem on nine points sampled along the target (every real four-bar through them), for
+a timed target the four-bars of the five-point timed dyads, and random Grashof
+crank-rockers. Each is a `Seed` (circuit, x, family) that `fit` takes in
 ``seeds``; every refined design keeps its seed's ``family``.
 
 A four-bar through given points runs them at crank angles of its own: an atlas seed
@@ -30,6 +31,8 @@ __all__ = [
     "Seeds",
     "atlas_seeds",
     "alt_seeds",
+    "five_along",
+    "timed_seeds",
     "crank_angles_along",
     "design_vectors",
     "nine_along",
@@ -43,7 +46,7 @@ _DENSE = 720
 
 class Seed(NamedTuple):
     """A starting design: ``circuit`` ("open" or "crossed"), ``x`` (the full design
-    vector of `TrackingProblem`) and ``family`` ("atlas", "alt", "random")."""
+    vector of `TrackingProblem`) and ``family`` ("atlas", "alt", "timed", "random")."""
 
     circuit: str
     x: np.ndarray
@@ -190,6 +193,63 @@ def alt_seeds(
     return out, info
 
 
+def five_along(target: TargetCurve) -> np.ndarray:
+    """The indices of five target points spread evenly by index, first and last included."""
+    n = len(target)
+    if n < 5:
+        raise SynthesisError(f"the timed dyads need five timed points, the target has {n}")
+    return np.unique(np.round(np.linspace(0.0, n - 1.0, 5)).astype(int))
+
+
+def timed_seeds(target: TargetCurve, keep: int | None = None) -> tuple[list[Seed], dict[str, Any]]:
+    """Four-bars from the five-point timed dyads of a timed target: on five of its points
+    (`five_along`) every real crank dyad (ground pivot G, pin A) whose pin turns by the
+    prescribed crank angles with |P - A| the same at all five (`linkwork.synthesis.dyad`,
+    "timed"); its pins give the coupler's rotation at each point, and every real
+    Burmester dyad of those five poses is a rocker for it. Each pair is a four-bar through
+    the five points at the prescribed crank increments, kept where it is a Grashof
+    crank-rocker; its crank angles are the target's (measured from the ground line: the
+    four-bar meets them up to one constant, the condition the dyads do not impose). With
+    ``keep``, the smallest tracking error (`seed_error`) first. Also what it cost:
+    {"seconds", "cranks" (real timed dyads), "four_bars", "kept"}."""
+    from ..dyad import dyads
+
+    if not target.timed:
+        raise SynthesisError("the timed dyads need a target with prescribed crank angles")
+    t0 = time.perf_counter()
+    idx = five_along(target)
+    p = np.asarray(target.points, dtype=float)[idx]
+    turn = np.exp(1j * (np.asarray(target.crank_angles, dtype=float)[idx] - target.crank_angles[idx[0]]))
+    pc = p[:, 0] + 1j * p[:, 1]
+    out: list[Seed] = []
+    cranks = dyads("timed", points=p, input_angles=np.angle(turn)).real
+    for crank in cranks:
+        g, a1 = complex(*crank.ground), complex(*crank.moving)
+        pins = g + (a1 - g) * turn
+        theta = np.angle((pc - pins) / (pc[0] - pins[0]))
+        try:
+            rockers = dyads("burmester", poses=np.column_stack([p, theta])).real
+        except SynthesisError:
+            continue
+        for rocker in rockers:
+            if np.allclose(rocker.ground, crank.ground, atol=1e-9) and np.allclose(
+                rocker.moving, crank.moving, atol=1e-9
+            ):
+                continue  # the crank dyad itself solves the poses
+            mapped = design_vectors(crank.ground, crank.moving, rocker.ground, rocker.moving, p[0])
+            if mapped is None or not _crank_rocker(mapped[1]):
+                continue
+            circuit, x = mapped
+            if not np.all(np.isfinite(coupler_points(x, np.linspace(0.0, TWO_PI, 73), circuit))):
+                continue
+            out.append(_with_angles(x, circuit, target, "timed"))
+    found = len(out)
+    if keep is not None:
+        out = sorted(out, key=lambda sd: seed_error(sd, target))[: max(int(keep), 0)]
+    info = {"seconds": time.perf_counter() - t0, "cranks": len(cranks), "four_bars": found, "kept": len(out)}
+    return out, info
+
+
 def make_seeds(
     target: TargetCurve,
     atlas: int = 8,
@@ -198,11 +258,13 @@ def make_seeds(
     seed: int = 0,
     seconds: float = 10.0,
     atlas_data: Atlas | None = None,
+    timed: int = 16,
 ) -> Seeds:
     """Starting designs from every direction: ``atlas`` atlas seeds, ``alt`` of Alt's
     crank-rockers through nine points of the target (the smallest tracking error as seeds
-    first; its homotopy bounded by ``seconds``) and ``random`` random crank-rockers
-    (`random_seeds`, ``seed``)."""
+    first; its homotopy bounded by ``seconds``), for a timed target ``timed`` four-bars
+    of the five-point timed dyads (`timed_seeds`, the smallest tracking error first) and
+    ``random`` random crank-rockers (`random_seeds`, ``seed``)."""
     from .fit import random_seeds
 
     out: list[Seed] = []
@@ -228,6 +290,19 @@ def make_seeds(
             notes.append(f"Alt: {e}")
         out += got
         counts["alt"], spent["alt"] = len(got), time.perf_counter() - t0
+    if timed and target.timed:
+        t0 = time.perf_counter()
+        try:
+            got, info = timed_seeds(target, keep=timed)
+            notes.append(
+                f"timed dyads: {info['cranks']} real cranks, {info['four_bars']} crank-rockers, "
+                f"{info['kept']} kept, {info['seconds']:.2f} s"
+            )
+        except SynthesisError as e:
+            got = []
+            notes.append(f"timed dyads: {e}")
+        out += got
+        counts["timed"], spent["timed"] = len(got), time.perf_counter() - t0
     if random:
         t0 = time.perf_counter()
         got = [Seed(c, x, "random") for c, x in random_seeds(target, random, seed)]

@@ -107,15 +107,20 @@ class ShapeResult:
 
 
 def _score(points: np.ndarray, x: np.ndarray, circuit: str) -> tuple[np.ndarray, float, float] | None:
-    """The design moved by its best similarity onto the points, its mean and largest
-    nearest distance; None if it does not turn fully."""
+    """The design placed on the points: as it is or moved by the similarity `shape_error`
+    finds, whichever leaves the smaller mean nearest distance (a refined design is often
+    placed better than a similarity found afresh); its mean and largest nearest distance.
+    None if it does not turn fully."""
     c = traced(x, circuit)
     if not np.all(np.isfinite(c)):
         return None
-    sim = shape_error(points, c, polish=False)
-    y = moved(x, sim)
-    d = nearest_distances(points, traced(y, circuit))
-    return y, float(d.mean()), float(d.max())
+    y = moved(x, shape_error(points, c, polish=False))
+    found = []
+    for z in (np.asarray(x, dtype=float), y):
+        d = nearest_distances(points, traced(z, circuit))
+        found.append((float(d.mean()), float(d.max()), z))
+    mean, largest, z = min(found, key=lambda f: f[0])
+    return z, mean, largest
 
 
 def _polish(
