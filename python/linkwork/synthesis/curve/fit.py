@@ -40,21 +40,22 @@ _WEIGHTS = (1e1, 1e3, 1e5, 1e7)
 
 
 @dataclass
-class CurveDesign(DesignPictures):
-    """A refined design: ``x`` (the full vector of `TrackingProblem`), its ``circuit``,
-    ``f`` (the tracking error), ``max_deviation`` (the largest |C(theta2_i) - P_i|),
-    ``transmission`` (the smallest transmission angle over the traced stretch, rad, as its
-    distance from 0 or pi), ``violation`` (largest constraint violation, 0 when they
-    hold), ``grashof`` (the engine's type), ``defects`` (order, branch, circuit over the
-    traced stretch; empty when free of them), ``nfev`` and ``seconds`` of its refinement,
-    ``start`` (the index of its starting design), ``family`` (where that came from:
-    "random", "atlas", "alt" or "given"), ``margins`` (each stated constraint's margin,
-    `TrackingProblem.margins`), ``cut`` (True: the time budget stopped its refinement,
-    this is the best it had evaluated). Its pictures (`to_html`, `to_svg`, `plot`) draw the traced
-    coupler curve over a crank turn with the target points marked and each point's
+class TracedDesign(DesignPictures):
+    """What every refined design of a curve problem holds (`CurveDesign`, the six-bars'
+    `SixBarDesign`): its ``problem``, ``x`` (the design numbers, then the crank angles),
+    ``f`` (the tracking error), ``max_deviation`` (the largest |P(theta2_i) - P_i|),
+    ``transmission`` (the smallest transmission angle of the four-bar loop over the
+    traced stretch, rad, as its distance from 0 or pi), ``violation`` (largest constraint
+    violation, 0 when they hold), ``grashof`` (the engine's type of the four-bar loop),
+    ``defects`` (order, branch, circuit over the traced stretch; empty when free of
+    them), ``nfev`` and ``seconds`` of its refinement, ``start`` (the index of its
+    starting design), ``family`` (where that came from), ``margins`` (each stated
+    constraint's margin), ``cut`` (True: the time budget stopped its refinement, this is
+    the best it had evaluated). Its pictures (`to_html`, `to_svg`, `plot`) draw the
+    traced curve over a crank turn with the target points marked and each point's
     deviation drawn."""
 
-    problem: TrackingProblem = field(repr=False)
+    problem: Any = field(repr=False)
     x: np.ndarray
     f: float
     max_deviation: float
@@ -69,6 +70,9 @@ class CurveDesign(DesignPictures):
     margins: dict[str, float] = field(default_factory=dict)
     cut: bool = False
 
+    #: the name `model` gives the mechanism unless told
+    model_name = "curve design"
+
     @property
     def positions(self) -> np.ndarray:
         """The target points (the pictures' targets)."""
@@ -76,9 +80,12 @@ class CurveDesign(DesignPictures):
 
     coupler_angles = None
 
+    def crank_angles(self) -> np.ndarray:
+        return np.array(self.x[self.problem.size :])
+
     def precision_times(self) -> np.ndarray:
         """The model's time at each target point: its crank angle within the turn."""
-        return np.mod(self.x[9:], TWO_PI)
+        return np.mod(self.crank_angles(), TWO_PI)
 
     @property
     def circuit(self) -> str:
@@ -90,19 +97,24 @@ class CurveDesign(DesignPictures):
         return not self.defects and self.violation <= 1e-12 * self.problem.target.size
 
     def plot(self, path: str, **options: Any) -> list[str]:  # type: ignore[override]
-        """A PNG of the target points against the traced coupler curve, each point's
-        deviation drawn, beside the linkage (`pictures.plot_design`; ``options``:
-        ``title``, ``dpi``)."""
+        """A PNG of the target points against the traced curve, each point's deviation
+        drawn, beside the linkage (`pictures.plot_design`; ``options``: ``title``,
+        ``dpi``)."""
         from .pictures import plot_design
 
         return [plot_design(self, path, **options)]
 
-    def model(self, name: str = "curve design") -> Mechanism:
+    def model(self, name: str | None = None) -> Mechanism:
         """The design as a linkwork mechanism (time = crank angle theta2 from the ground line)."""
-        return self.problem.model(self.x, name)
+        return self.problem.model(self.x, name or self.model_name)
 
-    def crank_angles(self) -> np.ndarray:
-        return np.array(self.x[9:])
+
+@dataclass
+class CurveDesign(TracedDesign):
+    """A refined four-bar (`TracedDesign`): ``x`` the full vector of `TrackingProblem`,
+    ``family`` "random", "atlas", "alt", "timed" or "given"."""
+
+    problem: TrackingProblem = field(repr=False)
 
     def linkage_at(self, t: float) -> tuple[list[np.ndarray], np.ndarray]:
         """The bodies (crank, coupler with its point, rocker, each the polygon of its pins)

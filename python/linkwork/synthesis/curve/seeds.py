@@ -276,33 +276,34 @@ def make_seeds(
         got = atlas_seeds(target, atlas, atlas_data)
         out += got
         counts["atlas"], spent["atlas"] = len(got), time.perf_counter() - t0
+
+    def exact(family: str, label: str, make: Any, line: str) -> None:
+        # an exact family: its seeds, or why there are none, in the notes
+        t0 = time.perf_counter()
+        try:
+            got, info = make()
+            notes.append(f"{label}: " + line.format(**info))
+        except SynthesisError as e:
+            got = []
+            notes.append(f"{label}: {e}")
+        out.extend(got)
+        counts[family], spent[family] = len(got), time.perf_counter() - t0
+
     if alt:
-        t0 = time.perf_counter()
-        try:
-            got, info = alt_seeds(target, seconds, keep=alt)
-            notes.append(
-                f"Alt: {info['four_bars']} real four-bars (with cognates), {info['crank_rockers']} "
-                f"crank-rocker seeds, {info['kept']} kept, {info['failed']} paths failed, "
-                f"{info['seconds']:.2f} s"
-            )
-        except SynthesisError as e:
-            got = []
-            notes.append(f"Alt: {e}")
-        out += got
-        counts["alt"], spent["alt"] = len(got), time.perf_counter() - t0
+        exact(
+            "alt",
+            "Alt",
+            lambda: alt_seeds(target, seconds, keep=alt),
+            "{four_bars} real four-bars (with cognates), {crank_rockers} crank-rocker seeds, "
+            "{kept} kept, {failed} paths failed, {seconds:.2f} s",
+        )
     if timed and target.timed:
-        t0 = time.perf_counter()
-        try:
-            got, info = timed_seeds(target, keep=timed)
-            notes.append(
-                f"timed dyads: {info['cranks']} real cranks, {info['four_bars']} crank-rockers, "
-                f"{info['kept']} kept, {info['seconds']:.2f} s"
-            )
-        except SynthesisError as e:
-            got = []
-            notes.append(f"timed dyads: {e}")
-        out += got
-        counts["timed"], spent["timed"] = len(got), time.perf_counter() - t0
+        exact(
+            "timed",
+            "timed dyads",
+            lambda: timed_seeds(target, keep=timed),
+            "{cranks} real cranks, {four_bars} crank-rockers, {kept} kept, {seconds:.2f} s",
+        )
     if random:
         t0 = time.perf_counter()
         got = [Seed(c, x, "random") for c, x in random_seeds(target, random, seed)]

@@ -20,9 +20,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import SingularError, SolveError, SynthesisError
-from ...mechanism.builder import Mechanism
-from ...view.design import DesignPictures
-from .fit import CurveDesign, CurveFit, budget_seconds, fit, start_refinement
+from .fit import CurveDesign, CurveFit, TracedDesign, budget_seconds, fit, start_refinement
 from .six_bars import KINDS, SIDES, SixBarProblem, six_bar_points
 from .target import TargetCurve
 from .threads import map_starts
@@ -35,58 +33,21 @@ SIX_BAR_MERIT = "defect-free and within the constraints first; then the smaller 
 
 
 @dataclass
-class SixBarDesign(DesignPictures):
-    """A refined six-bar: ``x`` (the vector of `SixBarProblem`), ``f`` (the tracking
-    error), ``max_deviation``, ``transmission`` (the smallest transmission angle of the
-    four-bar loop, at B, over the traced stretch, rad from 0 or pi), ``transmission_dyad``
-    (at D), ``violation``, ``grashof`` (the four-bar loop's type, from the engine),
-    ``defects`` (order, branch, circuit over the traced stretch), ``nfev``, ``seconds``,
-    ``start``, ``family`` (the four-bar it grew from), ``margins``, ``cut`` (the time
-    budget stopped it). `model` is the six-bar; the pictures those of every design."""
+class SixBarDesign(TracedDesign):
+    """A refined six-bar (`TracedDesign`): ``x`` the vector of `SixBarProblem`,
+    ``transmission`` the four-bar loop's at B and ``transmission_dyad`` at D, ``grashof``
+    the four-bar loop's type, ``family`` the four-bar it grew from. `model` is the
+    six-bar."""
 
     problem: SixBarProblem = field(repr=False)
-    x: np.ndarray
-    f: float
-    max_deviation: float
-    transmission: float
-    transmission_dyad: float
-    violation: float
-    grashof: str
-    defects: tuple[str, ...]
-    nfev: int
-    seconds: float
-    start: int = -1
     family: str = ""
-    margins: dict[str, float] = field(default_factory=dict)
-    cut: bool = False
+    transmission_dyad: float = math.nan
 
-    coupler_angles = None
-
-    @property
-    def positions(self) -> np.ndarray:
-        return np.array(self.problem.target.points)
+    model_name = "six-bar curve design"
 
     @property
     def kind(self) -> str:
         return self.problem.kind
-
-    @property
-    def circuit(self) -> str:
-        return self.problem.circuit
-
-    def crank_angles(self) -> np.ndarray:
-        return np.array(self.x[self.problem.size :])
-
-    def precision_times(self) -> np.ndarray:
-        return np.mod(self.crank_angles(), TWO_PI)
-
-    @property
-    def ok(self) -> bool:
-        return not self.defects and self.violation <= 1e-12 * self.problem.target.size
-
-    def model(self, name: str = "six-bar curve design") -> Mechanism:
-        """The six-bar as a linkwork mechanism (time = crank angle theta2)."""
-        return self.problem.model(self.x, name)
 
     def residuals(self) -> np.ndarray:
         """P(theta2_i) - P_i at the target points (n x 2), from the engine."""
@@ -107,13 +68,6 @@ class SixBarDesign(DesignPictures):
         ]
         pivots = [p["O2"], p["O4"]] + ([p["F"]] if self.kind == "stephenson" else [])
         return bodies, np.array(pivots)
-
-    def plot(self, path: str, **options: Any) -> list[str]:  # type: ignore[override]
-        """A PNG of the target points against the traced curve, each point's deviation
-        drawn, beside the six-bar (`pictures.plot_design`)."""
-        from .pictures import plot_design
-
-        return [plot_design(self, path, **options)]
 
     def __str__(self) -> str:
         names = ("r1", "r2", "r3", "r4", "rcx", "rcy")
@@ -237,7 +191,6 @@ def refine_six_bar(
         float(r @ r),
         float(dev.max()),
         mu_b,
-        mu_d,
         problem.violation(x),
         kind,
         defects,
@@ -246,6 +199,7 @@ def refine_six_bar(
         start,
         margins=problem.margins(x),
         cut=cut,
+        transmission_dyad=mu_d,
     )
 
 

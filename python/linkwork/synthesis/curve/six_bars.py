@@ -35,7 +35,7 @@ from ...mechanism.builder import Mechanism
 from ...model.compiled import Model
 from .target import TargetCurve
 from .tracking import DESIGN as FOUR_BAR
-from .tracking import CircuitError, TrackingProblem
+from .tracking import CircuitError, TrackedResiduals, TrackingProblem
 
 __all__ = ["SIX_BAR", "KINDS", "SIDES", "SixBarProblem", "six_bar_points"]
 
@@ -105,7 +105,7 @@ def _angle(u: np.ndarray, v: np.ndarray) -> float:
     return math.atan2(float(v[1] - u[1]), float(v[0] - u[0]))
 
 
-class SixBarProblem:
+class SixBarProblem(TrackedResiduals):
     """The tracking-error problem of a `TargetCurve` for a six-bar of ``kind`` ("watt" or
     "stephenson"), its four-bar on ``circuit`` ("open" or "crossed") and D on ``side``
     ("left" or "right" of C -> F). ``options``: those of `TrackingProblem`, which hold on
@@ -140,10 +140,6 @@ class SixBarProblem:
     @property
     def assembly(self) -> str:
         return f"{self.circuit} circuit with D on the {self.side}"
-
-    @property
-    def n(self) -> int:
-        return len(self.target)
 
     # ---- the design vector ------------------------------------------------------------
     def four_bar(self, y: Any) -> np.ndarray:
@@ -364,28 +360,3 @@ class SixBarProblem:
         for name in points[1:]:
             extra[name] = (s.results.point(name).position, *chain(s.points[name]))
         return times, at, p, jd, val, extra
-
-    def evaluate_all(self, y: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        y = self.complete(y)
-        sweep = self._sweep(y)
-        r, jac = self._tracking(y, sweep)
-        g, dg = self.constraints(y, sweep)
-        return r, jac, g, dg
-
-    def evaluate(self, y: Any) -> tuple[np.ndarray, np.ndarray]:
-        """The residuals P(theta2_i) - P_i (2n) and their exact Jacobian in the full y
-        (2n x (15 + n)), from the engine."""
-        y = self.complete(y)
-        return self._tracking(y, self._sweep(y))
-
-    def _tracking(self, y: np.ndarray, sweep: Any) -> tuple[np.ndarray, np.ndarray]:
-        _, at, p, jd, val, _ = sweep
-        n, m = self.n, self.size
-        jac = np.zeros((n, 2, m + n))
-        jac[:, :, :m] = jd[at]
-        jac[np.arange(n), :, m + np.arange(n)] = val[at]
-        return (p[at] - self.target.points).reshape(-1), jac.reshape(2 * n, m + n)
-
-    def objective(self, y: Any) -> float:
-        r, _ = self.evaluate(y)
-        return float(r @ r)

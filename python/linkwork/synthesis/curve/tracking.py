@@ -92,8 +92,53 @@ def _bounds(name: str, value: Any, default: tuple[float, float]) -> tuple[float,
     return lo, hi
 
 
+class TrackedResiduals:
+    """The residuals of a tracking problem and their exact Jacobian, shared by the
+    four-bar's (`TrackingProblem`) and the six-bar's problem: each has ``size`` design
+    numbers before the crank angles, ``target``, ``complete``, ``constraints`` and
+    ``_sweep`` (its engine sweep: times, the index of each target point among them, the
+    traced points, their Jacobian in the design numbers, their rate in the crank angle,
+    then anything else)."""
+
+    size: int
+    target: TargetCurve
+
+    @property
+    def n(self) -> int:
+        return len(self.target)
+
+    def evaluate_all(self, x: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """`evaluate`'s residuals and Jacobian and `constraints`' values and Jacobian,
+        from one sweep."""
+        x = self.complete(x)  # type: ignore[attr-defined]
+        sweep = self._sweep(x)  # type: ignore[attr-defined]
+        r, jac = self._tracking(x, sweep)
+        g, dg = self.constraints(x, sweep)  # type: ignore[attr-defined]
+        return r, jac, g, dg
+
+    def evaluate(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
+        """The residuals P(theta2_i) - P_i (2n: x1, y1, x2, ...) and their exact Jacobian
+        with respect to the full vector (2n x (size + n)), from the engine. `CircuitError`
+        if the design does not turn fully on its circuit."""
+        x = self.complete(x)  # type: ignore[attr-defined]
+        return self._tracking(x, self._sweep(x))  # type: ignore[attr-defined]
+
+    def _tracking(self, x: np.ndarray, sweep: Any) -> tuple[np.ndarray, np.ndarray]:
+        _, at, p, jd, val = sweep[:5]
+        n, m = self.n, self.size
+        jac = np.zeros((n, 2, m + n))
+        jac[:, :, :m] = jd[at]
+        jac[np.arange(n), :, m + np.arange(n)] = val[at]  # d P / d theta2_i: the driver's start
+        return (p[at] - self.target.points).reshape(-1), jac.reshape(2 * n, m + n)
+
+    def objective(self, x: Any) -> float:
+        """f(x) = sum_i |P(theta2_i) - P_i|^2, from the engine."""
+        r, _ = self.evaluate(x)
+        return float(r @ r)
+
+
 @dataclass
-class TrackingProblem:
+class TrackingProblem(TrackedResiduals):
     """The tracking-error problem for a `TargetCurve` on one ``circuit`` ("open" or
     "crossed"). ``lengths``: (lower, upper) for r1..r4 (default 1e-3 to 10 times the
     target's size); ``coupler``: for rcx, rcy (default +-10 sizes); ``pivot``: for x0, y0
@@ -208,10 +253,6 @@ class TrackingProblem:
     # ---- the design vector ------------------------------------------------------------
     #: how many design numbers come before the crank angles in x
     size = len(DESIGN)
-
-    @property
-    def n(self) -> int:
-        return len(self.target)
 
     @property
     def assembly(self) -> str:
@@ -476,32 +517,3 @@ class TrackingProblem:
             o2y + o4y,
         ]
         return times, at, p, np.stack(cols, axis=-1), val
-
-    def evaluate_all(self, x: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """`evaluate`'s residuals and Jacobian and `constraints`' values and Jacobian,
-        from one sweep."""
-        x = self.complete(x)
-        sweep = self._sweep(x)
-        r, jac = self._tracking(x, sweep)
-        g, dg = self.constraints(x, sweep)
-        return r, jac, g, dg
-
-    def evaluate(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
-        """The residuals C(theta2_i) - P_i (2n: x1, y1, x2, ...) and their exact Jacobian
-        with respect to the full x (2n x (9 + n)), from the engine. `CircuitError` if the
-        design does not turn fully on its circuit."""
-        x = self.complete(x)
-        return self._tracking(x, self._sweep(x))
-
-    def _tracking(self, x: np.ndarray, sweep: Any) -> tuple[np.ndarray, np.ndarray]:
-        _, at, p, jd, val = sweep
-        n = self.n
-        jac = np.zeros((n, 2, 9 + n))
-        jac[:, :, :9] = jd[at]
-        jac[np.arange(n), :, 9 + np.arange(n)] = val[at]  # d C / d theta2_i: the driver's start
-        return (p[at] - self.target.points).reshape(-1), jac.reshape(2 * n, 9 + n)
-
-    def objective(self, x: Any) -> float:
-        """f(x) = sum_i |C(theta2_i) - P_i|^2, from the engine."""
-        r, _ = self.evaluate(x)
-        return float(r @ r)
