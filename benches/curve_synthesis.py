@@ -485,7 +485,7 @@ def seeds_and_shapes(seed: int, aside: bool = False, shapes_only: bool = False) 
         lines.append(
             f"| {name} | {len(pts)} | {b.mean:.4g} | {b.largest:.3g} | {res.seconds:.1f} s "
             f"| {atlas_alone:.4g} "
-            f"| {pso_m:.4g} | {de_m:.4g} | {min(pso_m, de_m) / b.mean:.1f} | {lit_s or ' | '} |"
+            f"| {pso_m:.4g} | {de_m:.4g} | {min(pso_m, de_m) / b.mean:.3g} | {lit_s or ' | '} |"
         )
     return lines
 
