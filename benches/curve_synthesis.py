@@ -199,7 +199,8 @@ def table(starts: int, seed: int, aside: bool = False, shapes_only: bool = False
         f"Measured {stamp} with linkwork {linkwork.__version__} at {commit}, "
         f"Python {platform.python_version()}, {os.cpu_count()} cores (load average {load}); "
         f"`python benches/curve_synthesis.py --starts {starts} --seed {seed}"
-        f"{' --aside' if aside else ''}{' --shapes-only' if shapes_only else ''}`.",
+        f"{' --aside' if aside else ''}{' --shapes-only' if shapes_only else ''}"
+        f"{f' --sizes {SIZES:g}' if SIZES != 3.0 else ''}`.",
         "",
         "Tracking error f = sum |C(theta2_i) - P_i|^2 under a Grashof crank-rocker (crank "
         f"shortest), no ordering unless said. linkwork: {starts} random crank-rockers (seed {seed}) "
@@ -342,12 +343,21 @@ def _shape_objective(points: np.ndarray, circuit: str):  # noqa: ANN202
     return f
 
 
+# the shape problems' design space, in target sizes (--sizes)
+SIZES = 3.0
+
+
 def _shape_space(points: np.ndarray) -> dict[str, tuple[float, float]]:
-    """The design space of every method on the shape problems: lengths up to 3 sizes,
-    the coupler point within 3 sizes, the pivot O2 within 2 sizes of the points."""
+    """The design space of every method on the shape problems: lengths up to SIZES
+    sizes, the coupler point within SIZES sizes, the pivot O2 within SIZES - 1 sizes of
+    the points."""
     size = float(np.hypot(*np.ptp(points, axis=0)))
-    lo, hi = float(points.min()) - 2.0 * size, float(points.max()) + 2.0 * size
-    return {"lengths": (1e-3 * size, 3.0 * size), "coupler": (-3.0 * size, 3.0 * size), "pivot": (lo, hi)}
+    lo, hi = float(points.min()) - (SIZES - 1.0) * size, float(points.max()) + (SIZES - 1.0) * size
+    return {
+        "lengths": (1e-3 * size, SIZES * size),
+        "coupler": (-SIZES * size, SIZES * size),
+        "pivot": (lo, hi),
+    }
 
 
 def _shape_bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -461,8 +471,9 @@ def seeds_and_shapes(seed: int, aside: bool = False, shapes_only: bool = False) 
         "",
         "Shape problems: mean nearest distance from the target points to the traced curve after the "
         "best similarity (position, rotation, scale and start free). Every method searches the same "
-        "design space (lengths up to 3 target sizes, the coupler point within 3 sizes, O2 within 2 "
-        "sizes of the points; size: the diagonal of the points' box). linkwork: `shape_fit(points, "
+        f"design space (lengths up to {SIZES:g} target sizes, the coupler point within {SIZES:g} sizes, "
+        f"O2 within {SIZES - 1:g} sizes of the points; size: the diagonal of the points' box). "
+        "linkwork: `shape_fit(points, "
         f"seed={seed}, **space)` (12 atlas seeds, the target run either way, refined by the tracking "
         "error with free crank angles on 36 of the points, scored on all, the best polished by 4 rounds "
         "of reweighted least squares on all the points) on 2 threads. The atlas alone: its nearest "
@@ -497,7 +508,12 @@ def main() -> None:
     ap.add_argument("--write", action="store_true", help="add the run to benches/results/")
     ap.add_argument("--aside", action="store_true", help="also the shape problems kept aside")
     ap.add_argument("--shapes-only", action="store_true", help="only the shape problems")
+    ap.add_argument(
+        "--sizes", type=float, default=3.0, help="the shape problems' design space, in target sizes"
+    )
     args = ap.parse_args()
+    global SIZES
+    SIZES = args.sizes
     text = table(args.starts, args.seed, args.aside, args.shapes_only)
     print(text)
     if args.write:
