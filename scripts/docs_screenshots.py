@@ -5,7 +5,8 @@ executed by a Jupyter kernel (nbclient), converted to HTML by nbconvert and phot
 the same way.
 
     pip install selenium nbclient nbconvert ipykernel   # and apt-get install chromium chromium-driver
-    python scripts/docs_screenshots.py
+    python scripts/docs_screenshots.py               # every screenshot
+    python scripts/docs_screenshots.py --simulation  # only the simulation's page (docs/dynamics.md)
 """
 
 from __future__ import annotations
@@ -60,6 +61,53 @@ def pages(folder: Path) -> None:
         driver.quit()
 
 
+def lid() -> lw.Mechanism:
+    """The lid on a gas strut of docs/dynamics.md, the strut damped (40 N s/m)."""
+    m = lw.Mechanism("lid")
+    lid = m.link("lid", (0.0, 0.0), (0.6, 0.0), mass=2.0)
+    m.revolute(m.ground, lid, at=(0.0, 0.0), name="hinge")
+    m.spring(
+        m.ground,
+        (0.0, -0.20),
+        lid,
+        (0.15, 0.0),
+        stiffness=800.0,
+        free_length=0.40,
+        damping=40.0,
+        name="strut",
+    )
+    m.point("edge", lid, (0.6, 0.0))
+    m.set_gravity((0.0, -9.81))
+    return m
+
+
+def simulation_page(folder: Path) -> None:
+    """The page `linkwork simulate lid.toml --page` writes, at t = 1 s."""
+    from linkwork.cli import main
+
+    lid().save(folder / "lid.toml")
+    argv = [
+        "simulate",
+        str(folder / "lid.toml"),
+        "--t1",
+        "5",
+        "--steps",
+        "1001",
+        "--out",
+        str(folder),
+        "--page",
+    ]
+    assert main(argv) == 0
+    driver = browser(1300, 1400)
+    try:
+        driver.get((folder / "lid.html").as_uri())
+        driver.execute_script("window.linkwork.show(200)")
+        driver.save_screenshot(str(DOCS / "view_simulation.png"))
+        print("wrote", DOCS / "view_simulation.png")
+    finally:
+        driver.quit()
+
+
 NOTEBOOK = [
     "import numpy as np\nimport linkwork as lw\n\nmech = lw.Mechanism.load('examples/four_bar.toml')\nmech",
     "res = mech.compile().sweep(np.linspace(0.0, 2 * np.pi / 5.0, 721))\nres",
@@ -88,6 +136,9 @@ def notebook(folder: Path) -> None:
 
 if __name__ == "__main__":
     with tempfile.TemporaryDirectory() as tmp:
+        simulation_page(Path(tmp))
+        if "--simulation" in sys.argv[1:]:
+            sys.exit(0)
         pages(Path(tmp))
         if "--pages" not in sys.argv[1:]:
             notebook(Path(tmp))

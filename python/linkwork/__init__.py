@@ -35,6 +35,7 @@ from .mechanism import lengths as build
 from .mechanism.builder import GROUND, Body, Mechanism
 from .model.compiled import Cycle, Model, sweep_batch
 from .model.results import BodyMotion, PointMotion, Results, State
+from .model.simulation import Simulation
 from .motion import (
     PROFILES,
     Cam,
@@ -96,6 +97,7 @@ __all__ = [
     "Rise",
     "ScrewError",
     "SingularError",
+    "Simulation",
     "Sequence",
     "SolveError",
     "StudyError",

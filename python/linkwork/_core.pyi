@@ -29,6 +29,7 @@ __all__ = [
     "screw_transport",
     "sweep_batch",
     "simulate",
+    "load_powers",
     "equilibrium",
     "sweep_variants",
     "sensitivities",
@@ -70,6 +71,12 @@ def simulate(
     ic_tol: float = 1e-6,
     progress: Callable[[int, int], Any] | None = None,
 ) -> tuple[dict[str, Any], BaseException | None]: ...
+def load_powers(
+    model: Model,
+    times: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64],
+    qd: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]: ...
 def sensitivities(
     model: Model,
     times: npt.NDArray[np.float64],

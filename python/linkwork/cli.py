@@ -314,6 +314,15 @@ def simulate(args: argparse.Namespace) -> int:
     written = [path]
     if args.plot:
         written += _figures(args, sim, plots=True)
+        written.append(f"{_stem(args)}_energy.png")
+        sim.plot_energy(written[-1], every=max(1, len(sim) // 2000))
+    if args.page is not None and len(sim):
+        page = args.page or f"{_stem(args)}.html"
+        folder = os.path.dirname(page)
+        if folder:
+            os.makedirs(folder, exist_ok=True)
+        sim.to_html(page, outputs=args.outputs, paths=args.paths)
+        written.append(f"{page} (open it in a browser)")
     print("wrote " + ", ".join(written))
     return status
 
@@ -633,7 +642,11 @@ dampers and applied loads (docs/dynamics.md), and writes:
   DIR/MODEL.csv     time, every coordinate with its rate and acceleration, the named
                     points, and per row the constraints' drift before projection
                     (residual) and the augmented matrix's pivot ratio
-  DIR/MODEL.png     with --plot: coordinates over time; DIR/MODEL_paths.png the paths
+  DIR/MODEL.png     with --plot: coordinates over time; DIR/MODEL_paths.png the paths;
+                    DIR/MODEL_energy.png the energy balance, the drift and the rates
+  DIR/MODEL.html    with --page (or --page FILE.html): the interactive page of
+                    `linkwork view`, the mechanism moving over the simulated times,
+                    with the energy balance, the drift and the rates plotted
 A run that fails part way writes the times it reached and exits with status 1.""",
     )
     _sweep_arguments(sim)
@@ -651,7 +664,17 @@ A run that fails part way writes the times it reached and exits with status 1.""
     sim.add_argument(
         "--max-steps", type=_positive_int, default=None, metavar="N", help="stop after N integration steps"
     )
-    sim.add_argument("--plot", action="store_true", help="also write the PNGs of coordinates and paths")
+    sim.add_argument(
+        "--plot", action="store_true", help="also write the PNGs of coordinates, paths and energy"
+    )
+    sim.add_argument(
+        "--page",
+        nargs="?",
+        const="",
+        default=None,
+        metavar="FILE.html",
+        help="also write the interactive page (default DIR/MODEL.html)",
+    )
     _figure_arguments(sim)
 
     c = sub.add_parser(

@@ -17,6 +17,7 @@ mod equilibrium;
 mod events;
 mod laws;
 mod linkages;
+mod load_power;
 mod mobility;
 mod panics;
 mod screw;
@@ -918,6 +919,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synthesis::synth_alt, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(load_power::load_powers, m)?)?;
     m.add_function(wrap_pyfunction!(equilibrium::equilibrium, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity::sensitivities, m)?)?;
     m.add_function(wrap_pyfunction!(variants::sweep_variants, m)?)?;

@@ -290,6 +290,9 @@ class Results(_Kinematics):
     (smallest over largest LU pivot of the scaled Phi_q: near 0 means near singular).
     """
 
+    #: True for a `Simulation` (forward dynamics): its views add its energy and drift
+    simulated = False
+
     def __init__(self, model: Model, raw: dict[str, Any], kept: Kept | None = None) -> None:
         self.model = model
         if kept is not None:

@@ -71,6 +71,9 @@ CURVE_STYLES: dict[str, tuple[float, str]] = {
 #: points drawn along a curve's period
 CURVE_SAMPLES = 257
 
+#: the colour of springs (spring-damper loads), in every drawing
+SPRING_COLOUR = "#8c564b"
+
 
 @dataclass(frozen=True)
 class Slider:
@@ -156,6 +159,7 @@ class Geometry:
     revolute; ``ground_pins``: the ground's side of revolutes to the ground;
     ``sliders``; ``actuators``: the two anchors of each two-point driver (distance);
     ``rods``: the two anchors of each distance joint (a tie rod, a massless coupler);
+    ``springs``: the two anchors of each spring-damper load (kind "load", in no outline);
     ``points``: the named points; ``traceable``: name -> anchor index of every named
     point, joint and driver that has one (a joint's point on its moving side);
     ``curves``: the slots, cam profiles and rollers, pitch circles of gears, pulleys and
@@ -177,6 +181,7 @@ class Geometry:
         self.traceable: dict[str, int] = {}
         self.curves: list[Curve] = []
         self.rods: list[tuple[int, int]] = []
+        self.springs: list[tuple[int, int]] = []
         self.meshes: list[Mesh] = []
         self.belts: list[Belt] = []
         self.racks: list[Rack] = []
@@ -188,8 +193,14 @@ class Geometry:
             k = self._add(str(p["name"]), "point", "point", str(p["body"]), p["at"])
             self.points.append(k)
             self.traceable[str(p["name"])] = k
+        for ld in description.get("loads", []):
+            ends = [(ld.get("body_a"), ld.get("at_a")), (ld.get("body_b"), ld.get("at_b"))]
+            if ld.get("type") == "spring" and all(self._known(str(b)) and at is not None for b, at in ends):
+                name = str(ld.get("name"))
+                a, b = (self._add(name, "load", "spring", str(body), at) for body, at in ends)
+                self.springs.append((a, b))
         # a body with nothing attached is drawn as a dot at its frame origin
-        attached = {a.body for a in self.anchors}
+        attached = {a.body for a in self.anchors if a.kind != "load"}
         for name in self.body_names:
             if name not in attached:
                 self.anchors.append(Anchor(name, "origin", "origin", name, (0.0, 0.0)))
@@ -197,7 +208,8 @@ class Geometry:
         tol = 1e-9 * max([abs(c) for a in self.anchors for c in a.local] + [1e-300])
         by_body: dict[str, list[int]] = {}
         for k, a in enumerate(self.anchors):
-            by_body.setdefault(a.body, []).append(k)
+            if a.kind != "load":  # a spring's ends are drawn by the spring, not the body
+                by_body.setdefault(a.body, []).append(k)
         self.outlines = {name: self._outline(by_body.get(name, []), tol) for name in self.body_names}
 
     @classmethod
@@ -582,7 +594,7 @@ class MechanismArtists:
     triangles, sliders as blocks on their guides, slots and cam profiles as curves in
     the colour of their body, pitch circles (dash-dot, with a radial mark) of gears,
     pulleys and pinions, racks, belts' strands, mesh points as dots, distance joints as
-    solid bars, distance drivers as dashed lines, and
+    solid bars, distance drivers as dashed lines, springs as thin dotted lines, and
     named points with their trace so far; with ``labels``, the names of the bodies and
     joints too. ``update(row)`` moves everything to a step."""
 
@@ -659,6 +671,9 @@ class MechanismArtists:
         ]
         # tie rods and couplers of distance joints: thin solid bars
         self.rods = [ax.plot([], [], color="0.25", lw=2.0, alpha=alpha, zorder=3)[0] for _ in g.rods]
+        self.springs = [
+            ax.plot([], [], color=SPRING_COLOUR, lw=1.2, ls=":", alpha=alpha, zorder=3)[0] for _ in g.springs
+        ]
         # mesh points and belts' strands
         self.marks = [
             ax.plot([], [], ls="none", marker="o", ms=4, color="black", alpha=alpha, zorder=6)[0]
@@ -744,6 +759,8 @@ class MechanismArtists:
             pts = m.curve(curve, row)
             line.set_data(pts[:, 0], pts[:, 1])
         for (a, b), line in zip(m.geometry.rods, self.rods):
+            line.set_data([xy[a, 0], xy[b, 0]], [xy[a, 1], xy[b, 1]])
+        for (a, b), line in zip(m.geometry.springs, self.springs):
             line.set_data([xy[a, 0], xy[b, 0]], [xy[a, 1], xy[b, 1]])
         for mark, line in zip(m.marks, self.marks):
             line.set_data(mark.xy[row, :, 0], mark.xy[row, :, 1])

@@ -7,8 +7,8 @@ are the model's (its root ``viewBox`` is in model units and its ``width`` and
 mm or m). What is drawn is what `linkwork.view.drawing` draws with matplotlib: each body as
 the polygon through its joints and points, pins, ground pivots, sliders on their guides,
 slots and cam profiles, pitch circles of gears, pulleys and pinions with their mesh
-points, belts, racks, distance joints' bars, actuators, named points; each element carries the name of what
-it draws (``data-name`` in SVG, the ``LINKWORK`` XDATA in DXF).
+points, belts, racks, distance joints' bars, actuators, springs, named points; each
+element carries the name of what it draws (``data-name`` in SVG, the ``LINKWORK`` XDATA in DXF).
 
 >>> import numpy as np
 >>> from linkwork import examples
@@ -30,7 +30,7 @@ import numpy as np
 
 from .. import _args
 from ..errors import InputError
-from .drawing import Geometry, Motion, colour, ground_symbols
+from .drawing import SPRING_COLOUR, Geometry, Motion, colour, ground_symbols
 from .series import default_paths, unknown_paths
 from .targets import TARGET_COLOUR, Deviation, deviation, target_marks
 
@@ -57,7 +57,8 @@ class _Steps:
 def configuration(results: Results, t: float | None = None) -> tuple[Motion, int]:
     """The sweep's motion and the row drawing time ``t`` (default: the first step). A time
     between steps is solved there (Newton from the nearest step, so on the sweep's
-    branch) and added as the last row; a time outside the sweep is an `InputError`."""
+    branch) and added as the last row; a time outside the sweep is an `InputError`, and so
+    is a time between a simulation's rows (its motion there is not known)."""
     _args.sweep(results, "results")
     if results.n_steps == 0:
         raise InputError("nothing to draw: the results have no steps")
@@ -72,6 +73,11 @@ def configuration(results: Results, t: float | None = None) -> tuple[Motion, int
     k = int(np.argmin(np.abs(times - t)))
     if times[k] == t:
         return Motion(geometry, results), k
+    if results.simulated:
+        raise InputError(
+            f"t = {t:g} is not a time of the simulation (nearest: t = {times[k]:.10g}, row {k}); "
+            "simulate with that time among the times to draw it there"
+        )
     state = results.model.solve(t, q_guess=results.q[k])
     steps = _Steps(results.model, np.append(times, t), np.vstack([results.q, state.q]))
     return Motion(geometry, steps), results.n_steps  # type: ignore[arg-type]
@@ -222,6 +228,14 @@ def svg_text(
         a = _attrs(class_="actuator", data_name=g.anchors[a_].name, data_anchors=f"{a_} {b_}")
         out.append(
             f'<polyline {a} points="{_points(xy[[a_, b_]])}" stroke-dasharray="{_n(3 * lw)} {_n(2 * lw)}"/>'
+        )
+    out.append("</g>")
+    out.append(f'<g id="springs" stroke="{SPRING_COLOUR}">')
+    for a_, b_ in g.springs:
+        a = _attrs(class_="spring", data_name=g.anchors[a_].name, data_anchors=f"{a_} {b_}")
+        out.append(
+            f'<polyline {a} points="{_points(xy[[a_, b_]])}" stroke-width="{_n(0.6 * lw)}" '
+            f'stroke-dasharray="{_n(lw)} {_n(lw)}"/>'
         )
     out.append("</g>")
     out.append('<g id="blocks" fill="#cccccc" stroke="#333333">')
@@ -416,6 +430,7 @@ LAYERS = {
     "MESHES": 1,
     "BELTS": 8,
     "ACTUATORS": 7,
+    "SPRINGS": 7,
     "POINTS": 1,
     "PATHS": 1,
     "LABELS": 7,
@@ -437,7 +452,8 @@ def dxf(
     for a bar), PINS (circles about the pins), GROUND (pivot symbols), GUIDES and SLIDERS
     (guides and blocks), CURVES (slots, cam profiles, rollers, marks on wheels, racks'
     teeth), PITCH (pitch circles, racks' pitch lines; dash-dot), RODS (distance joints),
-    MESHES (mesh points: a POINT entity each), BELTS (belts' strands), ACTUATORS, POINTS
+    MESHES (mesh points: a POINT entity each), BELTS (belts' strands), ACTUATORS, SPRINGS
+    (spring-dampers; dotted), POINTS
     (named points: a POINT entity each), PATHS (the coupler curves, polylines), LABELS and
     TARGETS (each target a POINT, a circle and a cross, its pose's tick, a line to the
     path's nearest point and its number; a column of text right of the drawing lists the
@@ -509,6 +525,9 @@ def dxf(
             named(msp.add_point((float(x), float(y)), dxfattribs={"layer": "MESHES"}), mark.joint)
         else:
             poly(pts, "BELTS", mark.joint)
+    for a, b in g.springs:
+        line = msp.add_line(tuple(xy[a]), tuple(xy[b]), dxfattribs={"layer": "SPRINGS", "linetype": "DOT"})
+        named(line, g.anchors[a].name)
     for a, b in g.actuators:
         line = msp.add_line(
             tuple(xy[a]), tuple(xy[b]), dxfattribs={"layer": "ACTUATORS", "linetype": "DASHED"}

@@ -4,7 +4,7 @@ curves) over a faint drawing of the mechanism, and the mechanism moving as a GIF
 
 Outputs are named as `linkwork.view.series` reads them (a coordinate column, a body's
 angle, a named point's ``P.x``); the PNGs of `Results.plot` and `Results.plot_forces`
-are drawn here too.
+are drawn here too, and a simulation's energy balance and drift (`Simulation.plot_energy`).
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from .series import (
     default_outputs,
     default_paths,
     output,
+    simulation_charts,
     unknown_outputs,
     unknown_paths,
     unknown_x,
@@ -33,7 +34,7 @@ from .series import (
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from linkwork import Results
+    from linkwork import Results, Simulation
 
     from .targets import Deviation
 
@@ -55,6 +56,7 @@ __all__ = [
     "animate",
     "plot_results",
     "plot_forces",
+    "plot_simulation",
 ]
 
 #: figures need no more points per line than this, whatever the sweep's length
@@ -325,5 +327,38 @@ def plot_forces(results: Results, path: str, every: int = 1) -> None:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
     fig.suptitle(f"{results.model.name}: inverse dynamics over {results.n_steps} steps")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_simulation(sim: Simulation, path: str, every: int = 1) -> None:
+    """A PNG of a simulation over time (every ``every``-th row): its energy (kinetic,
+    potential, work of what is not conservative), the balance's error, the constraints'
+    drift before projection and the plotted coordinates' rates: `Simulation.plot_energy`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    k = slice(None, None, max(1, int(every)))
+    t = sim.times[k]
+    charts = simulation_charts(sim)
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
+    panels = [[c] for c in charts[:3]] + [charts[3:]]
+    for ax, group in zip(axes.flat, panels):
+        for c in group:
+            for name, v in c.lines.items():
+                label = f"{name} [{c.unit}]" if c.title == "rates" else name
+                ax.plot(t, v[k], label=label)
+        titles = {c.title for c in group}
+        units = {c.unit for c in group}
+        ax.set_title(", ".join(sorted(titles)) or "rates (none: nothing moves)", fontsize=10)
+        if len(units) == 1 and "" not in units:
+            ax.set_ylabel(f"[{units.pop()}]")
+        ax.set_xlabel("t [s]")
+        ax.grid(True, alpha=0.3)
+        if group:
+            ax.legend(fontsize=8)
+    fig.suptitle(f"{sim.model.name}: simulation ({sim.method}), {sim.n_steps} rows")
     fig.savefig(path, dpi=110)
     plt.close(fig)

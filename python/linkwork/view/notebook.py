@@ -1,5 +1,6 @@
 """What a notebook shows: a `Mechanism` or `Model` as its drawing (and a model's counts),
-`Results` as a summary table with small plots, through the standard rich-display methods
+`Results` as a summary table with small plots (a `Simulation`'s with its energy balance
+and drift), through the standard rich-display methods
 (``_repr_png_``, ``_repr_html_``); ``draw`` onto matplotlib axes and ``animate``, an
 animation a notebook plays inline (matplotlib's JavaScript animation: no ffmpeg needed).
 
@@ -20,7 +21,7 @@ import io
 import math
 import textwrap
 from html import escape
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -32,7 +33,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from linkwork import Mechanism, Model, Results
+    from linkwork import Mechanism, Model, Results, Simulation
 
 __all__ = [
     "draw_results",
@@ -226,15 +227,25 @@ def results_html(results: Results) -> str:
             f"<tr><td colspan='6'>... and {len(r.columns) - MAX_ROWS} more (results.summary())</td></tr>"
         )
     worst = int(np.argmin(r.pivot_ratio))
-    diag = [
-        ("worst scaled residual", f"{r.residual.max():.2e}"),
-        ("Newton iterations", f"mean {r.iterations.mean():.2f}, max {r.iterations.max()}"),
-        (
-            "smallest pivot ratio",
-            f"{r.pivot_ratio[worst]:.2e} at t = {r.times[worst]:g} (near 0: near singular)",
-        ),
-        ("events", str(len(r.events) or "none")),
-    ]
+    pivot = f"{r.pivot_ratio[worst]:.2e} at t = {r.times[worst]:g} (near 0: near singular)"
+    if r.simulated:
+        sim = cast("Simulation", r)
+        e = sim.energy()
+        energy = r.model.units["energy"]
+        diag = [
+            ("method", f"{sim.method}: {sim.n_steps_taken} steps ({sim.n_rejected} rejected)"),
+            ("largest drift", f"{sim.drift.max():.2e} (positions), {sim.drift_d.max():.2e} (rates)"),
+            ("energy balance", f"within {np.abs(e.balance).max():.2e} {energy}"),
+            ("work not conservative", f"{e.work[-1]:.6g} {energy} by t = {r.times[-1]:g} s"),
+            ("smallest pivot ratio", pivot),
+        ]
+    else:
+        diag = [
+            ("worst scaled residual", f"{r.residual.max():.2e}"),
+            ("Newton iterations", f"mean {r.iterations.mean():.2f}, max {r.iterations.max()}"),
+            ("smallest pivot ratio", pivot),
+            ("events", str(len(r.events) or "none")),
+        ]
     diag_rows = "".join(
         f"<tr><th style='text-align:left'>{k}</th><td style='text-align:left'>{escape(v)}</td></tr>"
         for k, v in diag
@@ -251,11 +262,31 @@ def results_html(results: Results) -> str:
     draw_results(r, ax1)
     ax1.title.set_fontsize(9)
     picture = _img(png(fig), f"{r.model.name}: outputs over time and paths")
+    if r.simulated:
+        picture += _simulation_picture(cast("Simulation", r), rows)
     return (
         f"<div><p>{head}</p><div style='display:flex;gap:1.5em;align-items:flex-start;flex-wrap:wrap'>"
         f"<table><thead><tr>{cells}</tr></thead><tbody>{''.join(body)}</tbody></table>"
         f"<div><table>{diag_rows}</table>{f'<ul>{events}</ul>' if events else ''}</div></div>{picture}</div>"
     )
+
+
+def _simulation_picture(sim: Simulation, rows: slice) -> str:
+    """A simulation's energy, balance error and drift over time, as one small figure."""
+    from .series import simulation_charts
+
+    charts = [c for c in simulation_charts(sim) if c.title != "rates"]
+    fig, axes = _figure(13.5, 3.0, cols=len(charts))
+    for ax, c in zip(axes, charts):
+        for name, v in c.lines.items():
+            ax.plot(sim.times[rows], v[rows], label=name)
+        ax.set_title(c.title, fontsize=9)
+        ax.set_xlabel("t [s]")
+        if c.unit:
+            ax.set_ylabel(c.unit)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+    return _img(png(fig), f"{sim.model.name}: energy, balance error and drift over time")
 
 
 class Animation:

@@ -3,7 +3,9 @@ network needed to open it) showing a sweep: the mechanism drawn to scale, a slid
 the sweep's steps (time and the drivers' inputs), play and pause, the paths of points,
 live values of the chosen outputs, plots linked to the slider, and the events (limits,
 bifurcations, locks, branch jumps, the closest approach to a singular configuration)
-marked on the timeline. ``Results.to_html`` and ``linkwork view`` write it.
+marked on the timeline. ``Results.to_html`` and ``linkwork view`` write it. A
+simulation's page (``Simulation.to_html``, ``linkwork simulate --page``) adds its energy
+balance, constraint drift and rates as plots and live values (``charts`` in its data).
 
 The drawing is the SVG of `linkwork.view.export` at the first frame; every position at every
 frame is computed here in Python from the sweep (`linkwork.view.drawing.Motion`, world
@@ -26,7 +28,7 @@ import json
 import math
 import os
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -35,11 +37,11 @@ from ..errors import InputError
 from ..model.events import KINDS
 from .drawing import Geometry, Motion
 from .export import _output_path, _path_names, path_points, svg_text
-from .series import _numbers, default_outputs, inputs, output, unknown_outputs
+from .series import _numbers, default_outputs, inputs, output, simulation_charts, unknown_outputs
 from .targets import Deviation, deviation
 
 if TYPE_CHECKING:
-    from linkwork import Results
+    from linkwork import Results, Simulation
 
 __all__ = ["page", "inputs", "MAX_FRAMES"]
 
@@ -157,10 +159,17 @@ def page(
         },
         "n_steps": results.n_steps,
         "targets": [] if dev is None else dev.to_json(),
+        "charts": _charts(results, rows),
     }
     text = json.dumps(data, allow_nan=False, separators=(",", ":")).replace("</", "<\\/")
     heading = title or f"{model.name}"
     span = f"{results.n_steps} steps, t = {t[0]:.6g} .. {t[-1]:.6g} s, lengths in {unit}"
+    if results.simulated:
+        sim = cast("Simulation", results)
+        span = (
+            f"simulation ({sim.method}, {sim.n_steps_taken} integration steps): "
+            f"{results.n_steps} rows, t = {t[0]:.6g} .. {t[-1]:.6g} s, lengths in {unit}"
+        )
     html = (
         _TEMPLATE.replace("__TITLE__", _escape(heading))
         .replace("__SPAN__", _escape(span))
@@ -174,6 +183,21 @@ def page(
         with open(out, "w", encoding="utf-8") as f:
             f.write(html)
     return html
+
+
+def _charts(results: Results, rows: np.ndarray) -> list[dict[str, Any]]:
+    """A simulation's own plots (`linkwork.view.series.simulation_charts`) at the frames'
+    rows; none for a sweep."""
+    if not results.simulated:
+        return []
+    return [
+        {
+            "title": c.title,
+            "unit": c.unit,
+            "lines": [{"name": name, "value": _numbers(v[rows])} for name, v in c.lines.items()],
+        }
+        for c in simulation_charts(cast("Simulation", results))
+    ]
 
 
 def _targets_table(dev: Deviation) -> str:
@@ -272,6 +296,7 @@ th:first-child, td:first-child { text-align: left; }
 #plots { display: grid; grid-template-columns: repeat(auto-fill, minmax(22rem, 1fr)); gap: 0.6rem; }
 .plot { border: 1px solid #ddd; } .plot svg { width: 100%; height: 150px; display: block; cursor: crosshair; }
 .plot h3 { font-size: 13px; margin: 2px 6px; font-weight: normal; }
+.legend { font-size: 12px; margin: 0 6px 2px; display: flex; flex-wrap: wrap; gap: 0 0.8rem; }
 """
 
 _SCRIPT = r"""
@@ -374,6 +399,10 @@ for (const o of D.outputs) {
     o.acceleration ? fmt(o.acceleration[f]) + " " + o.unit + "/s^2" : "-"]);
 }
 addRow("pivot ratio", (f) => [fmt(D.pivot_ratio[f]), "", ""]);
+for (const c of D.charts) {
+  if (c.title === "rates") continue;  // the outputs' rows show them
+  for (const l of c.lines) addRow(l.name, (f) => [fmt(l.value[f]) + (c.unit ? " " + c.unit : ""), "", ""]);
+}
 
 // plots of the outputs over time, a cursor at the slider's time
 const T0 = D.times[0], T1 = D.times[n - 1], span = T1 - T0 || 1;
@@ -388,15 +417,18 @@ function el(tag, attrs) {
 const X = (t) => L + (W - L - R) * (t - T0) / span;
 const KIND_COLOURS = { limit: "#d62728", bifurcation: "#9467bd", lock: "#ff7f0e", branch_jump: "#000000",
   closest: "#7f7f7f" };
-for (const o of D.outputs) {
-  const vals = o.value.filter((v) => v !== null);
+// one plot: lines over time (a legend when more than one), events dashed, a cursor
+const COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf"];
+function addPlot(title, lines) {
+  const vals = lines.flatMap((l) => l.value.filter((v) => v !== null));
   let lo = Math.min(...vals), hi = Math.max(...vals);
+  if (!vals.length) { lo = 0; hi = 1; }
   if (hi - lo < 1e-12 * Math.max(1, Math.abs(hi))) { lo -= 1; hi += 1; }
   const Y = (v) => TOP + (H - TOP - B) * (hi - v) / (hi - lo);
   const box = document.createElement("div");
   box.className = "plot";
   box.innerHTML = "<h3></h3>";
-  box.firstChild.textContent = o.name + " [" + o.unit + "] over t [s]";
+  box.firstChild.textContent = title;
   const s = el("svg", { viewBox: `0 0 ${W} ${H}`, preserveAspectRatio: "none" });
   const frame = { x: L, y: TOP, width: W - L - R, height: H - TOP - B, fill: "none", stroke: "#ccc" };
   s.appendChild(el("rect", frame));
@@ -404,9 +436,13 @@ for (const o of D.outputs) {
     s.appendChild(el("line", { x1: X(e.time), x2: X(e.time), y1: TOP, y2: H - B, stroke: KIND_COLOURS[e.kind],
       "stroke-dasharray": "3 3" }));
   }
-  const pts = o.value.map((v, f) => (v === null ? "" : X(D.times[f]) + "," + Y(v))).join(" ");
-  s.appendChild(el("polyline", { points: pts, fill: "none", stroke: "#1f77b4", "stroke-width": 1.5,
-    "vector-effect": "non-scaling-stroke" }));
+  lines.forEach((l, k) => {
+    const pts = l.value.map((v, f) => (v === null ? "" : X(D.times[f]) + "," + Y(v))).join(" ");
+    const line = el("polyline", { points: pts, fill: "none", stroke: COLOURS[k % COLOURS.length],
+      "stroke-width": 1.5, "vector-effect": "non-scaling-stroke" });
+    line.dataset.name = l.name;
+    s.appendChild(line);
+  });
   for (const [v, y] of [[hi, TOP + 10], [lo, H - B - 2]]) {
     const tx = el("text", { x: 2, y: y, "font-size": 10, fill: "#555" });
     tx.textContent = fmt(v);
@@ -426,8 +462,22 @@ for (const o of D.outputs) {
     show(nearest(t));
   });
   box.appendChild(s);
+  if (lines.length > 1) {
+    const legend = document.createElement("div");
+    legend.className = "legend";
+    lines.forEach((l, k) => {
+      const item = document.createElement("span");
+      item.style.color = COLOURS[k % COLOURS.length];
+      item.textContent = "\u2014 " + l.name;
+      legend.appendChild(item);
+    });
+    box.appendChild(legend);
+  }
   document.getElementById("plots").appendChild(box);
 }
+for (const o of D.outputs) addPlot(o.name + " [" + o.unit + "] over t [s]", [o]);
+// a simulation's own: energy, the balance's error, the drift, the rates
+for (const c of D.charts) addPlot(c.title + (c.unit ? " [" + c.unit + "]" : "") + " over t [s]", c.lines);
 
 function nearest(t) {
   let best = 0;

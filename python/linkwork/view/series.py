@@ -25,7 +25,7 @@ from ..kinds import kind as kind_of
 from .drawing import Geometry
 
 if TYPE_CHECKING:
-    from linkwork import Model, Results
+    from linkwork import Model, Results, Simulation
 
 __all__ = [
     "Output",
@@ -39,6 +39,8 @@ __all__ = [
     "inputs",
     "default_paths",
     "unknown_paths",
+    "Chart",
+    "simulation_charts",
 ]
 
 
@@ -275,3 +277,42 @@ def inputs(results: Results, geometry: Geometry, rows: np.ndarray) -> list[dict[
                 {"name": name, "unit": "rad" if angle else length, "angle": angle, "value": _numbers(value)}
             )
     return out
+
+
+@dataclass(frozen=True)
+class Chart:
+    """A plot of a simulation beside its outputs: a title, the unit of its lines, and
+    the lines by name, each (n_steps,)."""
+
+    title: str
+    unit: str
+    lines: dict[str, np.ndarray]
+
+
+def simulation_charts(sim: Simulation) -> list[Chart]:
+    """What a simulation shows beside a sweep's outputs: its energy (kinetic, potential,
+    work of what is not conservative), the balance's error, the constraints' drift
+    before projection, and the rates of the default outputs' coordinates, grouped by
+    unit."""
+    e = sim.energy()
+    energy = str(sim.model.units["energy"])
+    charts = [
+        Chart(
+            "energy",
+            energy,
+            {"kinetic": e.kinetic, "potential": e.potential, "work not conservative": e.work},
+        ),
+        Chart("energy balance error", energy, {"balance": e.balance}),
+        Chart(
+            "constraint drift before projection",
+            "",
+            {"drift |Phi| (scaled)": sim.drift, "drift |Phi_q qd - nu|": sim.drift_d},
+        ),
+    ]
+    rates: dict[str, dict[str, np.ndarray]] = {}
+    for name in default_outputs(sim):
+        o = output(sim, name)
+        if o.rate is not None:
+            rates.setdefault(f"{o.unit}/s", {})[f"{o.name}_d"] = o.rate
+    charts += [Chart("rates", unit, lines) for unit, lines in rates.items()]
+    return charts
