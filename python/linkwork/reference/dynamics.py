@@ -19,6 +19,10 @@ linear solve, Phi_q^T lambda = Q - M qdd. Here every piece is a dense matrix:
   (from -(dr_c/dq)^T m a_c with a_c = Rdd + B u_c thdd - A u_c thd^2): (m thd^2 A u_c, 0);
   Q_g = (m g, (B u_c)^T m g);
   a force F at the local point u adds (F, (B u)^T F); a torque adds to the theta entry.
+  A joint load of magnitude f (a law of the joint's x or x', a motor, friction) is a
+  torque f on b and -f on a at a revolute (x = theta_b - theta_a); at a prismatic, with
+  x = n . d (n = A_a e, d = r_b(u_b) - r_a(u_a)), the force f n at b's point, -f n at a's
+  and the moment f (n x d) on a, since the axis turns with a: together f dx/dq.
 
 From lambda: the generalized force that constraint k exerts on its side b is
 Q_b = -(dPhi_k/dq_b)^T lambda_k: a world force (Fx, Fy) and the moment about b's origin,
