@@ -245,3 +245,11 @@ def test_equilibrium_under_a_tabulated_joint_torque() -> None:
     assert eq.stable
     omega = math.sqrt(stiffness / inertia)
     assert eq.omega is not None and abs(eq.omega[0] - omega) < 1e-8 * omega
+
+
+def test_joint_load_numbers_are_not_design_parameters() -> None:
+    from test_dynamics import engine_driven
+
+    model = lw.Model(engine_driven())
+    with pytest.raises(lw.ParameterError, match="'bearing' acts at a joint"):
+        model.sensitivities(np.linspace(0.0, 0.1, 3), ["loads.bearing.viscous"])
