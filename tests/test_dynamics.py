@@ -15,6 +15,7 @@ Tolerances:
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -171,6 +172,21 @@ def _library():
     }
 
 
+def engine_driven() -> dict:
+    """examples/engine_startup.py's engine with its crank driven at 30 rad/s: a gas force
+    table of the piston's slide, a motor and friction at a revolute and a prismatic."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "examples"))
+    import engine_startup
+
+    desc = engine_startup.engine().to_dict()
+    desc.pop("free")
+    law = {"type": "linear", "value": math.pi / 2, "rate": 30.0}
+    desc["drivers"] = [{"type": "angle", "name": "crank_angle", "body": "crank", "law": law}]
+    return desc
+
+
 # name -> (description, times of one cycle)
 CASES = {
     "four_bar": (four_bar_massive, cycle()),
@@ -180,6 +196,7 @@ CASES = {
     "six_bar_stephenson": (lambda: six_bar_massive("stephenson"), cycle()),
     "luffing_boom": (lambda: luffing_boom().to_dict(), cycle(period=2.0 * math.pi)),  # law period 2 pi s
     "rig": (lambda: rig().to_dict(), cycle(n=241, period=4.0 * math.pi)),  # all its harmonics repeat
+    "engine_driven": (engine_driven, np.linspace(0.0, 2.0 * math.pi / 30.0, 121)),
 }
 # rows the reference writes as other functions of q than the engine, so their
 # multipliers differ by a factor (a planetary mesh: the engine's row is an angle, the

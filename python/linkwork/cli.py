@@ -637,8 +637,9 @@ jumps, the closest approach to a singular configuration) marked on the timeline.
         formatter_class=fmt,
         help="forward dynamics: the motion a model's forces produce (its free coordinates)",
         description="""Compiles a model file keeping its undriven coordinates free and integrates its
-equations of motion from the drawing (at rest, or with --qd0) under gravity, springs,
-dampers and applied loads (docs/dynamics.md), and writes:
+equations of motion from the drawing (at rest, the file's initial_rates, or --qd0) under
+gravity, springs, dampers, applied loads, joint forces, motors and friction
+(docs/dynamics.md), and writes:
   DIR/MODEL.csv     time, every coordinate with its rate and acceleration, the named
                     points, and per row the constraints' drift before projection
                     (residual) and the augmented matrix's pivot ratio
@@ -659,7 +660,7 @@ A run that fails part way writes the times it reached and exits with status 1.""
         type=_names,
         metavar="COLUMN=VALUE,...",
         help="initial rates of coordinates (crank.theta=-1,...; the rest 0); they must be consistent "
-        "with the joints",
+        "with the joints (default: the file's initial_rates, the other rates following from the joints)",
     )
     sim.add_argument(
         "--max-steps", type=_positive_int, default=None, metavar="N", help="stop after N integration steps"

@@ -74,7 +74,9 @@ pub(crate) fn bind(
         attach(d.law_mut());
     }
     for l in desc.loads.iter_mut() {
-        if let LoadDesc::Force { law, .. } | LoadDesc::Torque { law, .. } = l {
+        if let LoadDesc::Force { law, .. } | LoadDesc::Torque { law, .. } | LoadDesc::JointForce { law, .. } =
+            l
+        {
             attach(law);
         }
     }

@@ -816,6 +816,8 @@ impl PyModel {
                     linkwork::loads::Load::Torque { .. } => "torque",
                     linkwork::loads::Load::Spring { .. } => "spring",
                     linkwork::loads::Load::TorsionSpring { .. } => "torsion_spring",
+                    linkwork::loads::Load::JointForce { .. } => "joint_force",
+                    linkwork::loads::Load::Friction { .. } => "friction",
                 };
                 (l.name.clone(), kind, idx(l.body_a), idx(l.body_b))
             })

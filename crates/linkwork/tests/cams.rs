@@ -161,6 +161,8 @@ fn circular_cam_with_oscillating_followers_is_a_four_bar() {
             outputs: Vec::new(),
             branch: None,
             close: None,
+            free: false,
+            initial_rates: Default::default(),
         };
         let (model, out) = sweep_all(desc, &times);
         let mut want: [Vec<f64>; 5] = Default::default();

@@ -74,6 +74,8 @@ fn three_followers() -> Description {
         outputs: Vec::new(),
         branch: None,
         close: None,
+        free: false,
+        initial_rates: Default::default(),
     }
 }
 

@@ -44,6 +44,8 @@ fn driven_pendulum_torque_and_pin_force_match_the_hand_worked_case() {
         outputs: Vec::new(),
         branch: None,
         close: None,
+        free: false,
+        initial_rates: Default::default(),
     };
     let times: Vec<f64> = (0..201).map(|k| k as f64 * 0.01).collect();
     for linear in [LinearKind::Refactor, LinearKind::Small, LinearKind::Dense, LinearKind::Sparse] {

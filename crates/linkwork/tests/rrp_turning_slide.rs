@@ -72,6 +72,8 @@ fn turning_slide(slot_side_a: bool) -> Description {
         outputs: Vec::new(),
         branch: None,
         close: None,
+        free: false,
+        initial_rates: Default::default(),
     }
 }
 

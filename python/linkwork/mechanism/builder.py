@@ -101,6 +101,12 @@ class Mechanism:
         #: the pins and moves the bodies until the joints hold (least squares); "drawn", it
         #: keeps the drawing's points. What was done is `Model.closing`.
         self.close: str | None = None
+        #: compile with the undriven coordinates free (forward dynamics, equilibrium)
+        self.free: bool = False
+        #: a simulation's initial rates by coordinate column ("crank.theta") or revolute or
+        #: prismatic joint name, in the model's units; the other rates follow from the
+        #: joints (`Model.simulate`)
+        self.initial_rates: dict[str, float] = {}
         # (file, {(kind, name): line}) of a mechanism read from a file, for compile errors
         self._source: tuple[str, dict[tuple[str, str], int]] | None = None
 
@@ -640,6 +646,42 @@ class Mechanism:
             stiffness=float(stiffness), free_angle=float(free_angle), damping=float(damping),
         )  # fmt: skip
 
+    def joint_force(self, joint: str, law: Law, of: str = "coordinate", name: str | None = None) -> str:
+        """A torque (revolute joint) or a force along the axis (prismatic joint) of magnitude
+        law(x) between the joint's bodies, on body_b and its reaction on body_a; ``of``
+        "coordinate" (x: theta_b - theta_a, or the slide from the start) or "rate" (x')."""
+        if of not in ("coordinate", "rate"):
+            raise InputError(f'joint_force: of must be "coordinate" or "rate", not {of!r}')
+        if not isinstance(law, Law):
+            raise InputError(
+                f"joint_force: law must be a linkwork motion law (Spline, Linear...), not {law!r}"
+            )
+        self._register(law)
+        return self._load("joint_force", name, joint=str(joint), of=of, law=law.to_dict())
+
+    def motor(self, joint: str, stall: float, no_load_speed: float, name: str | None = None) -> str:
+        """A motor at a joint with the linear torque-speed curve
+        f = stall (1 - rate / no_load_speed) (a force-speed curve at a prismatic joint)."""
+        return self._load(
+            "motor", name, joint=str(joint), stall=float(stall), no_load_speed=float(no_load_speed)
+        )
+
+    def friction(
+        self,
+        joint: str,
+        viscous: float = 0.0,
+        coulomb: float = 0.0,
+        smoothing: float | None = None,
+        name: str | None = None,
+    ) -> str:
+        """Friction at a revolute or prismatic joint: f = -viscous rate - coulomb
+        tanh(rate / smoothing), a constant Coulomb magnitude smoothed over rates of about
+        ``smoothing`` (needed when ``coulomb`` > 0)."""
+        fields: dict[str, Any] = {"viscous": float(viscous), "coulomb": float(coulomb)}
+        if smoothing is not None:
+            fields["smoothing"] = float(smoothing)
+        return self._load("friction", name, joint=str(joint), **fields)
+
     def _theta(self, body: str) -> float:
         if body == GROUND:
             return 0.0
@@ -679,6 +721,10 @@ class Mechanism:
             desc["branch"] = self.branch if isinstance(self.branch, str) else dict(self.branch)
         if self.close is not None:
             desc["close"] = self.close
+        if self.free:
+            desc["free"] = True
+        if self.initial_rates:
+            desc["initial_rates"] = {str(k): float(v) for k, v in self.initial_rates.items()}
         return desc | {
             "bodies": [dict(b) for b in self._bodies],
             "joints": [dict(j) for j in self._joints],
@@ -711,6 +757,9 @@ class Mechanism:
         m.units = dict(units) if units else None
         m.branch = desc.get("branch")
         m.close = desc.get("close")
+        m.free = bool(desc.get("free", False))
+        rates = desc.get("initial_rates") or {}
+        m.initial_rates = {str(k): _args.number(v, f"initial_rates[{k!r}]") for k, v in dict(rates).items()}
         outputs = desc.get("outputs")
         if outputs is not None:
             if isinstance(outputs, str) or not all(isinstance(o, str) for o in outputs):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -16,6 +16,7 @@ from ..kinds import kind as kind_of
 from .anchors import Anchor, traceable
 from .equilibrium import Equilibrium
 from .events import Event, MotionLimits
+from .initial_rates import complete_rates
 from .linkages import AssemblyMode, AssemblyModes, Linkage
 from .mobility import Mobility
 from .progress import ProgressBar
@@ -537,7 +538,7 @@ class Model:
         rtol: float = 1e-8,
         atol: float = 1e-8,
         q0: Sequence[float] | np.ndarray | None = None,
-        qd0: Sequence[float] | np.ndarray | None = None,
+        qd0: Sequence[float] | np.ndarray | Mapping[str, float] | None = None,
         rho_inf: float = 0.9,
         h0: float | None = None,
         h_max: float | None = None,
@@ -547,8 +548,11 @@ class Model:
     ) -> Simulation:
         """Forward dynamics: the motion under gravity, the loads and the drivers of a
         model compiled with free coordinates (``compile(free=True)``), from ``q0``, ``qd0``
-        (default: the drawing, at rest) at ``times[0]``, reported at every one of
-        ``times`` (strictly increasing). The GIL is released meanwhile.
+        (default: the drawing, at rest, or the description's ``initial_rates``) at
+        ``times[0]``, reported at every one of ``times`` (strictly increasing). The GIL is
+        released meanwhile. ``qd0`` may be a dict of the rates of as many columns
+        ("crank.theta") or revolute and prismatic joints as the model has degrees of
+        freedom: the other rates follow from the joints (at the drawing).
 
         The initial conditions are projected onto the constraints first (the smallest
         change in the mass metric; ``moved_q``, ``moved_qd`` say how far): those given
@@ -576,6 +580,11 @@ class Model:
         progress = _args.callback(progress, "progress", allow_true=True)
         callback = ProgressBar() if progress is True else (progress or None)
         q0a = _args.optional_vector(q0, "q0", self.n_coords)
+        if qd0 is None and self.description.get("initial_rates"):
+            qd0 = dict(self.description["initial_rates"])
+        if isinstance(qd0, Mapping):
+            given = {str(k): _args.number(v, f"qd0[{k!r}]") for k, v in qd0.items()}
+            qd0 = complete_rates(self, given, float(t[0]))
         qd0a = _args.optional_vector(qd0, "qd0", self.n_coords)
         raw, error = _core.simulate(
             self._core,

@@ -24,7 +24,8 @@ __all__ = ["Simulation", "SimulationEnergy"]
 class SimulationEnergy:
     """Energy of a simulation at each kept time, each (n,): ``kinetic``, ``potential``
     (gravity and springs), ``work`` done since the start by what is not conservative
-    (dampers, applied forces and torques, driven constraints) and ``balance`` = kinetic +
+    (dampers, applied forces and torques, joint forces, motors and friction, driven
+    constraints) and ``balance`` = kinetic +
     potential - work minus its initial value: zero but for the integration error."""
 
     kinetic: np.ndarray

@@ -19,6 +19,10 @@ linear solve, Phi_q^T lambda = Q - M qdd. Here every piece is a dense matrix:
   (from -(dr_c/dq)^T m a_c with a_c = Rdd + B u_c thdd - A u_c thd^2): (m thd^2 A u_c, 0);
   Q_g = (m g, (B u_c)^T m g);
   a force F at the local point u adds (F, (B u)^T F); a torque adds to the theta entry.
+  A joint load of magnitude f (a law of the joint's x or x', a motor, friction) is a
+  torque f on b and -f on a at a revolute (x = theta_b - theta_a); at a prismatic, with
+  x = n . d (n = A_a e, d = r_b(u_b) - r_a(u_a)), the force f n at b's point, -f n at a's
+  and the moment f (n x d) on a, since the axis turns with a: together f dx/dq.
 
 From lambda: the generalized force that constraint k exerts on its side b is
 Q_b = -(dPhi_k/dq_b)^T lambda_k: a world force (Fx, Fy) and the moment about b's origin,
@@ -163,6 +167,35 @@ class Load:
     free_length: float = 0.0
     free_angle: float = 0.0
     damping: float = 0.0
+    # joint loads: "turn" (revolute) or "slide" (prismatic, axis e_local in a), and theirs
+    axis: str = ""
+    e_local: np.ndarray | None = None
+    of_rate: bool = False
+    scale: float = 1.0
+    stall: float = 0.0
+    no_load_speed: float = 1.0
+    viscous: float = 0.0
+    coulomb: float = 0.0
+    smoothing: float = 1.0
+
+    def joint_coordinate(self, pa: Pose, pb: Pose) -> tuple[float, float]:
+        """(x, x') of a joint load's joint: theta_b - theta_a, or the slide n . d with
+        n = A_a e and d = r_b(u_b) - r_a(u_a) (zero at the start)."""
+        if self.axis == "turn":
+            return pb.theta - pa.theta, pb.thd - pa.thd
+        assert self.e_local is not None and self.u_a is not None and self.u_b is not None
+        n, nd = pa.A @ self.e_local, pa.B @ self.e_local * pa.thd
+        d = pb.r(self.u_b) - pa.r(self.u_a)
+        return float(n @ d), float(nd @ d + n @ (pb.v(self.u_b) - pa.v(self.u_a)))
+
+    def magnitude(self, x: float, xd: float) -> float:
+        """A joint load's torque or force at (x, x')."""
+        if self.kind == "joint_force":
+            assert self.law is not None
+            return motion_law(self.law, self.scale * (xd if self.of_rate else x))[0]
+        if self.kind == "motor":
+            return self.stall * (1.0 - xd / self.no_load_speed)
+        return -self.viscous * xd - self.coulomb * math.tanh(xd / self.smoothing)
 
     def forces(self, pa: Pose, pb: Pose, t: float) -> list[tuple[str, np.ndarray, float]]:
         """The load as (side, world force at its point, torque) acting on each side:
@@ -186,11 +219,24 @@ class Load:
         if self.kind == "torsion_spring":
             tau = self.stiffness * (pb.theta - pa.theta - self.free_angle) + self.damping * (pb.thd - pa.thd)
             return [("b", np.zeros(2), -tau), ("a", np.zeros(2), tau)]
+        if self.kind in ("joint_force", "motor", "friction"):
+            f = self.magnitude(*self.joint_coordinate(pa, pb))
+            if self.axis == "turn":
+                return [("b", np.zeros(2), f), ("a", np.zeros(2), -f)]
+            assert self.e_local is not None and self.u_a is not None and self.u_b is not None
+            # f along n at the slider's point, its reaction on a at a's point and the moment
+            # of the reaction's offset d (the axis turns with a)
+            n = pa.A @ self.e_local
+            d = pb.r(self.u_b) - pa.r(self.u_a)
+            return [("b", f * n, 0.0), ("a", -f * n, f * cross(n, d))]
         raise ValueError(f"load {self.name!r} has unknown type {self.kind!r}")
 
 
 def build_loads(
-    desc: dict[str, Any], start: dict[str, tuple[float, float, float]], length_scale: float
+    desc: dict[str, Any],
+    start: dict[str, tuple[float, float, float]],
+    length_scale: float,
+    constraints: list[Constraint] | None = None,
 ) -> list[Load]:
     """Compiles and validates the loads; errors name the load."""
     used = {j.get("name") for j in desc.get("joints", [])} | {d.get("name") for d in desc.get("drivers", [])}
@@ -262,6 +308,35 @@ def build_loads(
                 stiffness=non_negative(where, "stiffness", ld.get("stiffness")),
                 damping=non_negative(where, "damping", ld.get("damping", 0.0)),
             )  # fmt: skip
+        elif kind in ("joint_force", "motor", "friction"):
+            joint = next((c for c in constraints or [] if c.name == ld.get("joint")), None)
+            if not isinstance(joint, (Revolute, Prismatic)):
+                raise ValueError(f"{where}: {ld.get('joint')!r} is not a revolute or prismatic joint")
+            load = Load(name, kind, joint.a, joint.b)
+            if isinstance(joint, Revolute):
+                load.axis = "turn"
+            else:
+                load.axis, load.e_local = "slide", np.asarray(joint.e_local, dtype=float)
+                load.u_a, load.u_b = np.asarray(joint.ua, dtype=float), np.asarray(joint.ub, dtype=float)
+            if kind == "joint_force":
+                if ld.get("of", "coordinate") not in ("coordinate", "rate"):
+                    raise ValueError(f"{where}: of must be coordinate or rate")
+                load.law, load.of_rate = law_of(where, ld), ld.get("of") == "rate"
+                load.scale = float(ld.get("scale", 1.0))
+            elif kind == "motor":
+                load.stall, load.no_load_speed = float(ld["stall"]), float(ld["no_load_speed"])
+                if not (
+                    is_finite(load.stall) and is_finite(load.no_load_speed) and load.no_load_speed != 0.0
+                ):
+                    raise ValueError(f"{where}: stall and no-load speed must be finite, the speed non-zero")
+            else:
+                load.viscous = non_negative(where, "viscous coefficient", ld.get("viscous", 0.0))
+                load.coulomb = non_negative(where, "Coulomb friction", ld.get("coulomb", 0.0))
+                if load.coulomb > 0.0:
+                    eps = ld.get("smoothing")
+                    if not (is_finite(eps) and float(eps) > 0.0):
+                        raise ValueError(f"{where}: Coulomb friction needs a smoothing rate > 0")
+                    load.smoothing = float(eps)
         else:
             raise ValueError(f"load {name!r} has unknown type {kind!r}")
         if load.a == GROUND and load.b == GROUND:

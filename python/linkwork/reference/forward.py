@@ -25,7 +25,8 @@ correction) before going on.
 
 Energy: kinetic 1/2 qd^T M qd, the potential of gravity (-sum m g . r_c) and of the
 springs (1/2 k (L - L0)^2, 1/2 k (theta_b - theta_a - free)^2). Applied forces and
-torques and the dampers are not in it; their work is what the balance misses.
+torques, the dampers and the joint loads are not in it; their work is what the balance
+misses.
 """
 
 from __future__ import annotations

@@ -57,7 +57,18 @@ def _in_radians(desc: dict[str, Any]) -> dict[str, Any]:
                     c["theta"] = float(c["theta"]) / k  # per degree -> per radian
         elif j["type"] in ("pin_in_slot", "cam_follower") and j["curve"].get("type") == "polar":
             j["curve"]["angles"] = [k * float(a) for a in j["curve"]["angles"]]
+    revolutes = {j["name"] for j in desc.get("joints", []) if j["type"] == "revolute"}
     for ld in desc.get("loads", []):
+        if ld["type"] in ("joint_force", "motor", "friction") and ld.get("joint") in revolutes:
+            # x in degrees = x / k: a law of it, a speed, a coefficient per degree/s
+            if ld["type"] == "joint_force":
+                ld["scale"] = 1.0 / k
+            elif ld["type"] == "motor":
+                ld["no_load_speed"] = k * float(ld["no_load_speed"])
+            else:
+                ld["viscous"] = float(ld.get("viscous", 0.0)) / k
+                if ld.get("smoothing") is not None:
+                    ld["smoothing"] = k * float(ld["smoothing"])
         if ld["type"] == "torsion_spring":
             ld["free_angle"] = k * float(ld["free_angle"])
             ld["stiffness"] = float(ld["stiffness"]) / k
@@ -134,7 +145,7 @@ class ReferenceModel:
         if not dynamics.is_finite(gravity, 2):
             raise ValueError(f"gravity {gravity} is not a finite 2-vector")
         self.gravity = np.asarray(gravity, dtype=float)
-        self.loads = dynamics.build_loads(self.description, self._start, self.length_scale)
+        self.loads = dynamics.build_loads(self.description, self._start, self.length_scale, self.constraints)
 
     # -- setup helpers ----------------------------------------------------------------------
     def _local(self, body: str, p: Any) -> np.ndarray:

@@ -11,11 +11,12 @@ use std::sync::Arc;
 
 use crate::compile::close_drawing::{close_given, not_closed, Closer, CLOSE_TOL};
 use crate::constraints::compile_context::{finite2, local};
-use crate::constraints::loads::{Inertia, Load, LoadEntry};
+use crate::constraints::loads::{Inertia, JointAxis, Load, LoadEntry};
 use crate::constraints::{kinds::ConstraintKind, Constraint, Frame, RowKind, MAX_ROWS};
 use crate::error::ModelError;
-use crate::input::description::{Description, DriverDesc, JointDesc, LoadDesc, GROUND};
+use crate::input::description::{Description, DriverDesc, JointArgument, JointDesc, LoadDesc, GROUND};
 use crate::input::files::ModelFile;
+use crate::input::motion::MotionLaw;
 use crate::math::linear::LinearKind;
 use crate::model::closing::{Closing, Keep, PinMiss};
 use crate::model::rank::analyse;
@@ -74,6 +75,10 @@ impl Model {
 
     /// Validates the description and compiles it.
     pub fn with_options(description: Description, options: Options) -> Result<Model, ModelError> {
+        // a description that says `free = true` compiles free whatever the options say
+        let options = Options { free: options.free || description.free, ..options };
+        // the radians in the file's angle unit, for the joint loads (`compile_loads`)
+        let angle_unit = description.units.angle.to_radians();
         // every angle in radians from here on (the one place units are converted)
         let description = crate::input::units::internal(&description);
         check_options(&options)?;
@@ -213,7 +218,7 @@ impl Model {
         if !finite2(desc.gravity) {
             return Err(ModelError::Description(format!("gravity {:?} is not finite", desc.gravity)));
         }
-        let loads = compile_loads(desc, &bodies, length_scale)?;
+        let loads = compile_loads(desc, &bodies, &constraints, length_scale, angle_unit)?;
 
         let mut time_domain = (f64::NEG_INFINITY, f64::INFINITY);
         let laws =
@@ -414,10 +419,35 @@ fn compile_inertias(desc: &Description, bodies: &Bodies) -> Result<Vec<Inertia>,
     Ok(out)
 }
 
+/// The axis of the joint named `joint` a joint load acts at, its sides and the factor from
+/// its coordinate to the unit of the file (1 / angle_unit for a revolute: the angles of
+/// a file in degrees; a slide keeps its length unit).
+fn joint_axis(
+    joint: &str,
+    constraints: &[ConstraintEntry],
+    angle_unit: f64,
+) -> Result<(JointAxis, Option<usize>, Option<usize>, f64), String> {
+    let Some(c) = constraints.iter().find(|c| c.role == "joint" && c.name == joint) else {
+        return Err(format!("refers to '{joint}', which is not a joint of the model"));
+    };
+    match &c.kind {
+        ConstraintKind::Revolute(_) => Ok((JointAxis::Turn, c.body_a, c.body_b, 1.0 / angle_unit)),
+        ConstraintKind::Prismatic(p) => {
+            Ok((JointAxis::Slide { u_a: p.u_a, u_b: p.u_b, e_a: p.e_a }, c.body_a, c.body_b, 1.0))
+        }
+        _ => Err(format!(
+            "acts at '{joint}', a {} joint; joint loads act at revolute or prismatic joints",
+            c.kind.label()
+        )),
+    }
+}
+
 fn compile_loads(
     desc: &Description,
     bodies: &Bodies,
+    constraints: &[ConstraintEntry],
     length_scale: f64,
+    angle_unit: f64,
 ) -> Result<Vec<LoadEntry>, ModelError> {
     let mut out = Vec::with_capacity(desc.loads.len());
     for l in &desc.loads {
@@ -483,6 +513,47 @@ fn compile_loads(
                     a,
                     b,
                 )
+            }
+            // laws of the joint's coordinate x in the file's unit: f(scale x), scale = 180 / pi
+            // for a revolute joint of a file in degrees
+            LoadDesc::JointForce { joint, of, law, .. } => {
+                let (axis, a, b, scale) = joint_axis(joint, constraints, angle_unit).map_err(fail)?;
+                let mut law = law.clone();
+                law.prepare().map_err(fail)?;
+                (Load::JointForce { axis, law, rate: *of == JointArgument::Rate, scale }, a, b)
+            }
+            LoadDesc::Motor { joint, stall, no_load_speed, .. } => {
+                let (axis, a, b, scale) = joint_axis(joint, constraints, angle_unit).map_err(fail)?;
+                if !(stall.is_finite() && no_load_speed.is_finite() && *no_load_speed != 0.0) {
+                    return Err(fail(format!(
+                        "stall {stall} and no-load speed {no_load_speed} must be finite, the speed non-zero"
+                    )));
+                }
+                let law = MotionLaw::Linear { value: *stall, rate: -stall / no_load_speed };
+                (Load::JointForce { axis, law, rate: true, scale }, a, b)
+            }
+            LoadDesc::Friction { joint, viscous, coulomb, smoothing, .. } => {
+                let (axis, a, b, scale) = joint_axis(joint, constraints, angle_unit).map_err(fail)?;
+                non_negative("viscous coefficient", *viscous)?;
+                non_negative("Coulomb friction", *coulomb)?;
+                let smoothing = match smoothing {
+                    Some(v) if v.is_finite() && *v > 0.0 => *v,
+                    None if *coulomb == 0.0 => 1.0,
+                    Some(v) => return Err(fail(format!("smoothing rate {v} must be finite and > 0"))),
+                    None => {
+                        return Err(fail(
+                            "Coulomb friction needs a smoothing rate (tanh(rate / smoothing))".into(),
+                        ))
+                    }
+                };
+                // per unit rate of the file -> per unit rate of x (c scale), smoothing likewise
+                let load = Load::Friction {
+                    axis,
+                    viscous: viscous * scale,
+                    coulomb: *coulomb,
+                    smoothing: smoothing / scale,
+                };
+                (load, a, b)
             }
         };
         if b.is_none() && a.is_none() {

@@ -1,5 +1,7 @@
-//! Applied loads for inverse dynamics: forces and torques following motion laws, linear
-//! and torsional spring-dampers. Each writes its generalized force into Q (n_coords):
+//! Applied loads: forces and torques following motion laws of time, linear and torsional
+//! spring-dampers, and loads at a joint (a torque at a revolute, a force along a
+//! prismatic's axis) that are functions of the joint's coordinate or rate: force laws,
+//! motors, friction. Each writes its generalized force into Q (n_coords):
 //! a force F at the body point u adds (F, (B u) . F) to the body's (x, y, theta) entries.
 //! Each is written once more over jets (`*_jet`), from which the sensitivities of the
 //! driver efforts take the generalized forces' derivatives exactly.
@@ -19,6 +21,152 @@ pub enum Load {
     Spring { u_a: [f64; 2], u_b: [f64; 2], stiffness: f64, free_length: f64, damping: f64 },
     /// resisting torque k (theta_b - theta_a - free_angle) + c (w_b - w_a) on b
     TorsionSpring { stiffness: f64, free_angle: f64, damping: f64 },
+    /// f = law(scale x) (`rate`: of scale x'), x the joint's coordinate, acting at the joint
+    /// (`JointAxis`); scale converts x to the unit the law was written in (per degree)
+    JointForce { axis: JointAxis, law: MotionLaw, rate: bool, scale: f64 },
+    /// f = -viscous x' - coulomb tanh(x' / smoothing) at the joint (`JointAxis`)
+    Friction { axis: JointAxis, viscous: f64, coulomb: f64, smoothing: f64 },
+}
+
+/// The coordinate x of the joint a joint load acts at, and how its generalized force
+/// f dx/dq is applied: a torque f on b and -f on a (revolute, x = theta_b - theta_a); a force
+/// f along the axis n = A_a e_a at b's point u_b and its reaction on a (prismatic, x = n . d,
+/// d = r_b(u_b) - r_a(u_a), the slide from the start).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JointAxis {
+    Turn,
+    Slide { u_a: [f64; 2], u_b: [f64; 2], e_a: [f64; 2] },
+}
+
+impl JointAxis {
+    /// (x, x') at the sides' poses and velocities.
+    pub fn coordinate(&self, a: &Frame, b: &Frame) -> (f64, f64) {
+        match self {
+            JointAxis::Turn => (b.theta - a.theta, b.thetad - a.thetad),
+            JointAxis::Slide { u_a, u_b, e_a } => {
+                let n = a.rot(*e_a);
+                let d = sub(b.point(*u_b), a.point(*u_a));
+                let dd = sub(b.point_velocity(*u_b), a.point_velocity(*u_a));
+                // x' = n' . d + n . d', n' = w_a B_a e_a = w_a perp(n)
+                (dot(n, d), a.thetad * dot(perp(n), d) + dot(n, dd))
+            }
+        }
+    }
+
+    /// Adds f dx/dq to q.
+    fn add_force(
+        &self,
+        q: &mut [f64],
+        body_a: Option<usize>,
+        body_b: Option<usize>,
+        a: &Frame,
+        b: &Frame,
+        f: f64,
+    ) {
+        match self {
+            JointAxis::Turn => {
+                if let Some(i) = body_b {
+                    q[3 * i + 2] += f;
+                }
+                if let Some(i) = body_a {
+                    q[3 * i + 2] -= f;
+                }
+            }
+            JointAxis::Slide { u_a, u_b, e_a } => {
+                let n = a.rot(*e_a);
+                add_point_force(q, body_b, b, *u_b, [f * n[0], f * n[1]]);
+                add_point_force(q, body_a, a, *u_a, [-f * n[0], -f * n[1]]);
+                // the axis turns with a: d x / d theta_a has d . (B_a e_a) besides -n . (B_a u_a)
+                if let Some(i) = body_a {
+                    q[3 * i + 2] += f * dot(perp(n), sub(b.point(*u_b), a.point(*u_a)));
+                }
+            }
+        }
+    }
+
+    /// x as a jet (its rate is its tau^1 part); `p` the slide's six numbers (u_a, u_b, e_a).
+    fn coordinate_jet<const W: usize>(&self, a: &JetFrame<W>, b: &JetFrame<W>, p: &[Jet<W>]) -> Jet<W> {
+        match self {
+            JointAxis::Turn => b.theta - a.theta,
+            JointAxis::Slide { .. } => {
+                jet::dot(a.rot(pair(p, 4)), jet::sub(b.point(pair(p, 2)), a.point(pair(p, 0))))
+            }
+        }
+    }
+
+    /// `add_force` on jets.
+    #[allow(clippy::too_many_arguments)]
+    fn add_force_jet<const W: usize>(
+        &self,
+        q: &mut [Jet<W>],
+        body_a: Option<usize>,
+        body_b: Option<usize>,
+        a: &JetFrame<W>,
+        b: &JetFrame<W>,
+        p: &[Jet<W>],
+        f: Jet<W>,
+    ) {
+        match self {
+            JointAxis::Turn => {
+                if let Some(i) = body_b {
+                    q[3 * i + 2] = q[3 * i + 2] + f;
+                }
+                if let Some(i) = body_a {
+                    q[3 * i + 2] = q[3 * i + 2] - f;
+                }
+            }
+            JointAxis::Slide { .. } => {
+                let (u_a, u_b) = (pair(p, 0), pair(p, 2));
+                let n = a.rot(pair(p, 4));
+                add_point_force_jet(q, body_b, b, u_b, [f * n[0], f * n[1]]);
+                add_point_force_jet(q, body_a, a, u_a, [-(f * n[0]), -(f * n[1])]);
+                if let Some(i) = body_a {
+                    let d = jet::sub(b.point(u_b), a.point(u_a));
+                    q[3 * i + 2] = q[3 * i + 2] + f * jet::dot(jet::perp(n), d);
+                }
+            }
+        }
+    }
+
+    /// The slide's numbers (none for a revolute), first among the load's.
+    fn params_mut(&mut self) -> Vec<(String, &mut f64)> {
+        use crate::constraints::xy;
+        match self {
+            JointAxis::Turn => Vec::new(),
+            JointAxis::Slide { u_a, u_b, e_a } => {
+                let mut p: Vec<(String, &mut f64)> = xy("u_a", u_a).into();
+                p.extend(xy("u_b", u_b));
+                p.extend(xy("e_a", e_a));
+                p
+            }
+        }
+    }
+
+    /// How many numbers `params_mut` gives.
+    fn n_params(&self) -> usize {
+        match self {
+            JointAxis::Turn => 0,
+            JointAxis::Slide { .. } => 6,
+        }
+    }
+}
+
+impl Load {
+    /// A joint load's magnitude f at (x, x') and time-independent: f and df/dx, df/dx' .
+    pub fn joint_magnitude(&self, x: f64, xd: f64) -> Option<[f64; 3]> {
+        match self {
+            Load::JointForce { law, rate, scale, .. } => {
+                let arg = if *rate { xd } else { x };
+                let [f, fd, _] = law.eval(scale * arg);
+                Some(if *rate { [f, 0.0, scale * fd] } else { [f, scale * fd, 0.0] })
+            }
+            Load::Friction { viscous, coulomb, smoothing, .. } => {
+                let th = (xd / smoothing).tanh();
+                Some([-viscous * xd - coulomb * th, 0.0, -viscous - coulomb * (1.0 - th * th) / smoothing])
+            }
+            _ => None,
+        }
+    }
 }
 
 /// A load of a compiled model, with its sides (None: the ground).
@@ -70,6 +218,11 @@ impl LoadEntry {
                 if let Some(i) = self.body_a {
                     q_out[3 * i + 2] += tau;
                 }
+            }
+            Load::JointForce { axis, .. } | Load::Friction { axis, .. } => {
+                let (x, xd) = axis.coordinate(a, b);
+                let f = self.load.joint_magnitude(x, xd).map_or(0.0, |m| m[0]);
+                axis.add_force(q_out, self.body_a, self.body_b, a, b, f);
             }
         }
     }
@@ -126,6 +279,32 @@ impl LoadEntry {
                     q_out[3 * i + 2] = q_out[3 * i + 2] + tau;
                 }
             }
+            Load::JointForce { axis, law, rate, scale } => {
+                let x = axis.coordinate_jet(a, b, p);
+                let arg = if *rate { x.coefficient(1) } else { x };
+                // f(scale arg) from its derivatives at the step: its tau^0 parts (the value and
+                // its change with the motion) are exact, the tau^2 part lacks the third
+                // derivative (not read); the law's own numbers add their changes
+                let at = scale * arg.value();
+                let [f, fd, fdd] = law.eval(at);
+                let mut mag = arg.compose([f, scale * fd, scale * scale * fdd, 0.0]);
+                let by_params = law.jet(at, &p[axis.n_params()..]);
+                for (m, e) in mag.e.iter_mut().zip(by_params.e) {
+                    m[0] += e[0];
+                }
+                axis.add_force_jet(q_out, self.body_a, self.body_b, a, b, p, mag);
+            }
+            Load::Friction { axis, .. } => {
+                let xd = axis.coordinate_jet(a, b, p).coefficient(1);
+                let own = &p[axis.n_params()..];
+                let (c, mu, eps) = (own[0], own[1], own[2]);
+                let th = (xd * eps.recip()).compose({
+                    let t = (xd.value() / eps.value()).tanh();
+                    [t, 1.0 - t * t, -2.0 * t * (1.0 - t * t), 0.0]
+                });
+                let mag = -(c * xd) - mu * th;
+                axis.add_force_jet(q_out, self.body_a, self.body_b, a, b, p, mag);
+            }
         }
     }
 }
@@ -173,6 +352,18 @@ impl Load {
                 ("free_angle".into(), free_angle),
                 ("damping".into(), damping),
             ],
+            Load::JointForce { axis, law, .. } => {
+                let mut p = axis.params_mut();
+                p.extend(law.params_mut());
+                p
+            }
+            Load::Friction { axis, viscous, coulomb, smoothing } => {
+                let mut p = axis.params_mut();
+                p.push(("viscous".into(), viscous));
+                p.push(("coulomb".into(), coulomb));
+                p.push(("smoothing".into(), smoothing));
+                p
+            }
         }
     }
 }
@@ -245,6 +436,7 @@ mod tests {
         let (ja, jb) = (motion(qa, qda, qdda), motion(qb, qdb, qddb));
         let (fa, fb) = (Frame::new(qa, qda), Frame::new(qb, qdb));
         let law = MotionLaw::Harmonic { mean: 5.0, amplitude: 2.0, omega: 3.0, phase: 0.1 };
+        let slide = JointAxis::Slide { u_a: [0.3, -0.1], u_b: [0.05, 0.2], e_a: [0.6, 0.8] };
         let loads = [
             Load::Force { u: [0.2, 0.1], dir: [0.6, -0.8], law: law.clone() },
             Load::Torque { law },
@@ -256,6 +448,20 @@ mod tests {
                 damping: 4.0,
             },
             Load::TorsionSpring { stiffness: 2.0, free_angle: 0.4, damping: 0.3 },
+            Load::JointForce {
+                axis: JointAxis::Turn,
+                law: MotionLaw::Polynomial { coefficients: vec![1.0, -2.0, 0.5] },
+                rate: false,
+                scale: 1.3,
+            },
+            Load::JointForce {
+                axis: slide,
+                law: MotionLaw::Linear { value: 3.0, rate: -0.5 },
+                rate: true,
+                scale: 1.0,
+            },
+            Load::Friction { axis: JointAxis::Turn, viscous: 0.4, coulomb: 1.2, smoothing: 0.5 },
+            Load::Friction { axis: slide, viscous: 0.4, coulomb: 1.2, smoothing: 0.5 },
         ];
         let t = 0.37;
         for load in loads {
@@ -283,6 +489,41 @@ mod tests {
         for j in 0..3 {
             let w = qi[j] + qg[j];
             assert!((got[j].value() - w).abs() < 1e-13 * (1.0 + w.abs()), "{j}: {} vs {w}", got[j].value());
+        }
+    }
+}
+
+#[cfg(test)]
+mod joint_tests {
+    use super::*;
+
+    /// A joint load's generalized force is f dx/dq: its power Q . qd is f x' (the energy
+    /// balance counts it so), with x' from `JointAxis::coordinate`; and x' is the rate of
+    /// x (central differences along the motion, step 1e-6: error ~1e-10).
+    #[test]
+    fn joint_loads_do_the_work_of_their_magnitude() {
+        let (qa, qda) = ([0.1, -0.2, 0.7], [0.3, 0.1, -1.2]);
+        let (qb, qdb) = ([0.4, 0.3, -0.5], [-0.2, 0.6, 0.9]);
+        let slide = JointAxis::Slide { u_a: [0.3, -0.1], u_b: [0.05, 0.2], e_a: [0.6, 0.8] };
+        for axis in [JointAxis::Turn, slide] {
+            let load = Load::Friction { axis, viscous: 0.4, coulomb: 1.2, smoothing: 0.5 };
+            let entry = LoadEntry { name: "f".into(), load, body_a: Some(0), body_b: Some(1) };
+            let (fa, fb) = (Frame::new(qa, qda), Frame::new(qb, qdb));
+            let mut q = [0.0; 6];
+            entry.add_to(&fa, &fb, 0.0, &mut q);
+            let (x, xd) = axis.coordinate(&fa, &fb);
+            let f = entry.load.joint_magnitude(x, xd).unwrap()[0];
+            let qd: Vec<f64> = qda.iter().chain(&qdb).copied().collect();
+            let power: f64 = q.iter().zip(&qd).map(|(a, b)| a * b).sum();
+            assert!((power - f * xd).abs() < 1e-13, "{axis:?}: {power} vs {}", f * xd);
+            assert!(f.abs() > 0.1 && xd.abs() > 0.1, "not a trivial case");
+            let h = 1e-6;
+            let at = |s: f64| {
+                let step = |q: [f64; 3], qd: [f64; 3]| std::array::from_fn(|j| q[j] + s * qd[j]);
+                axis.coordinate(&Frame::new(step(qa, qda), qda), &Frame::new(step(qb, qdb), qdb)).0
+            };
+            let fd = (at(h) - at(-h)) / (2.0 * h);
+            assert!((fd - xd).abs() < 1e-9, "{axis:?}: rate {xd} vs differences {fd}");
         }
     }
 }

@@ -160,7 +160,38 @@ pub(crate) mod tests {
              "free_angle": 0.1, "damping": 0.4},
             {"type": "force", "name": "f", "body": "b", "at": [1.0, 0.0], "direction": [0.6, 0.8],
              "law": {"type": "linear", "value": 2.0, "rate": 1.0}},
-            {"type": "torque", "name": "tq", "body": "a", "law": {"type": "constant", "value": 0.5}}
+            {"type": "torque", "name": "tq", "body": "a", "law": {"type": "constant", "value": 0.5}},
+            {"type": "joint_force", "name": "jf", "joint": "B", "of": "coordinate",
+             "law": {"type": "spline", "times": [-2.0, -0.5, 0.0, 1.0], "values": [3.0, -1.0, 2.0, 0.5]}},
+            {"type": "motor", "name": "m", "joint": "A", "stall": 4.0, "no_load_speed": 6.0},
+            {"type": "friction", "name": "fr", "joint": "B", "viscous": 0.3, "coulomb": 0.8, "smoothing": 2.0}
+          ]
+        }"#;
+        let options = Options { free: true, ..Options::default() };
+        Model::with_options(Description::from_json(json).unwrap(), options).unwrap()
+    }
+
+    /// A body pinned to the ground and a slider on it (the prismatic's axis turns with its
+    /// body), with a force law of the slide, a linear motor and friction along it.
+    pub(crate) fn loaded_slider() -> Model {
+        let json = r#"{
+          "name": "slider", "gravity": [0.0, -9.81],
+          "bodies": [
+            {"name": "arm", "x": 0.0, "y": 0.0, "theta": 0.4, "mass": 2.0, "inertia": 0.1, "com": [0.3, 0.1]},
+            {"name": "block", "x": 0.5, "y": 0.2, "theta": 0.4, "mass": 0.6, "inertia": 0.005}
+          ],
+          "joints": [
+            {"type": "revolute", "name": "A", "body_a": "ground", "body_b": "arm", "at": [0.0, 0.0]},
+            {"type": "prismatic", "name": "P", "body_a": "arm", "body_b": "block", "at": [0.5, 0.2],
+             "axis": [0.92, 0.39]}
+          ],
+          "loads": [
+            {"type": "joint_force", "name": "gas", "joint": "P",
+             "law": {"type": "spline", "times": [-0.5, 0.0, 0.2, 0.6], "values": [10.0, 40.0, 5.0, 1.0]}},
+            {"type": "motor", "name": "m", "joint": "P", "stall": 3.0, "no_load_speed": -2.0},
+            {"type": "friction", "name": "fr", "joint": "P", "viscous": 0.7, "coulomb": 1.5, "smoothing": 0.3},
+            {"type": "joint_force", "name": "damper", "joint": "A", "of": "rate",
+             "law": {"type": "polynomial", "coefficients": [0.2, -0.5, 0.3]}}
           ]
         }"#;
         let options = Options { free: true, ..Options::default() };
@@ -189,7 +220,12 @@ pub(crate) mod tests {
     /// without accelerations (differences of step 1e-6: error ~1e-9 of entries ~10-100).
     #[test]
     fn tangents_match_finite_differences() {
-        let model = loaded_pair();
+        for model in [loaded_pair(), loaded_slider()] {
+            tangents_match_finite_differences_of(&model);
+        }
+    }
+
+    fn tangents_match_finite_differences_of(model: &Model) {
         let n = model.n_coords;
         let loads: Vec<LoadJet> = model.loads.iter().map(LoadJet::new).collect();
         let q = vec![0.1, 0.2, 0.3, 0.8, -0.1, -0.4];
@@ -197,7 +233,7 @@ pub(crate) mod tests {
         let t = 0.6;
         for qdd in [vec![0.0; 6], vec![1.0, -2.0, 3.0, 0.5, 0.7, -4.0]] {
             let (mut k, mut c) = (vec![0.0; n * n], vec![0.0; n * n]);
-            tangents(&model, &loads, &q, &qd, &qdd, t, &mut |b| {
+            tangents(model, &loads, &q, &qd, &qdd, t, &mut |b| {
                 for j in 0..3 {
                     for l in 0..3 {
                         k[(3 * b.row + j) * n + 3 * b.col + l] += b.k[j][l];
@@ -216,10 +252,8 @@ pub(crate) mod tests {
                         up.1[col] += h;
                         down.1[col] -= h;
                     }
-                    let (ru, rd) = (
-                        residual(&model, &up.0, &up.1, &qdd, t),
-                        residual(&model, &down.0, &down.1, &qdd, t),
-                    );
+                    let (ru, rd) =
+                        (residual(model, &up.0, &up.1, &qdd, t), residual(model, &down.0, &down.1, &qdd, t));
                     for row in 0..n {
                         let fd = (ru[row] - rd[row]) / (2.0 * h);
                         let got = m[row * n + col];

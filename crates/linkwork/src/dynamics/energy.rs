@@ -1,6 +1,6 @@
 //! The energy balance of a simulation: kinetic energy, the potential of gravity and of the
 //! springs, and the power of what is not conservative (dampers, applied forces and
-//! torques, driven constraints), whose integral over time is the work W_nc, so that
+//! torques, joint forces, motors and friction, driven constraints), whose integral over time is the work W_nc, so that
 //! T + V - W_nc stays at its initial value.
 
 use crate::constraints::loads::Load;
@@ -38,14 +38,15 @@ pub fn potential(model: &Model, frames: &[Frame]) -> f64 {
                 let turn = b.theta - a.theta - free_angle;
                 v += 0.5 * stiffness * turn * turn;
             }
-            Load::Force { .. } | Load::Torque { .. } => {}
+            Load::Force { .. } | Load::Torque { .. } | Load::JointForce { .. } | Load::Friction { .. } => {}
         }
     }
     v
 }
 
 /// The power of the loads that are not conservative at time t: applied forces and
-/// torques (F . v), dampers (-c Ldot^2, -c (w_b - w_a)^2).
+/// torques (F . v), dampers (-c Ldot^2, -c (w_b - w_a)^2), joint loads (f x': a joint
+/// force's law of x counts as work, not as a potential).
 pub fn load_power(model: &Model, frames: &[Frame], t: f64) -> f64 {
     let mut p = 0.0;
     for l in &model.loads {
@@ -62,6 +63,10 @@ pub fn load_power(model: &Model, frames: &[Frame], t: f64) -> f64 {
             Load::TorsionSpring { damping, .. } => {
                 let w = b.thetad - a.thetad;
                 -damping * w * w
+            }
+            Load::JointForce { axis, .. } | Load::Friction { axis, .. } => {
+                let (x, xd) = axis.coordinate(a, b);
+                l.load.joint_magnitude(x, xd).map_or(0.0, |m| m[0]) * xd
             }
         };
     }

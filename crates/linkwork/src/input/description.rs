@@ -47,6 +47,14 @@ pub struct Description {
     /// squares) or "drawn" (keep the drawing's points, the pins given ignored)
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub close: Option<String>,
+    /// compile with the undriven coordinates free (for forward dynamics and equilibrium);
+    /// read where a model is compiled (the Python package)
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub free: bool,
+    /// initial rates of named coordinates ("crank.theta") for a simulation; the others
+    /// follow from the constraints (resolved where a simulation starts: the Python package)
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub initial_rates: std::collections::BTreeMap<String, f64>,
 }
 
 /// A moving body and its approximate starting pose (world origin and angle).
@@ -103,6 +111,41 @@ pub enum LoadDesc {
         #[serde(default)]
         damping: f64,
     },
+    /// A torque (revolute joint) or a force along the axis (prismatic joint) between the
+    /// joint's two bodies, +f on body_b and its reaction on body_a, of magnitude f = law(x):
+    /// x the joint's coordinate (theta_b - theta_a; the slide from the start) or its rate.
+    JointForce {
+        name: String,
+        joint: String,
+        #[serde(default)]
+        of: JointArgument,
+        law: MotionLaw,
+    },
+    /// A motor at a joint with the linear torque-speed curve f = stall (1 - rate / no_load_speed).
+    Motor { name: String, joint: String, stall: f64, no_load_speed: f64 },
+    /// Friction at a joint: f = -viscous rate - coulomb tanh(rate / smoothing) (Coulomb
+    /// friction of constant magnitude, smoothed over rates of about `smoothing`).
+    Friction {
+        name: String,
+        joint: String,
+        #[serde(default)]
+        viscous: f64,
+        #[serde(default)]
+        coulomb: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        smoothing: Option<f64>,
+    },
+}
+
+/// What a joint force's law is a function of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointArgument {
+    /// the joint's angle or slide
+    #[default]
+    Coordinate,
+    /// its rate
+    Rate,
 }
 
 impl LoadDesc {
@@ -111,7 +154,10 @@ impl LoadDesc {
             LoadDesc::Force { name, .. }
             | LoadDesc::Torque { name, .. }
             | LoadDesc::Spring { name, .. }
-            | LoadDesc::TorsionSpring { name, .. } => name,
+            | LoadDesc::TorsionSpring { name, .. }
+            | LoadDesc::JointForce { name, .. }
+            | LoadDesc::Motor { name, .. }
+            | LoadDesc::Friction { name, .. } => name,
         }
     }
 }
@@ -382,7 +428,7 @@ impl DriverDesc {
 mod wire {
     use serde::{Deserialize, Deserializer, Serialize};
 
-    use super::{Coefficients, DriverDesc, JointDesc, LoadDesc};
+    use super::{Coefficients, DriverDesc, JointArgument, JointDesc, LoadDesc};
     use crate::input::curves::CurveDesc;
     use crate::input::motion::MotionLaw;
 
@@ -605,6 +651,29 @@ mod wire {
             free_angle: f64,
             #[serde(default)]
             damping: f64,
+        },
+        JointForce {
+            name: String,
+            joint: String,
+            #[serde(default)]
+            of: JointArgument,
+            law: MotionLaw,
+        },
+        Motor {
+            name: String,
+            joint: String,
+            stall: f64,
+            no_load_speed: f64,
+        },
+        Friction {
+            name: String,
+            joint: String,
+            #[serde(default)]
+            viscous: f64,
+            #[serde(default)]
+            coulomb: f64,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            smoothing: Option<f64>,
         },
     }
 

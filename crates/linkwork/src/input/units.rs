@@ -19,8 +19,21 @@ use crate::input::description::{
 /// variant (no `..`, no `_`): a new field or type with an angle cannot be forgotten here.
 pub fn internal(desc: &Description) -> Description {
     let k = desc.units.angle.to_radians();
-    let Description { name, units, bodies, joints, drivers, points, gravity, loads, outputs, branch, close } =
-        desc;
+    let Description {
+        name,
+        units,
+        bodies,
+        joints,
+        drivers,
+        points,
+        gravity,
+        loads,
+        outputs,
+        branch,
+        close,
+        free,
+        initial_rates,
+    } = desc;
     let bodies = bodies
         .iter()
         .map(|b| {
@@ -236,6 +249,24 @@ pub fn internal(desc: &Description) -> Description {
                     damping: *damping,
                 }
             }
+            // their angle units depend on the joint's kind (a revolute's angle, a prismatic's
+            // slide), known once the joints compile: `compile_loads` converts them
+            LoadDesc::JointForce { name, joint, of, law } => {
+                LoadDesc::JointForce { name: name.clone(), joint: joint.clone(), of: *of, law: law.clone() }
+            }
+            LoadDesc::Motor { name, joint, stall, no_load_speed } => LoadDesc::Motor {
+                name: name.clone(),
+                joint: joint.clone(),
+                stall: *stall,
+                no_load_speed: *no_load_speed,
+            },
+            LoadDesc::Friction { name, joint, viscous, coulomb, smoothing } => LoadDesc::Friction {
+                name: name.clone(),
+                joint: joint.clone(),
+                viscous: *viscous,
+                coulomb: *coulomb,
+                smoothing: *smoothing,
+            },
             // torque per degree -> per radian: divide by the radians in a degree
             LoadDesc::TorsionSpring { name, body_a, body_b, stiffness, free_angle, damping } => {
                 LoadDesc::TorsionSpring {
@@ -261,6 +292,9 @@ pub fn internal(desc: &Description) -> Description {
         outputs: outputs.clone(),
         branch: branch.clone(),
         close: close.clone(),
+        free: *free,
+        // rates in the file's units: resolved as drivers' rates (the Python package)
+        initial_rates: initial_rates.iter().map(|(c, v)| (c.clone(), *v)).collect(),
     }
 }
 
@@ -325,6 +359,8 @@ mod tests {
             outputs: Vec::new(),
             branch: None,
             close: None,
+            free: false,
+            initial_rates: Default::default(),
         }
     }
 

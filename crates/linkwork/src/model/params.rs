@@ -399,6 +399,12 @@ fn describe_load(model: &Model, l: usize, rest: &[&str], p: &mut Parameter) -> R
         | (LoadDesc::Spring { damping: v, .. } | LoadDesc::TorsionSpring { damping: v, .. }, "damping")
         | (LoadDesc::Spring { free_length: v, .. }, "free_length")
         | (LoadDesc::TorsionSpring { free_angle: v, .. }, "free_angle") => scalar(p, field, *v)?,
+        (LoadDesc::JointForce { .. } | LoadDesc::Motor { .. } | LoadDesc::Friction { .. }, _) => {
+            return Err(format!(
+                "load '{name}' acts at a joint (a joint force, motor or friction); its numbers are not \
+                 design parameters"
+            ))
+        }
         _ => {
             return Err(format!(
                 "'{field}' of load '{name}' is not an engine parameter; it has {}",

@@ -95,6 +95,8 @@ pub fn four_bar(m: &FourBar, th2: f64, omega: f64) -> Description {
         outputs: Vec::new(),
         branch: None,
         close: None,
+        free: false,
+        initial_rates: Default::default(),
     }
 }
 
@@ -150,6 +152,8 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
         outputs: Vec::new(),
         branch: None,
         close: None,
+        free: false,
+        initial_rates: Default::default(),
     }
 }
 
@@ -207,6 +211,8 @@ pub fn six_bar_stephenson(th2: f64, omega: f64) -> Description {
         outputs: Vec::new(),
         branch: None,
         close: None,
+        free: false,
+        initial_rates: Default::default(),
     }
 }
 
@@ -231,6 +237,8 @@ pub fn chain(m: &FourBar, loops: usize, th2: f64, omega: f64, offset: f64, spaci
         outputs: Vec::new(),
         branch: None,
         close: None,
+        free: false,
+        initial_rates: Default::default(),
     };
     let mut input = th2;
     for k in 1..=loops {
@@ -353,6 +361,8 @@ pub fn translating_cam(
         outputs: Vec::new(),
         branch: None,
         close: None,
+        free: false,
+        initial_rates: Default::default(),
     }
 }
 

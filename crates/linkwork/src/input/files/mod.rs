@@ -32,7 +32,8 @@ pub const FORMAT_VERSION: i64 = 1;
 pub const NO_FILE: &str = "model description";
 
 /// The keys of the `model` header table.
-const MODEL_KEYS: [&str; 7] = ["name", "version", "units", "gravity", "outputs", "branch", "close"];
+const MODEL_KEYS: [&str; 9] =
+    ["name", "version", "units", "gravity", "outputs", "branch", "close", "free", "initial_rates"];
 
 /// The element lists, in file order, with the kind errors call their elements.
 const GROUPS: [(&str, &str); 5] =
@@ -396,7 +397,8 @@ fn flatten(root: Node) -> Result<Node, DeError> {
         let node = e.node;
         let Value::Table(inner) = node.value else {
             let message = format!(
-                "the model header is a table (name, version, units, gravity, outputs, branch, close), not {}",
+                "the model header is a table (name, version, units, gravity, outputs, branch, close, free, \
+                 initial_rates), not {}",
                 node.kind()
             );
             return Err(DeError { message, span: Some(node.span), path: Some(node.path) });
@@ -405,7 +407,7 @@ fn flatten(root: Node) -> Result<Node, DeError> {
             if !MODEL_KEYS.contains(&m.key.as_str()) {
                 let message = format!(
                     "unknown field `{}` in the model header, expected one of `name`, `version`, `units`, `gravity`, \
-                     `outputs`, `branch`, `close`",
+                     `outputs`, `branch`, `close`, `free`, `initial_rates`",
                     m.key
                 );
                 return Err(DeError { message, span: Some(m.key_span), path: Some(m.node.path) });

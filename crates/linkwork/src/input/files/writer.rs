@@ -101,7 +101,7 @@ fn file_form(flat: &Node) -> Node {
             ]),
         )),
     }
-    for key in ["gravity", "outputs", "branch", "close"] {
+    for key in ["gravity", "outputs", "branch", "close", "free", "initial_rates"] {
         if let Some(e) = flat.get(key) {
             header.push(e.clone());
         }
