@@ -7,7 +7,10 @@ increments to the next, each in [0, 2 pi], so they stay increasing; the constrai
 are not bounds (the crank the shortest link, the ordering, a closed curve's one turn)
 are penalty residuals whose weight grows until they hold. A trial step whose design
 leaves its circuit or stops turning fully scores as a very large residual, so the trust
-region rejects it and shrinks: every accepted design turns fully on its circuit.
+region rejects it and shrinks: every accepted design turns fully on its circuit. Where
+the refinement ends on linear constraints (Grashof's s + l = p + q above all, where the
+residuals steepen without bound across the boundary and the trust region collapses), it
+goes on within their null space, holding them, and then again from there.
 
 A time budget (``seconds``) is checked before each start and at each evaluation: once it
 is spent no start begins, and a refinement under way stops with the best design it has
@@ -37,6 +40,12 @@ __all__ = ["CurveDesign", "CurveFit", "refine", "random_seeds", "fit", "CURVE_ME
 CURVE_MERIT = "defect-free and within the constraints first; then the smaller tracking error f"
 
 _WEIGHTS = (1e1, 1e3, 1e5, 1e7)
+# rounds of the penalised refinement and the one along the constraints it ends on; a
+# constraint within _BAND (times the target's size) of its boundary is held there; a
+# round that lowers the sum of squares by less than the fraction _GAIN is the last
+_ROUNDS = 4
+_BAND = 1e-6
+_GAIN = 1e-9
 
 
 @dataclass
@@ -240,8 +249,9 @@ class _Refinement:
         self.cache: dict[bytes, tuple[np.ndarray, ...] | None] = {}
         self.m = len(problem.constraint_names())
         # the penalties aim a little inside the constraints, so that what a finite weight
-        # leaves of a violation stays inside them
-        self.inset = 1e-10 * problem.target.size
+        # leaves of a violation stays inside them; nearer Grashof's limit than 1e-8 the
+        # design is so near a change point that the engine's sweep loses its circuit
+        self.inset = 1e-8 * problem.target.size
         self.big = 1e6 * max(problem.target.size, 1.0)
 
     def z_of(self, x: np.ndarray) -> np.ndarray:
@@ -281,8 +291,36 @@ class _Refinement:
         return res
 
     def minimise(self, z: np.ndarray, max_nfev: int) -> tuple[np.ndarray, int, bool]:
-        """The least-squares refinement from z under growing penalty weights: (the
-        refined z, evaluations, True if the time budget stopped it)."""
+        """The least-squares refinement from z: (the refined z, evaluations, True if the
+        time budget stopped it). Rounds of the penalised refinement (`penalised`), each
+        followed by one along the linear constraints it ends on (`along_active`), until
+        a round gains nothing."""
+        nfev = 0
+        for _ in range(_ROUNDS):
+            z, k, cut, weight = self.penalised(z, max_nfev)
+            nfev += k
+            if cut:
+                return z, nfev, True
+            try:
+                moved, k = self.along_active(z, max_nfev, weight)
+            except _Spent:
+                return self.best_turning(z), nfev, True
+            nfev += k
+            if moved is None:
+                break
+            z = moved
+        return z, nfev, False
+
+    def best_turning(self, z: np.ndarray) -> np.ndarray:
+        """The best point evaluated at the current weight, else z (it turns fully: a
+        point that does not scores far above the start)."""
+        if self.best[1] is not None and self.evaluate(self.best[1]) is not None:
+            return self.best[1]
+        return z
+
+    def penalised(self, z: np.ndarray, max_nfev: int) -> tuple[np.ndarray, int, bool, float]:
+        """scipy's bounded "trf" from z under growing penalty weights: (the refined z,
+        evaluations, True if the time budget stopped it, the last weight)."""
         least_squares = _least_squares()
         nfev = 0
         for w in _WEIGHTS:
@@ -302,17 +340,85 @@ class _Refinement:
                     args=(w,),
                 )
             except _Spent:
-                # the best point evaluated at this weight (it turns fully: a point that
-                # does not scores far above the start)
-                if self.best[1] is not None and self.evaluate(self.best[1]) is not None:
-                    z = self.best[1]
-                return z, nfev, True
+                return self.best_turning(z), nfev, True, w
             nfev += int(sol.nfev)
             if self.evaluate(sol.x) is not None:
                 z = sol.x
             if self.problem.violation(self.x_of(z)) <= 1e-12 * self.problem.target.size:
                 break
-        return z, nfev, False
+        return z, nfev, False, w
+
+    def along_active(self, z: np.ndarray, max_nfev: int, weight: float) -> tuple[np.ndarray | None, int]:
+        """Least squares from z within the linear constraints (and bounds) it ends on,
+        z + N y with N spanning their null space: those constraints keep their values
+        exactly. At Grashof's s + l = p + q the coupler's angle goes as the square root
+        of the margin at the crank angle of the fold, so the residuals' Jacobian across
+        the boundary grows without bound; every "trf" step that leans across it is
+        rejected and the trust region collapses with the design far from its best along
+        the boundary. Along it the residuals are smooth. (None: no such constraint or no
+        gain; evaluations.)"""
+        out = self.evaluate(z)
+        linear = getattr(self.problem, "linear_constraints", None)
+        if out is None or linear is None or self.m == 0:
+            return None, 0
+        band = _BAND * self.problem.target.size
+        dg = np.array(out[3], dtype=float).reshape(self.m, -1) @ self.dxdz
+        held = np.asarray(linear(), dtype=bool) & (out[2] > -band)
+        at_bound = (z - self.lower <= band) | (self.upper - z <= band)
+        rows, values = [dg[held]], [out[2][held]]
+        pieces = getattr(self.problem, "grashof_pieces", None)
+        if pieces is not None and held.any():
+            pv, pg = pieces(self.x_of(z), band)
+            near = pv > -band
+            rows.append(pg[near] @ self.dxdz)
+            values.append(pv[near])
+        active = np.vstack([*rows, np.eye(z.size)[at_bound]])
+        if active.shape[0] == 0:
+            return None, 0
+        # first onto the penalties' inset (a design nearer the boundary is nearly a
+        # change point, where the engine's sweep meets a singular position)
+        lift = np.concatenate(
+            [np.minimum(-self.inset - np.concatenate(values), 0.0), np.zeros(int(at_bound.sum()))]
+        )
+        if np.any(lift < 0.0):
+            lifted = np.clip(z + np.linalg.lstsq(active, lift, rcond=None)[0], self.lower, self.upper)
+            if self.evaluate(lifted) is not None:
+                z = lifted
+        from scipy.linalg import null_space
+
+        tangent = null_space(active)
+        if tangent.shape[1] == 0:
+            return None, 0
+
+        def inside(y: np.ndarray) -> np.ndarray:
+            return z + tangent @ y
+
+        def residuals(y: np.ndarray) -> np.ndarray:
+            zy = inside(y)
+            if np.any(zy < self.lower) or np.any(zy > self.upper):  # a bound not held: rejected
+                return np.full(2 * self.problem.n + self.m, self.big)
+            return self.residuals(zy, weight)
+
+        def jacobian(y: np.ndarray) -> np.ndarray:
+            return self.jacobian(inside(y), weight) @ tangent
+
+        start = residuals(np.zeros(tangent.shape[1]))
+        self.best = (math.inf, None)
+        sol = _least_squares()(
+            residuals,
+            np.zeros(tangent.shape[1]),
+            jac=jacobian,
+            method="trf",
+            x_scale="jac",
+            ftol=1e-15,
+            xtol=1e-15,
+            gtol=1e-15,
+            max_nfev=max_nfev,
+        )
+        moved = inside(sol.x)
+        if self.evaluate(moved) is None or not 2.0 * sol.cost < (1.0 - _GAIN) * float(start @ start):
+            return None, int(sol.nfev)
+        return moved, int(sol.nfev)
 
     def jacobian(self, z: np.ndarray, weight: float) -> np.ndarray:
         out = self.evaluate(z)

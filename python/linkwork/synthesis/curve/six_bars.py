@@ -173,6 +173,11 @@ class SixBarProblem(TrackedResiduals):
         dyad = ["transmission at D"] if self.four.transmission is not None else []
         return self.four.constraint_names() + dyad
 
+    def linear_constraints(self) -> np.ndarray:
+        """Which entries of `constraints` are linear in y (the four-bar's; not the dyad's)."""
+        dyad = len(self.constraint_names()) - len(self.four.constraint_names())
+        return np.append(self.four.linear_constraints(), np.zeros(dyad, dtype=bool))
+
     def constraints(self, y: Any, sweep: Any = None) -> tuple[np.ndarray, np.ndarray]:
         """The four-bar's constraints (`TrackingProblem.constraints`) in y and, with a
         transmission bound, the dyad's at D (|cos mu| over cos(bound), times the

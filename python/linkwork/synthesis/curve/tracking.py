@@ -313,6 +313,36 @@ class TrackingProblem(TrackedResiduals):
         names += [f"region {k}" for k in self.regions]
         return names
 
+    def linear_constraints(self) -> np.ndarray:
+        """Which entries of `constraints` are linear in x (near the current design: the
+        Grashof row's ordering of the links held): the link orderings, Grashof, the one
+        turn and the ratio; not the transmission or the regions."""
+        names = self.constraint_names()
+        nonlinear = {"transmission"} | {f"region {k}" for k in self.regions}
+        return np.array([k not in nonlinear for k in names], dtype=bool)
+
+    def grashof_pieces(self, x: Any, band: float) -> tuple[np.ndarray, np.ndarray]:
+        """s + l - p - q for every choice of s (the link the Grashof type makes shortest,
+        else any within ``band`` of the shortest) and l (any within ``band`` of the
+        longest), and their gradients in x: where links tie (a parallelogram) several are
+        the Grashof row at once, and each is a wall the crank cannot turn past."""
+        x = np.asarray(x, dtype=float)
+        r = x[:4]
+        shortest = {"crank-rocker": [1], "double-crank": [0]}.get(self.grashof)
+        if shortest is None:
+            shortest = list(np.flatnonzero(r <= r.min() + band))
+        vals, grads = [], []
+        for s_ in shortest:
+            for l_ in np.flatnonzero(r >= r.max() - band):
+                if l_ == s_:
+                    continue
+                g = -np.ones(x.size)
+                g[4:] = 0.0
+                g[[s_, l_]] = 1.0
+                vals.append(float(g[:4] @ r))
+                grads.append(g)
+        return np.array(vals), np.array(grads).reshape(len(vals), x.size)
+
     def constraints(self, x: Any, sweep: Any = None) -> tuple[np.ndarray, np.ndarray]:
         """g(x) <= 0 (`constraint_names`; length units: the transmission's |cos mu| excess
         times the target's size, the one-turn entry in rad) and its exact Jacobian in the
