@@ -40,10 +40,9 @@ __all__ = ["CurveDesign", "CurveFit", "refine", "random_seeds", "fit", "CURVE_ME
 CURVE_MERIT = "defect-free and within the constraints first; then the smaller tracking error f"
 
 _WEIGHTS = (1e1, 1e3, 1e5, 1e7)
-# rounds of the penalised refinement and the one along the constraints it ends on; a
-# constraint within _BAND (times the target's size) of its boundary is held there; a
-# round that lowers the sum of squares by less than the fraction _GAIN is the last
-_ROUNDS = 4
+# a constraint within _BAND (times the target's size) of its boundary is held there by
+# the refinement along the constraints; a round of it that lowers the sum of squares by
+# less than the fraction _GAIN is the last
 _BAND = 1e-6
 _GAIN = 1e-9
 
@@ -292,24 +291,22 @@ class _Refinement:
 
     def minimise(self, z: np.ndarray, max_nfev: int) -> tuple[np.ndarray, int, bool]:
         """The least-squares refinement from z: (the refined z, evaluations, True if the
-        time budget stopped it). Rounds of the penalised refinement (`penalised`), each
-        followed by one along the linear constraints it ends on (`along_active`), until
-        a round gains nothing."""
-        nfev = 0
-        for _ in range(_ROUNDS):
-            z, k, cut, weight = self.penalised(z, max_nfev)
-            nfev += k
-            if cut:
-                return z, nfev, True
+        time budget stopped it). The penalised refinement (`penalised`); then, while a
+        round gains and half of ``max_nfev`` more evaluations are not spent, one along the linear
+        constraints it ends on (`along_active`) and the penalised one again from there."""
+        z, nfev, cut, weight = self.penalised(z, max_nfev)
+        extra, more = 0, max(max_nfev // 2, 1)
+        while not cut and extra < more:
             try:
-                moved, k = self.along_active(z, max_nfev, weight)
+                moved, k = self.along_active(z, more - extra, weight)
             except _Spent:
-                return self.best_turning(z), nfev, True
-            nfev += k
+                return self.best_turning(z), nfev + extra, True
+            extra += k
             if moved is None:
                 break
-            z = moved
-        return z, nfev, False
+            z, k, cut, weight = self.penalised(moved, max(more - extra, 1))
+            extra += k
+        return z, nfev + extra, cut
 
     def best_turning(self, z: np.ndarray) -> np.ndarray:
         """The best point evaluated at the current weight, else z (it turns fully: a
@@ -375,6 +372,7 @@ class _Refinement:
         active = np.vstack([*rows, np.eye(z.size)[at_bound]])
         if active.shape[0] == 0:
             return None, 0
+        before = self.residuals(z, weight)
         # first onto the penalties' inset (a design nearer the boundary is nearly a
         # change point, where the engine's sweep meets a singular position)
         lift = np.concatenate(
@@ -402,7 +400,6 @@ class _Refinement:
         def jacobian(y: np.ndarray) -> np.ndarray:
             return self.jacobian(inside(y), weight) @ tangent
 
-        start = residuals(np.zeros(tangent.shape[1]))
         self.best = (math.inf, None)
         sol = _least_squares()(
             residuals,
@@ -416,7 +413,7 @@ class _Refinement:
             max_nfev=max_nfev,
         )
         moved = inside(sol.x)
-        if self.evaluate(moved) is None or not 2.0 * sol.cost < (1.0 - _GAIN) * float(start @ start):
+        if self.evaluate(moved) is None or not 2.0 * sol.cost < (1.0 - _GAIN) * float(before @ before):
             return None, int(sol.nfev)
         return moved, int(sol.nfev)
 
