@@ -1,0 +1,124 @@
+"""Properties of how refined curve designs are screened and told apart, fast (one engine
+sweep each): the order defect (crank angles not increasing, or a closed curve's beyond a
+turn), the branch defect (a crank that cannot turn through the stretch), the smallest
+transmission angle over the traced stretch only (against the exact one of
+`constraints.smallest_transmission`: the sweep's 361 steps approach it from above, to
+second order in the step of at most 2 pi / 360: within (h / 2)^2 / 2 |mu''| < 1e-4
+here), what `ok` means, and which designs `distinct` counts as repeats."""
+
+from __future__ import annotations
+
+import importlib
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from linkwork.synthesis import curve as C
+from linkwork.synthesis.curve import constraints as K
+from linkwork.synthesis.curve.problem import distinct
+from linkwork.synthesis.curve.tracking import coupler_points
+
+F = importlib.import_module("linkwork.synthesis.curve.fit")  # the module, not `fit` the function
+
+X = np.array([2.0, 0.5, 1.8, 1.5, 0.4, 0.3, 0.2, 0.1, -0.2])  # a crank-rocker
+TH = np.array([0.4, 1.3, 2.0, 3.9, 5.0])
+
+
+def _problem(closed: bool = False, circuit: str = "open") -> C.TrackingProblem:
+    return C.TrackingProblem(C.target(coupler_points(X, TH, circuit), closed=closed), circuit=circuit)
+
+
+@pytest.mark.parametrize("circuit", ["open", "crossed"])
+def test_a_crank_rocker_traced_forwards_is_defect_free_with_the_exact_smallest_angle(circuit: str) -> None:
+    problem = _problem(circuit=circuit)
+    x = np.concatenate([X, TH])
+    defects, trans, kind = F._screen(problem, x)
+    assert defects == () and kind == "crank-rocker"
+    exact = K.smallest_transmission(x, closed=False)[0]
+    assert -1e-12 <= trans - exact <= 1e-4
+
+
+def test_the_smallest_angle_is_over_the_traced_stretch_only() -> None:
+    """A stretch from 0.5 to 2.5 rad holds neither 0 nor pi: its smallest transmission
+    angle is at an end, larger than the whole turn's (at 0 or pi), which the sweep passes
+    on its way from the drawing (theta2 = 0) to the stretch's start."""
+    th = np.linspace(0.5, 2.5, 5)
+    x = np.concatenate([X, th])
+    _, trans, _ = F._screen(_problem(), x)
+    exact = K.smallest_transmission(x, closed=False)[0]
+    turn = K.smallest_transmission(x, closed=True)[0]
+    assert turn < exact - 0.05
+    assert -1e-12 <= trans - exact <= 1e-4
+
+
+def test_crank_angles_out_of_order_are_an_order_defect() -> None:
+    problem = _problem()
+    for th in (TH[::-1], np.array([0.4, 1.3, 1.3, 3.9, 5.0])):  # backwards; a repeated angle
+        defects, _, _ = F._screen(problem, np.concatenate([X, th]))
+        assert "order" in defects
+
+
+def test_a_closed_curve_traced_over_more_than_a_turn_is_an_order_defect() -> None:
+    """Closed: within one turn is in order (its smallest angle that of the whole turn);
+    exactly a turn or beyond is not."""
+    problem = _problem(closed=True)
+    x = np.concatenate([X, TH])
+    defects, trans, _ = F._screen(problem, x)
+    assert defects == ()
+    assert -1e-12 <= trans - K.smallest_transmission(x, closed=True)[0] <= 1e-4
+    for last in (TH[0] + 2 * math.pi, 6.8):
+        th = np.append(TH[:-1], last)
+        assert F._screen(problem, np.concatenate([X, th]))[0] == ("order",)
+
+
+def test_a_crank_that_cannot_turn_through_the_stretch_is_a_branch_defect() -> None:
+    """r = (2.0, 1.0, 1.2, 1.5): s + l = 3.0 > p + q = 2.7, not Grashof; it assembles at
+    theta2 = 0 (d = 1.0) but not at pi (d = 3.0 > r3 + r4): a dead point inside the
+    stretch. The design is still reported, with its kind."""
+    x = np.concatenate([[2.0, 1.0, 1.2, 1.5], X[4:], TH])
+    defects, _, kind = F._screen(_problem(), x)
+    assert "branch" in defects and "order" not in defects
+    assert kind != "crank-rocker"
+
+
+def _design(x, circuit="open", size=1.0):
+    return SimpleNamespace(
+        x=np.asarray(x, dtype=float),
+        circuit=circuit,
+        problem=SimpleNamespace(target=SimpleNamespace(size=size)),
+    )
+
+
+def test_distinct_drops_repeats_to_a_millionth_of_the_size_and_a_whole_turn() -> None:
+    """Repeats: the same circuit, lengths, coupler point and pivot to 1e-6 of the target's
+    size (here 2) and theta0 the same modulo a turn; the crank angles do not count."""
+    base = np.concatenate([X, TH])
+    near = base.copy()
+    near[[0, 5, 8]] += 1.9e-6  # within 2e-6
+    turned = base.copy()
+    turned[6] += 2 * math.pi
+    angles = base.copy()
+    angles[9:] += 0.3
+    far = base.copy()
+    far[4] += 2.1e-6  # beyond 2e-6, in the coupler point
+    moved = base.copy()
+    moved[6] += 1e-3  # theta0 not a whole turn apart
+    designs = [_design(v, size=2.0) for v in (base, near, turned, angles, far, moved)]
+    designs.append(_design(base, circuit="crossed", size=2.0))
+    kept = distinct(designs)
+    assert kept == [designs[0], designs[4], designs[5], designs[6]]
+
+
+def test_ok_means_defect_free_and_within_the_constraints() -> None:
+    problem = _problem()
+    x = np.concatenate([X, TH])
+
+    def design(defects, violation):
+        return F.CurveDesign(problem, x, 0.0, 0.0, 0.5, violation, "crank-rocker", defects, 1, 0.0)
+
+    size = problem.target.size
+    assert design((), 0.0).ok and design((), 0.9e-12 * size).ok
+    assert not design((), 1.1e-12 * size).ok
+    assert not design(("order",), 0.0).ok and not design(("circuit",), 0.0).ok
