@@ -222,6 +222,7 @@ def test_constraints_on_the_boundary_are_consistent_and_beyond_it_contradictory(
         ),
         ({"regions": {"O2": {"x": [50.0, 60.0], "y": [0.0, 1.0]}}}, "outside the pivot bounds"),
         ({"lengths": (0.0, 1.0)}, "must be > 0"),
+        ({"links": {"rcx": (0.0, 1.0)}}, "links ranges are for r1, r2, r3, r4, not 'rcx'"),
     ]
     for options, message in cases:
         with pytest.raises(SynthesisError, match=message):
