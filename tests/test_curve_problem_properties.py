@@ -187,8 +187,12 @@ def test_bounds_free_entries_and_completion() -> None:
         fixed={"theta0": 0.3},
     )
     lo, hi = problem.lower_upper()
-    np.testing.assert_array_equal(lo[[1, 3, 7, 8]], [0.1, 1.0, -1.0, 0.5])
-    np.testing.assert_array_equal(hi[[1, 3, 7, 8]], [0.8, 5.0, 3.0, 1.0])
+    c = 10.0 * t.size  # the coupler point's default bound
+    inf = [math.inf] * len(t)  # the crank angles: unbounded
+    np.testing.assert_array_equal(
+        lo, [0.1, 0.1, 0.1, 1.0, -c, -c, -2 * math.pi, -1.0, 0.5, *(-np.array(inf))]
+    )
+    np.testing.assert_array_equal(hi, [5.0, 0.8, 5.0, 5.0, c, c, 2 * math.pi, 3.0, 1.0, *inf])
     np.testing.assert_array_equal(problem.free(), [True] * 6 + [False] + [True] * (2 + len(t)))
     assert problem.complete(np.zeros(9 + len(t)))[6] == 0.3
     timed = C.TrackingProblem(C.target(POINTS, crank_angles=TH), fixed={"x0": 0.5, "y0": -0.5})
@@ -209,6 +213,7 @@ def test_constraints_on_the_boundary_are_consistent_and_beyond_it_contradictory(
     C.TrackingProblem(t, lengths=lengths, ratio=(4.0, 5.0))  # 4 = 2.0 / 0.5: reachable
     C.TrackingProblem(t, lengths=lengths, links={"r2": (2.0, 3.0)})  # meets the bound at 2.0
     C.TrackingProblem(t, regions={"O2": {"centre": [0.0, 0.0], "radius": 1.0}}, fixed={"x0": 1.0, "y0": 0.0})
+    C.TrackingProblem(t, regions={"O2": {"x": [1.0, 1.0], "y": [0.0, 1.0]}})  # O2 on a segment
     cases = [
         ({"transmission": "-1 deg"}, "contradictory transmission bound"),
         ({"transmission": "90.001 deg"}, "contradictory transmission bound"),
@@ -221,6 +226,8 @@ def test_constraints_on_the_boundary_are_consistent_and_beyond_it_contradictory(
             "O2 is fixed outside its region",
         ),
         ({"regions": {"O2": {"x": [50.0, 60.0], "y": [0.0, 1.0]}}}, "outside the pivot bounds"),
+        ({"regions": {"O2": {"x": [-60.0, -50.0], "y": [0.0, 1.0]}}}, "outside the pivot bounds"),
+        ({"regions": {"O2": {"x": [0.0, 1.0], "y": [50.0, 60.0]}}}, "outside the pivot bounds"),
         ({"lengths": (0.0, 1.0)}, "must be > 0"),
         ({"links": {"rcx": (0.0, 1.0)}}, "links ranges are for r1, r2, r3, r4, not 'rcx'"),
     ]
