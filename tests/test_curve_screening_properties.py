@@ -124,3 +124,38 @@ def test_ok_means_defect_free_and_within_the_constraints() -> None:
     assert design((), 0.0).ok and design((), 1e-12 * size).ok  # the bound itself holds
     assert not design((), 1.1e-12 * size).ok
     assert not design(("order",), 0.0).ok and not design(("circuit",), 0.0).ok
+
+
+def test_an_obtuse_smallest_angle_is_measured_from_180_degrees() -> None:
+    """r = (2.0, 0.3, 1.5, 1.2), a crank-rocker whose transmission angle is obtuse over
+    2.0 to 2.6 rad (cos mu about -0.25 to -0.4): its distance from 180 degrees counts."""
+    x = np.concatenate([[2.0, 0.3, 1.5, 1.2], X[4:], np.linspace(2.0, 2.6, 5)])
+    defects, trans, _ = F._screen(_problem(), x)
+    exact = K.smallest_transmission(x, closed=False)[0]
+    assert defects == () and exact < 1.4  # well below 90 degrees: mu itself is above
+    assert -1e-12 <= trans - exact <= 1e-4
+
+
+def test_a_stretch_the_crank_cannot_reach_has_no_transmission_angle() -> None:
+    """r = (2.0, 1.0, 1.2, 1.5) assembles only for cos theta2 >= -0.5725 (theta2 <= 2.18
+    rad from the drawing): the sweep stops before a stretch from 3.5 to 5.0 rad."""
+    x = np.concatenate([[2.0, 1.0, 1.2, 1.5], X[4:], np.linspace(3.5, 5.0, 5)])
+    defects, trans, _ = F._screen(_problem(), x)
+    assert "branch" in defects and trans == 0.0
+
+
+@pytest.mark.parametrize(("off", "defect"), [(0.6e-7, False), (1.4e-7, True)])
+def test_a_traced_point_off_its_circuit_by_more_than_1e_7_of_the_scale_is_a_circuit_defect(
+    monkeypatch: pytest.MonkeyPatch, off: float, defect: bool
+) -> None:
+    """The scale is the larger of the target's size (0.71 here) and the longest link (2.0;
+    the coupler point, 3.0 away, is no link): the engine's points against a closed form
+    moved by off * 2.0 in x are on the circuit below 1e-7 of it, off it above (and
+    would be judged otherwise with the size or the coupler point as the scale)."""
+    x = np.concatenate([X[:4], [3.0], X[5:], TH])
+    problem = C.TrackingProblem(C.target(0.5 * np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5]])))
+    assert problem.target.size < 1.0
+    closed_form = F.coupler_points
+    monkeypatch.setattr(F, "coupler_points", lambda *a: closed_form(*a) + [off * 2.0, 0.0])
+    defects, _, _ = F._screen(problem, x)
+    assert ("circuit" in defects) == defect
