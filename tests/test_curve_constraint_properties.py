@@ -137,3 +137,12 @@ def test_angles_read_with_their_unit_and_refuse_what_is_not_finite() -> None:
         K.region("P", {"center": [0.0, 0.0], "radius": 0.0})
     with pytest.raises(SynthesisError, match="finite"):
         K.region("P", {"centre": [math.inf, 0.0], "radius": 1.0})
+
+
+def test_a_stretch_through_a_dead_point_has_a_zero_transmission_angle() -> None:
+    """r = (2.0, 1.0, 1.2, 1.5) does not assemble at theta2 = pi (d = 3.0 > r3 + r4):
+    |cos mu| passes 1 there, and the smallest angle is 0 (a dead point), not an error."""
+    x = _design([2.0, 1.0, 1.2, 1.5], np.linspace(0.5, 4.0, 5))
+    for closed in (False, True):
+        mu, g = K.smallest_transmission(x, closed)
+        assert mu == 0.0 and np.all(np.isfinite(g))
