@@ -106,10 +106,10 @@ def test_smallest_transmission_of_an_open_stretch_is_the_sampled_minimum(
     assert np.all(g[4:9] == 0.0) and np.all(g[10:-1] == 0.0)
 
 
-def test_smallest_transmission_of_a_closed_curve_covers_the_whole_turn() -> None:
+@pytest.mark.parametrize("r", [[2.0, 0.5, 1.8, 1.5], [2.0, 0.5, 1.5, 1.2]])  # extreme at 0; at pi
+def test_smallest_transmission_of_a_closed_curve_covers_the_whole_turn(r: list[float]) -> None:
     """A closed curve is traced over a whole turn whatever its crank angles: the smallest
     angle is that of the turn (at theta2 = 0 or pi), and the crank angles do not move it."""
-    r = [2.0, 0.5, 1.8, 1.5]
     x = _design(r, np.linspace(0.3, 1.0, 5))
     mu, g = K.smallest_transmission(x, closed=True)
     assert -1e-15 <= _sampled_smallest(np.array(r), 0.0, 2 * math.pi) - mu <= 1e-8
