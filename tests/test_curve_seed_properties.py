@@ -64,6 +64,13 @@ def test_a_closed_curves_crank_angles_stay_within_one_turn() -> None:
     # a last point at the first one's angle (a full turn of steps): rescaled into the turn
     full = S.crank_angles_along(X, "open", np.vstack([pts, pts[:1]]), closed=True)
     assert full[-1] - full[0] == pytest.approx(2 * math.pi * 8 / 9, rel=1e-12)
+    # ... about the first point, which keeps its angle
+    turn = np.append(th, th[0] + 2 * math.pi)
+    np.testing.assert_allclose(full, th[0] + (turn - th[0]) * 8 / 9, rtol=0.0, atol=GRID / 2 + 1e-12)
+    # within a turn, however far round it starts, the angles are kept as they are
+    late = np.array([1.5, 2.5, 3.5, 4.5, 5.5])
+    got = S.crank_angles_along(X, "open", coupler_points(X, late, "open"), closed=True)
+    np.testing.assert_allclose(got, late, rtol=0.0, atol=GRID / 2 + 1e-12)
     with pytest.raises(SynthesisError, match="does not assemble"):
         S.crank_angles_along([9.0, 0.5, 1.0, 1.0, 0, 0, 0, 0, 0], "open", pts, closed=True)
 
