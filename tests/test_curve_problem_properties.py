@@ -164,6 +164,7 @@ def test_every_row_has_an_exact_gradient(closed: bool) -> None:
         {"ordered": True, "ratio": (1.0, 8.0), "transmission": "20 deg"},
         {"grashof": "double-crank", "regions": {"O4": {"x": [0.0, 1.0], "y": [0.0, 1.0]}}},
         {"grashof": "full-turn", "regions": {"O2": {"centre": [0.5, 0.5], "radius": 0.2}}},
+        {"regions": {"O4": {"x": [0.0, 5.0], "y": [1.0, 2.0]}}},  # O4 below it: binding in y
     ):
         problem = C.TrackingProblem(t, **options)
         _, dg = problem.constraints(x)

@@ -125,3 +125,14 @@ def test_five_timed_points_spread_by_index_first_and_last_included() -> None:
     assert five(5) == [0, 1, 2, 3, 4]
     assert five(9) == [0, 2, 4, 6, 8]
     assert five(12) == [0, 3, 6, 8, 11]  # round(2.75) = 3, round(5.5) = 6, round(8.25) = 8
+
+
+def test_a_drawn_design_with_its_crank_angle_seeds_the_problem_with_the_targets_angles() -> None:
+    """`design_vectors`' answer (nine numbers and the drawing's crank angle) becomes a seed
+    of the problem's size: the nine numbers, then one crank angle per target point."""
+    th = np.array([0.4, 1.3, 2.0, 3.9, 5.0])
+    target = C.target(coupler_points(X, th, "open"))
+    seed = S._with_angles(np.append(X, 1.1), "open", target, "alt")
+    assert seed.x.shape == (9 + len(th),) and seed.family == "alt"
+    np.testing.assert_array_equal(seed.x[:9], X)
+    np.testing.assert_allclose(seed.x[9:], th, rtol=0.0, atol=GRID / 2 + 1e-12)
