@@ -127,7 +127,7 @@ def test_margins_are_non_negative_exactly_when_the_constraints_hold(grashof: str
     names = problem.constraint_names()
     held = 0
     for _ in range(200):
-        r = np.array(base) * rng.uniform(0.6, 1.4, 4)
+        r = np.array(base) * rng.uniform(0.4, 1.6, 4)  # the shortest link changes in some
         x = _x(r)
         g, _ = problem.constraints(x)
         m = problem.margins(x)

@@ -82,6 +82,8 @@ def test_the_crank_rocker_filter_is_grashof_with_the_crank_shortest() -> None:
     assert S._crank_rocker(np.array([2.0, 0.5, 0.5, 2.0]))  # the crank ties for the shortest
     assert not S._crank_rocker(np.array([0.5, 2.0, 1.8, 1.5]))  # the ground is shortest
     assert not S._crank_rocker(np.array([2.0, 0.6, 1.8, 0.5]))  # the rocker is shortest
+    # a whole design vector: only its four lengths count, not a coupler point nearer
+    assert S._crank_rocker(np.append(X, 1.1)) and S._crank_rocker(np.array([2.0, 0.5, 1.8, 1.5, 0.1, 0.0]))
 
 
 def test_the_seed_error_is_the_tracking_error_of_the_seed_as_it_stands() -> None:
