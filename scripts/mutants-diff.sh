@@ -59,7 +59,8 @@ else
 fi
 
 # --- Python: one-token mutants of the changed lines of the core modules
-core="python/linkwork/synthesis python/linkwork/model/linkages.py python/linkwork/study"
+# synthesis/ holds curve/; the dynamics' results: simulation.py, equilibrium.py
+core="python/linkwork/synthesis python/linkwork/model/linkages.py python/linkwork/model/simulation.py python/linkwork/model/equilibrium.py python/linkwork/study"
 changed=$(git diff --name-only "$base" -- $core | grep "\.py$" || true)
 if [ -n "$changed" ]; then
     set +e

@@ -8,7 +8,8 @@ reach a package whose extension is built beside it (python/linkwork/_core), henc
     python scripts/mutate_python.py --all python/linkwork/model/linkages.py   (every line)
     python scripts/mutate_python.py --all python/linkwork/synthesis/designs.py:1-80   (lines)
 
-The tests run are the files that name the module, or MUTATE_TESTS (space-separated).
+The tests run are MUTATE_TESTS (space-separated), else the module's entry in SUITES, else
+the files that name the module.
 
 Exit 1 if a mutant survives."""
 
@@ -71,10 +72,31 @@ def mutants(source: str, lines: set[int] | None):
             yield row, f"{tok.string} -> {new}", source[:start] + new + source[end:]
 
 
+# The tests of modules whose names are common words (a search by name would run most of
+# the suite for each mutant), the fast property tests first: `-x` stops at the first failure.
+_CURVE = "python/linkwork/synthesis/curve/"
+SUITES = {
+    "python/linkwork/model/simulation.py": "test_dynamics_forward.py test_cli_simulate.py",
+    "python/linkwork/model/equilibrium.py": "test_equilibrium.py",
+    _CURVE + "constraints.py": "test_curve_constraint_properties.py test_curve_problem_properties.py "
+    "test_curve_constraints.py",
+    _CURVE + "tracking.py": "test_curve_problem_properties.py test_curve_screening_properties.py "
+    "test_curve_seed_properties.py test_curve_constraints.py test_curve_synthesis.py",
+    _CURVE + "seeds.py": "test_curve_seed_properties.py test_curve_seeds.py",
+    _CURVE + "fit.py": "test_curve_screening_properties.py test_curve_synthesis.py test_curve_budget.py",
+    _CURVE + "problem.py": "test_curve_screening_properties.py test_curve_cli.py",
+    _CURVE + "shape.py": "test_curve_seeds.py",
+    _CURVE + "target.py": "test_targets.py test_curve_synthesis.py test_curve_cli.py",
+}
+
+
 def tests_for(module: Path) -> list[str]:
-    """Test files that name the module, or those MUTATE_TESTS lists."""
+    """Test files of the module: MUTATE_TESTS, its SUITES entry, or those that name it."""
     if os.environ.get("MUTATE_TESTS"):
         return os.environ["MUTATE_TESTS"].split()
+    suite = SUITES.get(str(module.resolve().relative_to(ROOT)))
+    if suite:
+        return [f"tests/{name}" for name in suite.split()]
     tests = sorted((ROOT / "tests").glob("test_*.py"))
     # a package by its name; a module no test names, by its package's (`synthesis.screening`)
     for name in (module.stem, module.parent.name):

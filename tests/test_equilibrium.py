@@ -204,3 +204,45 @@ def test_a_driver_holds_its_coordinate_at_the_time_asked():
     assert eq.omega2[0] == pytest.approx(m2 * G * 0.3 / (jc + m2 * 0.3**2), rel=1e-10)
     torque = (m1 * arm + m2 * reach) * G * math.cos(0.7)
     assert eq.effort("hold") == pytest.approx(torque, rel=1e-10)
+
+
+def test_a_motion_without_stiffness_is_neutral_not_unstable():
+    """A wheel pinned at its centre of mass beside the spring pendulum: gravity does no
+    work on its turning, so its eigenvalue is zero (within the tolerance the pendulum's
+    stiffness sets): listed neutral, never unstable; the pendulum's stays stable. With no
+    load at all (a bare free crank, tolerance zero) the zero eigenvalue is neutral too."""
+    mech = Mechanism("pendulum and wheel")
+    mech.gravity = (0.0, -G)
+    bar = mech.body("bar", origin=(0.45, 0.0), mass=1.3, inertia=0.02)
+    mech.revolute(mech.ground, bar, at=(0.0, 0.0))
+    mech.torsion_spring(mech.ground, bar, stiffness=20.0, free_angle=0.7)
+    wheel = mech.body("wheel", origin=(2.0, 0.0), mass=0.5, inertia=0.03)
+    mech.revolute(mech.ground, wheel, at=(2.0, 0.0))
+    eq = mech.compile(free=True).equilibrium()
+    assert eq.tol > 0.0 and len(eq.eigenvalues) == 2
+    assert eq.unstable == [] and [c for _, c in eq.neutral] == ["wheel.theta"]
+    assert not eq.stable and "neutral" in repr(eq)
+
+    bare, _ = pendulum(None, gravity=0.0)
+    eq = bare.equilibrium()
+    assert eq.tol == 0.0 and eq.eigenvalues[0] == 0.0
+    assert eq.unstable == [] and len(eq.neutral) == 1 and not eq.stable
+
+
+def test_the_coordinate_a_mode_moves_most_does_not_depend_on_the_length_unit():
+    """The spring pendulum built in metres and in millimetres (lengths x1000, inertia
+    x1e6, stiffness and gravity scaled to keep the same rest angle and frequency): the
+    mode's dominant coordinate is the same, lengths being compared in the model's length
+    scale (in raw numbers the millimetre model's translations would win)."""
+
+    def scaled(s: float) -> str:
+        m, arm = 1.3, 0.45 * s
+        mech = Mechanism("pendulum")
+        mech.gravity = (0.0, -G * s)
+        bar = mech.body("bar", origin=(arm, 0.0), mass=m, inertia=0.02 * s * s)
+        mech.revolute(mech.ground, bar, at=(0.0, 0.0))
+        mech.torsion_spring(mech.ground, bar, stiffness=20.0 * s * s, free_angle=0.7)
+        (mode,) = mech.compile(free=True).equilibrium().modes()
+        return mode.coordinate
+
+    assert scaled(1.0) == scaled(1000.0) == scaled(0.001) == "bar.theta"
