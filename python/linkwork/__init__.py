@@ -28,6 +28,7 @@ from .errors import (
     ScrewError,
     SingularError,
     SolveError,
+    StiffnessError,
     StudyError,
 )
 from .mechanism import examples
@@ -75,6 +76,7 @@ __all__ = [
     "FreeModelError",
     "InitialConditionError",
     "IntegrationError",
+    "StiffnessError",
     "MasslessError",
     "Harmonic",
     "InputError",

@@ -41,7 +41,11 @@ class Simulation(Results):
     ``iterations``: its Newton (or projection) iterations; ``pivot_ratio``: of the
     augmented matrix (near 0 at a singular configuration of the constraints);
     ``n_steps_taken``, ``n_rejected``, ``n_evaluations``; ``moved_q`` and ``moved_qd``: how
-    far the initial conditions were moved onto the constraints (scaled); ``method``.
+    far the initial conditions were moved onto the constraints (scaled); ``method``;
+    ``events``: as a sweep's (`Event`), the singular configurations the motion passed
+    ("bifurcation", or "limit" with a driver row in the dependency) and the locks (the
+    whole motion stopping and reversing), each located between the steps with its time,
+    the joints and coordinates involved and the smallest pivot ratio met.
     """
 
     def __init__(self, model: Model, raw: dict[str, Any], method: str) -> None:
@@ -50,7 +54,7 @@ class Simulation(Results):
         sweep_raw.update(
             residual=raw["drift"],
             det_sign=np.ones(n),
-            events=[],
+            events=raw.get("events", []),
             load_power=np.full(n, np.nan),
         )
         super().__init__(model, sweep_raw)
