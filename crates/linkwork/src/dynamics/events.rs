@@ -299,7 +299,7 @@ fn mass_sigma(
     let n = model.n_coords;
     hermite(a, c, t, q, qd);
     let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
-    if !(residual <= model.options.tol_residual) {
+    if residual.is_nan() || residual > model.options.tol_residual {
         return f64::INFINITY;
     }
     let mut phi = vec![0.0; model.n_rows];
@@ -337,7 +337,7 @@ fn jacobian_at(
 ) -> Option<DMatrix<f64>> {
     hermite(a, c, t, q, qd);
     let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
-    if !(residual <= model.options.tol_residual) {
+    if residual.is_nan() || residual > model.options.tol_residual {
         return None;
     }
     Some(constraints_dense(model, sys.frames(), q, t).1)
