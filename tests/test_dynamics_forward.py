@@ -263,3 +263,95 @@ def test_the_energy_balance_is_measured_from_the_start() -> None:
     np.testing.assert_allclose(np.diff(e.balance), np.diff(total), rtol=0.0, atol=1e-12 * np.abs(total).max())
     # the pendulum starts at rest: the kinetic energy grows from zero as it swings
     assert e.kinetic[0] == pytest.approx(0.0, abs=1e-12) and e.kinetic[-1] > 0.1
+
+
+# -- events ---------------------------------------------------------------------------------
+
+
+def test_a02_reports_each_singular_crossing_at_the_exact_branch_time() -> None:
+    """N = 2 over 10 s passes the horizontal (phi = 0 mod pi, all rows of the two loops
+    dependent) ten times: one "bifurcation" event each, located within 1e-7 s of the exact
+    branch's crossing [6e-9 measured at rtol 1e-10: the interpolant between steps, projected,
+    and the golden-section search on the mass-metric sigma_min], naming the pins of the
+    loops, with the scaled Phi_q singular there (sigma_min < 1e-6 [~1e-9])."""
+    from scipy.optimize import brentq
+
+    bench = benchmarks.n_four_bar(2)
+    model = bench.mechanism.compile(free=True)
+    t = np.linspace(0.0, 10.0, 201)
+    sim = model.simulate(t, rtol=1e-10, atol=1e-10, qd0=bench.qd0)
+    branch = exact.n_four_bar_branch(2, 10.0)
+    grid = np.linspace(0.0, 10.0, 4001)
+    s = np.sin(branch.phi(grid)[0])
+    crossings = [
+        brentq(lambda x: np.sin(branch.phi(x)[0]), grid[i], grid[i + 1], xtol=1e-14)
+        for i in np.nonzero(np.diff(np.sign(s)))[0]
+    ]
+    assert len(crossings) == 10
+    events = [e for e in sim.events if e.kind == "bifurcation"]
+    assert len(events) == len(sim.events) == 10
+    for e, tc in zip(events, crossings):
+        assert abs(e.time - tc) < 1e-7, (e.time, tc)
+        assert e.sigma_min < 1e-6 and e.pivot_ratio < 1e-2
+        assert t[e.step - 1] < e.time <= t[e.step]
+        names = {n for n, _ in e.constraints}
+        assert names and names <= {c[0] for c in model.constraints}, names
+        assert "singular configuration" in e.message and str(e).startswith("bifurcation at t =")
+    # the pins of the loops that become dependent carry the dependency
+    assert {"O0", "B0c1"} <= {n for n, _ in events[0].constraints} | {"O2", "B1c2"}
+
+
+def test_a01_pendulum_reversals_are_locks_at_the_half_periods() -> None:
+    """Released horizontal, the pendulum stops and reverses every half period
+    2 K(1/2) / sqrt(g): a "lock" each time, within 5e-6 s [6e-7 measured at rtol 1e-10],
+    the angle named as the coordinate that turns back; an A02 four-bar, which never stops,
+    has none."""
+    from scipy.special import ellipk
+
+    model = benchmarks.pendulum().mechanism.compile(free=True)
+    sim = model.simulate(np.linspace(0.0, 10.0, 101), rtol=1e-10, atol=1e-10)
+    half = 2.0 * ellipk(0.5) / np.sqrt(G)
+    locks = [e for e in sim.events if e.kind == "lock"]
+    assert len(locks) == len(sim.events) == int(10.0 // half) == 8
+    for k, e in enumerate(locks, start=1):
+        assert abs(e.time - k * half) < 5e-6, (k, e.time - k * half)
+        assert e.output == "bar.theta" and e.coordinates[0][0] == "bar.theta"
+    # at each reversal the bar is horizontal again (energy: it started horizontal at rest)
+    for e in locks:
+        assert abs(np.sin(e.q[2])) < 1e-5
+    bench = benchmarks.n_four_bar(1)
+    sim = bench.mechanism.compile(free=True).simulate(np.linspace(0.0, 1.0, 11), qd0=bench.qd0)
+    assert not [e for e in sim.events if e.kind == "lock"]
+
+
+# -- a stiff spring -------------------------------------------------------------------------
+
+
+def test_a_stiff_spring_stops_rk8_with_a_named_error() -> None:
+    """A pendulum held by a very stiff torsion spring (k / I = 1e10 1/s^2: period 6e-5 s)
+    hardly moves, so rk8's accuracy would allow large steps, but its stability holds them
+    at h |lambda| ~ 6: Hairer's stiffness test (from the 1000th step) stops it with a
+    StiffnessError (an IntegrationError) naming the spring and suggesting gen-alpha, the
+    steps done kept; gen-alpha integrates the same model; a soft spring does not trip it."""
+    from linkwork import StiffnessError
+    from linkwork.mechanism import Mechanism
+
+    def model(stiffness: float):
+        m = Mechanism("stiff")
+        bar = m.link("bar", (0.0, 0.0), (1.0, 0.0), mass=1.0, inertia=1.0 / 12.0, com=(0.5, 0.0))
+        m.revolute(m.ground, bar, at=(0.0, 0.0), name="O")
+        m.torsion_spring(m.ground, bar, stiffness, free_angle=0.0, name="latch")
+        m.set_gravity((0.0, -G))
+        return m.compile(free=True)
+
+    t = np.linspace(0.0, 1.0, 11)
+    stiff = model(1e10 / 3.0)  # I about the pin is 1/3
+    with pytest.raises(StiffnessError, match=r"load 'latch' on bar .*gen-alpha") as info:
+        stiff.simulate(t, rtol=1e-8, atol=1e-8)
+    assert isinstance(info.value, IntegrationError) and info.value.time is not None
+    assert 0.0 < info.value.time < 1.0
+    sim = stiff.simulate(t, method="gen-alpha", rtol=1e-6, atol=1e-6)
+    # the spring holds the bar at its free angle: gravity's torque / k
+    assert np.abs(sim.body("bar").theta).max() < 1e-8
+    soft = model(30.0).simulate(np.linspace(0.0, 80.0, 81), rtol=1e-8, atol=1e-8)
+    assert soft.n_steps_taken > 1000  # the test ran and did not trip

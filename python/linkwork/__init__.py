@@ -28,6 +28,7 @@ from .errors import (
     ScrewError,
     SingularError,
     SolveError,
+    StiffnessError,
     StudyError,
 )
 from .mechanism import examples
@@ -76,6 +77,7 @@ __all__ = [
     "FreeModelError",
     "InitialConditionError",
     "IntegrationError",
+    "StiffnessError",
     "MasslessError",
     "Harmonic",
     "InputError",

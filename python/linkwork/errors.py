@@ -31,6 +31,7 @@
         │                       constraints (projecting them would move them beyond ``ic_tol``)
         ├── MasslessError       no mass on a free coordinate (names the body)
         ├── IntegrationError    a simulation step failed (``partial``: the steps done)
+        │   └── StiffnessError      rk8's steps held by stability: a stiff load (named)
         └── EquilibriumError    no rest configuration found (``q``: the last iterate)
     InternalError           a bug in linkwork (an engine panic, caught): please report it
     LinkworkWarning         a warning (a UserWarning): e.g. a model file without units whose
@@ -66,6 +67,7 @@ __all__ = [
     "InitialConditionError",
     "MasslessError",
     "IntegrationError",
+    "StiffnessError",
     "EquilibriumError",
     "InternalError",
     "LinkworkWarning",
@@ -186,6 +188,13 @@ class MasslessError(SolveError):
 class IntegrationError(SolveError):
     """A simulation step could not be taken (the step size fell below its floor, Newton
     diverged); ``partial`` holds the steps done."""
+
+
+class StiffnessError(IntegrationError):
+    """The explicit method (``rk8``) is held by stability rather than accuracy: a stiff
+    spring or damper for the steps it takes (Hairer's stiffness test of DOP853). The
+    message names the stiffest load and suggests ``method="gen-alpha"``; ``partial``
+    holds the steps done."""
 
 
 class EquilibriumError(SolveError):

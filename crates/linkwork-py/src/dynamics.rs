@@ -20,7 +20,7 @@ fn optional(a: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Option<Vec<f64>>> 
 /// "times", "q", "qd", "qdd" (n x n_coords), "lambda" (n x n_rows), "reactions"
 /// (n x n_constraints x 4), "drift", "drift_d", "kinetic", "potential", "work", "step",
 /// "iterations", "pivot_ratio" (n), "n_steps", "n_rejected", "n_evaluations",
-/// "moved_q", "moved_qd". `progress(done, total)` counts the asked times reached.
+/// "moved_q", "moved_qd", "events" (dicts as a sweep's). `progress(done, total)` counts the asked times reached.
 #[pyfunction]
 #[pyo3(signature = (model, times, q0=None, qd0=None, method="rk8", rtol=1e-8, atol=1e-8, rho_inf=0.9,
                     h0=None, h_max=None, max_steps=None, ic_tol=1e-6, progress=None))]
@@ -112,5 +112,7 @@ pub(crate) fn simulate<'py>(
     d.set_item("n_evaluations", out.n_evaluations)?;
     d.set_item("moved_q", out.moved.q)?;
     d.set_item("moved_qd", out.moved.qd)?;
+    let events = out.events.iter().map(|e| crate::events::event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
+    d.set_item("events", events)?;
     Ok((d, error))
 }

@@ -22,7 +22,7 @@ pub(crate) fn parse_on_singular(s: &str) -> PyResult<OnSingular> {
 }
 
 /// One event: kind, step, time, q, sigma_min, constraints, coordinates, output, drivers,
-/// message.
+/// message, pivot_ratio.
 pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("kind", e.kind.name())?;
@@ -35,6 +35,7 @@ pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py,
     d.set_item("output", e.output.clone())?;
     d.set_item("drivers", e.drivers.clone())?;
     d.set_item("message", e.message.clone())?;
+    d.set_item("pivot_ratio", e.pivot_ratio)?;
     Ok(d)
 }
 

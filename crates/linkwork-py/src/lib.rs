@@ -42,6 +42,7 @@ pyo3::import_exception!(linkwork.errors, FreeModelError);
 pyo3::import_exception!(linkwork.errors, InitialConditionError);
 pyo3::import_exception!(linkwork.errors, MasslessError);
 pyo3::import_exception!(linkwork.errors, IntegrationError);
+pyo3::import_exception!(linkwork.errors, StiffnessError);
 
 fn model_err(e: ModelError) -> PyErr {
     let inner = match &e {
@@ -112,6 +113,7 @@ fn solve_err(py: Python<'_>, e: &SolveError) -> PyErr {
         SolveError::Inconsistent { .. } => (InitialConditionError::new_err(msg), None),
         SolveError::Massless { time, .. } => (MasslessError::new_err(msg), Some(*time)),
         SolveError::Step { time, .. } => (IntegrationError::new_err(msg), Some(*time)),
+        SolveError::Stiff { time, .. } => (StiffnessError::new_err(msg), Some(*time)),
     };
     let value = err.value(py);
     // attributes of an exception we created ourselves: setting them cannot fail in practice

@@ -152,6 +152,14 @@ pub enum SolveError {
          or drive it"
     )]
     Massless { time: f64, body: String, coordinate: String },
+    /// The explicit integrator's steps are held by stability, not accuracy (Hairer's
+    /// stiffness test of DOP853): a stiff load for the step sizes asked.
+    #[error(
+        "the problem is stiff at t = {time} (step {step}): for {steps} of the last accepted steps h lambda \
+         stayed beyond DOP853's stability boundary (h = {h:.3e}, |lambda| ~ {lambda:.3e} 1/s), most likely \
+         from {load}; simulate with method=\"gen-alpha\" (implicit), or soften or damp the load"
+    )]
+    Stiff { step: usize, time: f64, h: f64, lambda: f64, steps: usize, load: String },
     /// The integrator could not take a step (step size underflow, Newton divergence).
     #[error("integration failed at step {step} (t = {time}, step size {h:.3e}): {why}")]
     Step { step: usize, time: f64, h: f64, why: String },
@@ -168,7 +176,8 @@ impl SolveError {
             | SolveError::NonFinite { step, .. }
             | SolveError::Times { step, .. }
             | SolveError::Cancelled { step }
-            | SolveError::Step { step, .. } => Some(*step),
+            | SolveError::Step { step, .. }
+            | SolveError::Stiff { step, .. } => Some(*step),
             SolveError::Inconsistent { .. } | SolveError::Massless { .. } => Some(0),
             SolveError::OutOfRange { .. }
             | SolveError::TooLarge { .. }

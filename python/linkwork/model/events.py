@@ -17,21 +17,25 @@ KINDS = {
     "unless the driver reverses",
     "bifurcation": "assembly branches meet: the joints' rows become dependent; the sweep follows "
     "the branch it was on",
-    "lock": "an output stops and reverses while the input moves (a dead point if driven from that output)",
+    "lock": "an output stops and reverses while the input moves (a dead point if driven from that output); "
+    "in a simulation, the whole motion stops and reverses",
     "branch_jump": "the solution left the branch it was on and halving the step did not bring it back",
 }
 
 
 @dataclass(frozen=True)
 class Event:
-    """A located event of a sweep.
+    """A located event of a sweep or a simulation.
 
     ``kind``: "limit", "bifurcation", "lock" or "branch_jump" (see `KINDS`); ``step``:
     it lies between times[step - 1] and times[step]; ``time``: where it was located;
     ``q``: the configuration there; ``sigma_min``: smallest singular value of the scaled
     Phi_q there; ``constraints`` / ``coordinates``: the (name, share) of the joints and
     drivers in the dependency and of the coordinates in the free motion; ``output``: the
-    output that locks; ``drivers``: (name, value) of each driver there.
+    output that locks; ``drivers``: (name, value) of each driver there; ``pivot_ratio``:
+    of the sweep's Phi_q there, or the smallest of the augmented matrix a simulation's
+    solves met around it. A simulation's lock is the whole motion stopping and reversing
+    (``sigma_min`` NaN, ``output`` the coordinate that turns back).
     """
 
     kind: str
@@ -44,6 +48,7 @@ class Event:
     output: str | None
     drivers: tuple[tuple[str, float], ...]
     message: str
+    pivot_ratio: float = float("nan")
 
     @classmethod
     def from_raw(cls, raw: dict[str, Any]) -> Event:
@@ -58,6 +63,7 @@ class Event:
             output=raw["output"],
             drivers=tuple((str(n), float(v)) for n, v in raw["drivers"]),
             message=raw["message"],
+            pivot_ratio=float(raw.get("pivot_ratio", float("nan"))),
         )
 
     def driver(self, name: str | None = None) -> float:

@@ -45,6 +45,10 @@ class Simulation(Results):
     augmented matrix (near 0 at a singular configuration of the constraints);
     ``n_steps_taken``, ``n_rejected``, ``n_evaluations``; ``moved_q`` and ``moved_qd``: how
     far the initial conditions were moved onto the constraints (scaled); ``method``;
+    ``events``: as a sweep's (`Event`), the singular configurations the motion passed
+    ("bifurcation", or "limit" with a driver row in the dependency) and the locks (the
+    whole motion stopping and reversing), each located between the steps with its time,
+    the joints and coordinates involved and the smallest pivot ratio met.
     ``load_power`` (n,): the power of all the loads (`load_powers` one by one).
 
     Views as for a sweep (`to_html`, `_repr_html_`, `draw`, `animate`, `plot`), with the
@@ -60,7 +64,7 @@ class Simulation(Results):
         sweep_raw.update(
             residual=raw["drift"],
             det_sign=np.ones(n),
-            events=[],
+            events=raw.get("events", []),
             load_power=np.zeros(n),
         )
         super().__init__(model, sweep_raw)

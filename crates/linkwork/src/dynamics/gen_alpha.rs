@@ -15,6 +15,7 @@
 
 use crate::dynamics::applied::{applied_force, tangents};
 use crate::dynamics::energy::load_power;
+use crate::dynamics::events::Watch;
 use crate::dynamics::mass::mass_times;
 use crate::dynamics::options::SimOptions;
 use crate::dynamics::output::SimOutput;
@@ -67,7 +68,9 @@ pub fn integrate(
     let (mut q, mut qd) = (q.to_vec(), qd.to_vec());
     let (mut qdd, mut lambda) = (vec![0.0; n], vec![0.0; m]);
     let mut t = times[0];
-    sys.accelerations(model, &q, &qd, t, &mut qdd, &mut lambda);
+    let mut watch = Watch::new(model);
+    watch.pivot(sys.accelerations(model, &q, &qd, t, &mut qdd, &mut lambda).ratio);
+    watch.accepted(model, sys, &times, t, &q, &qd, &qdd, &mut out.events);
     let mut a = qdd.clone();
     let mut nu = vec![0.0; m];
     let power = |sys: &System, lambda: &[f64], nu: &mut [f64], t: f64| {
@@ -126,6 +129,7 @@ pub fn integrate(
         let (c_m, c_c) = (1.0 / (beta_p * h * h), gamma_p / (beta_p * h));
         let mut converged = false;
         let mut iterations = 0;
+        let mut last_pivot = f64::INFINITY;
         for it in 1..=MAX_NEWTON {
             iterations = it;
             sys.set_state(&q1, &qd1);
@@ -141,7 +145,8 @@ pub fn integrate(
             }
             let System { aug, loads, .. } = &mut *sys;
             tangents(model, loads, &q1, &qd1, &qdd1, t1, &mut |b| aug.add_tangent(&b, 1.0, c_c));
-            sys.aug.factor_solve(&mut rhs);
+            // the watch sees the last iteration's (the predictor's states are off the path)
+            last_pivot = sys.aug.factor_solve(&mut rhs).ratio;
             if !rhs.iter().all(|v| v.is_finite()) {
                 break;
             }
@@ -162,6 +167,9 @@ pub fn integrate(
             }
         }
         out.n_steps += 1;
+        if converged {
+            watch.pivot(last_pivot);
+        }
         if !converged {
             out.n_rejected += 1;
             h_nat = h * 0.25;
@@ -200,7 +208,9 @@ pub fn integrate(
             store_state(model, sys, out, next, t, &mut qs, &mut qds, info)?;
             next += 1;
         }
+        watch.accepted(model, sys, &times, t, &q, &qd, &qdd, &mut out.events);
     }
+    watch.finish(model, sys, &times, &mut out.events);
     Ok(())
 }
 

@@ -11,6 +11,7 @@
 //! - `equilibrium`, `modes`: the rest configuration under the loads, its stability and
 //!   its linearized vibration modes.
 //! - `energy`: kinetic and potential energy, the power of what is not conservative.
+//! - `events`: singular configurations passed and locks, located between the steps.
 //! - `rk` (with `dop853`): DOP853 on the index-1 form with coordinate projection.
 //! - `gen_alpha`: implicit index-3 generalized-alpha with step-size adaptation.
 //! - `options`, `output`, `record`, `simulate`: the settings, the rows kept and how one
@@ -22,6 +23,7 @@ pub mod curvature;
 pub mod dop853;
 pub mod energy;
 pub mod equilibrium;
+pub mod events;
 pub mod gen_alpha;
 pub mod initial;
 pub mod mass;

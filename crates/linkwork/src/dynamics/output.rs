@@ -4,6 +4,7 @@
 
 use crate::dynamics::initial::Moved;
 use crate::model::Model;
+use crate::solve::events::Event;
 use crate::solve::forces::REACTION_COLUMNS;
 
 /// Rows at the asked times (row-major) and the run's counters.
@@ -44,6 +45,8 @@ pub struct SimOutput {
     pub n_evaluations: usize,
     /// how far the initial conditions were moved onto the constraints
     pub moved: Moved,
+    /// singular configurations passed and locks met (`dynamics::events`), in time order
+    pub events: Vec<Event>,
 }
 
 impl SimOutput {

@@ -8,8 +8,10 @@
 //! times come from the dense output of order 7, then projected the same way.
 #![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
+use crate::constraints::loads::Load;
 use crate::dynamics::dop853 as tab;
 use crate::dynamics::energy::load_power;
+use crate::dynamics::events::Watch;
 use crate::dynamics::options::SimOptions;
 use crate::dynamics::output::SimOutput;
 use crate::dynamics::record::{store_state, StepInfo};
@@ -24,6 +26,13 @@ type Scale<'a> = dyn Fn(&[f64], &[f64], usize) -> f64 + 'a;
 const SAFETY: f64 = 0.9;
 const MIN_FACTOR: f64 = 0.2;
 const MAX_FACTOR: f64 = 10.0;
+/// Hairer's stiffness test (dop853.f): from every NSTIFF-th accepted step on, h lambda
+/// estimated from the last stage and the new point; beyond STIFF_BOUND (DOP853's
+/// stability boundary along the negative axis) on STIFF_STEPS tests without six below in
+/// a row, the problem is stiff.
+const NSTIFF: usize = 1000;
+const STIFF_BOUND: f64 = 6.1;
+const STIFF_STEPS: usize = 15;
 /// Steps between two polls of progress and cancellation.
 const POLL_EVERY: usize = 32;
 
@@ -34,6 +43,7 @@ struct Rhs {
     lambda: Vec<f64>,
     nu: Vec<f64>,
     evaluations: usize,
+    watch: Watch,
 }
 
 impl Rhs {
@@ -41,7 +51,8 @@ impl Rhs {
     fn eval(&mut self, model: &Model, sys: &mut System, t: f64, y: &[f64], f: &mut [f64]) -> bool {
         let n = self.n;
         self.evaluations += 1;
-        sys.accelerations(model, &y[..n], &y[n..2 * n], t, &mut self.qdd, &mut self.lambda);
+        let pivots = sys.accelerations(model, &y[..n], &y[n..2 * n], t, &mut self.qdd, &mut self.lambda);
+        self.watch.pivot(pivots.ratio);
         f[..n].copy_from_slice(&y[n..2 * n]);
         f[n..2 * n].copy_from_slice(&self.qdd);
         nu_into(model, t, &mut self.nu);
@@ -72,6 +83,7 @@ pub fn integrate(
         lambda: vec![0.0; model.n_rows],
         nu: vec![0.0; model.n_rows],
         evaluations: 0,
+        watch: Watch::new(model),
     };
     let mut y = vec![0.0; len];
     y[..n].copy_from_slice(q);
@@ -86,6 +98,8 @@ pub fn integrate(
             what: "the accelerations at the start".into(),
         });
     }
+    let mut events = Vec::new();
+    rhs.watch.accepted(model, sys, &times, t, q, qd, &f[n..2 * n], &mut events);
     // the error's scale per controlled component (q and qd): atol in the model's units
     let abs_scale: Vec<f64> = model.col_scale.iter().chain(&model.col_scale).map(|s| opts.atol * s).collect();
     let scale_of = |a: &[f64], b: &[f64], i: usize| abs_scale[i] + opts.rtol * a[i].abs().max(b[i].abs());
@@ -117,6 +131,7 @@ pub fn integrate(
     let mut dense: Vec<Vec<f64>> = vec![vec![0.0; len]; tab::INTERPOLATOR_POWER];
     let mut y_out = vec![0.0; len];
     let mut rejected = false;
+    let (mut accepted, mut stiff_count, mut nonstiff_count) = (0usize, 0usize, 0usize);
     while next < times.len() {
         if out.n_steps >= opts.max_steps {
             return Err(step_error(
@@ -175,6 +190,35 @@ pub fn integrate(
             h *= if error.is_finite() { MIN_FACTOR.max(SAFETY * error.powf(-1.0 / 8.0)) } else { 0.25 };
         };
         let t_new = t + h_step;
+        accepted += 1;
+        if accepted % NSTIFF == 0 || stiff_count > 0 {
+            // h lambda ~ h |f(y_new) - f(stage 12)| / |y_new - stage 12| (both at t + h)
+            let (mut num, mut den) = (0.0, 0.0);
+            for i in 0..2 * n {
+                num += (k[tab::STAGES][i] - k[tab::STAGES - 1][i]).powi(2);
+                den += (y_new[i] - stage[i]).powi(2);
+            }
+            let h_lambda = if den > 0.0 { h_step * (num / den).sqrt() } else { 0.0 };
+            if h_lambda > STIFF_BOUND {
+                nonstiff_count = 0;
+                stiff_count += 1;
+                if stiff_count == STIFF_STEPS {
+                    return Err(SolveError::Stiff {
+                        step: out.n_done,
+                        time: t_new,
+                        h: h_step,
+                        lambda: h_lambda / h_step,
+                        steps: STIFF_STEPS,
+                        load: stiffest_load(model),
+                    });
+                }
+            } else {
+                nonstiff_count += 1;
+                if nonstiff_count == 6 {
+                    stiff_count = 0;
+                }
+            }
+        }
         // the asked times this step reached, from the dense output
         let mut have_dense = false;
         while next < times.len() && times[next] <= t_new {
@@ -222,11 +266,44 @@ pub fn integrate(
         if !rhs.eval(model, sys, t, &y, &mut f) {
             return Err(step_error(out, t, h_step, "the accelerations are not finite".into()));
         }
+        rhs.watch.accepted(model, sys, &times, t, &y[..n], &y[n..2 * n], &f[n..2 * n], &mut events);
+        out.events.append(&mut events);
         h = h_step * factor;
         h = h.min(opts.h_max);
     }
+    rhs.watch.finish(model, sys, &times, &mut out.events);
     out.n_evaluations += rhs.evaluations;
     Ok(())
+}
+
+/// The load most likely to make the motion stiff: the largest stiffness (or damping) over
+/// the mass (or moment of inertia) of the lightest body it acts on, named with its bodies.
+fn stiffest_load(model: &Model) -> String {
+    let mut best: Option<(f64, String)> = None;
+    for l in &model.loads {
+        let mut load = l.load.clone();
+        let params = load.params_mut();
+        let of = |name: &str| params.iter().find(|(p, _)| p == name).map_or(0.0, |(_, v)| v.abs());
+        let (k, c) = (of("stiffness"), of("damping"));
+        let torsion = matches!(l.load, Load::TorsionSpring { .. });
+        let inertia = [l.body_a, l.body_b]
+            .into_iter()
+            .flatten()
+            .map(|b| if torsion { model.inertias[b].inertia } else { model.inertias[b].mass })
+            .fold(f64::INFINITY, f64::min);
+        if !(inertia > 0.0 && inertia.is_finite()) || (k == 0.0 && c == 0.0) {
+            continue;
+        }
+        // the load's own rate: sqrt(k / m) or c / m, whichever is faster
+        let rate = (k / inertia).sqrt().max(c / inertia);
+        let bodies: Vec<&str> =
+            [l.body_a, l.body_b].into_iter().flatten().map(|b| model.body_names[b].as_str()).collect();
+        let what = format!("load '{}' on {} (rate ~ {rate:.3e} 1/s)", l.name, bodies.join(" and "));
+        if best.as_ref().is_none_or(|(r, _)| rate > *r) {
+            best = Some((rate, what));
+        }
+    }
+    best.map_or_else(|| "a stiff part of the model (no spring or damper found)".into(), |(_, w)| w)
 }
 
 fn step_error(out: &SimOutput, t: f64, h: f64, why: String) -> SolveError {

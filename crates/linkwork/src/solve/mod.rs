@@ -5,6 +5,7 @@ pub mod acceleration;
 pub mod assembly;
 pub mod closed_form;
 pub mod deflation;
+pub mod events;
 pub mod forces;
 pub mod position;
 pub mod velocity;

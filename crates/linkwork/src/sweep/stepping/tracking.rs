@@ -378,6 +378,7 @@ impl Tracker {
             output: None,
             drivers: values,
             message,
+            pivot_ratio: data.pivots.ratio,
         }
     }
 

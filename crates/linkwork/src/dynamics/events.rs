@@ -1,0 +1,433 @@
+//! Events of a simulation, the sweep's kinds and fields (`solve::events`), found from the
+//! accepted steps and located between them on the quintic Hermite interpolant of
+//! (q, qd, qdd) at the steps' ends:
+//! - a singular configuration passed (a bifurcation; a limit if a driver row is in the
+//!   dependency): looked for where the smallest pivot ratio of a step's solves is a local
+//!   minimum below `WATCH_BELOW`, located where Phi_q^T w turns over (w the rows'
+//!   dependency), at the interpolated q projected onto the constraints;
+//! - a lock: the whole motion stops and reverses (every rate zero at once: a swing's end,
+//!   a crank that stops short of a dead centre), located where qd turns against itself.
+#![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
+
+use nalgebra::DMatrix;
+
+use crate::constraints::Constraint;
+use crate::dynamics::equilibrium::constraints_dense;
+use crate::dynamics::mass::mass_times;
+use crate::dynamics::system::System;
+use crate::math::roots::illinois;
+use crate::model::Model;
+use crate::solve::events::{
+    classify, constraint_shares, coordinate_shares, Event, EventKind, SingularTriple,
+};
+
+/// A step whose solves' smallest pivot ratio is a local minimum below this is searched
+/// for a singular crossing: near one the ratio falls like the square of the distance (the
+/// Schur complement's eigenvalue), far from any it stays O(0.1 - 1) on the benchmarks.
+pub const WATCH_BELOW: f64 = 0.1;
+/// A reversal is a lock when the rates left where qd turns against itself are below
+/// this fraction of the step's: at a genuine stop they vanish together (the interpolant's
+/// error is what remains), a motion with several freedoms turning aside keeps rates of
+/// its own size.
+pub const LOCK_SPEED: f64 = 1e-3;
+/// A located minimum is a singular configuration if the scaled Phi_q's smallest singular
+/// value there is below this: at a crossing what is left is the interpolant's error
+/// (1e-9 to 1e-5 from fine to coarse tolerances on the N-four-bar), a close pass that is
+/// not one leaves its own distance (0.06 and more at the N-four-bar's other minima).
+pub const SINGULAR_BELOW: f64 = 1e-3;
+/// Shares below this are left out of an event's constraints and coordinates.
+const SHARE_FLOOR: f64 = 0.05;
+
+/// One accepted step's end: the state and the smallest pivot ratio met on the way.
+#[derive(Debug, Clone)]
+struct Sample {
+    t: f64,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    pivot: f64,
+}
+
+/// Watches the accepted steps of a simulation for events.
+pub struct Watch {
+    samples: Vec<Sample>,
+    /// the smallest pivot ratio of the step under way
+    step_pivot: f64,
+    last_event: f64,
+    /// where the last search for a crossing ended
+    searched: f64,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    /// the last dependency of the rows found (inverse iteration's start)
+    w: Vec<f64>,
+}
+
+/// The quintic Hermite interpolant on [a.t, b.t] at t: q and qd.
+fn hermite(a: &Sample, b: &Sample, t: f64, q: &mut [f64], qd: &mut [f64]) {
+    let h = b.t - a.t;
+    let s = ((t - a.t) / h).clamp(0.0, 1.0);
+    let (s2, s3) = (s * s, s * s * s);
+    let (s4, s5) = (s3 * s, s3 * s2);
+    let p = [
+        1.0 - 10.0 * s3 + 15.0 * s4 - 6.0 * s5,
+        s - 6.0 * s3 + 8.0 * s4 - 3.0 * s5,
+        0.5 * s2 - 1.5 * s3 + 1.5 * s4 - 0.5 * s5,
+        10.0 * s3 - 15.0 * s4 + 6.0 * s5,
+        -4.0 * s3 + 7.0 * s4 - 3.0 * s5,
+        0.5 * s3 - s4 + 0.5 * s5,
+    ];
+    let d = [
+        -30.0 * s2 + 60.0 * s3 - 30.0 * s4,
+        1.0 - 18.0 * s2 + 32.0 * s3 - 15.0 * s4,
+        s - 4.5 * s2 + 6.0 * s3 - 2.5 * s4,
+        30.0 * s2 - 60.0 * s3 + 30.0 * s4,
+        -12.0 * s2 + 28.0 * s3 - 15.0 * s4,
+        1.5 * s2 - 4.0 * s3 + 2.5 * s4,
+    ];
+    for i in 0..q.len() {
+        let c = [a.q[i], h * a.qd[i], h * h * a.qdd[i], b.q[i], h * b.qd[i], h * h * b.qdd[i]];
+        q[i] = (0..6).map(|k| p[k] * c[k]).sum();
+        qd[i] = (0..6).map(|k| d[k] * c[k]).sum::<f64>() / h;
+    }
+}
+
+/// Scaled dot product of two rates (lengths over the model's length scale).
+fn dot(model: &Model, a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).zip(&model.col_scale).map(|((x, y), s)| x * y / (s * s)).sum()
+}
+
+impl Watch {
+    pub fn new(model: &Model) -> Watch {
+        let n = model.n_coords;
+        Watch {
+            samples: Vec::with_capacity(3),
+            step_pivot: f64::INFINITY,
+            last_event: f64::NEG_INFINITY,
+            searched: f64::NEG_INFINITY,
+            q: vec![0.0; n],
+            qd: vec![0.0; n],
+            w: (0..model.n_rows).map(|i| 1.0 + 0.1 * ((i * 7 + 3) % 11) as f64).collect(),
+        }
+    }
+
+    /// A solve of the step under way had this pivot ratio.
+    #[inline]
+    pub fn pivot(&mut self, ratio: f64) {
+        if ratio < self.step_pivot {
+            self.step_pivot = ratio;
+        }
+    }
+
+    /// An accepted step ended at (t, q, qd, qdd) (the first call: the start). Events
+    /// found are appended to `events`, `times` are the output times (for their step).
+    #[allow(clippy::too_many_arguments)]
+    pub fn accepted(
+        &mut self,
+        model: &Model,
+        sys: &mut System,
+        times: &[f64],
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        events: &mut Vec<Event>,
+    ) {
+        let pivot = std::mem::replace(&mut self.step_pivot, f64::INFINITY);
+        let mut sample = if self.samples.len() == 3 { self.samples.remove(0) } else { self.empty(q.len()) };
+        sample.t = t;
+        sample.q.copy_from_slice(q);
+        sample.qd.copy_from_slice(qd);
+        sample.qdd.copy_from_slice(qdd);
+        sample.pivot = pivot;
+        self.samples.push(sample);
+        let k = self.samples.len();
+        if k >= 2 {
+            self.lock(model, k - 2, times, events);
+        }
+        if k == 3 {
+            let (a, b, c) = (&self.samples[0], &self.samples[1], &self.samples[2]);
+            if b.pivot < WATCH_BELOW && b.pivot <= a.pivot && b.pivot < c.pivot {
+                self.singular(model, sys, times, events);
+            }
+        }
+    }
+
+    /// The end of the run: a crossing in the last step, its ratio still falling.
+    pub fn finish(&mut self, model: &Model, sys: &mut System, times: &[f64], events: &mut Vec<Event>) {
+        let k = self.samples.len();
+        if k >= 2 {
+            let (b, c) = (&self.samples[k - 2], &self.samples[k - 1]);
+            if c.pivot < WATCH_BELOW && c.pivot <= b.pivot {
+                self.samples.drain(..k - 2);
+                self.samples.push(self.samples[1].clone());
+                // [b, c, c]: the search runs over [b, c] only (an empty second interval)
+                self.singular(model, sys, times, events);
+            }
+        }
+    }
+
+    fn empty(&self, n: usize) -> Sample {
+        Sample { t: 0.0, q: vec![0.0; n], qd: vec![0.0; n], qdd: vec![0.0; n], pivot: f64::INFINITY }
+    }
+
+    /// The whole motion reverses between samples i and i + 1: a lock if every rate
+    /// vanishes where qd turns against the first sample's.
+    fn lock(&mut self, model: &Model, i: usize, times: &[f64], events: &mut Vec<Event>) {
+        let (a, b) = (&self.samples[i], &self.samples[i + 1]);
+        let (speed_a, speed_b) = (dot(model, &a.qd, &a.qd).sqrt(), dot(model, &b.qd, &b.qd).sqrt());
+        if dot(model, &a.qd, &b.qd) >= 0.0 || speed_a == 0.0 {
+            return;
+        }
+        let (q, qd) = (&mut self.q, &mut self.qd);
+        let along = |t: f64, q: &mut [f64], qd: &mut [f64]| {
+            hermite(a, b, t, q, qd);
+            dot(model, qd, &a.qd)
+        };
+        let Some(t) = illinois(a.t, b.t, |t| Some(along(t, q, qd))) else { return };
+        along(t, q, qd);
+        let left = dot(model, qd, qd).sqrt();
+        if left > LOCK_SPEED * speed_a.max(speed_b) || t <= self.last_event {
+            return;
+        }
+        // the coordinate that reverses: the largest scaled acceleration there
+        let near = if t - a.t < b.t - t { a } else { b };
+        let mut dir: Vec<f64> = near.qdd.iter().zip(&model.col_scale).map(|(x, s)| x / s).collect();
+        let norm = dir.iter().map(|x| x * x).sum::<f64>().sqrt();
+        dir.iter_mut().for_each(|x| *x /= norm.max(f64::MIN_POSITIVE));
+        let coordinates = coordinate_shares(model, &dir, SHARE_FLOOR);
+        let output = coordinates.first().map(|(c, _)| c.clone());
+        let message = format!(
+            "the motion stops and reverses at t = {t:.12}{}: every rate is zero there (a swing's end, or a \
+             dead centre the mechanism does not pass)",
+            output.as_ref().map_or(String::new(), |c| format!(" ({c} turns back)"))
+        );
+        self.last_event = t;
+        events.push(Event {
+            kind: EventKind::Lock,
+            step: times.partition_point(|&x| x < t),
+            time: t,
+            q: q.clone(),
+            sigma_min: f64::NAN,
+            constraints: Vec::new(),
+            coordinates,
+            output,
+            drivers: drivers(model, t),
+            message,
+            pivot_ratio: a.pivot.min(b.pivot),
+        });
+    }
+
+    /// Looks for a singular configuration over [a.t, c.t] (samples 0..3): the smallest
+    /// singular value of Phi_q in the mass metric, sqrt of the smallest eigenvalue of
+    /// Phi_q M^-1 Phi_q^T (inverse iteration on the augmented matrix), falls like |t - t*|
+    /// into a crossing whatever the rank lost; golden-section search finds its minimum,
+    /// an event if the scaled Phi_q is singular there (below `SINGULAR_BELOW`).
+    fn singular(&mut self, model: &Model, sys: &mut System, times: &[f64], events: &mut Vec<Event>) {
+        let (n, m) = (model.n_coords, model.n_rows);
+        if m == 0 || m >= n {
+            return;
+        }
+        // a window that starts before the last minimum found was searched with it
+        if self.samples[0].t <= self.searched {
+            return;
+        }
+        let pivot = self.samples[1].pivot.min(self.samples[2].pivot);
+        let (q, qd, w) = (&mut self.q, &mut self.qd, &mut self.w);
+        let samples = &self.samples;
+        let mut sigma = |t: f64| -> f64 {
+            let (a, c) =
+                if t <= samples[1].t { (&samples[0], &samples[1]) } else { (&samples[1], &samples[2]) };
+            mass_sigma(model, sys, a, c, t, q, qd, w)
+        };
+        // golden section down to 1e-4 of the window, then the V through the bracket's
+        // ends: sigma = k |t - t*| on both sides gives t* = (f_lo hi + f_hi lo) / (f_lo + f_hi)
+        let (lo0, hi0) = (samples[0].t, samples[2].t);
+        let (mut lo, mut hi) = (lo0, hi0);
+        const G: f64 = 0.618_033_988_749_894_9;
+        let (mut x1, mut x2) = (hi - G * (hi - lo), lo + G * (hi - lo));
+        let (mut f1, mut f2) = (sigma(x1), sigma(x2));
+        let tol = 1e-4 * (hi - lo);
+        while hi - lo > tol {
+            if f1 <= f2 {
+                hi = x2;
+                (x2, f2) = (x1, f1);
+                x1 = hi - G * (hi - lo);
+                f1 = sigma(x1);
+            } else {
+                lo = x1;
+                (x1, f1) = (x2, f2);
+                x2 = lo + G * (hi - lo);
+                f2 = sigma(x2);
+            }
+        }
+        let (f_lo, f_hi) = (sigma(lo), sigma(hi));
+        let t = if f_lo + f_hi > 0.0 { (f_lo * hi + f_hi * lo) / (f_lo + f_hi) } else { 0.5 * (lo + hi) };
+        // a minimum on the window's edge lies beyond it: a later window holds it
+        if (t - lo0).min(hi0 - t) < 1e-3 * (hi0 - lo0) {
+            return;
+        }
+        self.searched = t;
+        // one crossing, found again from a neighbouring window (the stages' ratios are noisy)
+        if t - self.last_event <= samples[2].t - samples[0].t {
+            return;
+        }
+        let (a, c) = if t <= samples[1].t { (&samples[0], &samples[1]) } else { (&samples[1], &samples[2]) };
+        let Some(jt) = jacobian_at(model, sys, a, c, t, q, qd) else { return };
+        let Some(basis) = free_motions(model, sys, q, t) else { return };
+        let event = singular_event(model, &bordered(&jt, &basis), q, t, times, pivot);
+        if event.sigma_min < SINGULAR_BELOW {
+            self.last_event = t;
+            events.push(event);
+        }
+    }
+}
+
+/// sigma_min of Phi_q in the mass metric at t on the interpolant over [a, c] (q projected
+/// onto the constraints): three steps of inverse iteration on Phi_q M^-1 Phi_q^T by
+/// solves with the augmented matrix, from the last dependency `w`.
+#[allow(clippy::too_many_arguments)]
+fn mass_sigma(
+    model: &Model,
+    sys: &mut System,
+    a: &Sample,
+    c: &Sample,
+    t: f64,
+    q: &mut [f64],
+    qd: &mut [f64],
+    w: &mut [f64],
+) -> f64 {
+    let n = model.n_coords;
+    hermite(a, c, t, q, qd);
+    let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
+    if residual.is_nan() || residual > model.options.tol_residual {
+        return f64::INFINITY;
+    }
+    let mut phi = vec![0.0; model.n_rows];
+    sys.data.q.copy_from_slice(q);
+    crate::solve::assembly::update_frames(&mut sys.data);
+    sys.aug.fill(model, &sys.data.frames, q, t, 1.0, &mut phi);
+    sys.aug.factor(0.0);
+    let mut x = vec![0.0; n + model.n_rows];
+    let mut growth = 0.0;
+    for _ in 0..3 {
+        x[..n].fill(0.0);
+        x[n..].copy_from_slice(w);
+        sys.aug.solve(&mut x);
+        growth = x[n..].iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(growth > 0.0 && growth.is_finite()) {
+            return 0.0;
+        }
+        for (wi, xi) in w.iter_mut().zip(&x[n..]) {
+            *wi = xi / growth;
+        }
+    }
+    (1.0 / growth).sqrt()
+}
+
+/// The scaled Phi_q at t on the interpolant over [a, c], q projected onto the constraints
+/// (left in `q`). None if the projection fails.
+fn jacobian_at(
+    model: &Model,
+    sys: &mut System,
+    a: &Sample,
+    c: &Sample,
+    t: f64,
+    q: &mut [f64],
+    qd: &mut [f64],
+) -> Option<DMatrix<f64>> {
+    hermite(a, c, t, q, qd);
+    let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
+    if residual.is_nan() || residual > model.options.tol_residual {
+        return None;
+    }
+    Some(constraints_dense(model, sys.frames(), q, t).1)
+}
+
+/// D = [Phi_q; B] (n x n): the rows and a basis of the free motions.
+fn bordered(jac: &DMatrix<f64>, basis: &DMatrix<f64>) -> DMatrix<f64> {
+    let (m, n) = jac.shape();
+    let mut d = DMatrix::zeros(n, n);
+    d.view_mut((0, 0), (m, n)).copy_from(jac);
+    d.view_mut((m, 0), (n - m, n)).copy_from(basis);
+    d
+}
+
+/// Each driver's value at t.
+fn drivers(model: &Model, t: f64) -> Vec<(String, f64)> {
+    model
+        .constraints
+        .iter()
+        .filter(|c| c.role == "driver")
+        .filter_map(|c| c.kind.law().map(|l| (c.name.clone(), l.eval(t)[0])))
+        .collect()
+}
+
+/// A basis (rows, scaled coordinates) of the motions the constraints allow at q: the
+/// mass-metric projections onto Phi_q x = 0 of fixed vectors (n - m of them).
+fn free_motions(model: &Model, sys: &mut System, q: &[f64], t: f64) -> Option<DMatrix<f64>> {
+    let (n, m) = (model.n_coords, model.n_rows);
+    let d = n - m;
+    sys.set_state(q, &vec![0.0; n]);
+    let mut phi = vec![0.0; m];
+    sys.aug.fill(model, &sys.data.frames, q, t, 1.0, &mut phi);
+    let mut basis = DMatrix::zeros(d, n);
+    let mut r = vec![0.0; n];
+    let mut x = vec![0.0; n + m];
+    for k in 0..d {
+        for (i, v) in r.iter_mut().enumerate() {
+            *v = (1.0 + 0.37 * ((k + 1) * (i + 3)) as f64).sin() * model.col_scale[i];
+        }
+        mass_times(model, &sys.data.frames, &r, &mut x[..n]);
+        x[n..].fill(0.0);
+        sys.aug.factor_solve(&mut x);
+        for i in 0..n {
+            basis[(k, i)] = x[i] / model.col_scale[i];
+        }
+    }
+    basis.iter().all(|v| v.is_finite()).then_some(basis)
+}
+
+/// The event at a located crossing: the singular vectors of D = [Phi_q; B] by inverse
+/// iteration on its LU, the left one's rows on Phi_q naming the dependent joints.
+fn singular_event(model: &Model, d: &DMatrix<f64>, q: &[f64], t: f64, times: &[f64], pivot: f64) -> Event {
+    let (n, m) = (model.n_coords, model.n_rows);
+    let (lu, dt_lu) = (d.clone().lu(), d.transpose().lu());
+    let mut u = nalgebra::DVector::from_element(n, 1.0);
+    let mut v = nalgebra::DVector::from_element(n, 1.0);
+    for _ in 0..3 {
+        v = lu.solve(&u).unwrap_or_else(|| v.clone());
+        v /= v.norm().max(f64::MIN_POSITIVE);
+        u = dt_lu.solve(&v).unwrap_or_else(|| u.clone());
+        u /= u.norm().max(f64::MIN_POSITIVE);
+    }
+    // the rows of Phi_q in the dependency, and sigma_min of Phi_q along them
+    let mut w: Vec<f64> = u.as_slice()[..m].to_vec();
+    let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+    w.iter_mut().for_each(|x| *x /= norm);
+    let jt_w = d.view((0, 0), (m, n)).transpose() * nalgebra::DVector::from_column_slice(&w);
+    let triple = SingularTriple { sigma: jt_w.norm(), v: v.as_slice().to_vec(), w };
+    let kind = classify(model, &triple);
+    let message = match kind {
+        EventKind::Limit => format!(
+            "a driver reaches a limit of motion at t = {t:.12}: Phi_q is singular with a driver row in the \
+             dependency"
+        ),
+        _ => format!(
+            "the motion passes a singular configuration at t = {t:.12}: the joints' rows become dependent \
+             (assembly branches meet); the simulation goes on along the branch the motion follows"
+        ),
+    };
+    Event {
+        kind,
+        step: times.partition_point(|&x| x < t),
+        time: t,
+        q: q.to_vec(),
+        sigma_min: triple.sigma,
+        constraints: constraint_shares(model, &triple.w, SHARE_FLOOR),
+        coordinates: coordinate_shares(model, &triple.v, SHARE_FLOOR),
+        output: None,
+        drivers: drivers(model, t),
+        message,
+        pivot_ratio: pivot,
+    }
+}
