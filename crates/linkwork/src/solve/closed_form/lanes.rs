@@ -10,6 +10,7 @@
 //! The arithmetic runs under the best instruction set the machine has (`pulp`'s runtime
 //! dispatch: AVX2 on x86-64, the plain build elsewhere).
 
+use super::guard::{self, Travel};
 use super::NEAR_SINGULAR;
 use crate::constraints::Constraint;
 use crate::input::motion::MotionLaw;
@@ -114,6 +115,8 @@ pub struct Lanes<'m> {
     pub inv_scale: Vec<V>,
     /// per lane: the step's smallest closeness (the pivot ratio the scalar step reports)
     pub ratio: V,
+    /// per body, per lane: the guard's bounds on its motion over the step (`guard`)
+    travel: Vec<[Travel; LANES]>,
 }
 
 impl<'m> Lanes<'m> {
@@ -207,6 +210,7 @@ impl<'m> Lanes<'m> {
             inv_l: lane(&|j| 1.0 / models[j].length_scale),
             inv_scale: (0..models[0].n_coords).map(|i| lane(&|j| data[j].inv_col_scale[i])).collect(),
             ratio: [1.0; LANES],
+            travel: vec![[Travel::default(); LANES]; n_bodies],
         })
     }
 
@@ -239,6 +243,60 @@ impl<'m> Lanes<'m> {
                 let cl = closeness[j];
                 // as `closed_form::step`: near singular (NaN too), or a trend reaching zero
                 // within the step
+                ok[j] &= !(cl.is_nan()
+                    || cl < NEAR_SINGULAR
+                    || c1[j] + rate[j] * h < 0.25 * c1[j]
+                    || cl < 0.25 * c1[j]);
+                self.close[i][1][j] = (cl - c1[j]) / h;
+                self.close[i][0][j] = cl;
+                closeness_min[j] = closeness_min[j].min(cl);
+                residual[j] = residual[j].max(res[j] * self.inv_l[j]);
+            }
+        }
+        for j in 0..LANES {
+            ok[j] &= residual[j].is_finite();
+        }
+        self.ratio = closeness_min;
+        ok
+    }
+
+    /// Step t of positions only in every lane, as `closed_form::step_guarded`: each group's
+    /// closeness checks and its guard (`guard`) in place of rates and the two-way check.
+    /// Per lane, whether the step was taken (its figures then the scalar guarded step's,
+    /// bit for bit: the same operations).
+    #[inline(always)]
+    pub fn step_positions(&mut self, t: f64, h: f64) -> [bool; LANES] {
+        let mut ok = [true; LANES];
+        let mut closeness_min = [1.0f64; LANES];
+        let mut residual = [0.0f64; LANES];
+        let mut crank_index = 0;
+        for i in 0..self.blocks.len() {
+            let (closeness, res) = match &self.blocks[i] {
+                BlockLanes::Crank(c) => {
+                    let laws = self.laws[crank_index];
+                    crank_index += 1;
+                    let (f, turn): ([f64; LANES], [Option<f64>; LANES]) = if self.same_laws {
+                        ([laws[0].eval(t)[0]; LANES], [guard::law_travel(laws[0], h); LANES])
+                    } else {
+                        (
+                            std::array::from_fn(|j| laws[j].eval(t)[0]),
+                            std::array::from_fn(|j| guard::law_travel(laws[j], h)),
+                        )
+                    };
+                    for j in 0..LANES {
+                        ok[j] &= turn[j].is_some();
+                        let r = [c.fixed[0][j], c.fixed[1][j]];
+                        self.travel[c.body][j] = Travel { r, len: 0.0, turn: turn[j].unwrap_or(0.0) };
+                    }
+                    crank_positions(c, &mut self.bodies, &f, &mut ok)
+                }
+                BlockLanes::Rrr(l1, l2) => {
+                    rrr_positions(l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], &mut ok)
+                }
+            };
+            let [c1, rate] = self.close[i];
+            for j in 0..LANES {
+                let cl = closeness[j];
                 ok[j] &= !(cl.is_nan()
                     || cl < NEAR_SINGULAR
                     || c1[j] + rate[j] * h < 0.25 * c1[j]
@@ -336,6 +394,114 @@ fn crank(c: &CrankLanes, bodies: &mut [BodyLanes], f: &[[f64; 3]; LANES], ok: &m
         body.thdd[j] = thetadd;
     }
     ([1.0; LANES], res)
+}
+
+/// `crank` of positions only (`Crank::solve_on::<false, false>` without rates), `f`
+/// each lane's law's value at t: (closeness 1, pin residual).
+#[inline(always)]
+fn crank_positions(
+    c: &CrankLanes,
+    bodies: &mut [BodyLanes],
+    f: &[f64; LANES],
+    ok: &mut [bool; LANES],
+) -> (V, V) {
+    let body = &mut bodies[c.body];
+    let mut theta = [0.0; LANES];
+    for j in 0..LANES {
+        ok[j] &= f[j].is_finite();
+        theta[j] = 0.0 + c.sign[j] * f[j];
+    }
+    let (mut cs, mut sn) = ([0.0; LANES], [0.0; LANES]);
+    let base0 = body.base[0];
+    for j in 0..LANES {
+        if j > 0 && theta[j].to_bits() == theta[0].to_bits() && same_bits(&body.base[j], &base0) {
+            (cs[j], sn[j]) = (cs[0], sn[0]);
+            body.base[j] = body.base[0];
+        } else {
+            (cs[j], sn[j]) = turned(theta[j], &mut body.base[j]);
+        }
+    }
+    let mut res = [0.0; LANES];
+    for j in 0..LANES {
+        let (cj, sj, u) = (cs[j], sn[j], [c.u_body[0][j], c.u_body[1][j]]);
+        let p = [c.fixed[0][j], c.fixed[1][j]];
+        let arm = [cj * u[0] - sj * u[1], sj * u[0] + cj * u[1]];
+        let r = [p[0] - arm[0], p[1] - arm[1]];
+        body.x[j] = r[0];
+        body.y[j] = r[1];
+        body.th[j] = theta[j];
+        body.c[j] = cj;
+        body.s[j] = sj;
+        let back = [r[0] + arm[0], r[1] + arm[1]];
+        res[j] = (back[0] - p[0]).abs().max((back[1] - p[1]).abs());
+    }
+    ([1.0; LANES], res)
+}
+
+/// The known side's pin of a link in every lane (`outer`'s position only).
+#[inline(always)]
+fn outer_p(l: &LinkLanes, bodies: &[BodyLanes]) -> [V; 2] {
+    let Some(kb) = l.known else { return l.fixed };
+    let k = &bodies[kb];
+    let mut p = [[0.0; LANES]; 2];
+    for j in 0..LANES {
+        let (c, s, u) = (k.c[j], k.s[j], [l.u_known[0][j], l.u_known[1][j]]);
+        p[0][j] = k.x[j] + (c * u[0] - s * u[1]);
+        p[1][j] = k.y[j] + (s * u[0] + c * u[1]);
+    }
+    p
+}
+
+/// An RRR dyad's positions in every lane (`Rrr::solve_on` without rates) and its guard
+/// (`closed_form::guard_block`), each lane's failing guard a miss: (closeness, residual).
+#[inline(always)]
+fn rrr_positions(
+    l1: &LinkLanes,
+    l2: &LinkLanes,
+    bodies: &mut [BodyLanes],
+    travel: &mut [[Travel; LANES]],
+    sign: &V,
+    ok: &mut [bool; LANES],
+) -> (V, V) {
+    let (pa, pc) = (outer_p(l1, bodies), outer_p(l2, bodies));
+    let mut b = [[0.0; LANES]; 2];
+    let (mut closeness, mut dds) = ([0.0; LANES], [0.0; LANES]);
+    for j in 0..LANES {
+        let (a, c) = ([pa[0][j], pa[1][j]], [pc[0][j], pc[1][j]]);
+        let (r1, r2) = (l1.length[j], l2.length[j]);
+        let d = [c[0] - a[0], c[1] - a[1]];
+        let dd = d[0] * d[0] + d[1] * d[1];
+        ok[j] &= !(dd.is_nan() || dd <= 0.0);
+        let inv_dd = 1.0 / dd;
+        let along = 0.5 * (dd + r1 * r1 - r2 * r2) * inv_dd;
+        let h2 = r1 * r1 * inv_dd - along * along;
+        ok[j] &= !(h2.is_nan() || h2 < 0.0);
+        let height = sign[j] * h2.sqrt();
+        b[0][j] = a[0] + along * d[0] - height * d[1];
+        b[1][j] = a[1] + along * d[1] + height * d[0];
+        closeness[j] = height.abs() * dd * l1.inv_length[j] * l2.inv_length[j];
+        dds[j] = dd;
+    }
+    // the guard, from the known sides' bounds (read before this dyad's bodies are written)
+    for j in 0..LANES {
+        let (a, c) = ([pa[0][j], pa[1][j]], [pc[0][j], pc[1][j]]);
+        let la = l1.known.map_or(0.0, |k| travel[k][j].pin(a));
+        let lc = l2.known.map_or(0.0, |k| travel[k][j].pin(c));
+        match guard::rrr(l1.length[j], l2.length[j], dds[j], la + lc) {
+            Some((t1, t2)) => {
+                travel[l1.body][j] = Travel { r: a, len: la, turn: t1 };
+                travel[l2.body][j] = Travel { r: c, len: lc, turn: t2 };
+            }
+            None => ok[j] = false,
+        }
+    }
+    let res1 = place(l1, &mut bodies[l1.body], &pa, &b);
+    let res2 = place(l2, &mut bodies[l2.body], &pc, &b);
+    let mut res = [0.0; LANES];
+    for j in 0..LANES {
+        res[j] = res1[j].max(res2[j]);
+    }
+    (closeness, res)
 }
 
 /// Whether two turning bases are the same bits (then the same angle turns the same).
