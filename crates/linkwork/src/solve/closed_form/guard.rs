@@ -68,19 +68,25 @@ pub fn law_travel(law: &MotionLaw, h: f64) -> Option<f64> {
 /// finite).
 #[inline(always)]
 pub fn rrr(r1: f64, r2: f64, dd: f64, l: f64) -> Option<(f64, f64)> {
+    let (ok, t1, t2) = rrr_turns(r1, r2, dd, l);
+    ok.then_some((t1, t2))
+}
+
+/// `rrr` without a branch (the lanes take it lane by lane): whether the step is shown,
+/// and the turns (meaningless where it is not).
+#[inline(always)]
+pub fn rrr_turns(r1: f64, r2: f64, dd: f64, l: f64) -> (bool, f64, f64) {
     let d = dd.sqrt();
     let (lo, hi) = (r1.min(r2), r1.max(r2));
     let margin = (r1 + r2 - d).min(d - (hi - lo));
     // NaN fails the comparison
-    if !(l <= GUARD * margin) {
-        return None;
-    }
+    let ok = l <= GUARD * margin;
     // over the step the margin stays >= m: (r1 + r2 - D)(D - |r1 - r2|) >= m (2 lo - m)
     // (concave in D, least at the ends), r1 + r2 + D >= 2 hi, D + |r1 - r2| >= 2 (hi - lo) + m;
     // 16 area^2 is their product and sin = 2 area / (r1 r2)
     let m = margin - l;
     let sin = (m * (2.0 * lo - m) * (2.0 * hi) * (2.0 * (hi - lo) + m)).sqrt() / (2.0 * r1 * r2);
-    Some((l / (r1 * sin), l / (r2 * sin)))
+    (ok, l / (r1 * sin), l / (r2 * sin))
 }
 
 /// An RRP dyad on a line fixed in the ground, link r1, its known pin `offset` from the line

@@ -487,13 +487,10 @@ fn rrr_positions(
         let (a, c) = ([pa[0][j], pa[1][j]], [pc[0][j], pc[1][j]]);
         let la = l1.known.map_or(0.0, |k| travel[k][j].pin(a));
         let lc = l2.known.map_or(0.0, |k| travel[k][j].pin(c));
-        match guard::rrr(l1.length[j], l2.length[j], dds[j], la + lc) {
-            Some((t1, t2)) => {
-                travel[l1.body][j] = Travel { r: a, len: la, turn: t1 };
-                travel[l2.body][j] = Travel { r: c, len: lc, turn: t2 };
-            }
-            None => ok[j] = false,
-        }
+        let (shown, t1, t2) = guard::rrr_turns(l1.length[j], l2.length[j], dds[j], la + lc);
+        ok[j] &= shown;
+        travel[l1.body][j] = Travel { r: a, len: la, turn: t1 };
+        travel[l2.body][j] = Travel { r: c, len: lc, turn: t2 };
     }
     let res1 = place(l1, &mut bodies[l1.body], &pa, &b);
     let res2 = place(l2, &mut bodies[l2.body], &pc, &b);
