@@ -84,6 +84,8 @@ fn steps(
 ) -> [Option<usize>; LANES] {
     let n = lanes.inv_scale.len();
     let kept: Vec<usize> = outputs.coords.clone().unwrap_or_else(|| (0..n).collect());
+    // angles only where a kept coordinate is one (points are formed from cos and sin)
+    lanes.keep_angles(&kept);
     let (nk, np) = (kept.len(), points.len());
     let mut missed = [None; LANES];
     let mut q = vec![[0.0; LANES]; n];

@@ -117,6 +117,8 @@ pub struct Lanes<'m> {
     pub ratio: V,
     /// per body, per lane: the guard's bounds on its motion over the step (`guard`)
     travel: Vec<[Travel; LANES]>,
+    /// per body: whether `step_positions` forms its angle (`keep_angles`; all at first)
+    angles: Vec<bool>,
 }
 
 impl<'m> Lanes<'m> {
@@ -211,6 +213,7 @@ impl<'m> Lanes<'m> {
             inv_scale: (0..models[0].n_coords).map(|i| lane(&|j| data[j].inv_col_scale[i])).collect(),
             ratio: [1.0; LANES],
             travel: vec![[Travel::default(); LANES]; n_bodies],
+            angles: vec![true; n_bodies],
         })
     }
 
@@ -260,6 +263,15 @@ impl<'m> Lanes<'m> {
         ok
     }
 
+    /// Only the angles of the bodies whose theta is among `kept` (coordinates, body-major)
+    /// formed by `step_positions` from now on: the others' theta is then stale, their cos
+    /// and sin (and so their points) still set.
+    pub fn keep_angles(&mut self, kept: &[usize]) {
+        for (b, angle) in self.angles.iter_mut().enumerate() {
+            *angle = kept.contains(&(3 * b + 2));
+        }
+    }
+
     /// Step t of positions only in every lane, as `closed_form::step_guarded`: each group's
     /// closeness checks and its guard (`guard`) in place of rates and the two-way check.
     /// Per lane, whether the step was taken (its figures then the scalar guarded step's,
@@ -291,7 +303,8 @@ impl<'m> Lanes<'m> {
                     crank_positions(c, &mut self.bodies, &f, &mut ok)
                 }
                 BlockLanes::Rrr(l1, l2) => {
-                    rrr_positions(l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], &mut ok)
+                    let angles = &self.angles;
+                    rrr_positions(l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], angles, &mut ok)
                 }
             };
             let [c1, rate] = self.close[i];
@@ -461,6 +474,7 @@ fn rrr_positions(
     bodies: &mut [BodyLanes],
     travel: &mut [[Travel; LANES]],
     sign: &V,
+    angles: &[bool],
     ok: &mut [bool; LANES],
 ) -> (V, V) {
     let (pa, pc) = (outer_p(l1, bodies), outer_p(l2, bodies));
@@ -492,8 +506,8 @@ fn rrr_positions(
         travel[l1.body][j] = Travel { r: a, len: la, turn: t1 };
         travel[l2.body][j] = Travel { r: c, len: lc, turn: t2 };
     }
-    let res1 = place(l1, &mut bodies[l1.body], &pa, &b);
-    let res2 = place(l2, &mut bodies[l2.body], &pc, &b);
+    let res1 = place_with(l1, &mut bodies[l1.body], &pa, &b, angles[l1.body]);
+    let res2 = place_with(l2, &mut bodies[l2.body], &pc, &b, angles[l2.body]);
     let mut res = [0.0; LANES];
     for j in 0..LANES {
         res[j] = res1[j].max(res2[j]);
@@ -601,12 +615,42 @@ fn rrr(l1: &LinkLanes, l2: &LinkLanes, bodies: &mut [BodyLanes], sign: &V, ok: &
 /// (`Link::place`): its pose (rates zero until `pinned_rates`); the pin residual.
 #[inline(always)]
 fn place(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2]) -> V {
+    place_with(l, body, a, b, true)
+}
+
+/// `place`, the body's angle formed only with `angle` (else theta is left as it was: a
+/// positions-only sweep that keeps no angle of the body needs only its cos and sin).
+#[inline(always)]
+fn place_with(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2], angle: bool) -> V {
     let (mut cs, mut sn) = ([0.0; LANES], [0.0; LANES]);
     for j in 0..LANES {
         let w = [(b[0][j] - a[0][j]) * l.inv_length[j], (b[1][j] - a[1][j]) * l.inv_length[j]];
         cs[j] = l.dir[0][j] * w[0] + l.dir[1][j] * w[1];
         sn[j] = l.dir[0][j] * w[1] - l.dir[1][j] * w[0];
     }
+    if angle {
+        body_angle(body, &cs, &sn);
+    }
+    let mut res = [0.0; LANES];
+    for j in 0..LANES {
+        let (c, s) = (cs[j], sn[j]);
+        let (uo, um) = ([l.u_outer[0][j], l.u_outer[1][j]], [l.u_middle[0][j], l.u_middle[1][j]]);
+        let arm = [c * uo[0] - s * uo[1], s * uo[0] + c * uo[1]];
+        let r = [a[0][j] - arm[0], a[1][j] - arm[1]];
+        body.x[j] = r[0];
+        body.y[j] = r[1];
+        body.c[j] = c;
+        body.s[j] = s;
+        let rot = [c * um[0] - s * um[1], s * um[0] + c * um[1]];
+        let m = [r[0] + rot[0], r[1] + rot[1]];
+        res[j] = (m[0] - b[0][j]).abs().max((m[1] - b[1][j]).abs());
+    }
+    res
+}
+
+/// A body's angle in every lane from its cos and sin, continued from its last (`angle_of`).
+#[inline(always)]
+fn body_angle(body: &mut BodyLanes, cs: &V, sn: &V) {
     // the angle per lane: `angle_of`'s series from the base in every lane at once (the same
     // operations), and `angle_of` itself (atan2) in a lane the series does not serve
     let mut series = [0.0; LANES];
@@ -626,21 +670,6 @@ fn place(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2]) -> V {
         body.th[j] =
             if served[j] { series[j] } else { angle_of(cs[j], sn[j], body.th[j], &mut body.base[j]) };
     }
-    let mut res = [0.0; LANES];
-    for j in 0..LANES {
-        let (c, s) = (cs[j], sn[j]);
-        let (uo, um) = ([l.u_outer[0][j], l.u_outer[1][j]], [l.u_middle[0][j], l.u_middle[1][j]]);
-        let arm = [c * uo[0] - s * uo[1], s * uo[0] + c * uo[1]];
-        let r = [a[0][j] - arm[0], a[1][j] - arm[1]];
-        body.x[j] = r[0];
-        body.y[j] = r[1];
-        body.c[j] = c;
-        body.s[j] = s;
-        let rot = [c * um[0] - s * um[1], s * um[0] + c * um[1]];
-        let m = [r[0] + rot[0], r[1] + rot[1]];
-        res[j] = (m[0] - b[0][j]).abs().max((m[1] - b[1][j]).abs());
-    }
-    res
 }
 
 /// `closed_form::pinned_rates` in every lane.
