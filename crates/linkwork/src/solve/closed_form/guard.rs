@@ -95,7 +95,9 @@ pub fn rrr_turns(r1: f64, r2: f64, dd: f64, l: f64) -> (bool, f64, f64) {
 #[inline(always)]
 pub fn rrp(r1: f64, offset: f64, l: f64) -> Option<f64> {
     let margin = r1 - offset.abs();
-    if !(l <= GUARD * margin) {
+    // NaN fails the comparison
+    let shown = l <= GUARD * margin;
+    if !shown {
         return None;
     }
     // h^2 = r1^2 - offset^2 = x (2 r1 - x) with x = r1 - |offset| >= m, x <= r1

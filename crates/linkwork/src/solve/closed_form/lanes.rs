@@ -1,9 +1,10 @@
 //! The closed-form groups of many designs at once, in lanes: a plan of driven cranks on the
 //! ground and RRR dyads (a four-bar, a chain of dyads on it) stepped for `LANES` designs of
 //! one structure side by side, every body's numbers a lane array. Each lane is its design's
-//! step as `closed_form::step` takes it (positions, rates and accelerations, the closeness
-//! checks and trends), operation for operation, so its figures are the scalar engine's bit
-//! for bit: the lane arithmetic is the same IEEE additions, products, quotients and square
+//! step as the scalar engine takes it, operation for operation: `step_positions` as
+//! `closed_form::step_guarded` (positions, the closeness checks and trends, the guard from
+//! positions; what the sweeps of positions use), `step` as `closed_form::step` with rates
+//! and accelerations. So its figures are the scalar engine's bit for bit: the lane arithmetic is the same IEEE additions, products, quotients and square
 //! roots, and what branches per design (cos and sin turned or in full, an angle by its
 //! series or atan2, a missed step) is done per lane by the scalar helpers. Each lane keeps
 //! its own branch sign, its own trends and its own first failing step (`sweep::lanes`).
@@ -459,8 +460,8 @@ fn outer_p(l: &LinkLanes, bodies: &[BodyLanes]) -> [V; 2] {
     let mut p = [[0.0; LANES]; 2];
     for j in 0..LANES {
         let (c, s, u) = (k.c[j], k.s[j], [l.u_known[0][j], l.u_known[1][j]]);
-        p[0][j] = k.x[j] + (c * u[0] - s * u[1]);
-        p[1][j] = k.y[j] + (s * u[0] + c * u[1]);
+        let pj = [k.x[j] + (c * u[0] - s * u[1]), k.y[j] + (s * u[0] + c * u[1])];
+        (p[0][j], p[1][j]) = (pj[0], pj[1]);
     }
     p
 }
