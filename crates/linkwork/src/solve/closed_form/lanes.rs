@@ -457,13 +457,10 @@ fn crank_positions(
 fn outer_p(l: &LinkLanes, bodies: &[BodyLanes]) -> [V; 2] {
     let Some(kb) = l.known else { return l.fixed };
     let k = &bodies[kb];
-    let mut p = [[0.0; LANES]; 2];
-    for j in 0..LANES {
-        let (c, s, u) = (k.c[j], k.s[j], [l.u_known[0][j], l.u_known[1][j]]);
-        let pj = [k.x[j] + (c * u[0] - s * u[1]), k.y[j] + (s * u[0] + c * u[1])];
-        (p[0][j], p[1][j]) = (pj[0], pj[1]);
-    }
-    p
+    let u = &l.u_known;
+    let px: V = std::array::from_fn(|j| k.x[j] + (k.c[j] * u[0][j] - k.s[j] * u[1][j]));
+    let py: V = std::array::from_fn(|j| k.y[j] + (k.s[j] * u[0][j] + k.c[j] * u[1][j]));
+    [px, py]
 }
 
 /// An RRR dyad's positions in every lane (`Rrr::solve_on` without rates) and its guard
