@@ -2,17 +2,18 @@
 //! the designs of a study whose plan is cranks and RRR dyads, with only positions (and
 //! points) asked, taken `LANES` at a time. Each design's start (step 0) is its own sweep's,
 //! on its asked branches (`branches::sweep_on`); then the lanes take the steps a run of
-//! closed-form steps takes (`time_loop`), the two-way check of each lane as
-//! `stepping::branch::continues` makes it. A lane that misses a step (a group near its
-//! singular configuration, no assembly, a check that fails), or whose start had an event,
+//! guarded closed-form steps takes (`time_loop`, positions only), each lane's branch kept
+//! by the guard from positions (`closed_form::guard`) as the scalar step keeps it. A lane
+//! that misses a step (a group near its singular configuration, no assembly, a guard that
+//! cannot show the step), or whose start had an event,
 //! is its design swept again alone by the general per-design path, which then goes to the
 //! careful path where it must: every design's figures are the scalar engine's, bit for bit.
 
 use crate::model::data::Data;
 use crate::model::Model;
+use crate::solve::closed_form;
 use crate::solve::closed_form::lanes::{self, Lanes, LANES};
 use crate::sweep::outputs::{Outputs, Request};
-use crate::sweep::stepping::branch::{CONSISTENCY, CONSISTENCY_FLOOR};
 
 /// Whether the lanes take this model's designs for this request: a plan the lanes step,
 /// positions only (points formed from them), every step kept, nothing else asked.
@@ -21,7 +22,7 @@ pub fn fit(model: &Model, request: &Request) -> bool {
         && request.every == 1
         && !request.forces
         && !request.locks
-        && model.plan.as_ref().is_ok_and(|p| lanes::fits(model, p))
+        && model.plan.as_ref().is_ok_and(|p| lanes::fits(model, p) && closed_form::guarded(p))
 }
 
 /// Where a lane's design's figures go: its kept coordinates' and points' rows
@@ -83,11 +84,11 @@ fn steps(
 ) -> [Option<usize>; LANES] {
     let n = lanes.inv_scale.len();
     let kept: Vec<usize> = outputs.coords.clone().unwrap_or_else(|| (0..n).collect());
+    // angles only where a kept coordinate is one (points are formed from cos and sin)
+    lanes.keep_angles(&kept);
     let (nk, np) = (kept.len(), points.len());
     let mut missed = [None; LANES];
-    let mut q_prev = vec![[0.0; LANES]; n];
     let mut q = vec![[0.0; LANES]; n];
-    let (mut qd, mut qdd) = (vec![[0.0; LANES]; n], vec![[0.0; LANES]; n]);
     for k in 1..times.len() {
         if k % 4096 == 0 && cancelled() {
             for m in missed.iter_mut().filter(|m| m.is_none()) {
@@ -96,31 +97,13 @@ fn steps(
             break;
         }
         let (t, h) = (times[k], times[k] - times[k - 1]);
-        lanes.coords(&mut q_prev);
-        let ok = lanes.step(t, h);
+        let ok = lanes.step_positions(t, h);
         lanes.coords(&mut q);
-        lanes.rates(&mut qd, &mut qdd);
-        // the two-way check, per lane (`continues` with accelerations)
-        let (mut motion, mut misfit) = ([0.0f64; LANES], [0.0f64; LANES]);
-        for i in 0..n {
-            let (s, p, v, a, qi) = (&lanes.inv_scale[i], &q_prev[i], &qd[i], &qdd[i], &q[i]);
-            for j in 0..LANES {
-                let backward = qi[j] - h * (v[j] - 0.5 * h * a[j]);
-                let (m, f) = ((qi[j] - p[j]).abs() * s[j], (p[j] - backward).abs() * s[j]);
-                if m > motion[j] {
-                    motion[j] = m;
-                }
-                if f > misfit[j] {
-                    misfit[j] = f;
-                }
-            }
-        }
         for j in 0..LANES {
             if missed[j].is_some() {
                 continue;
             }
-            // (misfit and motion are never NaN: the maxima pass NaN terms over)
-            if !ok[j] || misfit[j] > CONSISTENCY * motion[j] + CONSISTENCY_FLOOR {
+            if !ok[j] {
                 missed[j] = Some(k);
                 continue;
             }

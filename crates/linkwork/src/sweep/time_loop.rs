@@ -8,6 +8,7 @@ use crate::math::pivots::NEAR_SINGULAR;
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::solve::acceleration::solve_acceleration;
+use crate::solve::closed_form::guard::Travel;
 use crate::solve::closed_form::{self, Block};
 use crate::solve::forces::solve_forces;
 use crate::solve::position::solve_position;
@@ -120,6 +121,15 @@ fn sweep_steps(
     // branch): tried before any prediction, which only a miss needs. Positions only, the
     // prediction is the guard, as on the general path.
     let fast_closed = plan.is_some() && !has_newton && solved >= 1;
+    // positions only, a plan whose steps the guard can show on their branches: each
+    // closed-form step is accepted by the guard from positions (`closed_form::guard`),
+    // the careful path's rates and two-way check only where it cannot
+    let guarded = fast_closed
+        && req.derivatives == 0
+        && !req.forces
+        && !req.locks
+        && plan.is_some_and(closed_form::guarded);
+    let mut guard = Guard { on: guarded, travel: vec![Travel::default(); model.n_bodies], stale: false };
     // the largest scaled difference between the structured solution and the prediction
     let deviation = |data: &Data| {
         data.q
@@ -140,7 +150,8 @@ fn sweep_steps(
     let mut k = 0;
     while k < times.len() {
         if let Some(plan) = run.filter(|_| k > 0 && !tracker.spanning()) {
-            let mut ctx = Run { model, plan, times, out, progress_every, solved, worst: &mut worst };
+            let mut ctx =
+                Run { model, plan, times, out, progress_every, solved, worst: &mut worst, guard: &mut guard };
             match ctx.steps(data, tracker, k, &mut ratio_prev, progress, after)? {
                 None => break,
                 Some(h) => {
@@ -160,6 +171,8 @@ fn sweep_steps(
         let mut rates_set = false;
         // whether the plan's groups solved this step (positions and the rates asked for)
         let mut by_blocks = false;
+        // whether the guard took this step (no rates solved, no two-way check)
+        let mut by_guard = false;
         let info = if k == 0 {
             solve_position(model, data, t, k, true)?
         } else {
@@ -171,7 +184,14 @@ fn sweep_steps(
                     tracker.q_prev.copy_from_slice(&data.q);
                     match plan {
                         Some(plan) if fast_closed && !tracker.spanning() => {
-                            let info = closed_step(model, plan, data, times, k, solved, &tracker.q_prev);
+                            let mut info = None;
+                            if guard.on {
+                                info = guard.step(model, plan, data, times, k, &tracker.q_prev);
+                                by_guard = info.is_some();
+                            }
+                            if info.is_none() {
+                                info = closed_step(model, plan, data, times, k, solved, &tracker.q_prev);
+                            }
                             if info.is_some() {
                                 data.hist_q[0].copy_from_slice(&tracker.q_prev);
                             }
@@ -260,7 +280,7 @@ fn sweep_steps(
         // passes close there with other rates
         // (the structured path's too: on a coarse grid a dyad's closeness can pass through
         // zero between two steps without its trend showing it)
-        let info = if k > 0 && !rates_set && solved >= 1 {
+        let info = if k > 0 && !rates_set && !by_guard && solved >= 1 {
             let qdd = (solved >= 2).then_some(&data.qdd[..]);
             let h = t - times[k - 1];
             if continues(&data.inv_col_scale, h, &tracker.q_prev, &data.hist_qd, &data.q, &data.qd, qdd) {
@@ -286,6 +306,7 @@ fn sweep_steps(
             }
         }
         ratio_prev = info.pivot_ratio;
+        guard.stale = by_guard;
         if k == 0 {
             tracker.start(&info, data);
         } else if req.locks {
@@ -331,6 +352,59 @@ struct Run<'a, 'w> {
     /// the derivatives each step solves (`solved_derivatives`)
     solved: u8,
     worst: &'w mut Worst,
+    guard: &'w mut Guard,
+}
+
+/// The guarded steps of a positions-only sweep (`closed_form::step_guarded`): whether they
+/// are taken, the bodies' bounds, and whether data's rates are stale (the last step was
+/// the guard's, which solves none).
+struct Guard {
+    on: bool,
+    travel: Vec<Travel>,
+    stale: bool,
+}
+
+impl Guard {
+    /// Step k by the guard (`closed_step` of positions only, the guard for its check). On
+    /// a miss, data is back at step k-1 with its rates and accelerations (solved again if
+    /// the guard took that step), and the history's rates theirs, for the careful path.
+    #[inline(always)]
+    fn step(
+        &mut self,
+        model: &Model,
+        plan: &closed_form::Plan,
+        data: &mut Data,
+        times: &[f64],
+        k: usize,
+        q_prev: &[f64],
+    ) -> Option<PositionInfo> {
+        let (t, h) = (times[k], times[k] - times[k - 1]);
+        match closed_form::step_guarded(model, plan, data, t, h, &mut self.travel) {
+            Ok(s) => {
+                // the caller puts q_prev in hist_q[0]; the rates' history means nothing
+                // until a miss sets it
+                data.hist_q.rotate_right(1);
+                Some(PositionInfo {
+                    iterations: s.iterations,
+                    residual: s.residual,
+                    pivot_ratio: s.closeness,
+                    det_sign: s.det_sign,
+                    correction: s.correction,
+                })
+            }
+            Err(_) => {
+                if self.stale {
+                    // (a law that cannot be evaluated leaves them; the careful path names it)
+                    let _ = closed_form::rates(model, plan, data, times[k - 1]);
+                    data.hist_qd.copy_from_slice(&data.qd);
+                    data.hist_qdd.copy_from_slice(&data.qdd);
+                    self.stale = false;
+                }
+                data.q.copy_from_slice(q_prev);
+                None
+            }
+        }
+    }
 }
 
 impl Run<'_, '_> {
@@ -363,6 +437,23 @@ impl Run<'_, '_> {
             }
             let (t, h) = (times[k], times[k] - times[k - 1]);
             tracker.q_prev.copy_from_slice(&data.q);
+            if self.guard.on {
+                if let Some(info) = self.guard.step(model, self.plan, data, times, k, &tracker.q_prev) {
+                    std::mem::swap(&mut data.hist_q[0], &mut tracker.q_prev);
+                    self.guard.stale = true;
+                    tracker.det_prev = info.det_sign;
+                    *ratio_prev = info.pivot_ratio;
+                    self.worst.add(&info);
+                    if k == kept_at {
+                        let row = row_next;
+                        (row_next, kept_at) = (row + 1, kept_at + every);
+                        self.out.store_coords(data, row);
+                        self.out.keep(model, data, t, row, true, self.worst, info.det_sign);
+                        after(data, t, row)?;
+                    }
+                    continue;
+                }
+            }
             let solved = self.solved;
             let Some(info) = closed_step(model, self.plan, data, times, k, solved, &tracker.q_prev) else {
                 return Ok(Some(Handoff { k, solved: None }));
@@ -389,6 +480,7 @@ impl Run<'_, '_> {
             }
             tracker.det_prev = info.det_sign;
             *ratio_prev = info.pivot_ratio;
+            self.guard.stale = false;
             self.worst.add(&info);
             if let Some(row) = row {
                 (row_next, kept_at) = (row + 1, kept_at + every);

@@ -1,15 +1,17 @@
 //! The closed-form groups of many designs at once, in lanes: a plan of driven cranks on the
 //! ground and RRR dyads (a four-bar, a chain of dyads on it) stepped for `LANES` designs of
 //! one structure side by side, every body's numbers a lane array. Each lane is its design's
-//! step as `closed_form::step` takes it (positions, rates and accelerations, the closeness
-//! checks and trends), operation for operation, so its figures are the scalar engine's bit
-//! for bit: the lane arithmetic is the same IEEE additions, products, quotients and square
+//! step as the scalar engine takes it, operation for operation: `step_positions` as
+//! `closed_form::step_guarded` (positions, the closeness checks and trends, the guard from
+//! positions; what the sweeps of positions use), `step` as `closed_form::step` with rates
+//! and accelerations. So its figures are the scalar engine's bit for bit: the lane arithmetic is the same IEEE additions, products, quotients and square
 //! roots, and what branches per design (cos and sin turned or in full, an angle by its
 //! series or atan2, a missed step) is done per lane by the scalar helpers. Each lane keeps
 //! its own branch sign, its own trends and its own first failing step (`sweep::lanes`).
 //! The arithmetic runs under the best instruction set the machine has (`pulp`'s runtime
 //! dispatch: AVX2 on x86-64, the plain build elsewhere).
 
+use super::guard::{self, Travel};
 use super::NEAR_SINGULAR;
 use crate::constraints::Constraint;
 use crate::input::motion::MotionLaw;
@@ -114,6 +116,10 @@ pub struct Lanes<'m> {
     pub inv_scale: Vec<V>,
     /// per lane: the step's smallest closeness (the pivot ratio the scalar step reports)
     pub ratio: V,
+    /// per body, per lane: the guard's bounds on its motion over the step (`guard`)
+    travel: Vec<[Travel; LANES]>,
+    /// per body: whether `step_positions` forms its angle (`keep_angles`; all at first)
+    angles: Vec<bool>,
 }
 
 impl<'m> Lanes<'m> {
@@ -207,6 +213,8 @@ impl<'m> Lanes<'m> {
             inv_l: lane(&|j| 1.0 / models[j].length_scale),
             inv_scale: (0..models[0].n_coords).map(|i| lane(&|j| data[j].inv_col_scale[i])).collect(),
             ratio: [1.0; LANES],
+            travel: vec![[Travel::default(); LANES]; n_bodies],
+            angles: vec![true; n_bodies],
         })
     }
 
@@ -239,6 +247,70 @@ impl<'m> Lanes<'m> {
                 let cl = closeness[j];
                 // as `closed_form::step`: near singular (NaN too), or a trend reaching zero
                 // within the step
+                ok[j] &= !(cl.is_nan()
+                    || cl < NEAR_SINGULAR
+                    || c1[j] + rate[j] * h < 0.25 * c1[j]
+                    || cl < 0.25 * c1[j]);
+                self.close[i][1][j] = (cl - c1[j]) / h;
+                self.close[i][0][j] = cl;
+                closeness_min[j] = closeness_min[j].min(cl);
+                residual[j] = residual[j].max(res[j] * self.inv_l[j]);
+            }
+        }
+        for j in 0..LANES {
+            ok[j] &= residual[j].is_finite();
+        }
+        self.ratio = closeness_min;
+        ok
+    }
+
+    /// Only the angles of the bodies whose theta is among `kept` (coordinates, body-major)
+    /// formed by `step_positions` from now on: the others' theta is then stale, their cos
+    /// and sin (and so their points) still set.
+    pub fn keep_angles(&mut self, kept: &[usize]) {
+        for (b, angle) in self.angles.iter_mut().enumerate() {
+            *angle = kept.contains(&(3 * b + 2));
+        }
+    }
+
+    /// Step t of positions only in every lane, as `closed_form::step_guarded`: each group's
+    /// closeness checks and its guard (`guard`) in place of rates and the two-way check.
+    /// Per lane, whether the step was taken (its figures then the scalar guarded step's,
+    /// bit for bit: the same operations).
+    #[inline(always)]
+    pub fn step_positions(&mut self, t: f64, h: f64) -> [bool; LANES] {
+        let mut ok = [true; LANES];
+        let mut closeness_min = [1.0f64; LANES];
+        let mut residual = [0.0f64; LANES];
+        let mut crank_index = 0;
+        for i in 0..self.blocks.len() {
+            let (closeness, res) = match &self.blocks[i] {
+                BlockLanes::Crank(c) => {
+                    let laws = self.laws[crank_index];
+                    crank_index += 1;
+                    let (f, turn): ([f64; LANES], [Option<f64>; LANES]) = if self.same_laws {
+                        ([laws[0].eval(t)[0]; LANES], [guard::law_travel(laws[0], h); LANES])
+                    } else {
+                        (
+                            std::array::from_fn(|j| laws[j].eval(t)[0]),
+                            std::array::from_fn(|j| guard::law_travel(laws[j], h)),
+                        )
+                    };
+                    for j in 0..LANES {
+                        ok[j] &= turn[j].is_some();
+                        let r = [c.fixed[0][j], c.fixed[1][j]];
+                        self.travel[c.body][j] = Travel { r, len: 0.0, turn: turn[j].unwrap_or(0.0) };
+                    }
+                    crank_positions(c, &mut self.bodies, &f, &mut ok)
+                }
+                BlockLanes::Rrr(l1, l2) => {
+                    let angles = &self.angles;
+                    rrr_positions(l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], angles, &mut ok)
+                }
+            };
+            let [c1, rate] = self.close[i];
+            for j in 0..LANES {
+                let cl = closeness[j];
                 ok[j] &= !(cl.is_nan()
                     || cl < NEAR_SINGULAR
                     || c1[j] + rate[j] * h < 0.25 * c1[j]
@@ -336,6 +408,109 @@ fn crank(c: &CrankLanes, bodies: &mut [BodyLanes], f: &[[f64; 3]; LANES], ok: &m
         body.thdd[j] = thetadd;
     }
     ([1.0; LANES], res)
+}
+
+/// `crank` of positions only (`Crank::solve_on::<false, false>` without rates), `f`
+/// each lane's law's value at t: (closeness 1, pin residual).
+#[inline(always)]
+fn crank_positions(
+    c: &CrankLanes,
+    bodies: &mut [BodyLanes],
+    f: &[f64; LANES],
+    ok: &mut [bool; LANES],
+) -> (V, V) {
+    let body = &mut bodies[c.body];
+    let mut theta = [0.0; LANES];
+    for j in 0..LANES {
+        ok[j] &= f[j].is_finite();
+        theta[j] = 0.0 + c.sign[j] * f[j];
+    }
+    let (mut cs, mut sn) = ([0.0; LANES], [0.0; LANES]);
+    let base0 = body.base[0];
+    for j in 0..LANES {
+        if j > 0 && theta[j].to_bits() == theta[0].to_bits() && same_bits(&body.base[j], &base0) {
+            (cs[j], sn[j]) = (cs[0], sn[0]);
+            body.base[j] = body.base[0];
+        } else {
+            (cs[j], sn[j]) = turned(theta[j], &mut body.base[j]);
+        }
+    }
+    let mut res = [0.0; LANES];
+    for j in 0..LANES {
+        let (cj, sj, u) = (cs[j], sn[j], [c.u_body[0][j], c.u_body[1][j]]);
+        let p = [c.fixed[0][j], c.fixed[1][j]];
+        let arm = [cj * u[0] - sj * u[1], sj * u[0] + cj * u[1]];
+        let r = [p[0] - arm[0], p[1] - arm[1]];
+        body.x[j] = r[0];
+        body.y[j] = r[1];
+        body.th[j] = theta[j];
+        body.c[j] = cj;
+        body.s[j] = sj;
+        let back = [r[0] + arm[0], r[1] + arm[1]];
+        res[j] = (back[0] - p[0]).abs().max((back[1] - p[1]).abs());
+    }
+    ([1.0; LANES], res)
+}
+
+/// The known side's pin of a link in every lane (`outer`'s position only).
+#[inline(always)]
+fn outer_p(l: &LinkLanes, bodies: &[BodyLanes]) -> [V; 2] {
+    let Some(kb) = l.known else { return l.fixed };
+    let k = &bodies[kb];
+    let u = &l.u_known;
+    let px: V = std::array::from_fn(|j| k.x[j] + (k.c[j] * u[0][j] - k.s[j] * u[1][j]));
+    let py: V = std::array::from_fn(|j| k.y[j] + (k.s[j] * u[0][j] + k.c[j] * u[1][j]));
+    [px, py]
+}
+
+/// An RRR dyad's positions in every lane (`Rrr::solve_on` without rates) and its guard
+/// (`closed_form::guard_block`), each lane's failing guard a miss: (closeness, residual).
+#[inline(always)]
+fn rrr_positions(
+    l1: &LinkLanes,
+    l2: &LinkLanes,
+    bodies: &mut [BodyLanes],
+    travel: &mut [[Travel; LANES]],
+    sign: &V,
+    angles: &[bool],
+    ok: &mut [bool; LANES],
+) -> (V, V) {
+    let (pa, pc) = (outer_p(l1, bodies), outer_p(l2, bodies));
+    let mut b = [[0.0; LANES]; 2];
+    let (mut closeness, mut dds) = ([0.0; LANES], [0.0; LANES]);
+    for j in 0..LANES {
+        let (a, c) = ([pa[0][j], pa[1][j]], [pc[0][j], pc[1][j]]);
+        let (r1, r2) = (l1.length[j], l2.length[j]);
+        let d = [c[0] - a[0], c[1] - a[1]];
+        let dd = d[0] * d[0] + d[1] * d[1];
+        ok[j] &= !(dd.is_nan() || dd <= 0.0);
+        let inv_dd = 1.0 / dd;
+        let along = 0.5 * (dd + r1 * r1 - r2 * r2) * inv_dd;
+        let h2 = r1 * r1 * inv_dd - along * along;
+        ok[j] &= !(h2.is_nan() || h2 < 0.0);
+        let height = sign[j] * h2.sqrt();
+        b[0][j] = a[0] + along * d[0] - height * d[1];
+        b[1][j] = a[1] + along * d[1] + height * d[0];
+        closeness[j] = height.abs() * dd * l1.inv_length[j] * l2.inv_length[j];
+        dds[j] = dd;
+    }
+    // the guard, from the known sides' bounds (read before this dyad's bodies are written)
+    for j in 0..LANES {
+        let (a, c) = ([pa[0][j], pa[1][j]], [pc[0][j], pc[1][j]]);
+        let la = l1.known.map_or(0.0, |k| travel[k][j].pin(a));
+        let lc = l2.known.map_or(0.0, |k| travel[k][j].pin(c));
+        let (shown, t1, t2) = guard::rrr_turns(l1.length[j], l2.length[j], dds[j], la + lc);
+        ok[j] &= shown;
+        travel[l1.body][j] = Travel { r: a, len: la, turn: t1 };
+        travel[l2.body][j] = Travel { r: c, len: lc, turn: t2 };
+    }
+    let res1 = place_with(l1, &mut bodies[l1.body], &pa, &b, angles[l1.body]);
+    let res2 = place_with(l2, &mut bodies[l2.body], &pc, &b, angles[l2.body]);
+    let mut res = [0.0; LANES];
+    for j in 0..LANES {
+        res[j] = res1[j].max(res2[j]);
+    }
+    (closeness, res)
 }
 
 /// Whether two turning bases are the same bits (then the same angle turns the same).
@@ -438,12 +613,42 @@ fn rrr(l1: &LinkLanes, l2: &LinkLanes, bodies: &mut [BodyLanes], sign: &V, ok: &
 /// (`Link::place`): its pose (rates zero until `pinned_rates`); the pin residual.
 #[inline(always)]
 fn place(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2]) -> V {
+    place_with(l, body, a, b, true)
+}
+
+/// `place`, the body's angle formed only with `angle` (else theta is left as it was: a
+/// positions-only sweep that keeps no angle of the body needs only its cos and sin).
+#[inline(always)]
+fn place_with(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2], angle: bool) -> V {
     let (mut cs, mut sn) = ([0.0; LANES], [0.0; LANES]);
     for j in 0..LANES {
         let w = [(b[0][j] - a[0][j]) * l.inv_length[j], (b[1][j] - a[1][j]) * l.inv_length[j]];
         cs[j] = l.dir[0][j] * w[0] + l.dir[1][j] * w[1];
         sn[j] = l.dir[0][j] * w[1] - l.dir[1][j] * w[0];
     }
+    if angle {
+        body_angle(body, &cs, &sn);
+    }
+    let mut res = [0.0; LANES];
+    for j in 0..LANES {
+        let (c, s) = (cs[j], sn[j]);
+        let (uo, um) = ([l.u_outer[0][j], l.u_outer[1][j]], [l.u_middle[0][j], l.u_middle[1][j]]);
+        let arm = [c * uo[0] - s * uo[1], s * uo[0] + c * uo[1]];
+        let r = [a[0][j] - arm[0], a[1][j] - arm[1]];
+        body.x[j] = r[0];
+        body.y[j] = r[1];
+        body.c[j] = c;
+        body.s[j] = s;
+        let rot = [c * um[0] - s * um[1], s * um[0] + c * um[1]];
+        let m = [r[0] + rot[0], r[1] + rot[1]];
+        res[j] = (m[0] - b[0][j]).abs().max((m[1] - b[1][j]).abs());
+    }
+    res
+}
+
+/// A body's angle in every lane from its cos and sin, continued from its last (`angle_of`).
+#[inline(always)]
+fn body_angle(body: &mut BodyLanes, cs: &V, sn: &V) {
     // the angle per lane: `angle_of`'s series from the base in every lane at once (the same
     // operations), and `angle_of` itself (atan2) in a lane the series does not serve
     let mut series = [0.0; LANES];
@@ -463,21 +668,6 @@ fn place(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2]) -> V {
         body.th[j] =
             if served[j] { series[j] } else { angle_of(cs[j], sn[j], body.th[j], &mut body.base[j]) };
     }
-    let mut res = [0.0; LANES];
-    for j in 0..LANES {
-        let (c, s) = (cs[j], sn[j]);
-        let (uo, um) = ([l.u_outer[0][j], l.u_outer[1][j]], [l.u_middle[0][j], l.u_middle[1][j]]);
-        let arm = [c * uo[0] - s * uo[1], s * uo[0] + c * uo[1]];
-        let r = [a[0][j] - arm[0], a[1][j] - arm[1]];
-        body.x[j] = r[0];
-        body.y[j] = r[1];
-        body.c[j] = c;
-        body.s[j] = s;
-        let rot = [c * um[0] - s * um[1], s * um[0] + c * um[1]];
-        let m = [r[0] + rot[0], r[1] + rot[1]];
-        res[j] = (m[0] - b[0][j]).abs().max((m[1] - b[1][j]).abs());
-    }
-    res
 }
 
 /// `closed_form::pinned_rates` in every lane.

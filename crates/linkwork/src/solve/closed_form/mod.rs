@@ -16,6 +16,7 @@
 
 pub mod affine;
 pub mod crank;
+pub mod guard;
 pub mod lanes;
 pub mod newton;
 pub mod rpr;
@@ -423,6 +424,91 @@ pub fn step(
     derivatives: u8,
     h: f64,
 ) -> Result<StepInfo, StepMiss> {
+    step_with::<false>(model, plan, data, t, derivatives, h, &mut [])
+}
+
+/// `step` of positions only, each group's step also bounded by `guard` (`travel`: one
+/// per body, this step's bounds written as the groups are solved): a step the guard cannot
+/// show on its branches is a miss (`NearSingular`), for the careful path. Only for plans
+/// that are `guarded`.
+pub fn step_guarded(
+    model: &Model,
+    plan: &Plan,
+    data: &mut Data,
+    t: f64,
+    h: f64,
+    travel: &mut [guard::Travel],
+) -> Result<StepInfo, StepMiss> {
+    step_with::<true>(model, plan, data, t, 0, h, travel)
+}
+
+/// Whether a plan's steps can be guarded from positions (`guard`): cranks on the ground,
+/// RRR dyads of two bodies, RRP dyads on a line fixed in the ground.
+pub fn guarded(plan: &Plan) -> bool {
+    plan.blocks.iter().all(|b| match b {
+        Block::Crank(c) => c.known.is_none() && c.base.is_none(),
+        Block::Rrr(r) => !r.rod,
+        Block::Rrp(r) => r.ground_line.is_some(),
+        _ => false,
+    })
+}
+
+/// The guard of one group solved at the step's end (`guard`), its bodies' bounds written
+/// into `travel`.
+#[inline(always)]
+fn guard_block(
+    model: &Model,
+    block: &Block,
+    data: &Data,
+    h: f64,
+    travel: &mut [guard::Travel],
+) -> Result<(), StepMiss> {
+    use crate::constraints::Constraint;
+    use guard::Travel;
+    let side = |travel: &[Travel], known: Option<usize>, p: [f64; 2]| known.map_or(0.0, |b| travel[b].pin(p));
+    match block {
+        Block::Crank(c) if c.known.is_none() && c.base.is_none() => {
+            let law = model.constraints[c.driver].kind.law().ok_or(StepMiss::Failed)?;
+            let turn = guard::law_travel(law, h).ok_or(StepMiss::NearSingular)?;
+            travel[c.body] = Travel { r: c.fixed, len: 0.0, turn };
+        }
+        Block::Rrr(r) if !r.rod => {
+            let (a, c) = (r.l1.outer(data).1, r.l2.outer(data).1);
+            let (la, lc) = (side(travel, r.l1.known, a), side(travel, r.l2.known, c));
+            let d = sub(c, a);
+            let dd = d[0] * d[0] + d[1] * d[1];
+            let (t1, t2) = guard::rrr(r.l1.length, r.l2.length, dd, la + lc).ok_or(StepMiss::NearSingular)?;
+            travel[r.l1.body] = Travel { r: a, len: la, turn: t1 };
+            travel[r.l2.body] = Travel { r: c, len: lc, turn: t2 };
+        }
+        Block::Rrp(r) if r.ground_line.is_some() => {
+            let Some((.., p0, dir)) = r.ground_line else { return Err(StepMiss::Failed) };
+            let a = r.link.outer(data).1;
+            let la = side(travel, r.link.known, a);
+            let p = sub(a, p0);
+            let offset = dir[0] * p[1] - dir[1] * p[0];
+            let turn = guard::rrp(r.link.length, offset, la).ok_or(StepMiss::NearSingular)?;
+            travel[r.link.body] = Travel { r: a, len: la, turn };
+            // the slider slides: B's path, no turn
+            let b = data.frames[r.link.body].point(r.link.u_middle);
+            travel[r.slider] = Travel { r: b, len: la + r.link.length * turn, turn: 0.0 };
+        }
+        _ => return Err(StepMiss::Failed),
+    }
+    Ok(())
+}
+
+/// `step`, with `G`: each group's guard too (positions only).
+#[inline(always)]
+fn step_with<const G: bool>(
+    model: &Model,
+    plan: &Plan,
+    data: &mut Data,
+    t: f64,
+    derivatives: u8,
+    h: f64,
+    travel: &mut [guard::Travel],
+) -> Result<StepInfo, StepMiss> {
     let mut info = StepInfo { iterations: 0, residual: 0.0, closeness: 1.0, det_sign: 1.0, correction: 0.0 };
     let mut newton_index = 0;
     let inv_l = 1.0 / model.length_scale;
@@ -456,6 +542,9 @@ pub fn step(
         if !matches!(block, Block::Newton(_)) && (c1 + rate * h < 0.25 * c1 || closeness < 0.25 * c1) {
             return Err(StepMiss::NearSingular);
         }
+        if G {
+            guard_block(model, block, data, h, travel)?;
+        }
         data.blocks.next[i] = [closeness, (closeness - c1) / h];
         info.closeness = info.closeness.min(closeness);
         info.residual = info.residual.max(residual * inv_l);
@@ -468,6 +557,25 @@ pub fn step(
     // every group passed: the trends move on (a miss leaves them at the last step)
     std::mem::swap(&mut data.blocks.close, &mut data.blocks.next);
     Ok(info)
+}
+
+/// Velocities and accelerations at t of the configuration in data (its groups solved
+/// again on their branches, with rates): data.q is left as the groups solve it, to
+/// round-off the positions given, which the caller puts back. For the careful path after
+/// guarded steps (`step_guarded`), which solve no rates.
+pub fn rates(model: &Model, plan: &Plan, data: &mut Data, t: f64) -> Result<(), StepMiss> {
+    for (i, block) in plan.blocks.iter().enumerate() {
+        let sign = data.blocks.sign[i];
+        match block {
+            Block::Crank(b) => b.solve(model, data, t, 2)?,
+            Block::Rrr(b) => b.solve(data, sign, 2)?,
+            Block::Rrp(b) => b.solve(data, sign, 2)?,
+            Block::Rpr(b) => b.solve(data, sign, 2)?,
+            Block::Affine(b) => b.solve(model, data, t, 2, sign)?,
+            Block::Newton(_) => return Err(StepMiss::Failed),
+        };
+    }
+    Ok(())
 }
 
 /// Positions at t on the branches of `asked` (each block's sign; a Newton block's det

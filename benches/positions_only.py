@@ -1,0 +1,83 @@
+"""One design, side by side with pylinkage-numba in one process: linkwork ``model.sweep``
+of positions only (``derivatives=0``) and of positions, velocities and accelerations,
+against pylinkage's ``step_fast`` and ``step_fast_with_kinematics``, on the four-bar and
+the slider-crank of ``compare.py`` (one revolution in N steps), the tasks taking turns in
+each round (``compare.interleaved``). Prints each one's best time per step and the ratio
+pylinkage / linkwork (above 1: linkwork faster).
+
+    PYTHONPATH=python python benches/positions_only.py [--steps 100000] [--repeats 7]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from linkwork import examples
+
+sys.path.insert(0, str(Path(__file__).parent))
+import baselines  # noqa: E402
+from compare import DIMS, OMEGA, PERIOD, SLIDER, Task, cold_outputs, interleaved  # noqa: E402
+
+
+def tasks(steps: int) -> tuple[list[Task], dict[str, tuple[str, str, int]]]:
+    t = np.linspace(0.0, PERIOD, steps)
+    models = {
+        "four-bar": examples.four_bar(**DIMS, omega=OMEGA).compile(),
+        "slider-crank": examples.slider_crank().compile(),
+    }
+    out: list[Task] = []
+    meta: dict[str, tuple[str, str, int]] = {}
+    for name, model in models.items():
+        for d in (0, 2):
+            key = f"linkwork {name} d={d}"
+            out.append(Task(key, lambda _, m=model, d=d: m.sweep(t, derivatives=d), lambda: cold_outputs()))
+            meta[key] = (name, "linkwork", d)
+    if baselines.pylinkage_version() is None:
+        return out, meta
+    for mode, d in (("step_fast", 0), ("step_fast_with_kinematics", 2)):
+        kinematics = d == 2
+        pairs: list[tuple[str, Callable[[], Any], Callable[[Any], Any]]] = []
+        b, r, _ = baselines.pylinkage_four_bar(DIMS, OMEGA, steps, kinematics)
+        pairs.append(("four-bar", b, r))
+        b, r, _ = baselines.pylinkage_slider_crank(*SLIDER, OMEGA, steps, mode)
+        pairs.append(("slider-crank", b, r))
+        for name, build, run in pairs:
+            run(build())  # numba's compilation, not timed
+            key = f"pylinkage {name} d={d}"
+
+            def setup(build: Callable[[], Any] = build) -> Any:
+                cold_outputs()
+                return build()
+
+            out.append(Task(key, run, setup))
+            meta[key] = (name, "pylinkage", d)
+    return out, meta
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--steps", type=int, default=100_000)
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+    print(f"load average before: {os.getloadavg()}")
+    ts, meta = tasks(args.steps)
+    timed = interleaved(ts, args.repeats)
+    us = {k: secs / args.steps * 1e6 for k, (secs, _) in timed.items()}
+    for key in sorted(us):
+        print(f"{key:40s} {us[key]:8.4f} us/step")
+    for name in ("four-bar", "slider-crank"):
+        for d in (0, 2):
+            lw, pl = f"linkwork {name} d={d}", f"pylinkage {name} d={d}"
+            if pl in us:
+                print(f"{name} d={d}: pylinkage / linkwork = {us[pl] / us[lw]:.2f}x")
+    print(f"load average after: {os.getloadavg()}")
+
+
+if __name__ == "__main__":
+    main()
