@@ -3,9 +3,9 @@
 //! one structure side by side, every body's numbers a lane array. Each lane is its design's
 //! step as the scalar engine takes it, operation for operation: `step_positions` as
 //! `closed_form::step_guarded` (positions, the closeness checks and trends, the guard from
-//! positions; what the sweeps of positions use), `step` as `closed_form::step` with rates
-//! and accelerations. So its figures are the scalar engine's bit for bit: the lane arithmetic is the same IEEE additions, products, quotients and square
-//! roots, and what branches per design (cos and sin turned or in full, an angle by its
+//! positions; the sweeps use lanes only where positions alone are asked). So its figures
+//! are the scalar engine's bit for bit: the lane arithmetic is the same IEEE additions,
+//! products, quotients and square roots, and what branches per design (cos and sin turned or in full, an angle by its
 //! series or atan2, a missed step) is done per lane by the scalar helpers. Each lane keeps
 //! its own branch sign, its own trends and its own first failing step (`sweep::lanes`).
 //! The arithmetic runs under the best instruction set the machine has (`pulp`'s runtime
@@ -25,8 +25,8 @@ pub const LANES: usize = 4;
 /// One number in every lane.
 pub type V = [f64; LANES];
 
-/// One body's pose, rates and accelerations in every lane (q, qd, qdd and its frame's
-/// cos, sin), and each lane's base for turning its cos and sin (`Data::frame_base`).
+/// One body's pose in every lane (q and its frame's cos, sin), and each lane's base for
+/// turning its cos and sin (`Data::frame_base`).
 #[derive(Debug, Clone, Default)]
 pub struct BodyLanes {
     pub x: V,
@@ -34,12 +34,6 @@ pub struct BodyLanes {
     pub th: V,
     pub c: V,
     pub s: V,
-    pub xd: V,
-    pub yd: V,
-    pub thd: V,
-    pub xdd: V,
-    pub ydd: V,
-    pub thdd: V,
     pub base: [[f64; 3]; LANES],
 }
 
@@ -183,20 +177,12 @@ impl<'m> Lanes<'m> {
         let bodies = (0..n_bodies)
             .map(|b| {
                 let q = |k: usize| lane(&|j| data[j].q[3 * b + k]);
-                let qd = |k: usize| lane(&|j| data[j].qd[3 * b + k]);
-                let qdd = |k: usize| lane(&|j| data[j].qdd[3 * b + k]);
                 BodyLanes {
                     x: q(0),
                     y: q(1),
                     th: q(2),
                     c: lane(&|j| data[j].frames[b].c),
                     s: lane(&|j| data[j].frames[b].s),
-                    xd: qd(0),
-                    yd: qd(1),
-                    thd: qd(2),
-                    xdd: qdd(0),
-                    ydd: qdd(1),
-                    thdd: qdd(2),
                     base: std::array::from_fn(|j| data[j].frame_base[b]),
                 }
             })
@@ -216,52 +202,6 @@ impl<'m> Lanes<'m> {
             travel: vec![[Travel::default(); LANES]; n_bodies],
             angles: vec![true; n_bodies],
         })
-    }
-
-    /// Step t (`h` from the last step) in every lane, as `closed_form::step` with
-    /// accelerations: per lane, whether its groups took the step (a lane that did not is
-    /// its design's miss there; its figures then mean nothing). Inlined into the caller's
-    /// loop, which runs it under `pulp`'s dispatch (the machine's widest registers).
-    #[inline(always)]
-    pub fn step(&mut self, t: f64, h: f64) -> [bool; LANES] {
-        let mut ok = [true; LANES];
-        let mut closeness_min = [1.0f64; LANES];
-        let mut residual = [0.0f64; LANES];
-        let mut crank_index = 0;
-        for i in 0..self.blocks.len() {
-            let (closeness, res) = match &self.blocks[i] {
-                BlockLanes::Crank(c) => {
-                    let laws = self.laws[crank_index];
-                    crank_index += 1;
-                    let f: [[f64; 3]; LANES] = if self.same_laws {
-                        [laws[0].eval(t); LANES]
-                    } else {
-                        std::array::from_fn(|j| laws[j].eval(t))
-                    };
-                    crank(c, &mut self.bodies, &f, &mut ok)
-                }
-                BlockLanes::Rrr(l1, l2) => rrr(l1, l2, &mut self.bodies, &self.sign[i], &mut ok),
-            };
-            let [c1, rate] = self.close[i];
-            for j in 0..LANES {
-                let cl = closeness[j];
-                // as `closed_form::step`: near singular (NaN too), or a trend reaching zero
-                // within the step
-                ok[j] &= !(cl.is_nan()
-                    || cl < NEAR_SINGULAR
-                    || c1[j] + rate[j] * h < 0.25 * c1[j]
-                    || cl < 0.25 * c1[j]);
-                self.close[i][1][j] = (cl - c1[j]) / h;
-                self.close[i][0][j] = cl;
-                closeness_min[j] = closeness_min[j].min(cl);
-                residual[j] = residual[j].max(res[j] * self.inv_l[j]);
-            }
-        }
-        for j in 0..LANES {
-            ok[j] &= residual[j].is_finite();
-        }
-        self.ratio = closeness_min;
-        ok
     }
 
     /// Only the angles of the bodies whose theta is among `kept` (coordinates, body-major)
@@ -338,19 +278,6 @@ impl<'m> Lanes<'m> {
         }
     }
 
-    /// Every coordinate's rate and acceleration in every lane, into `qd`, `qdd`.
-    #[inline(always)]
-    pub fn rates(&self, qd: &mut [V], qdd: &mut [V]) {
-        for (b, body) in self.bodies.iter().enumerate() {
-            qd[3 * b] = body.xd;
-            qd[3 * b + 1] = body.yd;
-            qd[3 * b + 2] = body.thd;
-            qdd[3 * b] = body.xdd;
-            qdd[3 * b + 1] = body.ydd;
-            qdd[3 * b + 2] = body.thdd;
-        }
-    }
-
     /// A body's frame's cos and sin in every lane (as the groups set them).
     #[inline(always)]
     pub fn cos_sin(&self, b: usize) -> (&V, &V) {
@@ -358,60 +285,8 @@ impl<'m> Lanes<'m> {
     }
 }
 
-/// A crank on the ground in every lane (`Crank::solve_on::<false, false>` with
-/// accelerations), `f` each lane's law at t: (closeness 1, pin residual).
-#[inline(always)]
-fn crank(c: &CrankLanes, bodies: &mut [BodyLanes], f: &[[f64; 3]; LANES], ok: &mut [bool; LANES]) -> (V, V) {
-    let body = &mut bodies[c.body];
-    let mut theta = [0.0; LANES];
-    for j in 0..LANES {
-        ok[j] &= f[j][0].is_finite() & f[j][1].is_finite() & f[j][2].is_finite();
-        theta[j] = 0.0 + c.sign[j] * f[j][0];
-    }
-    // cos and sin per lane (turned from its base or in full); a lane on the first lane's
-    // angle and base takes its answer
-    let (mut cs, mut sn) = ([0.0; LANES], [0.0; LANES]);
-    let base0 = body.base[0];
-    for j in 0..LANES {
-        if j > 0 && theta[j].to_bits() == theta[0].to_bits() && same_bits(&body.base[j], &base0) {
-            (cs[j], sn[j]) = (cs[0], sn[0]);
-            body.base[j] = body.base[0];
-        } else {
-            (cs[j], sn[j]) = turned(theta[j], &mut body.base[j]);
-        }
-    }
-    let mut res = [0.0; LANES];
-    for j in 0..LANES {
-        let (cj, sj, u) = (cs[j], sn[j], [c.u_body[0][j], c.u_body[1][j]]);
-        let p = [c.fixed[0][j], c.fixed[1][j]];
-        let arm = [cj * u[0] - sj * u[1], sj * u[0] + cj * u[1]];
-        let r = [p[0] - arm[0], p[1] - arm[1]];
-        body.x[j] = r[0];
-        body.y[j] = r[1];
-        body.th[j] = theta[j];
-        body.c[j] = cj;
-        body.s[j] = sj;
-        let rot = [cj * u[0] - sj * u[1], sj * u[0] + cj * u[1]];
-        let back = [r[0] + rot[0], r[1] + rot[1]];
-        res[j] = (back[0] - p[0]).abs().max((back[1] - p[1]).abs());
-        let thetad = 0.0 + c.sign[j] * f[j][1];
-        let ba = [-arm[1], arm[0]];
-        body.xd[j] = 0.0 - ba[0] * thetad;
-        body.yd[j] = 0.0 - ba[1] * thetad;
-        body.thd[j] = thetad;
-        let thetadd = 0.0 + c.sign[j] * f[j][2];
-        // point_acc(frame, [0, 0, thetadd], arm)
-        let w2 = thetad * thetad;
-        let own = [0.0 - thetadd * arm[1] - w2 * arm[0], 0.0 + thetadd * arm[0] - w2 * arm[1]];
-        body.xdd[j] = 0.0 - own[0];
-        body.ydd[j] = 0.0 - own[1];
-        body.thdd[j] = thetadd;
-    }
-    ([1.0; LANES], res)
-}
-
-/// `crank` of positions only (`Crank::solve_on::<false, false>` without rates), `f`
-/// each lane's law's value at t: (closeness 1, pin residual).
+/// A crank on the ground in every lane, positions only (`Crank::solve_on::<false, false>`
+/// without rates), `f` each lane's law's value at t: (closeness 1, pin residual).
 #[inline(always)]
 fn crank_positions(
     c: &CrankLanes,
@@ -519,104 +394,8 @@ fn same_bits(a: &[f64; 3], b: &[f64; 3]) -> bool {
     a.map(f64::to_bits) == b.map(f64::to_bits)
 }
 
-/// The known side's pin of a link in every lane: the body's frame and the pin, or the
-/// ground's (`Link::outer_on`), with the pin's velocity and acceleration.
-struct Outer {
-    p: [V; 2],
-    v: [V; 2],
-    a: [V; 2],
-}
-
-#[inline(always)]
-fn outer(l: &LinkLanes, bodies: &[BodyLanes]) -> Outer {
-    let Some(kb) = l.known else {
-        // the ground: the pin fixed, at rest (+0, as `Link::outer_velocity` gives)
-        return Outer { p: l.fixed, v: [[0.0; LANES]; 2], a: [[0.0; LANES]; 2] };
-    };
-    let k = &bodies[kb];
-    let (mut p, mut v, mut a) = ([[0.0; LANES]; 2], [[0.0; LANES]; 2], [[0.0; LANES]; 2]);
-    for j in 0..LANES {
-        let (c, s, u) = (k.c[j], k.s[j], [l.u_known[0][j], l.u_known[1][j]]);
-        // Frame::point
-        let rot = [c * u[0] - s * u[1], s * u[0] + c * u[1]];
-        let pj = [k.x[j] + rot[0], k.y[j] + rot[1]];
-        // Frame::point_velocity
-        let rd = [-s * u[0] - c * u[1], c * u[0] - s * u[1]];
-        let vj = [k.xd[j] + rd[0] * k.thd[j], k.yd[j] + rd[1] * k.thd[j]];
-        // point_acc(k, qdd_k, p - R_k)
-        let r = [pj[0] - k.x[j], pj[1] - k.y[j]];
-        let w2 = k.thd[j] * k.thd[j];
-        let aj = [k.xdd[j] - k.thdd[j] * r[1] - w2 * r[0], k.ydd[j] + k.thdd[j] * r[0] - w2 * r[1]];
-        (p[0][j], p[1][j], v[0][j], v[1][j], a[0][j], a[1][j]) = (pj[0], pj[1], vj[0], vj[1], aj[0], aj[1]);
-    }
-    Outer { p, v, a }
-}
-
-/// An RRR dyad in every lane (`Rrr::solve_on` with accelerations): (closeness, residual).
-#[inline(always)]
-fn rrr(l1: &LinkLanes, l2: &LinkLanes, bodies: &mut [BodyLanes], sign: &V, ok: &mut [bool; LANES]) -> (V, V) {
-    // the known sides' pins are read before either body moves (they are other bodies)
-    let (oa, oc) = (outer(l1, bodies), outer(l2, bodies));
-    let mut b = [[0.0; LANES]; 2];
-    let mut closeness = [0.0; LANES];
-    for j in 0..LANES {
-        let (a, c) = ([oa.p[0][j], oa.p[1][j]], [oc.p[0][j], oc.p[1][j]]);
-        let (r1, r2) = (l1.length[j], l2.length[j]);
-        let d = [c[0] - a[0], c[1] - a[1]];
-        let dd = d[0] * d[0] + d[1] * d[1];
-        ok[j] &= !(dd.is_nan() || dd <= 0.0);
-        let inv_dd = 1.0 / dd;
-        let along = 0.5 * (dd + r1 * r1 - r2 * r2) * inv_dd;
-        let h2 = r1 * r1 * inv_dd - along * along;
-        ok[j] &= !(h2.is_nan() || h2 < 0.0);
-        let height = sign[j] * h2.sqrt();
-        b[0][j] = a[0] + along * d[0] - height * d[1];
-        b[1][j] = a[1] + along * d[1] + height * d[0];
-        closeness[j] = height.abs() * dd * l1.inv_length[j] * l2.inv_length[j];
-    }
-    let res1 = place(l1, &mut bodies[l1.body], &oa.p, &b);
-    let res2 = place(l2, &mut bodies[l2.body], &oc.p, &b);
-    let mut res = [0.0; LANES];
-    let (mut w1, mut w2, mut inv_det) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
-    let (mut rab, mut rcb) = ([[0.0; LANES]; 2], [[0.0; LANES]; 2]);
-    for j in 0..LANES {
-        res[j] = res1[j].max(res2[j]);
-        let (a, c, bj) = ([oa.p[0][j], oa.p[1][j]], [oc.p[0][j], oc.p[1][j]], [b[0][j], b[1][j]]);
-        let (ab, cb) = ([bj[0] - a[0], bj[1] - a[1]], [bj[0] - c[0], bj[1] - c[1]]);
-        let (pab, pcb) = ([-ab[1], ab[0]], [-cb[1], cb[0]]);
-        inv_det[j] = 1.0 / (pcb[0] * pab[1] - pcb[1] * pab[0]);
-        let rhs = [oc.v[0][j] - oa.v[0][j], oc.v[1][j] - oa.v[1][j]];
-        w1[j] = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) * inv_det[j];
-        w2[j] = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det[j];
-        (rab[0][j], rab[1][j], rcb[0][j], rcb[1][j]) = (ab[0], ab[1], cb[0], cb[1]);
-    }
-    pinned_rates(&mut bodies[l1.body], &oa.p, &oa.v, &w1);
-    pinned_rates(&mut bodies[l2.body], &oc.p, &oc.v, &w2);
-    let (mut a1, mut a2) = ([0.0; LANES], [0.0; LANES]);
-    for j in 0..LANES {
-        let (ab, cb) = ([rab[0][j], rab[1][j]], [rcb[0][j], rcb[1][j]]);
-        let (pab, pcb) = ([-ab[1], ab[0]], [-cb[1], cb[0]]);
-        let (aa, ac) = ([oa.a[0][j], oa.a[1][j]], [oc.a[0][j], oc.a[1][j]]);
-        let rhs = [
-            ac[0] - aa[0] - w2[j] * w2[j] * cb[0] + w1[j] * w1[j] * ab[0],
-            ac[1] - aa[1] - w2[j] * w2[j] * cb[1] + w1[j] * w1[j] * ab[1],
-        ];
-        a1[j] = (pcb[0] * rhs[1] - pcb[1] * rhs[0]) * inv_det[j];
-        a2[j] = (pab[0] * rhs[1] - pab[1] * rhs[0]) * inv_det[j];
-    }
-    pinned_accelerations(&mut bodies[l1.body], &oa.p, &oa.a, &w1, &a1);
-    pinned_accelerations(&mut bodies[l2.body], &oc.p, &oc.a, &w2, &a2);
-    (closeness, res)
-}
-
 /// A link's body from its outer pin at `a` and middle pin at `b` in every lane
-/// (`Link::place`): its pose (rates zero until `pinned_rates`); the pin residual.
-#[inline(always)]
-fn place(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2]) -> V {
-    place_with(l, body, a, b, true)
-}
-
-/// `place`, the body's angle formed only with `angle` (else theta is left as it was: a
+/// (`Link::place`), the body's angle formed only with `angle` (else theta is left as it was: a
 /// positions-only sweep that keeps no angle of the body needs only its cos and sin).
 #[inline(always)]
 fn place_with(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2], angle: bool) -> V {
@@ -667,28 +446,5 @@ fn body_angle(body: &mut BodyLanes, cs: &V, sn: &V) {
     for j in 0..LANES {
         body.th[j] =
             if served[j] { series[j] } else { angle_of(cs[j], sn[j], body.th[j], &mut body.base[j]) };
-    }
-}
-
-/// `closed_form::pinned_rates` in every lane.
-#[inline(always)]
-fn pinned_rates(body: &mut BodyLanes, p: &[V; 2], vp: &[V; 2], w: &V) {
-    for j in 0..LANES {
-        let arm = [-(body.y[j] - p[1][j]), body.x[j] - p[0][j]];
-        body.xd[j] = vp[0][j] + w[j] * arm[0];
-        body.yd[j] = vp[1][j] + w[j] * arm[1];
-        body.thd[j] = w[j];
-    }
-}
-
-/// `closed_form::pinned_accelerations` in every lane.
-#[inline(always)]
-fn pinned_accelerations(body: &mut BodyLanes, p: &[V; 2], ap: &[V; 2], w: &V, alpha: &V) {
-    for j in 0..LANES {
-        let r = [body.x[j] - p[0][j], body.y[j] - p[1][j]];
-        let arm = [-r[1], r[0]];
-        body.xdd[j] = ap[0][j] + alpha[j] * arm[0] - w[j] * w[j] * r[0];
-        body.ydd[j] = ap[1][j] + alpha[j] * arm[1] - w[j] * w[j] * r[1];
-        body.thdd[j] = alpha[j];
     }
 }
