@@ -159,3 +159,20 @@ def test_a_traced_point_off_its_circuit_by_more_than_1e_7_of_the_scale_is_a_circ
     monkeypatch.setattr(F, "coupler_points", lambda *a: closed_form(*a) + [off * 2.0, 0.0])
     defects, _, _ = F._screen(problem, x)
     assert ("circuit" in defects) == defect
+
+
+def test_the_screened_stretch_starts_at_the_drawing_and_samples_as_stated() -> None:
+    """The screening sweep starts at the drawn start (t = 0), reaches the first crank
+    angle in 72 equal steps and covers the traced stretch in 360 (a closed curve: one
+    turn, a degree a step); angles that do not increase are an order defect."""
+    th = np.array([1.0, 1.5, 2.0, 3.0])
+    defects, times, first = F.screened_stretch(th, closed=False)
+    assert defects == [] and first == 1.0
+    assert times[0] == 0.0 and np.all(np.diff(times) > 0.0)
+    np.testing.assert_allclose(np.diff(times[:73]), 1.0 / 72, rtol=1e-12)
+    np.testing.assert_allclose(np.diff(times[72:]), 2.0 / 360, rtol=1e-12)
+    assert len(times) == 73 + 360 and times[-1] == pytest.approx(3.0, abs=1e-15)
+    _, times, first = F.screened_stretch(th + 2.0 * np.pi, closed=True)
+    assert first == pytest.approx(1.0, abs=1e-12)
+    np.testing.assert_allclose(np.diff(times[72:]), 2.0 * np.pi / 360, rtol=1e-12)
+    assert F.screened_stretch(th[::-1], closed=False)[0] == ["order"]

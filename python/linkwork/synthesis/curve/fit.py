@@ -482,19 +482,26 @@ def _design(problem: TrackingProblem, x: np.ndarray, nfev: int, seconds: float, 
     )
 
 
+def screened_stretch(th: np.ndarray, closed: bool) -> tuple[list[str], np.ndarray, float]:
+    """The crank angles' order defect (not increasing, or a closed curve's beyond one turn)
+    and the times a screening sweep takes: from the drawn start (0) to the first angle
+    (returned, where the stretch starts) in 72 equal steps, then over the traced stretch
+    (a whole turn for a closed curve) in 360: a degree a step over a turn."""
+    defects = []
+    if np.any(np.diff(th) <= 0.0) or (closed and th[-1] - th[0] >= TWO_PI):
+        defects.append("order")
+    first = float(np.mod(th[0], TWO_PI))
+    end = first + (TWO_PI if closed else float(th[-1] - th[0]))
+    return defects, np.union1d(np.linspace(0.0, first, 73), np.linspace(first, end, 361)), first
+
+
 def _screen(problem: TrackingProblem, x: np.ndarray) -> tuple[tuple[str, ...], float, str]:
     """The engine's sweep over the traced stretch (the first crank angle to the last, a
     whole turn for a closed curve), reached from the drawn start: order (the crank angles
     not increasing, or a closed curve's beyond one turn), branch (a dead point met) and
     circuit (the coupler point off the circuit's closed form) defects; the smallest
     transmission angle over the stretch and the engine's Grashof type."""
-    th = x[9:]
-    defects = []
-    if np.any(np.diff(th) <= 0.0) or (problem.target.closed and th[-1] - th[0] >= TWO_PI):
-        defects.append("order")
-    first = float(np.mod(th[0], TWO_PI))
-    end = first + (TWO_PI if problem.target.closed else float(th[-1] - th[0]))
-    times = np.union1d(np.linspace(0.0, first, 73), np.linspace(first, end, 361))
+    defects, times, first = screened_stretch(x[9:], problem.target.closed)
     model = problem.model(x).compile()
     linkage = model.linkages()[0]
     try:

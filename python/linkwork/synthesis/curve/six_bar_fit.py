@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import SingularError, SolveError, SynthesisError
-from .fit import CurveDesign, CurveFit, TracedDesign, budget_seconds, fit, start_refinement
+from .fit import CurveDesign, CurveFit, TracedDesign, budget_seconds, fit, screened_stretch, start_refinement
 from .six_bars import KINDS, SIDES, SixBarProblem, six_bar_points
 from .target import TargetCurve
 from .threads import map_starts
@@ -213,13 +213,7 @@ def _screen(problem: SixBarProblem, y: np.ndarray) -> tuple[tuple[str, ...], flo
     """The engine's sweep over the traced stretch (as the four-bar's screening): order,
     branch and circuit defects; the smallest transmission angles at B and at D over the
     stretch; the four-bar loop's Grashof type."""
-    th = y[problem.size :]
-    defects = []
-    if np.any(np.diff(th) <= 0.0) or (problem.target.closed and th[-1] - th[0] >= TWO_PI):
-        defects.append("order")
-    first = float(np.mod(th[0], TWO_PI))
-    end = first + (TWO_PI if problem.target.closed else float(th[-1] - th[0]))
-    times = np.union1d(np.linspace(0.0, first, 73), np.linspace(first, end, 361))
+    defects, times, first = screened_stretch(y[problem.size :], problem.target.closed)
     model = problem.model(y).compile()
     linkage = model.linkages()[0]
     res: Any
