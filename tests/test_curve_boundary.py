@@ -59,3 +59,29 @@ def test_two_starts_on_the_boundary_reach_the_same_f() -> None:
         found.append(d.f)
     assert abs(found[0] - found[1]) <= 0.005 * min(found)
     assert max(found) < 0.021
+
+
+def test_fit_continues_along_the_boundary_only_near_the_best(monkeypatch: pytest.MonkeyPatch) -> None:
+    # two starts on the boundary curve: the generating design itself (f 0 at once) and the
+    # "on" start of the first test, whose penalised refinement stalls on Grashof's limit
+    # far above 10 times 0: fit does not continue it (refine alone does, to f <= 1e-20)
+    import importlib
+
+    fit_module = importlib.import_module("linkwork.synthesis.curve.fit")
+    problem = _problem()
+    exact = np.concatenate([_BEST, _THETA])
+    start = exact.copy()
+    start[:4] += (0.2, 0.0, 0.2, 0.0)
+    start[4:9] += [0.1, -0.1, 0.05, 0.05, -0.05]
+    start[9:] += 0.03 * np.sin(np.arange(12))
+    seeds = [("open", exact), ("open", start)]
+    alone = C.refine(problem, start)
+    assert alone.f <= 1e-20
+    result = C.fit(problem.target, seeds=seeds, workers=2)
+    far = next(d for d in result.designs if d.start == 1)
+    assert result.best.f <= 1e-24 and far.f > 1e-8 and far.nfev < alone.nfev
+    # without the rule every start continues: fit gives refine's designs, bit for bit
+    monkeypatch.setattr(fit_module, "_REACH", math.inf)
+    result = C.fit(problem.target, seeds=seeds, workers=1)
+    far = next(d for d in result.designs if d.start == 1)
+    assert np.array_equal(far.x, alone.x) and far.nfev == alone.nfev

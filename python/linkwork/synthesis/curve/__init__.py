@@ -10,7 +10,7 @@ follow the curve."""
 from .atlas import Atlas, AtlasHit, build_atlas
 from .atlas import load as load_atlas
 from .descriptors import ShapeFit, shape_error
-from .fit import CURVE_MERIT, CurveDesign, CurveFit, fit, random_seeds, refine
+from .fit import CURVE_MERIT, USABLE_TRANSMISSION, CurveDesign, CurveFit, fit, random_seeds, refine
 from .seeds import Seed, Seeds, alt_seeds, atlas_seeds, make_seeds
 from .shape import ShapeDesign, ShapeResult, shape_fit
 from .six_bar_fit import SixBarDesign, SixBarFit, dyad_seeds, fit_six_bars, refine_six_bar
@@ -26,6 +26,7 @@ __all__ = [
     "ShapeFit",
     "shape_error",
     "CURVE_MERIT",
+    "USABLE_TRANSMISSION",
     "CurveDesign",
     "CurveFit",
     "fit",

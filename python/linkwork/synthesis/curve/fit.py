@@ -10,7 +10,8 @@ leaves its circuit or stops turning fully scores as a very large residual, so th
 region rejects it and shrinks: every accepted design turns fully on its circuit. Where
 the refinement ends on linear constraints (Grashof's s + l = p + q above all, where the
 residuals steepen without bound across the boundary and the trust region collapses), it
-goes on within their null space, holding them, and then again from there.
+goes on within their null space, holding them, and then again from there; `fit` does
+so only for starts whose f is within _REACH times the best of all starts.
 
 A time budget (``seconds``) is checked before each start and at each evaluation: once it
 is spent no start begins, and a refinement under way stops with the best design it has
@@ -34,10 +35,19 @@ from .target import TargetCurve
 from .threads import map_starts
 from .tracking import TWO_PI, CircuitError, TrackingProblem, coupler_points
 
-__all__ = ["CurveDesign", "CurveFit", "refine", "random_seeds", "fit", "CURVE_MERIT"]
+__all__ = ["CurveDesign", "CurveFit", "refine", "random_seeds", "fit", "CURVE_MERIT", "USABLE_TRANSMISSION"]
+
+#: The smallest transmission angle (rad) of a usable design where the problem states
+#: none: 30 degrees, the floor of light-duty linkages (40 is the general rule of thumb);
+#: nearer 0 or 180 the coupler and rocker fold and the output torque is under half the
+#: input's. It ranks designs, never drops them; a stated ``transmission`` replaces it.
+USABLE_TRANSMISSION = math.radians(30.0)
 
 #: How `fit` orders its designs.
-CURVE_MERIT = "defect-free and within the constraints first; then the smaller tracking error f"
+CURVE_MERIT = (
+    "defect-free and within the constraints first; of them first the usable (smallest "
+    "transmission angle at least the stated bound, else 30 deg); then the smaller tracking error f"
+)
 
 _WEIGHTS = (1e1, 1e3, 1e5, 1e7)
 # a constraint within _BAND (times the target's size) of its boundary is held there by
@@ -45,6 +55,9 @@ _WEIGHTS = (1e1, 1e3, 1e5, 1e7)
 # less than the fraction _GAIN is the last
 _BAND = 1e-6
 _GAIN = 1e-9
+# the refinement along Grashof's limit in `fit`: only for starts within _REACH times the
+# best f after the penalised refinements
+_REACH = 10.0
 
 
 @dataclass
@@ -104,6 +117,13 @@ class TracedDesign(DesignPictures):
         """Defect-free and within the constraints (to 1e-12 of the target's size)."""
         return not self.defects and self.violation <= 1e-12 * self.problem.target.size
 
+    @property
+    def usable(self) -> bool:
+        """`ok` and its smallest transmission angle at least the problem's stated bound,
+        else `USABLE_TRANSMISSION`."""
+        bound = getattr(self.problem, "transmission", None)
+        return self.ok and self.transmission >= (USABLE_TRANSMISSION if bound is None else bound)
+
     def plot(self, path: str, **options: Any) -> list[str]:  # type: ignore[override]
         """A PNG of the target points against the traced curve, each point's deviation
         drawn, beside the linkage (`pictures.plot_design`; ``options``: ``title``,
@@ -142,6 +162,8 @@ class CurveDesign(TracedDesign):
         r = ", ".join(f"{k} {v:.6g}" for k, v in zip(("r1", "r2", "r3", "r4", "rcx", "rcy"), self.x[:6]))
         pose = f"theta0 {self.x[6]:.6g}, O2 ({self.x[7]:.6g}, {self.x[8]:.6g})"
         state = "defect-free" if not self.defects else "defects: " + ", ".join(self.defects)
+        if self.ok and not self.usable:
+            state += "; transmission below the usable"
         if self.violation > 1e-12 * self.problem.target.size:
             state += f"; constraints violated by {self.violation:.3g}"
         if self.cut:
@@ -200,7 +222,25 @@ class CurveFit:
         if self.budget is not None:
             lines.append(self.budget_note())
         lines += [f"{k + 1}. [{d.family}] {d}" for k, d in enumerate(self.designs[:count])]
+        note = self.smallest_f_note()
+        if note:
+            lines.append(note)
         return "\n".join(lines)
+
+    def smallest_f_note(self, designs: list[CurveDesign] | None = None) -> str:
+        """A line naming the defect-free design of smallest f among ``designs`` (default
+        the fit's, in their order) where a usable one of larger f is ranked before it
+        ("" otherwise)."""
+        designs = self.designs if designs is None else designs
+        ok = [d for d in designs if d.ok]
+        low = min(ok, key=lambda d: (d.f, d.start), default=None)
+        if low is None or low is ok[0]:
+            return ""
+        k = [id(d) for d in designs].index(id(low)) + 1
+        return (
+            f"the smallest f of a defect-free design, {low.f:.4g}, is #{k}'s: "
+            f"its smallest transmission angle is {math.degrees(low.transmission):.1f} deg"
+        )
 
 
 def _least_squares() -> Any:
@@ -291,22 +331,41 @@ class _Refinement:
 
     def minimise(self, z: np.ndarray, max_nfev: int) -> tuple[np.ndarray, int, bool]:
         """The least-squares refinement from z: (the refined z, evaluations, True if the
-        time budget stopped it). The penalised refinement (`penalised`); then, while a
-        round gains and half of ``max_nfev`` more evaluations are not spent, one along the linear
-        constraints it ends on (`along_active`) and the penalised one again from there."""
+        time budget stopped it). The penalised refinement (`penalised`), then, where it
+        ends on Grashof's limit, the refinement along the constraints (`continued`)."""
         z, nfev, cut, weight = self.penalised(z, max_nfev)
-        extra, more = 0, max(max_nfev // 2, 1)
+        if cut or not self.on_grashof_limit(z):
+            return z, nfev, cut
+        z, extra, cut = self.continued(z, max_nfev, weight)
+        return z, nfev + extra, cut
+
+    def continued(self, z: np.ndarray, max_nfev: int, weight: float) -> tuple[np.ndarray, int, bool]:
+        """From the end z of a penalised refinement on Grashof's limit: while a round
+        gains and half of ``max_nfev`` more evaluations are not spent, one along the
+        linear constraints it ends on (`along_active`) and the penalised one again from
+        there. (z, the evaluations it spent, True if the time budget stopped it.)"""
+        extra, more, cut = 0, max(max_nfev // 2, 1), False
         while not cut and extra < more:
             try:
                 moved, k = self.along_active(z, more - extra, weight)
             except _Spent:
-                return self.best_turning(z), nfev + extra, True
+                return self.best_turning(z), extra, True
             extra += k
             if moved is None:
                 break
             z, k, cut, weight = self.penalised(moved, max(more - extra, 1))
             extra += k
-        return z, nfev + extra, cut
+        return z, extra, cut
+
+    def on_grashof_limit(self, z: np.ndarray) -> bool:
+        """True where the design is within _BAND target sizes of s + l = p + q: there
+        "trf" stalls (`along_active`); elsewhere its own stop stands."""
+        names = self.problem.constraint_names()
+        out = self.evaluate(z)
+        if out is None or "grashof (s + l <= p + q)" not in names:
+            return False
+        g = out[2][names.index("grashof (s + l <= p + q)")]
+        return bool(g > -_BAND * self.problem.target.size)
 
     def best_turning(self, z: np.ndarray) -> np.ndarray:
         """The best point evaluated at the current weight, else z (it turns fully: a
@@ -426,6 +485,21 @@ class _Refinement:
         dg[out[2] + self.inset <= 0.0] = 0.0
         jac = out[1] if self.rows is None else self.rows[:, None] * out[1]
         return np.vstack([jac, weight * dg]) @ self.dxdz
+
+
+@dataclass
+class _Start:
+    """A start of `fit` after its penalised refinement (`_Refinement.penalised`)."""
+
+    start: int
+    family: str
+    ref: _Refinement
+    z: np.ndarray
+    nfev: int
+    cut: bool
+    weight: float
+    f: float
+    seconds: float
 
 
 def refine(
@@ -593,13 +667,17 @@ def fit(
 ) -> CurveFit:
     """Multistart: each starting design (``seeds``: (circuit, x) pairs or (circuit, x,
     family) triples such as `linkwork.synthesis.curve.seeds`' `Seed`; default
-    `random_seeds` (``starts`` of them, ``seed``)) refined by `refine` on ``workers``
-    threads (default: every core; the engine releases the GIL while it sweeps), on the
+    `random_seeds` (``starts`` of them, ``seed``)) refined as by `refine` on ``workers``
+    threads (default: every core; the engine releases the GIL while it sweeps), except
+    that the refinement along Grashof's limit runs, after every start's penalised one,
+    only for those within _REACH (10) times the best f then (`refine` runs it for any), on the
     `TrackingProblem` of ``target`` with the options ``problem`` (``lengths``,
     ``coupler``, ``pivot``, ``fixed``, ``ordered`` and the designer's constraints
     ``grashof``, ``transmission``, ``links``, ``ratio``, ``regions``). A start that does not turn fully on
     its circuit is dropped with why (``failures``). The answer does not depend on the
-    number of workers.
+    number of workers. Designs are sorted by `CURVE_MERIT`: none is dropped for its
+    transmission angle, but the usable come first (`CurveFit.smallest_f_note` names a
+    better f ranked after them).
 
     ``seconds``: a time budget for the whole fit (from its call). Once spent no start
     begins and the refinements under way stop with the best design each has evaluated
@@ -613,22 +691,46 @@ def fit(
     problems = {c: TrackingProblem(target, circuit=c, **problem) for c in ("open", "crossed")}
     jobs = list(enumerate(seeds))
 
-    def run(job: tuple[int, tuple[Any, ...]]) -> CurveDesign | str | None:
+    def first(job: tuple[int, tuple[Any, ...]]) -> _Start | str | None:
         k, (circuit, x, *family) = job
         if circuit not in problems:
             return f"start {k}: circuit {circuit!r} is not 'open' or 'crossed'"
         if deadline is not None and time.perf_counter() >= deadline:
             return None  # the budget is spent: not begun
+        t = time.perf_counter()
         try:
-            d = refine(problems[circuit], x, max_nfev=max_nfev, start=k, deadline=deadline)
+            ref = start_refinement(problems[circuit], x, k, deadline)
         except CircuitError as e:
             return f"start {k}: {e} ({family[0] if family else 'given'} seed)"
-        d.family = str(family[0]) if family else "given"
+        z, nfev, cut, weight = ref.penalised(ref.z_of(ref.base), max_nfev)
+        out = ref.evaluate(z)
+        f = math.inf if out is None else float(out[0] @ out[0])
+        name = str(family[0]) if family else "given"
+        return _Start(k, name, ref, z, nfev, cut, weight, f, time.perf_counter() - t)
+
+    begun = map_starts(first, jobs, workers)
+    # the refinement along Grashof's limit only where the penalised one ended on it, within
+    # _REACH times the best f of all starts (it lowers f by factors, not by orders)
+    best = min((s.f for s in begun if isinstance(s, _Start) and not s.cut), default=math.inf)
+
+    def then(s: _Start | str | None) -> CurveDesign | str | None:
+        if not isinstance(s, _Start):
+            return s
+        t = time.perf_counter()
+        z, nfev, cut = s.z, s.nfev, s.cut
+        if not cut and s.f <= _REACH * best and s.ref.on_grashof_limit(z):
+            if deadline is not None and time.perf_counter() >= deadline:
+                cut = True  # its refinement along the limit is left undone
+            else:
+                z, extra, cut = s.ref.continued(z, max_nfev, s.weight)
+                nfev += extra
+        d = _design(s.ref.problem, s.ref.x_of(z), nfev, s.seconds + time.perf_counter() - t, s.start)
+        d.cut, d.family = cut, s.family
         return d
 
-    done = map_starts(run, jobs, workers)
+    done = map_starts(then, begun, workers)
     designs = [d for d in done if isinstance(d, CurveDesign)]
-    designs.sort(key=lambda d: (not d.ok, d.f, d.start))
+    designs.sort(key=lambda d: (not d.ok, not d.usable, d.f, d.start))
     failures = [d for d in done if isinstance(d, str)]
     budget = None if seconds is None else float(seconds)
     return CurveFit(designs, failures, time.perf_counter() - t0, budget, sum(d is None for d in done))

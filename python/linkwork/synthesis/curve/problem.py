@@ -272,6 +272,9 @@ def table(result: CurveFit, count: int, designs: list[CurveDesign] | None = None
             f"{k:>3}  {d.f:>10.4g}  {d.max_deviation:>12.4g}  {math.degrees(d.transmission):>8.1f} deg  "
             f"{d.circuit:<8} {d.grashof:<16} {defects}; {state}"
         )
+    note = result.smallest_f_note(designs)
+    if note:
+        lines.append(note)
     for k, d in enumerate(designs[:count], 1):
         lines.append(f"design {k}: {d}")
         if d.margins:

@@ -1,0 +1,46 @@
+"""The ranking of curve designs: defect-free and within the constraints first, of them
+the usable (smallest transmission angle at least the stated bound, else 30 degrees) before
+the rest, then by f; no design is dropped for its transmission angle."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from linkwork.synthesis import curve as C
+
+pytest.importorskip("scipy")
+
+# A traces the target exactly but its transmission angle comes to 19.2 deg of 0 or 180;
+# B is 47.5 deg at worst and misses the target (f 2.29)
+A = np.array([4.0, 1.5, 4.3, 2.0, 1.0, 0.6, 0.2, 0.0, 0.0])
+B = np.array([4.0, 1.2, 3.8, 2.6, 1.0, 0.6, 0.2, 0.0, 0.0])
+TH = np.linspace(0.0, 2.0 * math.pi, 12, endpoint=False) + 0.1
+
+
+def _fit(**options: object) -> C.CurveFit:
+    t = C.target(C.coupler_points(A, TH, "open"), closed=True)
+    seeds = [("open", np.concatenate([A, TH]), "a"), ("open", np.concatenate([B, TH]), "b")]
+    # one evaluation a weight: the designs are the seeds as they stand
+    return C.fit(t, seeds=seeds, workers=2, max_nfev=1, **options)
+
+
+def test_a_usable_design_ranks_before_a_better_fit_below_30_degrees() -> None:
+    result = _fit()
+    a, b = sorted(result.designs, key=lambda d: d.family)
+    assert a.ok and b.ok and a.f < 1e-20 < 1.0 < b.f
+    assert math.degrees(a.transmission) == pytest.approx(19.2, abs=0.1) and not a.usable
+    assert math.degrees(b.transmission) > 30.0 and b.usable
+    assert [d.family for d in result.designs] == ["b", "a"]
+    # nothing hidden: the smaller f is named with its transmission angle
+    assert f"the smallest f of a defect-free design, {a.f:.4g}, is #2's" in result.report()
+    assert "19.2 deg" in result.smallest_f_note()
+
+
+def test_a_stated_transmission_bound_replaces_the_default() -> None:
+    result = _fit(transmission="15 deg")
+    assert [d.family for d in result.designs] == ["a", "b"]
+    assert all(d.usable for d in result.designs) and result.smallest_f_note() == ""
+    assert C.USABLE_TRANSMISSION == pytest.approx(math.radians(30.0))
