@@ -7,7 +7,8 @@ It is refined through its least-squares surrogate: the tracking error with the c
 angles free (`fit`), whose design vector already carries position, rotation and scale
 (theta0, x0, y0 and the lengths) and whose free crank angles make each residual, at the
 optimum, the point's distance normal to the curve. The seeds are the atlas's nearest
-curves, the target run either way (the shape has no direction); each refined design is
+curves, the target run either way (the shape has no direction), refined in rounds,
+nearest first, until two refined designs agree on the best; each refined design is
 then scored by `shape_error` and moved by its similarity onto the target, and, with
 ``polish``, the mean nearest distance itself is minimised from the best of them over the
 nine design numbers and the crank angles, by reweighted least squares on all the points
@@ -39,6 +40,12 @@ __all__ = ["ShapeDesign", "ShapeResult", "shape_fit", "traced", "moved"]
 
 # crank angles the traced curve is sampled at for the nearest distances
 _TRACE = 720
+# the seeds are refined in rounds of _ROUND, nearest first; after a round in which AGREE
+# refined designs come within the fraction _AGREE_TOL of the best mean, the rest are left
+# (several starts that fall into the best basin: more seldom find a better one)
+_ROUND = 4
+AGREE = 2
+_AGREE_TOL = 0.01
 
 
 def traced(x: Any, circuit: str, steps: int = _TRACE) -> np.ndarray:
@@ -89,10 +96,12 @@ class ShapeDesign:
 
 @dataclass
 class ShapeResult:
-    """`shape_fit`'s answer: ``designs`` by mean nearest distance, ``seconds`` (wall)."""
+    """`shape_fit`'s answer: ``designs`` by mean nearest distance, ``seconds`` (wall),
+    ``unrefined`` (seeds the agreement rule left unrefined)."""
 
     designs: list[ShapeDesign]
     seconds: float
+    unrefined: int = 0
 
     @property
     def best(self) -> ShapeDesign:
@@ -102,6 +111,8 @@ class ShapeResult:
 
     def report(self, count: int = 5) -> str:
         lines = [f"{len(self.designs)} designs in {self.seconds:.2f} s, by mean nearest distance"]
+        if self.unrefined:
+            lines[0] += f" ({self.unrefined} seeds left: {AGREE} starts agreed on the best)"
         lines += [f"{k + 1}. {d}" for k, d in enumerate(self.designs[:count])]
         return "\n".join(lines)
 
@@ -169,6 +180,7 @@ def shape_fit(
     max_nfev: int = 200,
     polish: int = 4,
     refine_points: int = 36,
+    agree: int | None = AGREE,
     **problem: Any,
 ) -> ShapeResult:
     """The shape problem for a closed ``target`` (a `TargetCurve` or an n x 2 array):
@@ -179,7 +191,9 @@ def shape_fit(
     ``polish`` rounds of reweighted least squares on all the points, which minimise that
     mean distance itself (0: none). The tracking refinement runs on at most
     ``refine_points`` of the points (evenly by index; its cost grows with their count),
-    the scores on all of them."""
+    the scores on all of them. The seeds are refined in rounds of 4, nearest first, until
+    ``agree`` refined designs (default 2) come within 1 % of the best mean nearest
+    distance (None or 0: every seed)."""
     t0 = time.perf_counter()
     tc = target if isinstance(target, TargetCurve) else make_target(target, closed=True)
     if tc.timed:
@@ -189,22 +203,26 @@ def shape_fit(
     sub = pts[::step]
     ways = {False: make_target(sub, closed=tc.closed), True: make_target(sub[::-1], closed=tc.closed)}
     atlas = atlas if atlas is not None else load_atlas()
-    seeds: dict[bool, list[Seed]] = {False: [], True: []}
+    seeds: list[tuple[bool, Seed]] = []
     for h in atlas.query(pts, k=k, closed=tc.closed):
         way = ways[h.reverse]
         th = crank_angles_along(h.vector, h.circuit, way.points, way.closed)
-        seeds[h.reverse].append(Seed(h.circuit, np.concatenate([h.vector, th]), "atlas"))
-    seeds[False] += [Seed(c, x, "random") for c, x in random_seeds(ways[False], random, seed)]
+        seeds.append((h.reverse, Seed(h.circuit, np.concatenate([h.vector, th]), "atlas")))
+    seeds += [(False, Seed(c, x, "random")) for c, x in random_seeds(ways[False], random, seed)]
     designs: list[ShapeDesign] = []
-    for rev, group in seeds.items():
-        if not group:
-            continue
-        result = fit(ways[rev], seeds=group, workers=workers, max_nfev=max_nfev, **problem)
-        for d in result.designs:
-            scored = _score(pts, d.x[:9], d.circuit)
-            if scored is not None:
-                y, mean, largest = scored
-                designs.append(ShapeDesign(y, d.circuit, mean, largest, d.family, rev, d))
+    done = 0
+    while done < len(seeds) and not (agree and _agreed(designs, int(agree), tc.size)):
+        chunk, done = seeds[done : done + _ROUND], done + _ROUND
+        for rev in (False, True):
+            group = [sd for r, sd in chunk if r == rev]
+            if not group:
+                continue
+            result = fit(ways[rev], seeds=group, workers=workers, max_nfev=max_nfev, **problem)
+            for d in result.designs:
+                scored = _score(pts, d.x[:9], d.circuit)
+                if scored is not None:
+                    y, mean, largest = scored
+                    designs.append(ShapeDesign(y, d.circuit, mean, largest, d.family, rev, d))
     designs.sort(key=lambda d: d.mean)
     if polish and designs:
         b = designs[0]
@@ -213,4 +231,13 @@ def shape_fit(
         if scored is not None and scored[1] < b.mean:
             y, mean, largest = scored
             designs.insert(0, ShapeDesign(y, b.circuit, mean, largest, b.family, b.reverse, None))
-    return ShapeResult(designs, time.perf_counter() - t0)
+    return ShapeResult(designs, time.perf_counter() - t0, max(len(seeds) - done, 0))
+
+
+def _agreed(designs: list[ShapeDesign], agree: int, size: float) -> bool:
+    """``agree`` designs within the fraction _AGREE_TOL of the best mean (or 1e-12
+    target sizes of it: a curve a four-bar traces exactly)."""
+    if not designs:
+        return False
+    best = min(d.mean for d in designs)
+    return sum(d.mean <= (1.0 + _AGREE_TOL) * best + 1e-12 * size for d in designs) >= agree
