@@ -44,3 +44,20 @@ def test_a_stated_transmission_bound_replaces_the_default() -> None:
     assert [d.family for d in result.designs] == ["a", "b"]
     assert all(d.usable for d in result.designs) and result.smallest_f_note() == ""
     assert C.USABLE_TRANSMISSION == pytest.approx(math.radians(30.0))
+
+
+def test_fit_stops_when_two_designs_agree() -> None:
+    # four starts near A (its curve the target) reach f ~ 0 in the first round of four:
+    # with agree=2 the four random starts after them are left
+    t = C.target(C.coupler_points(A, TH, "open"), closed=True)
+    rng = np.random.default_rng(2)
+    near = [("open", np.concatenate([A + rng.normal(0.0, 0.01, 9), TH])) for _ in range(4)]
+    seeds = near + C.random_seeds(t, 4, seed=1)
+    every = C.fit(t, seeds=seeds, workers=2, max_nfev=100)
+    stopped = C.fit(t, seeds=seeds, workers=2, max_nfev=100, agree=2)
+    assert every.unrefined == 0 and len(every.designs) + len(every.failures) == 8
+    assert stopped.unrefined == 4 and {d.start for d in stopped.designs} <= {0, 1, 2, 3}
+    ok = sorted(d.f for d in stopped.designs if d.ok)
+    assert len(ok) >= 2 and ok[1] <= 1e-20 * t.size**2
+    assert stopped.best.f == pytest.approx(every.best.f, abs=1e-20 * t.size**2)
+    assert "4 starts left unrefined: enough designs agreed" in stopped.report()

@@ -58,6 +58,9 @@ _GAIN = 1e-9
 # the refinement along Grashof's limit in `fit`: only for starts within _REACH times the
 # best f after the penalised refinements
 _REACH = 10.0
+# fit(agree=...): starts refined in rounds of _ROUND; designs agree within the fraction _AGREE_TOL
+_ROUND = 4
+_AGREE_TOL = 0.01
 
 
 @dataclass
@@ -178,13 +181,15 @@ class CurveDesign(TracedDesign):
 class CurveFit:
     """`fit`'s answer: ``designs`` sorted by `CURVE_MERIT`, ``failures`` (starting designs
     dropped, with why), ``seconds`` (wall time), ``budget`` (the time budget asked, s;
-    None: none) and ``unstarted`` (starts the budget left unrefined)."""
+    None: none), ``unstarted`` (starts the budget left unrefined) and ``unrefined``
+    (starts left once enough designs agreed, `fit`'s ``agree``)."""
 
     designs: list[CurveDesign]
     failures: list[str]
     seconds: float
     budget: float | None = None
     unstarted: int = 0
+    unrefined: int = 0
 
     @property
     def budget_ended(self) -> bool:
@@ -215,10 +220,13 @@ class CurveFit:
         return self.designs[0]
 
     def report(self, count: int = 5) -> str:
+        total = len(self.designs) + len(self.failures) + self.unstarted + self.unrefined
         lines = [
-            f"{len(self.designs)} designs from {len(self.designs) + len(self.failures) + self.unstarted} "
+            f"{len(self.designs)} designs from {total} "
             f"starts in {self.seconds:.2f} s ({len(self.failures)} dropped); sorted: {CURVE_MERIT}"
         ]
+        if self.unrefined:
+            lines.append(f"{self.unrefined} starts left unrefined: enough designs agreed on the smallest f")
         if self.budget is not None:
             lines.append(self.budget_note())
         lines += [f"{k + 1}. [{d.family}] {d}" for k, d in enumerate(self.designs[:count])]
@@ -663,6 +671,7 @@ def fit(
     workers: int | None = None,
     max_nfev: int = 400,
     seconds: float | None = None,
+    agree: int | None = None,
     **problem: Any,
 ) -> CurveFit:
     """Multistart: each starting design (``seeds``: (circuit, x) pairs or (circuit, x,
@@ -682,7 +691,11 @@ def fit(
     ``seconds``: a time budget for the whole fit (from its call). Once spent no start
     begins and the refinements under way stop with the best design each has evaluated
     (`CurveFit.budget_ended`, `CurveFit.budget_note`); when it does not end the fit the
-    answer is the one without it, reproducible with ``seed``."""
+    answer is the one without it, reproducible with ``seed``.
+
+    ``agree``: the starts are refined in rounds of 4, in order, until ``agree``
+    defect-free designs within the constraints come within 1 % of the smallest f of them
+    (`CurveFit.unrefined`: the starts left); None (the default): every start."""
     t0 = time.perf_counter()
     deadline = None if seconds is None else t0 + budget_seconds(seconds)
     if seeds is None:
@@ -708,17 +721,16 @@ def fit(
         name = str(family[0]) if family else "given"
         return _Start(k, name, ref, z, nfev, cut, weight, f, time.perf_counter() - t)
 
-    begun = map_starts(first, jobs, workers)
     # the refinement along Grashof's limit only where the penalised one ended on it, within
-    # _REACH times the best f of all starts (it lowers f by factors, not by orders)
-    best = min((s.f for s in begun if isinstance(s, _Start) and not s.cut), default=math.inf)
+    # _REACH times the best f of the starts so far (it lowers f by factors, not by orders)
+    best = [math.inf]
 
     def then(s: _Start | str | None) -> CurveDesign | str | None:
         if not isinstance(s, _Start):
             return s
         t = time.perf_counter()
         z, nfev, cut = s.z, s.nfev, s.cut
-        if not cut and s.f <= _REACH * best and s.ref.on_grashof_limit(z):
+        if not cut and s.f <= _REACH * best[0] and s.ref.on_grashof_limit(z):
             if deadline is not None and time.perf_counter() >= deadline:
                 cut = True  # its refinement along the limit is left undone
             else:
@@ -728,12 +740,28 @@ def fit(
         d.cut, d.family = cut, s.family
         return d
 
-    done = map_starts(then, begun, workers)
+    done: list[CurveDesign | str | None] = []
+    step = _ROUND if agree else max(len(jobs), 1)
+    ran = 0
+    while ran < len(jobs) and not (agree and _agreed(done, int(agree), target.size)):
+        begun = map_starts(first, jobs[ran : ran + step], workers)
+        ran += step
+        best[0] = min([best[0]] + [s.f for s in begun if isinstance(s, _Start) and not s.cut])
+        done += map_starts(then, begun, workers)
     designs = [d for d in done if isinstance(d, CurveDesign)]
     designs.sort(key=lambda d: (not d.ok, not d.usable, d.f, d.start))
     failures = [d for d in done if isinstance(d, str)]
     budget = None if seconds is None else float(seconds)
-    return CurveFit(designs, failures, time.perf_counter() - t0, budget, sum(d is None for d in done))
+    unstarted = sum(d is None for d in done)
+    return CurveFit(designs, failures, time.perf_counter() - t0, budget, unstarted, max(len(jobs) - ran, 0))
+
+
+def _agreed(done: list[Any], agree: int, size: float) -> bool:
+    """``agree`` defect-free designs within the constraints whose f is within the
+    fraction _AGREE_TOL of the smallest such f (or 1e-20 target sizes squared of it: a
+    curve a four-bar passes exactly)."""
+    fs = sorted(d.f for d in done if isinstance(d, CurveDesign) and d.ok)
+    return len(fs) >= agree and fs[agree - 1] <= (1.0 + _AGREE_TOL) * fs[0] + 1e-20 * size * size
 
 
 def budget_seconds(seconds: Any) -> float:
