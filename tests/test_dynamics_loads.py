@@ -1,7 +1,8 @@
 """Loads that are functions of a joint's coordinate and rate (force laws, motors, laws of
 another joint's: a gas force of the crank angle) and joint friction, in forward
 dynamics: closed forms, the NumPy reference, the energy balance, equilibrium, model-file
-fields (free, initial rates) and the errors naming the load.
+fields (free, initial rates, the drivers a simulation frees) and the errors naming the
+load.
 
 Tolerances (measured in brackets):
 - A flywheel under a linear motor curve, J w' = T_s (1 - w / w_nl): w = w_nl (1 -
@@ -391,3 +392,39 @@ def test_a_clipped_motor_holds_between_zero_and_stall(w0: float) -> None:
     assert np.max(np.abs(sim.qd[:, 2] - want)) < 1e-8
     ref = simulate(m, t, qd0=sim.qd[0], rtol=1e-11, atol=1e-11)  # one body: the same columns
     assert np.max(np.abs(ref["qd"][:, 2] - want)) < 1e-7
+
+
+def driven_wheel() -> lw.Mechanism:
+    """A flywheel driven at 2 rad/s, a motor at its pin, in a file that says free."""
+    m = flywheel()
+    m.drive_angle("wheel", lw.Linear(value=0.0, rate=2.0), name="drive")
+    return m
+
+
+def test_simulate_chooses_the_drivers_it_frees() -> None:
+    model = driven_wheel().compile()
+    t = np.linspace(0.0, 1.0, 11)
+    kept = model.simulate(t)
+    assert np.max(np.abs(kept.qd[:, 2] - 2.0)) < 1e-9  # the driver holds the rate
+    freed = model.simulate(t, rtol=1e-12, atol=1e-12, free_drivers=["drive"])
+    tau = J * NO_LOAD / STALL
+    assert np.max(np.abs(freed.qd[:, 2] - NO_LOAD * (1 - np.exp(-t / tau)))) < 1e-9
+    assert freed.model.dof == 1 and model.dof == 0
+    every = model.simulate(t, rtol=1e-12, atol=1e-12, free_drivers=True)
+    assert np.max(np.abs(every.qd - freed.qd)) < 1e-12
+    with pytest.raises(lw.errors.InputError, match="'nothing' is not a driver.*'drive'"):
+        model.simulate(t, free_drivers=["nothing"])
+    with pytest.raises(lw.errors.InputError, match="free_drivers must be"):
+        model.simulate(t, free_drivers="drive")
+
+
+def test_cli_frees_drivers(tmp_path, capsys) -> None:
+    path = tmp_path / "wheel.toml"
+    driven_wheel().save(path)
+    args = ["simulate", str(path), "--t1", "0.5", "--steps", "6", "--out", str(tmp_path)]
+    assert main(args) == 1  # every coordinate is driven
+    assert "every coordinate is driven" in capsys.readouterr().err
+    assert main([*args, "--free-drivers", "drive"]) == 0
+    assert main([*args, "--free-drivers", "all"]) == 0
+    assert main([*args, "--free-drivers", "nothing"]) != 0
+    assert "'nothing' is not a driver" in capsys.readouterr().err
