@@ -174,7 +174,8 @@ def _library():
 
 def engine_driven() -> dict:
     """examples/engine_startup.py's engine with its crank driven at 30 rad/s: a gas force
-    table of the piston's slide, a motor and friction at a revolute and a prismatic."""
+    on the piston, a table of the crank's angle, a clipped motor and friction at a
+    revolute and a prismatic."""
     import sys
 
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "examples"))

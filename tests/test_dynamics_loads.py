@@ -1,6 +1,8 @@
-"""Loads that are functions of a joint's coordinate and rate (force laws, motors) and
-joint friction, in forward dynamics: closed forms, the NumPy reference, the energy
-balance, model-file fields (free, initial rates) and the errors naming the load.
+"""Loads that are functions of a joint's coordinate and rate (force laws, motors, laws of
+another joint's: a gas force of the crank angle) and joint friction, in forward
+dynamics: closed forms, the NumPy reference, the energy balance, equilibrium, model-file
+fields (free, initial rates, the drivers a simulation frees) and the errors naming the
+load.
 
 Tolerances (measured in brackets):
 - A flywheel under a linear motor curve, J w' = T_s (1 - w / w_nl): w = w_nl (1 -
@@ -12,7 +14,8 @@ Tolerances (measured in brackets):
   theta0^2 / 6 ~ 2e-7, accumulated as a phase over 3 periods): 1e-5 of theta0 [3e-7].
 - Engine against reference over 0.3 s, both DOP853 at 1e-11 on the same equations; the
   piston's Coulomb friction, smoothed over 0.05 m/s, turns over sharply at the dead
-  centres, where both integrators' errors grow: q to 1e-7 [2e-8], rates to 3e-6 [3e-7].
+  centres, and the clipped starter has kinks, where both integrators' errors grow: q to
+  1e-7 [4e-9], rates to 3e-6 [1.1e-7].
 """
 
 from __future__ import annotations
@@ -98,8 +101,9 @@ def engine_model() -> lw.Model:
 
 
 def test_engine_against_the_reference() -> None:
-    """The engine's motion (gas force table, motor, Coulomb and viscous friction at a
-    revolute and a prismatic) against the NumPy reference's, from rest over 0.3 s."""
+    """The engine's motion (a gas force on the piston of the crank angle, a clipped motor,
+    Coulomb and viscous friction at a revolute and a prismatic) against the NumPy
+    reference's, from rest over 0.3 s."""
     pytest.importorskip("scipy")
     from linkwork.reference import simulate
 
@@ -255,3 +259,172 @@ def test_joint_load_numbers_are_not_design_parameters() -> None:
     model = lw.Model(engine_driven())
     with pytest.raises(lw.ParameterError, match="'bearing' acts at a joint"):
         model.sensitivities(np.linspace(0.0, 0.1, 3), ["loads.bearing.viscous"])
+
+
+def two_wheels(law: lw.Law, of: str = "coordinate", w0: float = 3.0) -> lw.Mechanism:
+    """Two flywheels on their own pins; the first spins freely at w0, the second carries
+    a torque of the first one's angle (or rate)."""
+    m = lw.Mechanism("two wheels")
+    first = m.body("first", origin=(0.0, 0.0), mass=1.0, inertia=0.5)
+    second = m.body("second", origin=(1.0, 0.0), mass=1.0, inertia=J)
+    m.revolute(m.ground, first, at=(0.0, 0.0), name="A")
+    m.revolute(m.ground, second, at=(1.0, 0.0), name="B")
+    m.joint_force("B", law, of=of, of_joint="A", name="driven")
+    m.free = True
+    m.initial_rates = {"A": w0, "B": 0.0}
+    return m
+
+
+def test_torque_of_another_joints_angle_follows_the_closed_form() -> None:
+    """tau_B = a sin(theta_A), theta_A = w0 t: J w_B' = a sin(w0 t), so
+    w_B = a (1 - cos(w0 t)) / (J w0), theta_B = a (t - sin(w0 t) / w0) / (J w0); the
+    first wheel feels nothing (the joint read carries no force). Exact; DOP853 at 1e-12:
+    rates to 1e-10 [2e-12], angles to 1e-10 [2e-11]. Its work is W_nc, the second
+    wheel's kinetic energy: the balance closes."""
+    a, w0 = 4.0, 3.0
+    t = np.linspace(0.0, 1.0, 21)
+    model = two_wheels(lw.Harmonic(mean=0.0, amplitude=a, omega=1.0), w0=w0).compile()
+    sim = model.simulate(t, rtol=1e-12, atol=1e-12)
+    col = model.columns.index
+    assert np.max(np.abs(sim.qd[:, col("first.theta")] - w0)) < 1e-12
+    assert np.max(np.abs(sim.qd[:, col("second.theta")] - a * (1 - np.cos(w0 * t)) / (J * w0))) < 1e-10
+    theta = a * (t - np.sin(w0 * t) / w0) / (J * w0)
+    assert np.max(np.abs(sim.q[:, col("second.theta")] - theta)) < 1e-10
+    energy = sim.energy()
+    assert np.max(np.abs(energy.balance)) < 1e-10 * np.max(energy.kinetic)
+    gained = 0.5 * J * (a * (1 - np.cos(w0 * t[-1])) / (J * w0)) ** 2
+    assert abs(energy.work[-1] - gained) < 1e-10 * gained and gained > 10.0
+    # gen-alpha (its tangent couples B's row to A's angle), order 2: to 1e-5
+    alpha = model.simulate(t, method="gen-alpha", rtol=1e-9, atol=1e-9)
+    assert np.max(np.abs(alpha.q - sim.q)) < 1e-5
+
+
+def test_torque_of_another_joints_rate_and_its_unit_in_degrees() -> None:
+    """tau_B = c0 + c1 w_A (w_A = w0, constant): w_B = (c0 + c1 w0) t / J; in a model in
+    degrees the law reads w_A in deg/s."""
+    c0, c1, w0 = 0.5, 0.2, 3.0
+    t = np.linspace(0.0, 1.0, 11)
+    rad = two_wheels(lw.Polynomial([c0, c1]), of="rate", w0=w0)
+    sim = rad.compile().simulate(t, rtol=1e-12, atol=1e-12)
+    col = rad.compile().columns.index("second.theta")
+    assert np.max(np.abs(sim.qd[:, col] - (c0 + c1 * w0) * t / J)) < 1e-12
+    deg = lw.Mechanism.from_dict(rad.to_dict())
+    deg.units = {"length": "m", "angle": "deg"}
+    deg._loads = [dict(deg._loads[0], law=lw.Polynomial([c0, c1 * math.pi / 180.0]).to_dict())]
+    deg.initial_rates = {"A": math.degrees(w0), "B": 0.0}
+    again = deg.compile().simulate(t, rtol=1e-12, atol=1e-12)
+    assert np.max(np.abs(again.qd - sim.qd)) < 1e-11
+
+
+def test_equilibrium_with_a_torque_of_another_joints_angle() -> None:
+    """Two wheels on torsion springs k1, k2 (free at their drawn angles 0); a constant
+    torque T on the first, and on the second c theta_1: at rest theta_1 = T / k1,
+    theta_2 = c theta_1 / k2 (to 1e-12). The stiffness is not symmetric (the second's
+    torque moves with the first's angle, not the other way): `asymmetry` says so."""
+    k1, k2, torque, c = 4.0, 2.5, 0.8, 1.5
+    m = two_wheels(lw.Linear(value=0.0, rate=c))
+    m.initial_rates = {}
+    m.torsion_spring(m.ground, "first", stiffness=k1, free_angle=0.0)
+    m.torsion_spring(m.ground, "second", stiffness=k2, free_angle=0.0)
+    m.torque("first", lw.Constant(torque))
+    eq = m.compile().equilibrium()
+    assert abs(eq.body("first").theta - torque / k1) < 1e-12
+    assert abs(eq.body("second").theta - c * torque / (k1 * k2)) < 1e-12
+    assert eq.stable and eq.asymmetry > 0.1
+
+
+def test_a_joint_force_of_an_unknown_or_welded_joint_is_named() -> None:
+    m = two_wheels(lw.Constant(1.0))
+    m._loads[0]["of_joint"] = "nowhere"
+    with pytest.raises(ModelError, match="driven.*reads the coordinate of 'nowhere'.*not a joint"):
+        m.compile()
+    m = two_wheels(lw.Constant(1.0))
+    m.fixed("first", m.body("third", mass=1.0, inertia=0.1), name="weld")
+    m._loads[0]["of_joint"] = "weld"
+    with pytest.raises(ModelError, match="driven.*reads the coordinate of 'weld', a fixed joint"):
+        m.compile()
+
+
+def test_the_joint_read_travels_through_model_files(tmp_path) -> None:
+    m = engine_startup.engine()
+    for name in ("engine.toml", "engine.json"):
+        m.save(tmp_path / name)
+        back = lw.Mechanism.load(tmp_path / name)
+        gas = next(ld for ld in back.to_dict()["loads"] if ld["name"] == "gas")
+        starter = next(ld for ld in back.to_dict()["loads"] if ld["name"] == "starter")
+        assert gas["of_joint"] == "main" and starter["clip"] is True
+        assert back.to_dict() == lw.Mechanism.from_dict(m.to_dict()).to_dict()
+
+
+def test_engine_gen_alpha_agrees_with_rk8() -> None:
+    """The engine's gas force of the crank angle in the implicit integrator's tangent:
+    gen-alpha (order 2, rtol 1e-8) against DOP853 (1e-10) over 0.5 s, to 1e-4 rad
+    [5e-6] in the crank angle."""
+    t = np.linspace(0.0, 0.5, 11)
+    model = engine_model()
+    rk = model.simulate(t, rtol=1e-10, atol=1e-10)
+    alpha = model.simulate(t, method="gen-alpha", rtol=1e-8, atol=1e-8)
+    col = model.columns.index("crank.theta")
+    assert np.max(np.abs(alpha.q[:, col] - rk.q[:, col])) < 1e-4
+
+
+@pytest.mark.parametrize("w0", [55.0, -5.0])
+def test_a_clipped_motor_holds_between_zero_and_stall(w0: float) -> None:
+    """Clipped, the starter gives nothing beyond its no-load speed (a flywheel at 55 rad/s
+    keeps it; unclipped it brakes towards 30) and stall torque against it (from -5 rad/s:
+    w = -5 + T_s t / J until w = 0, then w_nl (1 - exp(-(t - t0) / tau))), to 1e-8 past
+    the kinks [7e-12]. The NumPy reference clips the same way."""
+    pytest.importorskip("scipy")
+    from linkwork.reference import simulate
+
+    m = flywheel(A=w0)
+    m._loads[0]["clip"] = True
+    t = np.linspace(0.0, 1.0, 21)
+    sim = m.compile().simulate(t, rtol=1e-12, atol=1e-12)
+    tau = J * NO_LOAD / STALL
+    if w0 > NO_LOAD:
+        want = np.full_like(t, w0)
+        free = flywheel(A=w0).compile().simulate(t, rtol=1e-12, atol=1e-12)
+        assert free.qd[-1, 2] < w0 - 5.0  # the line brakes
+    else:
+        t0 = -w0 * J / STALL
+        want = np.where(t < t0, w0 + STALL * t / J, NO_LOAD * (1 - np.exp(-(t - t0) / tau)))
+    assert np.max(np.abs(sim.qd[:, 2] - want)) < 1e-8
+    ref = simulate(m, t, qd0=sim.qd[0], rtol=1e-11, atol=1e-11)  # one body: the same columns
+    assert np.max(np.abs(ref["qd"][:, 2] - want)) < 1e-7
+
+
+def driven_wheel() -> lw.Mechanism:
+    """A flywheel driven at 2 rad/s, a motor at its pin, in a file that says free."""
+    m = flywheel()
+    m.drive_angle("wheel", lw.Linear(value=0.0, rate=2.0), name="drive")
+    return m
+
+
+def test_simulate_chooses_the_drivers_it_frees() -> None:
+    model = driven_wheel().compile()
+    t = np.linspace(0.0, 1.0, 11)
+    kept = model.simulate(t)
+    assert np.max(np.abs(kept.qd[:, 2] - 2.0)) < 1e-9  # the driver holds the rate
+    freed = model.simulate(t, rtol=1e-12, atol=1e-12, free_drivers=["drive"])
+    tau = J * NO_LOAD / STALL
+    assert np.max(np.abs(freed.qd[:, 2] - NO_LOAD * (1 - np.exp(-t / tau)))) < 1e-9
+    assert freed.model.dof == 1 and model.dof == 0
+    every = model.simulate(t, rtol=1e-12, atol=1e-12, free_drivers=True)
+    assert np.max(np.abs(every.qd - freed.qd)) < 1e-12
+    with pytest.raises(lw.errors.InputError, match="'nothing' is not a driver.*'drive'"):
+        model.simulate(t, free_drivers=["nothing"])
+    with pytest.raises(lw.errors.InputError, match="free_drivers must be"):
+        model.simulate(t, free_drivers="drive")
+
+
+def test_cli_frees_drivers(tmp_path, capsys) -> None:
+    path = tmp_path / "wheel.toml"
+    driven_wheel().save(path)
+    args = ["simulate", str(path), "--t1", "0.5", "--steps", "6", "--out", str(tmp_path)]
+    assert main(args) == 1  # every coordinate is driven
+    assert "every coordinate is driven" in capsys.readouterr().err
+    assert main([*args, "--free-drivers", "drive"]) == 0
+    assert main([*args, "--free-drivers", "all"]) == 0
+    assert main([*args, "--free-drivers", "nothing"]) != 0
+    assert "'nothing' is not a driver" in capsys.readouterr().err

@@ -270,6 +270,9 @@ def simulate(args: argparse.Namespace) -> int:
 
     try:
         model = Mechanism.load(args.model).compile(free=True)
+        if args.free_drivers:
+            freed = True if args.free_drivers == ["all"] else args.free_drivers
+            model = model.freed(freed)
     except (OSError, ValueError, TypeError, KeyError, AttributeError, LinkworkError) as e:
         raise _Failed(f"{args.model}: {e}") from None
     if model.dof == 0:
@@ -661,6 +664,12 @@ A run that fails part way writes the times it reached and exits with status 1.""
         metavar="COLUMN=VALUE,...",
         help="initial rates of coordinates (crank.theta=-1,...; the rest 0); they must be consistent "
         "with the joints (default: the file's initial_rates, the other rates following from the joints)",
+    )
+    sim.add_argument(
+        "--free-drivers",
+        type=_names,
+        metavar="DRIVER,...|all",
+        help="drivers to free for this run (their coordinates follow the forces; the others are kept)",
     )
     sim.add_argument(
         "--max-steps", type=_positive_int, default=None, metavar="N", help="stop after N integration steps"

@@ -39,9 +39,8 @@ pub(crate) fn load_powers<'py>(
             let (qk, qdk) = (q.row(k).to_vec(), qd.row(k).to_vec());
             frames_of(&qk, &qdk, &mut frames);
             for l in &m.loads {
-                let side = |b: Option<usize>| b.map_or(&Frame::GROUND, |i| &frames[i]);
                 force.fill(0.0);
-                l.add_to(side(l.body_a), side(l.body_b), t, &mut force);
+                l.add_to(&frames, t, &mut force);
                 out.push(force.iter().zip(&qdk).map(|(f, v)| f * v).sum());
             }
         }

@@ -646,10 +646,20 @@ class Mechanism:
             stiffness=float(stiffness), free_angle=float(free_angle), damping=float(damping),
         )  # fmt: skip
 
-    def joint_force(self, joint: str, law: Law, of: str = "coordinate", name: str | None = None) -> str:
+    def joint_force(
+        self,
+        joint: str,
+        law: Law,
+        of: str = "coordinate",
+        name: str | None = None,
+        of_joint: str | None = None,
+    ) -> str:
         """A torque (revolute joint) or a force along the axis (prismatic joint) of magnitude
         law(x) between the joint's bodies, on body_b and its reaction on body_a; ``of``
-        "coordinate" (x: theta_b - theta_a, or the slide from the start) or "rate" (x')."""
+        "coordinate" (x: theta_b - theta_a, or the slide from the start) or "rate" (x') of
+        the joint ``of_joint``, a revolute or prismatic joint (default: ``joint`` itself; a
+        piston's gas force of the crank angle: ``joint_force("cylinder", law,
+        of_joint="main")``)."""
         if of not in ("coordinate", "rate"):
             raise InputError(f'joint_force: of must be "coordinate" or "rate", not {of!r}')
         if not isinstance(law, Law):
@@ -657,14 +667,22 @@ class Mechanism:
                 f"joint_force: law must be a linkwork motion law (Spline, Linear...), not {law!r}"
             )
         self._register(law)
-        return self._load("joint_force", name, joint=str(joint), of=of, law=law.to_dict())
+        read = {} if of_joint is None or str(of_joint) == str(joint) else {"of_joint": str(of_joint)}
+        return self._load("joint_force", name, joint=str(joint), of=of, **read, law=law.to_dict())
 
-    def motor(self, joint: str, stall: float, no_load_speed: float, name: str | None = None) -> str:
+    def motor(
+        self, joint: str, stall: float, no_load_speed: float, name: str | None = None, clip: bool = False
+    ) -> str:
         """A motor at a joint with the linear torque-speed curve
-        f = stall (1 - rate / no_load_speed) (a force-speed curve at a prismatic joint)."""
-        return self._load(
-            "motor", name, joint=str(joint), stall=float(stall), no_load_speed=float(no_load_speed)
-        )
+        f = stall (1 - rate / no_load_speed) (a force-speed curve at a prismatic joint). The
+        line goes on beyond its ends (a DC motor driven past its no-load speed brakes,
+        driven backwards it exceeds its stall torque); ``clip=True`` holds f between 0 and
+        stall: no torque from the no-load speed on (a starter's overrunning clutch), stall
+        torque at and below zero speed."""
+        fields: dict[str, Any] = {"stall": float(stall), "no_load_speed": float(no_load_speed)}
+        if clip:
+            fields["clip"] = True
+        return self._load("motor", name, joint=str(joint), **fields)
 
     def friction(
         self,

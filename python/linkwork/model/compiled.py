@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -545,6 +545,7 @@ class Model:
         max_steps: int | None = None,
         ic_tol: float = 1e-6,
         progress: Callable[[int, int], Any] | bool | None = None,
+        free_drivers: Iterable[str] | bool = False,
     ) -> Simulation:
         """Forward dynamics: the motion under gravity, the loads and the drivers of a
         model compiled with free coordinates (``compile(free=True)``), from ``q0``, ``qd0``
@@ -567,7 +568,16 @@ class Model:
         allowed per step, atol in the model's length unit for lengths (rad for angles).
         ``h0``, ``h_max``, ``max_steps``: the first and largest step, the most steps.
         A failed step raises `IntegrationError` with ``partial``: the times reached.
+        ``free_drivers``: drivers to free for this simulation, by name (True: all), their
+        coordinates then following the forces; the others are kept. The model is compiled
+        again without them, free (the simulation's ``model``); a name that is not a
+        driver of the model raises `InputError`.
         """
+        if free_drivers is not False:
+            return self.freed(free_drivers).simulate(
+                times, method=method, rtol=rtol, atol=atol, q0=q0, qd0=qd0, rho_inf=rho_inf, h0=h0,
+                h_max=h_max, max_steps=max_steps, ic_tol=ic_tol, progress=progress,
+            )  # fmt: skip
         t = _args.times(times)
         method = _args.choice(method, "method", ("rk8", "gen-alpha"))
         rtol = _args.number(rtol, "rtol", positive=True)
@@ -606,6 +616,25 @@ class Model:
             error.partial = results
             raise error
         return results
+
+    def freed(self, drivers: Iterable[str] | bool) -> Model:
+        """This model compiled free without the named drivers (True: all of them)."""
+        have = [d["name"] for d in self.description.get("drivers", [])]
+        if drivers is True:
+            names = set(have)
+        elif isinstance(drivers, str) or not isinstance(drivers, Iterable):
+            raise InputError(f"free_drivers must be driver names or True, not {drivers!r}")
+        else:
+            names = {str(d) for d in drivers}
+            unknown = sorted(names - set(have))
+            if unknown:
+                raise InputError(
+                    f"free_drivers: {unknown[0]!r} is not a driver of {self.name!r}; its drivers are "
+                    + (", ".join(repr(d) for d in have) or "none")
+                )
+        desc = dict(self.description)
+        desc["drivers"] = [d for d in self.description.get("drivers", []) if d["name"] not in names]
+        return Model(desc, **{**self._options, "free": True, "python_laws": self._python_laws or None})
 
     def equilibrium(
         self,

@@ -19,10 +19,11 @@ linear solve, Phi_q^T lambda = Q - M qdd. Here every piece is a dense matrix:
   (from -(dr_c/dq)^T m a_c with a_c = Rdd + B u_c thdd - A u_c thd^2): (m thd^2 A u_c, 0);
   Q_g = (m g, (B u_c)^T m g);
   a force F at the local point u adds (F, (B u)^T F); a torque adds to the theta entry.
-  A joint load of magnitude f (a law of the joint's x or x', a motor, friction) is a
-  torque f on b and -f on a at a revolute (x = theta_b - theta_a); at a prismatic, with
-  x = n . d (n = A_a e, d = r_b(u_b) - r_a(u_a)), the force f n at b's point, -f n at a's
-  and the moment f (n x d) on a, since the axis turns with a: together f dx/dq.
+  A joint load of magnitude f (a law of x or x' of the joint or of another joint, a
+  motor, clipped or not, friction) is a torque f on b and -f on a at a revolute
+  (x = theta_b - theta_a); at a prismatic, with x = n . d (n = A_a e,
+  d = r_b(u_b) - r_a(u_a)), the force f n at b's point, -f n at a's and the moment
+  f (n x d) on a, since the axis turns with a: together f dx/dq.
 
 From lambda: the generalized force that constraint k exerts on its side b is
 Q_b = -(dPhi_k/dq_b)^T lambda_k: a world force (Fx, Fy) and the moment about b's origin,
@@ -174,9 +175,12 @@ class Load:
     scale: float = 1.0
     stall: float = 0.0
     no_load_speed: float = 1.0
+    clip: bool = False
     viscous: float = 0.0
     coulomb: float = 0.0
     smoothing: float = 1.0
+    # a joint force's law of another joint's x: that joint (kind "joint", its axis and sides)
+    reads: Load | None = None
 
     def joint_coordinate(self, pa: Pose, pb: Pose) -> tuple[float, float]:
         """(x, x') of a joint load's joint: theta_b - theta_a, or the slide n . d with
@@ -194,13 +198,17 @@ class Load:
             assert self.law is not None
             return motion_law(self.law, self.scale * (xd if self.of_rate else x))[0]
         if self.kind == "motor":
-            return self.stall * (1.0 - xd / self.no_load_speed)
+            share = 1.0 - xd / self.no_load_speed
+            # clipped: no torque beyond the no-load speed, stall torque against it
+            return self.stall * (min(max(share, 0.0), 1.0) if self.clip else share)
         return -self.viscous * xd - self.coulomb * math.tanh(xd / self.smoothing)
 
-    def forces(self, pa: Pose, pb: Pose, t: float) -> list[tuple[str, np.ndarray, float]]:
+    def forces(
+        self, pa: Pose, pb: Pose, t: float, read: tuple[Pose, Pose] | None = None
+    ) -> list[tuple[str, np.ndarray, float]]:
         """The load as (side, world force at its point, torque) acting on each side:
         side "a" or "b", the force F (2) at u_a or u_b (zero for pure torques) and a
-        torque."""
+        torque. ``read``: the poses of the sides of the joint ``reads``, if any."""
         if self.kind == "force":
             assert self.direction is not None and self.law is not None
             return [("b", motion_law(self.law, t)[0] * self.direction, 0.0)]
@@ -220,7 +228,11 @@ class Load:
             tau = self.stiffness * (pb.theta - pa.theta - self.free_angle) + self.damping * (pb.thd - pa.thd)
             return [("b", np.zeros(2), -tau), ("a", np.zeros(2), tau)]
         if self.kind in ("joint_force", "motor", "friction"):
-            f = self.magnitude(*self.joint_coordinate(pa, pb))
+            if self.reads is not None:
+                assert read is not None
+                f = self.magnitude(*self.reads.joint_coordinate(*read))
+            else:
+                f = self.magnitude(*self.joint_coordinate(pa, pb))
             if self.axis == "turn":
                 return [("b", np.zeros(2), f), ("a", np.zeros(2), -f)]
             assert self.e_local is not None and self.u_a is not None and self.u_b is not None
@@ -261,6 +273,18 @@ def build_loads(
         except ValueError as err:
             raise ValueError(f"{where}: {err}") from None
         return law
+
+    def joint_load(name: str, kind: str, joint_name: Any, where: str) -> Load:
+        joint = next((c for c in constraints or [] if c.name == joint_name), None)
+        if not isinstance(joint, (Revolute, Prismatic)):
+            raise ValueError(f"{where}: {joint_name!r} is not a revolute or prismatic joint")
+        load = Load(name, kind, joint.a, joint.b)
+        if isinstance(joint, Revolute):
+            load.axis = "turn"
+        else:
+            load.axis, load.e_local = "slide", np.asarray(joint.e_local, dtype=float)
+            load.u_a, load.u_b = np.asarray(joint.ua, dtype=float), np.asarray(joint.ub, dtype=float)
+        return load
 
     for ld in desc.get("loads", []):
         kind, name = ld.get("type"), ld.get("name")
@@ -309,22 +333,20 @@ def build_loads(
                 damping=non_negative(where, "damping", ld.get("damping", 0.0)),
             )  # fmt: skip
         elif kind in ("joint_force", "motor", "friction"):
-            joint = next((c for c in constraints or [] if c.name == ld.get("joint")), None)
-            if not isinstance(joint, (Revolute, Prismatic)):
-                raise ValueError(f"{where}: {ld.get('joint')!r} is not a revolute or prismatic joint")
-            load = Load(name, kind, joint.a, joint.b)
-            if isinstance(joint, Revolute):
-                load.axis = "turn"
-            else:
-                load.axis, load.e_local = "slide", np.asarray(joint.e_local, dtype=float)
-                load.u_a, load.u_b = np.asarray(joint.ua, dtype=float), np.asarray(joint.ub, dtype=float)
+            load = joint_load(name, kind, ld.get("joint"), where)
+            other = ld.get("of_joint") if kind == "joint_force" else None
+            if other is not None and other != ld.get("joint"):
+                load.reads = joint_load(str(other), "joint", other, where)
+                # the law's argument is in the unit of the joint it reads
+                load.reads.scale = float(ld.get("of_scale", 1.0))
             if kind == "joint_force":
                 if ld.get("of", "coordinate") not in ("coordinate", "rate"):
                     raise ValueError(f"{where}: of must be coordinate or rate")
                 load.law, load.of_rate = law_of(where, ld), ld.get("of") == "rate"
-                load.scale = float(ld.get("scale", 1.0))
+                load.scale = float(ld.get("scale", 1.0)) if load.reads is None else load.reads.scale
             elif kind == "motor":
                 load.stall, load.no_load_speed = float(ld["stall"]), float(ld["no_load_speed"])
+                load.clip = bool(ld.get("clip", False))
                 if not (
                     is_finite(load.stall) and is_finite(load.no_load_speed) and load.no_load_speed != 0.0
                 ):
@@ -404,7 +426,9 @@ def generalized_forces(ref: ReferenceModel, q: np.ndarray, qd: np.ndarray, t: fl
         Q_g[i : i + 3] = point_force(pose.B @ mp.u_c, mp.mass * g)
     for load in ref.loads:
         pa, pb = ref._pose(load.a, q, qd), ref._pose(load.b, q, qd)
-        for side, F, torque in load.forces(pa, pb, t):
+        r = load.reads
+        read = None if r is None else (ref._pose(r.a, q, qd), ref._pose(r.b, q, qd))
+        for side, F, torque in load.forces(pa, pb, t, read):
             body, pose, u = (load.b, pb, load.u_b) if side == "b" else (load.a, pa, load.u_a)
             if body == GROUND:
                 continue

@@ -59,6 +59,8 @@ def _in_radians(desc: dict[str, Any]) -> dict[str, Any]:
             j["curve"]["angles"] = [k * float(a) for a in j["curve"]["angles"]]
     revolutes = {j["name"] for j in desc.get("joints", []) if j["type"] == "revolute"}
     for ld in desc.get("loads", []):
+        if ld["type"] == "joint_force" and ld.get("of_joint") in revolutes:
+            ld["of_scale"] = 1.0 / k  # the law of another joint's angle, in degrees
         if ld["type"] in ("joint_force", "motor", "friction") and ld.get("joint") in revolutes:
             # x in degrees = x / k: a law of it, a speed, a coefficient per degree/s
             if ld["type"] == "joint_force":

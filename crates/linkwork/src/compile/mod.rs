@@ -11,12 +11,12 @@ use std::sync::Arc;
 
 use crate::compile::close_drawing::{close_given, not_closed, Closer, CLOSE_TOL};
 use crate::constraints::compile_context::{finite2, local};
-use crate::constraints::loads::{Inertia, JointAxis, Load, LoadEntry};
+use crate::constraints::loads::{Inertia, JointAxis, Load, LoadEntry, ReadJoint};
 use crate::constraints::{kinds::ConstraintKind, Constraint, Frame, RowKind, MAX_ROWS};
 use crate::error::ModelError;
 use crate::input::description::{Description, DriverDesc, JointArgument, JointDesc, LoadDesc, GROUND};
 use crate::input::files::ModelFile;
-use crate::input::motion::MotionLaw;
+use crate::input::motion::{MotionLaw, Sequence};
 use crate::math::linear::LinearKind;
 use crate::model::closing::{Closing, Keep, PinMiss};
 use crate::model::rank::analyse;
@@ -423,12 +423,13 @@ fn compile_inertias(desc: &Description, bodies: &Bodies) -> Result<Vec<Inertia>,
 /// its coordinate to the unit of the file (1 / angle_unit for a revolute: the angles of
 /// a file in degrees; a slide keeps its length unit).
 fn joint_axis(
+    verb: &str,
     joint: &str,
     constraints: &[ConstraintEntry],
     angle_unit: f64,
 ) -> Result<(JointAxis, Option<usize>, Option<usize>, f64), String> {
     let Some(c) = constraints.iter().find(|c| c.role == "joint" && c.name == joint) else {
-        return Err(format!("refers to '{joint}', which is not a joint of the model"));
+        return Err(format!("{verb} '{joint}', which is not a joint of the model"));
     };
     match &c.kind {
         ConstraintKind::Revolute(_) => Ok((JointAxis::Turn, c.body_a, c.body_b, 1.0 / angle_unit)),
@@ -436,10 +437,26 @@ fn joint_axis(
             Ok((JointAxis::Slide { u_a: p.u_a, u_b: p.u_b, e_a: p.e_a }, c.body_a, c.body_b, 1.0))
         }
         _ => Err(format!(
-            "acts at '{joint}', a {} joint; joint loads act at revolute or prismatic joints",
+            "{verb} '{joint}', a {} joint; joint loads act at and read revolute or prismatic joints",
             c.kind.label()
         )),
     }
+}
+
+/// A motor's torque-speed line stall (1 - w / w_nl); clipped, stall torque at and against
+/// zero speed and none at and beyond the no-load speed (in the direction of w_nl).
+fn motor_curve(stall: f64, no_load_speed: f64, clip: bool) -> MotionLaw {
+    let line = MotionLaw::Linear { value: stall, rate: -stall / no_load_speed };
+    if !clip {
+        return line;
+    }
+    let (held, idle) = (MotionLaw::Constant { value: stall }, MotionLaw::Constant { value: 0.0 });
+    let (breakpoints, laws) = if no_load_speed > 0.0 {
+        (vec![0.0, no_load_speed], vec![held, line, idle])
+    } else {
+        (vec![no_load_speed, 0.0], vec![idle, line, held])
+    };
+    MotionLaw::Sequence(Sequence { breakpoints, laws })
 }
 
 fn compile_loads(
@@ -514,26 +531,39 @@ fn compile_loads(
                     b,
                 )
             }
-            // laws of the joint's coordinate x in the file's unit: f(scale x), scale = 180 / pi
-            // for a revolute joint of a file in degrees
-            LoadDesc::JointForce { joint, of, law, .. } => {
-                let (axis, a, b, scale) = joint_axis(joint, constraints, angle_unit).map_err(fail)?;
+            // laws of the coordinate x of the joint read, in the file's unit: f(scale x),
+            // scale = 180 / pi for a revolute joint of a file in degrees
+            LoadDesc::JointForce { joint, of, of_joint, law, .. } => {
+                let (axis, a, b, own_scale) =
+                    joint_axis("acts at", joint, constraints, angle_unit).map_err(fail)?;
+                let (reads, scale) = match of_joint {
+                    Some(other) if other != joint => {
+                        let (axis, body_a, body_b, scale) =
+                            joint_axis("reads the coordinate of", other, constraints, angle_unit)
+                                .map_err(fail)?;
+                        (Some(ReadJoint { axis, body_a, body_b }), scale)
+                    }
+                    _ => (None, own_scale),
+                };
                 let mut law = law.clone();
                 law.prepare().map_err(fail)?;
-                (Load::JointForce { axis, law, rate: *of == JointArgument::Rate, scale }, a, b)
+                (Load::JointForce { axis, law, rate: *of == JointArgument::Rate, scale, reads }, a, b)
             }
-            LoadDesc::Motor { joint, stall, no_load_speed, .. } => {
-                let (axis, a, b, scale) = joint_axis(joint, constraints, angle_unit).map_err(fail)?;
+            LoadDesc::Motor { joint, stall, no_load_speed, clip, .. } => {
+                let (axis, a, b, scale) =
+                    joint_axis("acts at", joint, constraints, angle_unit).map_err(fail)?;
                 if !(stall.is_finite() && no_load_speed.is_finite() && *no_load_speed != 0.0) {
                     return Err(fail(format!(
                         "stall {stall} and no-load speed {no_load_speed} must be finite, the speed non-zero"
                     )));
                 }
-                let law = MotionLaw::Linear { value: *stall, rate: -stall / no_load_speed };
-                (Load::JointForce { axis, law, rate: true, scale }, a, b)
+                let mut law = motor_curve(*stall, *no_load_speed, *clip);
+                law.prepare().map_err(fail)?;
+                (Load::JointForce { axis, law, rate: true, scale, reads: None }, a, b)
             }
             LoadDesc::Friction { joint, viscous, coulomb, smoothing, .. } => {
-                let (axis, a, b, scale) = joint_axis(joint, constraints, angle_unit).map_err(fail)?;
+                let (axis, a, b, scale) =
+                    joint_axis("acts at", joint, constraints, angle_unit).map_err(fail)?;
                 non_negative("viscous coefficient", *viscous)?;
                 non_negative("Coulomb friction", *coulomb)?;
                 let smoothing = match smoothing {

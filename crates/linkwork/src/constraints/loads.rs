@@ -1,7 +1,7 @@
 //! Applied loads: forces and torques following motion laws of time, linear and torsional
 //! spring-dampers, and loads at a joint (a torque at a revolute, a force along a
-//! prismatic's axis) that are functions of the joint's coordinate or rate: force laws,
-//! motors, friction. Each writes its generalized force into Q (n_coords):
+//! prismatic's axis) that are functions of a joint's coordinate or rate (the joint's own,
+//! or another's: a gas force of the crank angle): force laws, motors, friction. Each writes its generalized force into Q (n_coords):
 //! a force F at the body point u adds (F, (B u) . F) to the body's (x, y, theta) entries.
 //! Each is written once more over jets (`*_jet`), from which the sensitivities of the
 //! driver efforts take the generalized forces' derivatives exactly.
@@ -21,9 +21,10 @@ pub enum Load {
     Spring { u_a: [f64; 2], u_b: [f64; 2], stiffness: f64, free_length: f64, damping: f64 },
     /// resisting torque k (theta_b - theta_a - free_angle) + c (w_b - w_a) on b
     TorsionSpring { stiffness: f64, free_angle: f64, damping: f64 },
-    /// f = law(scale x) (`rate`: of scale x'), x the joint's coordinate, acting at the joint
-    /// (`JointAxis`); scale converts x to the unit the law was written in (per degree)
-    JointForce { axis: JointAxis, law: MotionLaw, rate: bool, scale: f64 },
+    /// f = law(scale x) (`rate`: of scale x'), acting at the joint (`JointAxis`), x the
+    /// coordinate of the joint `reads` (None: the same joint); scale converts x to the
+    /// unit the law was written in (per degree)
+    JointForce { axis: JointAxis, law: MotionLaw, rate: bool, scale: f64, reads: Option<ReadJoint> },
     /// f = -viscous x' - coulomb tanh(x' / smoothing) at the joint (`JointAxis`)
     Friction { axis: JointAxis, viscous: f64, coulomb: f64, smoothing: f64 },
 }
@@ -36,6 +37,15 @@ pub enum Load {
 pub enum JointAxis {
     Turn,
     Slide { u_a: [f64; 2], u_b: [f64; 2], e_a: [f64; 2] },
+}
+
+/// The joint a joint force's law reads when it is not the joint the force acts at: its
+/// axis and its sides (None: the ground).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReadJoint {
+    pub axis: JointAxis,
+    pub body_a: Option<usize>,
+    pub body_b: Option<usize>,
 }
 
 impl JointAxis {
@@ -188,9 +198,48 @@ fn add_point_force(q: &mut [f64], body: Option<usize>, frame: &Frame, u: [f64; 2
     }
 }
 
+#[inline(always)]
+fn side(frames: &[Frame], body: Option<usize>) -> &Frame {
+    body.map_or(&Frame::GROUND, |i| &frames[i])
+}
+
+#[inline(always)]
+fn side_jet<const W: usize>(frames: &[JetFrame<W>], body: Option<usize>) -> JetFrame<W> {
+    body.map_or_else(JetFrame::ground, |i| frames[i])
+}
+
 impl LoadEntry {
-    /// Adds this load's generalized force at time t to q_out (n_coords).
-    pub fn add_to(&self, a: &Frame, b: &Frame, t: f64, q_out: &mut [f64]) {
+    /// The moving bodies the load's generalized force depends on: its sides, and the sides
+    /// of the joint a joint force reads.
+    pub fn bodies(&self) -> impl Iterator<Item = usize> {
+        let reads = match &self.load {
+            Load::JointForce { reads: Some(r), .. } => [r.body_a, r.body_b],
+            _ => [None, None],
+        };
+        [self.body_a, self.body_b].into_iter().chain(reads).flatten()
+    }
+
+    /// A joint load's magnitude f and the rate x' of the joint it acts at (its power is
+    /// f x'), at the bodies' `frames`; None for the other loads.
+    pub fn joint_load(&self, frames: &[Frame]) -> Option<(f64, f64)> {
+        let (a, b) = (side(frames, self.body_a), side(frames, self.body_b));
+        let (axis, reads) = match &self.load {
+            Load::JointForce { axis, reads, .. } => (axis, *reads),
+            Load::Friction { axis, .. } => (axis, None),
+            _ => return None,
+        };
+        let own = axis.coordinate(a, b);
+        let (x, xd) = match reads {
+            Some(r) => r.axis.coordinate(side(frames, r.body_a), side(frames, r.body_b)),
+            None => own,
+        };
+        Some((self.load.joint_magnitude(x, xd).map_or(0.0, |m| m[0]), own.1))
+    }
+
+    /// Adds this load's generalized force at time t to q_out (n_coords), the bodies at
+    /// `frames` (indexed as q's bodies).
+    pub fn add_to(&self, frames: &[Frame], t: f64, q_out: &mut [f64]) {
+        let (a, b) = (side(frames, self.body_a), side(frames, self.body_b));
         match &self.load {
             Load::Force { u, dir, law } => {
                 let f = law.eval(t)[0];
@@ -220,8 +269,7 @@ impl LoadEntry {
                 }
             }
             Load::JointForce { axis, .. } | Load::Friction { axis, .. } => {
-                let (x, xd) = axis.coordinate(a, b);
-                let f = self.load.joint_magnitude(x, xd).map_or(0.0, |m| m[0]);
+                let f = self.joint_load(frames).map_or(0.0, |(f, _)| f);
                 axis.add_force(q_out, self.body_a, self.body_b, a, b, f);
             }
         }
@@ -235,17 +283,18 @@ impl LoadEntry {
         }
     }
 
-    /// `add_to` on jets: the sides' perturbed motions, the load's numbers `p` (in the order
-    /// of `Load::params_mut`). The generalized force at the step is each entry's value and
-    /// its change in each direction (the tau^0 parts); rates come from the motion's jets.
+    /// `add_to` on jets: the bodies' perturbed motions `frames`, the load's numbers `p` (in
+    /// the order of `Load::params_mut`). The generalized force at the step is each entry's
+    /// value and its change in each direction (the tau^0 parts); rates come from the
+    /// motion's jets.
     pub fn add_jet<const W: usize>(
         &self,
-        a: &JetFrame<W>,
-        b: &JetFrame<W>,
+        frames: &[JetFrame<W>],
         t: f64,
         p: &[Jet<W>],
         q_out: &mut [Jet<W>],
     ) {
+        let (a, b) = (&side_jet(frames, self.body_a), &side_jet(frames, self.body_b));
         match &self.load {
             Load::Force { law, .. } => {
                 // the law is of time alone: its numbers' changes only (`MotionLaw::jet`)
@@ -279,8 +328,15 @@ impl LoadEntry {
                     q_out[3 * i + 2] = q_out[3 * i + 2] + tau;
                 }
             }
-            Load::JointForce { axis, law, rate, scale } => {
-                let x = axis.coordinate_jet(a, b, p);
+            Load::JointForce { axis, law, rate, scale, reads } => {
+                let own = axis.n_params();
+                let (x, from) = match reads {
+                    Some(r) => {
+                        let (c, d) = (side_jet(frames, r.body_a), side_jet(frames, r.body_b));
+                        (r.axis.coordinate_jet(&c, &d, &p[own..]), own + r.axis.n_params())
+                    }
+                    None => (axis.coordinate_jet(a, b, p), own),
+                };
                 let arg = if *rate { x.coefficient(1) } else { x };
                 // f(scale arg) from its derivatives at the step: its tau^0 parts (the value and
                 // its change with the motion) are exact, the tau^2 part lacks the third
@@ -288,7 +344,7 @@ impl LoadEntry {
                 let at = scale * arg.value();
                 let [f, fd, fdd] = law.eval(at);
                 let mut mag = arg.compose([f, scale * fd, scale * scale * fdd, 0.0]);
-                let by_params = law.jet(at, &p[axis.n_params()..]);
+                let by_params = law.jet(at, &p[from..]);
                 for (m, e) in mag.e.iter_mut().zip(by_params.e) {
                     m[0] += e[0];
                 }
@@ -352,8 +408,11 @@ impl Load {
                 ("free_angle".into(), free_angle),
                 ("damping".into(), damping),
             ],
-            Load::JointForce { axis, law, .. } => {
+            Load::JointForce { axis, law, reads, .. } => {
                 let mut p = axis.params_mut();
+                if let Some(r) = reads {
+                    p.extend(r.axis.params_mut().into_iter().map(|(n, v)| (format!("of_joint.{n}"), v)));
+                }
                 p.extend(law.params_mut());
                 p
             }
@@ -433,8 +492,10 @@ mod tests {
             let x = [0, 1, 2].map(|j| Jet::<1> { v: [q[j], qd[j], 0.5 * qdd[j]], e: [[0.0; 3]] });
             JetFrame::new(x)
         };
-        let (ja, jb) = (motion(qa, qda, qdda), motion(qb, qdb, qddb));
-        let (fa, fb) = (Frame::new(qa, qda), Frame::new(qb, qdb));
+        let (qc, qdc, qddc) = ([-0.3, 0.2, 1.1], [0.4, -0.5, 0.8], [0.2, 0.9, -1.5]);
+        let jets = [motion(qa, qda, qdda), motion(qb, qdb, qddb), motion(qc, qdc, qddc)];
+        let (jb, frames) = (jets[1], [Frame::new(qa, qda), Frame::new(qb, qdb), Frame::new(qc, qdc)]);
+        let fb = frames[1];
         let law = MotionLaw::Harmonic { mean: 5.0, amplitude: 2.0, omega: 3.0, phase: 0.1 };
         let slide = JointAxis::Slide { u_a: [0.3, -0.1], u_b: [0.05, 0.2], e_a: [0.6, 0.8] };
         let loads = [
@@ -453,12 +514,30 @@ mod tests {
                 law: MotionLaw::Polynomial { coefficients: vec![1.0, -2.0, 0.5] },
                 rate: false,
                 scale: 1.3,
+                reads: None,
             },
             Load::JointForce {
                 axis: slide,
                 law: MotionLaw::Linear { value: 3.0, rate: -0.5 },
                 rate: true,
                 scale: 1.0,
+                reads: None,
+            },
+            // a force along the slide of a law of another joint's slide, and a torque of
+            // another's turn rate
+            Load::JointForce {
+                axis: slide,
+                law: MotionLaw::Polynomial { coefficients: vec![2.0, -3.0, 4.0] },
+                rate: false,
+                scale: 1.0,
+                reads: Some(ReadJoint { axis: slide, body_a: Some(2), body_b: Some(0) }),
+            },
+            Load::JointForce {
+                axis: JointAxis::Turn,
+                law: MotionLaw::Harmonic { mean: 1.0, amplitude: 2.0, omega: 0.7, phase: 0.3 },
+                rate: true,
+                scale: 0.9,
+                reads: Some(ReadJoint { axis: JointAxis::Turn, body_a: None, body_b: Some(2) }),
             },
             Load::Friction { axis: JointAxis::Turn, viscous: 0.4, coulomb: 1.2, smoothing: 0.5 },
             Load::Friction { axis: slide, viscous: 0.4, coulomb: 1.2, smoothing: 0.5 },
@@ -466,12 +545,12 @@ mod tests {
         let t = 0.37;
         for load in loads {
             let entry = LoadEntry { name: "L".into(), load, body_a: Some(0), body_b: Some(1) };
-            let mut want = [0.0; 6];
-            entry.add_to(&fa, &fb, t, &mut want);
+            let mut want = [0.0; 9];
+            entry.add_to(&frames, t, &mut want);
             let p: Vec<Jet<1>> =
                 entry.load.clone().params_mut().into_iter().map(|(_, v)| Jet::cst(*v)).collect();
-            let mut got = [Jet::<1>::ZERO; 6];
-            entry.add_jet(&ja, &jb, t, &p, &mut got);
+            let mut got = [Jet::<1>::ZERO; 9];
+            entry.add_jet(&jets, t, &p, &mut got);
             for (g, w) in got.iter().zip(want) {
                 assert!(
                     (g.value() - w).abs() < 1e-13 * (1.0 + w.abs()),
@@ -498,25 +577,42 @@ mod joint_tests {
     use super::*;
 
     /// A joint load's generalized force is f dx/dq: its power Q . qd is f x' (the energy
-    /// balance counts it so), with x' from `JointAxis::coordinate`; and x' is the rate of
+    /// balance counts it so), with x' from `JointAxis::coordinate` at the joint it acts at,
+    /// f read at the joint it reads (its own, or another's); and x' is the rate of
     /// x (central differences along the motion, step 1e-6: error ~1e-10).
     #[test]
     fn joint_loads_do_the_work_of_their_magnitude() {
         let (qa, qda) = ([0.1, -0.2, 0.7], [0.3, 0.1, -1.2]);
         let (qb, qdb) = ([0.4, 0.3, -0.5], [-0.2, 0.6, 0.9]);
+        let (qc, qdc) = ([-0.3, 0.2, 1.1], [0.4, -0.5, 0.8]);
         let slide = JointAxis::Slide { u_a: [0.3, -0.1], u_b: [0.05, 0.2], e_a: [0.6, 0.8] };
+        let other = ReadJoint { axis: JointAxis::Turn, body_a: Some(2), body_b: Some(0) };
+        let frames = [Frame::new(qa, qda), Frame::new(qb, qdb), Frame::new(qc, qdc)];
+        let law = MotionLaw::Polynomial { coefficients: vec![0.5, 1.5, -2.0] };
         for axis in [JointAxis::Turn, slide] {
-            let load = Load::Friction { axis, viscous: 0.4, coulomb: 1.2, smoothing: 0.5 };
-            let entry = LoadEntry { name: "f".into(), load, body_a: Some(0), body_b: Some(1) };
-            let (fa, fb) = (Frame::new(qa, qda), Frame::new(qb, qdb));
-            let mut q = [0.0; 6];
-            entry.add_to(&fa, &fb, 0.0, &mut q);
-            let (x, xd) = axis.coordinate(&fa, &fb);
-            let f = entry.load.joint_magnitude(x, xd).unwrap()[0];
-            let qd: Vec<f64> = qda.iter().chain(&qdb).copied().collect();
-            let power: f64 = q.iter().zip(&qd).map(|(a, b)| a * b).sum();
-            assert!((power - f * xd).abs() < 1e-13, "{axis:?}: {power} vs {}", f * xd);
-            assert!(f.abs() > 0.1 && xd.abs() > 0.1, "not a trivial case");
+            let loads = [
+                Load::Friction { axis, viscous: 0.4, coulomb: 1.2, smoothing: 0.5 },
+                Load::JointForce { axis, law: law.clone(), rate: false, scale: 1.0, reads: Some(other) },
+            ];
+            for load in loads {
+                let reads = matches!(load, Load::JointForce { .. });
+                let entry = LoadEntry { name: "f".into(), load, body_a: Some(0), body_b: Some(1) };
+                let mut q = [0.0; 9];
+                entry.add_to(&frames, 0.0, &mut q);
+                let (x, xd) = axis.coordinate(&frames[0], &frames[1]);
+                let f = if reads {
+                    law.eval(other.axis.coordinate(&frames[2], &frames[0]).0)[0]
+                } else {
+                    entry.load.joint_magnitude(x, xd).unwrap()[0]
+                };
+                assert_eq!(entry.joint_load(&frames), Some((f, xd)));
+                let qd: Vec<f64> = qda.iter().chain(&qdb).chain(&qdc).copied().collect();
+                let power: f64 = q.iter().zip(&qd).map(|(a, b)| a * b).sum();
+                assert!((power - f * xd).abs() < 1e-13, "{axis:?}: {power} vs {}", f * xd);
+                assert!(f.abs() > 0.1 && xd.abs() > 0.1, "not a trivial case");
+                assert!(q[6..].iter().all(|&v| v == 0.0), "the joint read is not loaded");
+            }
+            let xd = axis.coordinate(&frames[0], &frames[1]).1;
             let h = 1e-6;
             let at = |s: f64| {
                 let step = |q: [f64; 3], qd: [f64; 3]| std::array::from_fn(|j| q[j] + s * qd[j]);

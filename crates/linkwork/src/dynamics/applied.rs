@@ -5,18 +5,10 @@
 //! directions of every coordinate and rate of the bodies involved): no differences.
 #![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
-use crate::constraints::loads::{Inertia, LoadEntry};
+use crate::constraints::loads::{Inertia, Load, LoadEntry, ReadJoint};
 use crate::constraints::Frame;
 use crate::math::jet::{Jet, JetFrame};
 use crate::model::Model;
-
-#[inline(always)]
-fn side(frames: &[Frame], body: Option<usize>) -> &Frame {
-    match body {
-        Some(i) => &frames[i],
-        None => &Frame::GROUND,
-    }
-}
 
 /// Writes Q_A (n_coords) at the frames' poses and velocities, time t.
 pub fn applied_force(model: &Model, frames: &[Frame], t: f64, q_out: &mut [f64]) {
@@ -31,7 +23,7 @@ pub fn applied_force(model: &Model, frames: &[Frame], t: f64, q_out: &mut [f64])
         }
     }
     for l in &model.loads {
-        l.add_to(side(frames, l.body_a), side(frames, l.body_b), t, q_out);
+        l.add_to(frames, t, q_out);
     }
 }
 
@@ -55,23 +47,70 @@ fn body_jets<const W: usize>(q: &[f64], qd: &[f64], qdd: &[f64], d0: usize) -> [
 }
 
 /// The per-load data `tangents` needs: the load with its sides renumbered 0 (a) and 1
-/// (b) so that its jets write six entries, and its numbers.
+/// (b), and a joint force's joint read 2 and 3, so that its jets write six (twelve)
+/// entries; the bodies they stand for, and its numbers.
 #[derive(Debug, Clone)]
 pub struct LoadJet {
     local: LoadEntry,
+    sides: [Option<usize>; 4],
     params: Vec<f64>,
 }
 
 impl LoadJet {
     pub fn new(l: &LoadEntry) -> LoadJet {
+        let mut load = l.load.clone();
+        let mut sides = [l.body_a, l.body_b, None, None];
+        if let Load::JointForce { reads: Some(r), .. } = &mut load {
+            sides[2..].copy_from_slice(&[r.body_a, r.body_b]);
+            *r = ReadJoint { axis: r.axis, body_a: r.body_a.map(|_| 2), body_b: r.body_b.map(|_| 3) };
+        }
         let local = LoadEntry {
             name: l.name.clone(),
-            load: l.load.clone(),
+            load,
             body_a: l.body_a.map(|_| 0),
             body_b: l.body_b.map(|_| 1),
         };
         let params = local.load.clone().params_mut().into_iter().map(|(_, v)| *v).collect();
-        LoadJet { local, params }
+        LoadJet { local, sides, params }
+    }
+
+    /// Sides 0 and 1, or all four (a joint force reading another joint).
+    fn n_sides(&self) -> usize {
+        if matches!(self.local.load, Load::JointForce { reads: Some(_), .. }) {
+            4
+        } else {
+            2
+        }
+    }
+
+    /// The blocks of one load, W = 6 x its sides: each side's coordinates and rates are
+    /// directions of the jets; a body that is two sides gets the sum of their blocks.
+    fn blocks<const W: usize>(&self, q: &[f64], qd: &[f64], t: f64, out: &mut dyn FnMut(TangentBlock)) {
+        let n = W / 6;
+        let frames: [JetFrame<W>; 4] = std::array::from_fn(|s| match self.sides[s] {
+            Some(i) if s < n => {
+                let at = 3 * i..3 * i + 3;
+                JetFrame::new(body_jets::<W>(&q[at.clone()], &qd[at], &[0.0; 3], 6 * s))
+            }
+            _ => JetFrame::ground(),
+        });
+        let p: Vec<Jet<W>> = self.params.iter().map(|&v| Jet::cst(v)).collect();
+        let mut qj = [Jet::<W>::ZERO; 12];
+        self.local.add_jet(&frames[..n], t, &p, &mut qj[..3 * n]);
+        for (rs, &row) in self.sides[..n].iter().enumerate() {
+            let Some(row) = row else { continue };
+            for (cs, &col) in self.sides[..n].iter().enumerate() {
+                let Some(col) = col else { continue };
+                let mut b = TangentBlock { row, col, k: [[0.0; 3]; 3], c: [[0.0; 3]; 3] };
+                for j in 0..3 {
+                    for k in 0..3 {
+                        b.k[j][k] = -qj[3 * rs + j].e[6 * cs + k][0];
+                        b.c[j][k] = -qj[3 * rs + j].e[6 * cs + 3 + k][0];
+                    }
+                }
+                out(b);
+            }
+        }
     }
 }
 
@@ -104,32 +143,11 @@ pub fn tangents(
         }
         out(b);
     }
-    for (lj, l) in loads.iter().zip(&model.loads) {
-        let frame = |body: Option<usize>, d0: usize| match body {
-            Some(i) => {
-                let s = 3 * i..3 * i + 3;
-                JetFrame::new(body_jets::<12>(&q[s.clone()], &qd[s.clone()], &[0.0; 3], d0))
-            }
-            None => JetFrame::ground(),
-        };
-        let (fa, fb) = (frame(l.body_a, 0), frame(l.body_b, 6));
-        let p: Vec<Jet<12>> = lj.params.iter().map(|&v| Jet::cst(v)).collect();
-        let mut qj = [Jet::<12>::ZERO; 6];
-        lj.local.add_jet(&fa, &fb, t, &p, &mut qj);
-        let sides = [(l.body_a, 0usize), (l.body_b, 1usize)];
-        for &(row, rs) in &sides {
-            let Some(row) = row else { continue };
-            for &(col, cs) in &sides {
-                let Some(col) = col else { continue };
-                let mut b = TangentBlock { row, col, k: [[0.0; 3]; 3], c: [[0.0; 3]; 3] };
-                for j in 0..3 {
-                    for k in 0..3 {
-                        b.k[j][k] = -qj[3 * rs + j].e[6 * cs + k][0];
-                        b.c[j][k] = -qj[3 * rs + j].e[6 * cs + 3 + k][0];
-                    }
-                }
-                out(b);
-            }
+    for lj in loads {
+        if lj.n_sides() == 4 {
+            lj.blocks::<24>(q, qd, t, out);
+        } else {
+            lj.blocks::<12>(q, qd, t, out);
         }
     }
 }
@@ -198,6 +216,37 @@ pub(crate) mod tests {
         Model::with_options(Description::from_json(json).unwrap(), options).unwrap()
     }
 
+    /// A slider-crank whose piston carries a force of the crank's angle (a gas force of the
+    /// cycle), whose crank carries a torque of the piston's rate, and whose rod carries a
+    /// torque at the crank pin of the slide (the loads and the joints read share no body).
+    pub(crate) fn loaded_crossed() -> Model {
+        let json = r#"{
+          "name": "crossed", "gravity": [0.0, -9.81],
+          "bodies": [
+            {"name": "crank", "x": 0.0, "y": 0.0, "theta": 0.5, "mass": 1.0, "inertia": 0.05, "com": [0.02, 0.01]},
+            {"name": "rod", "x": 0.0877, "y": 0.0479, "theta": -0.2, "mass": 0.4, "inertia": 0.002},
+            {"name": "piston", "x": 0.33, "y": 0.0, "theta": 0.0, "mass": 0.3, "inertia": 1e-4}
+          ],
+          "joints": [
+            {"type": "revolute", "name": "main", "body_a": "ground", "body_b": "crank", "at": [0.0, 0.0]},
+            {"type": "revolute", "name": "pin", "body_a": "crank", "body_b": "rod", "at": [0.0877, 0.0479]},
+            {"type": "revolute", "name": "wrist", "body_a": "rod", "body_b": "piston", "at": [0.33, 0.0]},
+            {"type": "prismatic", "name": "cyl", "body_a": "ground", "body_b": "piston", "at": [0.33, 0.0],
+             "axis": [0.96, 0.28]}
+          ],
+          "loads": [
+            {"type": "joint_force", "name": "gas", "joint": "cyl", "of_joint": "main",
+             "law": {"type": "harmonic", "mean": -40.0, "amplitude": 90.0, "omega": 1.0, "phase": 0.4}},
+            {"type": "joint_force", "name": "drag", "joint": "main", "of_joint": "cyl", "of": "rate",
+             "law": {"type": "polynomial", "coefficients": [0.5, -3.0, 2.0]}},
+            {"type": "joint_force", "name": "twist", "joint": "pin", "of_joint": "cyl",
+             "law": {"type": "polynomial", "coefficients": [1.0, 20.0, -50.0]}}
+          ]
+        }"#;
+        let options = Options { free: true, ..Options::default() };
+        Model::with_options(Description::from_json(json).unwrap(), options).unwrap()
+    }
+
     fn residual(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64], t: f64) -> Vec<f64> {
         let frames: Vec<Frame> = (0..model.n_bodies)
             .map(|i| {
@@ -220,27 +269,61 @@ pub(crate) mod tests {
     /// without accelerations (differences of step 1e-6: error ~1e-9 of entries ~10-100).
     #[test]
     fn tangents_match_finite_differences() {
-        for model in [loaded_pair(), loaded_slider()] {
+        for model in [loaded_pair(), loaded_slider(), loaded_crossed()] {
             tangents_match_finite_differences_of(&model);
         }
+    }
+
+    /// K and C as dense n x n matrices, row-major.
+    fn dense_tangents(
+        model: &Model,
+        loads: &[LoadJet],
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        t: f64,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let n = model.n_coords;
+        let (mut k, mut c) = (vec![0.0; n * n], vec![0.0; n * n]);
+        tangents(model, loads, q, qd, qdd, t, &mut |b| {
+            for j in 0..3 {
+                for l in 0..3 {
+                    k[(3 * b.row + j) * n + 3 * b.col + l] += b.k[j][l];
+                    c[(3 * b.row + j) * n + 3 * b.col + l] += b.c[j][l];
+                }
+            }
+        });
+        (k, c)
+    }
+
+    /// A force at one joint of another joint's coordinate or rate couples bodies that
+    /// share no joint or load otherwise: the piston's force moves with the crank's angle
+    /// (K), the crank's torque with the piston's rate (C). Their values are checked by
+    /// `tangents_match_finite_differences`; here, that they are there (the augmented
+    /// matrix's pattern holds them: gen-alpha on such a model, tests/test_dynamics_loads.py).
+    #[test]
+    fn loads_of_another_joint_couple_its_bodies() {
+        let model = loaded_crossed();
+        let n = model.n_coords;
+        let loads: Vec<LoadJet> = model.loads.iter().map(LoadJet::new).collect();
+        let q = model.q_start.clone();
+        let qd: Vec<f64> = (0..n).map(|i| 0.3 + 0.1 * i as f64).collect();
+        let (k, c) = dense_tangents(&model, &loads, &q, &qd, &vec![0.0; n], 0.0);
+        let (crank_theta, piston_x) = (2, 6);
+        assert!(k[piston_x * n + crank_theta].abs() > 1.0, "{}", k[piston_x * n + crank_theta]);
+        assert!(c[crank_theta * n + piston_x].abs() > 0.1, "{}", c[crank_theta * n + piston_x]);
     }
 
     fn tangents_match_finite_differences_of(model: &Model) {
         let n = model.n_coords;
         let loads: Vec<LoadJet> = model.loads.iter().map(LoadJet::new).collect();
-        let q = vec![0.1, 0.2, 0.3, 0.8, -0.1, -0.4];
-        let qd = vec![0.4, -0.3, 1.7, -0.2, 0.5, -2.1];
+        // a state off the constraints (Q_A does not need them), every entry non-trivial
+        let wave = |k: f64, i: usize| ((i + 1) as f64 * k).sin();
+        let q: Vec<f64> = (0..n).map(|i| 0.1 + 0.4 * wave(1.3, i)).collect();
+        let qd: Vec<f64> = (0..n).map(|i| 2.0 * wave(2.1, i)).collect();
         let t = 0.6;
-        for qdd in [vec![0.0; 6], vec![1.0, -2.0, 3.0, 0.5, 0.7, -4.0]] {
-            let (mut k, mut c) = (vec![0.0; n * n], vec![0.0; n * n]);
-            tangents(model, &loads, &q, &qd, &qdd, t, &mut |b| {
-                for j in 0..3 {
-                    for l in 0..3 {
-                        k[(3 * b.row + j) * n + 3 * b.col + l] += b.k[j][l];
-                        c[(3 * b.row + j) * n + 3 * b.col + l] += b.c[j][l];
-                    }
-                }
-            });
+        for qdd in [vec![0.0; n], (0..n).map(|i| 4.0 * wave(0.7, i)).collect()] {
+            let (k, c) = dense_tangents(model, &loads, &q, &qd, &qdd, t);
             let h = 1e-6;
             for col in 0..n {
                 for (which, m) in [(0, &k), (1, &c)] {

@@ -79,8 +79,8 @@ impl Augmented {
             pairs.push((i, i));
         }
         for l in &model.loads {
-            if let (Some(a), Some(b)) = (l.body_a, l.body_b) {
-                pairs.extend([(a, b), (b, a)]);
+            for a in l.bodies() {
+                pairs.extend(l.bodies().map(|b| (a, b)));
             }
         }
         pairs.sort_unstable();

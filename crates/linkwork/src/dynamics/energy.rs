@@ -46,7 +46,8 @@ pub fn potential(model: &Model, frames: &[Frame]) -> f64 {
 
 /// The power of the loads that are not conservative at time t: applied forces and
 /// torques (F . v), dampers (-c Ldot^2, -c (w_b - w_a)^2), joint loads (f x': a joint
-/// force's law of x counts as work, not as a potential).
+/// force's law of x counts as work, not as a potential; of another joint's x it is not
+/// one in general).
 pub fn load_power(model: &Model, frames: &[Frame], t: f64) -> f64 {
     let mut p = 0.0;
     for l in &model.loads {
@@ -64,9 +65,8 @@ pub fn load_power(model: &Model, frames: &[Frame], t: f64) -> f64 {
                 let w = b.thetad - a.thetad;
                 -damping * w * w
             }
-            Load::JointForce { axis, .. } | Load::Friction { axis, .. } => {
-                let (x, xd) = axis.coordinate(a, b);
-                l.load.joint_magnitude(x, xd).map_or(0.0, |m| m[0]) * xd
+            Load::JointForce { .. } | Load::Friction { .. } => {
+                l.joint_load(frames).map_or(0.0, |(f, xd)| f * xd)
             }
         };
     }

@@ -113,16 +113,28 @@ pub enum LoadDesc {
     },
     /// A torque (revolute joint) or a force along the axis (prismatic joint) between the
     /// joint's two bodies, +f on body_b and its reaction on body_a, of magnitude f = law(x):
-    /// x the joint's coordinate (theta_b - theta_a; the slide from the start) or its rate.
+    /// x the coordinate (theta_b - theta_a; the slide from the start) or the rate of the
+    /// joint `of_joint` (default: the joint it acts at).
     JointForce {
         name: String,
         joint: String,
         #[serde(default)]
         of: JointArgument,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        of_joint: Option<String>,
         law: MotionLaw,
     },
-    /// A motor at a joint with the linear torque-speed curve f = stall (1 - rate / no_load_speed).
-    Motor { name: String, joint: String, stall: f64, no_load_speed: f64 },
+    /// A motor at a joint with the linear torque-speed curve f = stall (1 - rate / no_load_speed);
+    /// `clip`: held between 0 and stall (no torque beyond the no-load speed, stall torque
+    /// against it).
+    Motor {
+        name: String,
+        joint: String,
+        stall: f64,
+        no_load_speed: f64,
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        clip: bool,
+    },
     /// Friction at a joint: f = -viscous rate - coulomb tanh(rate / smoothing) (Coulomb
     /// friction of constant magnitude, smoothed over rates of about `smoothing`).
     Friction {
@@ -657,6 +669,8 @@ mod wire {
             joint: String,
             #[serde(default)]
             of: JointArgument,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            of_joint: Option<String>,
             law: MotionLaw,
         },
         Motor {
@@ -664,6 +678,8 @@ mod wire {
             joint: String,
             stall: f64,
             no_load_speed: f64,
+            #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+            clip: bool,
         },
         Friction {
             name: String,

@@ -251,14 +251,19 @@ pub fn internal(desc: &Description) -> Description {
             }
             // their angle units depend on the joint's kind (a revolute's angle, a prismatic's
             // slide), known once the joints compile: `compile_loads` converts them
-            LoadDesc::JointForce { name, joint, of, law } => {
-                LoadDesc::JointForce { name: name.clone(), joint: joint.clone(), of: *of, law: law.clone() }
-            }
-            LoadDesc::Motor { name, joint, stall, no_load_speed } => LoadDesc::Motor {
+            LoadDesc::JointForce { name, joint, of, of_joint, law } => LoadDesc::JointForce {
+                name: name.clone(),
+                joint: joint.clone(),
+                of: *of,
+                of_joint: of_joint.clone(),
+                law: law.clone(),
+            },
+            LoadDesc::Motor { name, joint, stall, no_load_speed, clip } => LoadDesc::Motor {
                 name: name.clone(),
                 joint: joint.clone(),
                 stall: *stall,
                 no_load_speed: *no_load_speed,
+                clip: *clip,
             },
             LoadDesc::Friction { name, joint, viscous, coulomb, smoothing } => LoadDesc::Friction {
                 name: name.clone(),

@@ -36,7 +36,7 @@ pub(crate) fn generalized_forces(model: &Model, data: &mut Data, t: f64) {
         data.gen_force[1][3 * i..3 * i + 3].copy_from_slice(&qg);
     }
     for l in &model.loads {
-        l.add_to(frame(&data.frames, l.body_a), frame(&data.frames, l.body_b), t, &mut data.gen_force[2]);
+        l.add_to(&data.frames, t, &mut data.gen_force[2]);
     }
 }
 

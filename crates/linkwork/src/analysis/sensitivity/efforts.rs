@@ -144,10 +144,9 @@ impl Efforts {
                 }
             }
             for (l, load) in model.loads.iter().enumerate() {
-                let side = |b: Option<usize>| b.map_or_else(JetFrame::ground, |i| self.motion[i]);
                 let from = self.layout.loads[l];
                 let to = self.layout.loads.get(l + 1).copied().unwrap_or(p.len());
-                load.add_jet(&side(load.body_a), &side(load.body_b), t, &p[from..to], &mut self.force);
+                load.add_jet(&self.motion, t, &p[from..to], &mut self.force);
             }
             for (c, f) in self.force.iter().enumerate() {
                 for k in 0..len {
