@@ -9,8 +9,9 @@ A02's B0) against the exact solution at the sampled times (every 0.01 s), and fo
 whether the run stayed on the branch (every crank at the same angle); for Andrews'
 squeezer the error is the test set's, the worst relative error of the seven angles.
 The engine's ``Model.simulate`` is a column of its own when it exists (a ladder of tolerances), with
-the speed ratio at equal error; the NumPy reference (``linkwork.reference.simulate``) is
-listed for accuracy, not speed.
+the speed ratio at equal error: each Exudyn row against the cheapest linkwork run at or below
+its error (``--repeat k``: every row the fastest of k runs); the NumPy reference
+(``linkwork.reference.simulate``) is listed for accuracy, not speed.
 
     python benches/dynamics_peers.py            # prints the tables
     python benches/dynamics_peers.py --write    # and adds them to benches/results/dynamics-<day>.md
@@ -23,6 +24,7 @@ import datetime
 import math
 import platform
 import time
+from functools import partial
 from pathlib import Path
 from typing import Any, Callable
 
@@ -38,6 +40,10 @@ T_END = 10.0
 SAMPLE = 0.01  # sensor period, s
 STEPS = [1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4]
 SOLVERS = ("GeneralizedAlpha", "TrapezoidalIndex2")
+# the timer of every run: wall time, or with --cpu this process's CPU time (less disturbed
+# by other work on a shared machine; Exudyn's and linkwork's runs are both one thread here)
+CLOCK: Callable[[], float] = time.perf_counter
+RTOLS = [1e-3, 1e-4, 1e-5, 1e-6, 1e-8, 1e-10, 1e-12]  # linkwork's ladder
 BRANCH_TOL = 1e-3  # rad: cranks further apart than this have left the branch
 
 
@@ -83,12 +89,12 @@ def exudyn_pendulum(h: float, solver: str, t_end: float = T_END) -> dict[str, An
     )
     mbs.Assemble()
     settings = _settings(exu, h, t_end)
-    start = time.perf_counter()
+    start = CLOCK()
     try:
         mbs.SolveDynamic(settings, solverType=getattr(exu.DynamicSolverType, solver))
     except Exception:  # Exudyn reports a failed run (Newton not converging) by raising
-        return {"wall": time.perf_counter() - start, "error": math.inf, "branch": False, "failed": True}
-    wall = time.perf_counter() - start
+        return {"wall": CLOCK() - start, "error": math.inf, "branch": False, "failed": True}
+    wall = CLOCK() - start
     data = mbs.GetSensorStoredData(sensor)
     x, y = exact.pendulum_tip(data[:, 0])
     error = float(np.max(np.hypot(data[:, 1] - x, data[:, 2] - y)))
@@ -146,12 +152,12 @@ def exudyn_n_four_bar(h: float, solver: str, n: int = 2, t_end: float = T_END) -
     ]  # fmt: skip
     mbs.Assemble()
     settings = _settings(exu, h, t_end)
-    start = time.perf_counter()
+    start = CLOCK()
     try:
         mbs.SolveDynamic(settings, solverType=getattr(exu.DynamicSolverType, solver))
     except Exception:  # Exudyn reports a failed run (Newton not converging) by raising
-        return {"wall": time.perf_counter() - start, "error": math.inf, "branch": False, "failed": True}
-    wall = time.perf_counter() - start
+        return {"wall": CLOCK() - start, "error": math.inf, "branch": False, "failed": True}
+    wall = CLOCK() - start
     data = mbs.GetSensorStoredData(tip)
     branch = exact.n_four_bar_branch(n, t_end)
     x, y, _, _ = branch.tip(np.clip(data[:, 0], 0.0, t_end))
@@ -222,12 +228,12 @@ def exudyn_andrews(h: float, solver: str) -> dict[str, Any]:
     mbs.Assemble()
     settings = _settings(exu, h, exact.ANDREWS_T_END)
     settings.solution.sensors.writePeriod = exact.ANDREWS_T_END / 3
-    start = time.perf_counter()
+    start = CLOCK()
     try:
         mbs.SolveDynamic(settings, solverType=getattr(exu.DynamicSolverType, solver))
     except Exception:  # Exudyn reports a failed run (Newton not converging) by raising
-        return {"wall": time.perf_counter() - start, "error": math.inf, "branch": False, "failed": True}
-    wall = time.perf_counter() - start
+        return {"wall": CLOCK() - start, "error": math.inf, "branch": False, "failed": True}
+    wall = CLOCK() - start
     theta = q[2::3] + np.array([mbs.GetSensorStoredData(sensor)[-1, 3] for sensor in sensors])
     angles = benchmarks.andrews_angles(np.column_stack([np.zeros(7), np.zeros(7), theta]).ravel())
     return {"wall": wall, "error": 10.0 ** -exact.scd(angles), "branch": True}
@@ -266,9 +272,9 @@ def engine_row(problem: str, rtol: float, t_end: float = T_END) -> dict[str, Any
     if problem == "andrews":
         t_end = exact.ANDREWS_T_END
     times = np.arange(0.0, t_end + 0.5 * SAMPLE, SAMPLE)
-    start = time.perf_counter()
+    start = CLOCK()
     res = model.simulate(times, rtol=rtol, atol=rtol, qd0=b.qd0)
-    wall = time.perf_counter() - start
+    wall = CLOCK() - start
     q = np.asarray(res.q)
     if problem == "andrews":
         return {"wall": wall, "error": 10.0 ** -exact.scd(benchmarks.andrews_angles(q[-1])), "branch": True}
@@ -283,16 +289,15 @@ def engine_row(problem: str, rtol: float, t_end: float = T_END) -> dict[str, Any
 
 
 def time_at_error(rows: list[dict[str, Any]], error: float) -> float | None:
-    """The wall time a ladder of runs needs to reach ``error``: log-log interpolation
-    between its runs on the branch; None if none reaches it."""
-    pts = sorted((r["error"], r["wall"]) for r in rows if r["branch"] and r["error"] > 0)
-    if not pts or pts[0][0] > error:
-        return None
-    for (e0, w0), (e1, w1) in zip(pts, pts[1:]):
-        if e0 <= error <= e1:
-            s = (math.log(error) - math.log(e0)) / (math.log(e1) - math.log(e0))
-            return math.exp(math.log(w0) + s * (math.log(w1) - math.log(w0)))
-    return pts[-1][1]  # the loosest run already reaches it
+    """The wall time of the cheapest run of a ladder on the branch whose error is at or
+    below ``error``; None if none reaches it."""
+    walls = [r["wall"] for r in rows if r["branch"] and r["error"] <= error]
+    return min(walls) if walls else None
+
+
+def best_of(repeat: int, run: Callable[[], dict[str, Any]]) -> dict[str, Any]:
+    """The run with the least wall time of ``repeat`` (the same numbers each time)."""
+    return min((run() for _ in range(max(repeat, 1))), key=lambda r: r["wall"])
 
 
 def table(
@@ -306,7 +311,7 @@ def table(
     out = [
         f"#### {title}",
         "",
-        f"| {column} | wall (s) | {error} | on branch |{extra}",
+        f"| {column} | {'CPU' if CLOCK is time.process_time else 'wall'} (s) | {error} | on branch |{extra}",
         "|---|---|---|---|",
     ]
     if extra:
@@ -328,7 +333,14 @@ TITLES = {
 }
 
 
-def run(problems: list[str], steps: list[float], rtols: list[float], with_reference: bool) -> str:
+def run(
+    problems: list[str],
+    steps: list[float],
+    rtols: list[float],
+    with_reference: bool,
+    repeat: int = 1,
+    solvers: tuple[str, ...] = SOLVERS,
+) -> str:
     peers: dict[str, Callable[..., dict[str, Any]]] = {
         "A01": exudyn_pendulum,
         "A02": exudyn_n_four_bar,
@@ -340,9 +352,9 @@ def run(problems: list[str], steps: list[float], rtols: list[float], with_refere
         lines += [f"### {TITLES[problem]}", ""]
         ladder = ANDREWS_STEPS if problem == "andrews" else steps
         error = "worst relative angle error (10^-scd)" if problem == "andrews" else "max error (m)"
-        engine = [engine_row(problem, r) for r in rtols] if has_engine else []
-        for solver in SOLVERS:
-            rows = [peers[problem](h, solver) for h in ladder]
+        engine = [best_of(repeat, partial(engine_row, problem, r)) for r in rtols] if has_engine else []
+        for solver in solvers:
+            rows = [best_of(repeat, partial(peers[problem], h, solver)) for h in ladder]
             for r in rows:
                 t_engine = time_at_error(engine, r["error"]) if has_engine else None
                 r["ratio"] = "" if t_engine is None else f"{r['wall'] / t_engine:.1f}x"
@@ -365,9 +377,17 @@ def main() -> None:
     )
     parser.add_argument("--problems", nargs="+", default=["A01", "A02", "andrews"], choices=sorted(TITLES))
     parser.add_argument("--steps", nargs="+", type=float, default=STEPS)
-    parser.add_argument("--rtols", nargs="+", type=float, default=[1e-6, 1e-8, 1e-10, 1e-12])
+    parser.add_argument(
+        "--rtols", nargs="+", type=float, default=[1e-3, 1e-4, 1e-5, 1e-6, 1e-8, 1e-10, 1e-12]
+    )
+    parser.add_argument("--repeat", type=int, default=1, help="runs of each row, the fastest kept")
+    parser.add_argument("--cpu", action="store_true", help="time runs in CPU time, not wall time")
+    parser.add_argument("--solvers", nargs="+", default=list(SOLVERS), choices=SOLVERS)
     parser.add_argument("--reference", action="store_true", help="also run the NumPy reference")
     args = parser.parse_args()
+    if args.cpu:
+        global CLOCK
+        CLOCK = time.process_time
     import exudyn
 
     now = datetime.datetime.now(datetime.timezone.utc)
@@ -380,7 +400,9 @@ def main() -> None:
         f"errors against the exact solutions sampled every {SAMPLE:g} s.",
         "",
     ]
-    report = "\n".join(head) + run(args.problems, args.steps, args.rtols, args.reference)
+    report = "\n".join(head) + run(
+        args.problems, args.steps, args.rtols, args.reference, args.repeat, tuple(args.solvers)
+    )
     print(report)
     if args.write:
         path = RESULTS / f"dynamics-{stamp[:10]}.md"

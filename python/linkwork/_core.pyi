@@ -30,6 +30,7 @@ __all__ = [
     "sweep_batch",
     "simulate",
     "load_powers",
+    "simulation_rows",
     "equilibrium",
     "sweep_variants",
     "sensitivities",
@@ -71,6 +72,12 @@ def simulate(
     ic_tol: float = 1e-6,
     progress: Callable[[int, int], Any] | None = None,
 ) -> tuple[dict[str, Any], BaseException | None]: ...
+def simulation_rows(
+    model: Model,
+    times: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64],
+    qd: npt.NDArray[np.float64],
+) -> dict[str, npt.NDArray[np.float64]]: ...
 def load_powers(
     model: Model,
     times: npt.NDArray[np.float64],

@@ -3,9 +3,10 @@
 
 use std::sync::Arc;
 
+use linkwork::dynamics::record::solve_rows;
 use linkwork::dynamics::{Method, SimOptions, SimOutput};
 use numpy::ndarray::Array3;
-use numpy::{IntoPyArray, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -17,9 +18,8 @@ fn optional(a: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Option<Vec<f64>>> 
 
 /// Simulates `model` (compiled with free=True) over `times` from q0, qd0 (default: the
 /// drawing at rest), made consistent first. Returns (dict of arrays, error or None):
-/// "times", "q", "qd", "qdd" (n x n_coords), "lambda" (n x n_rows), "reactions"
-/// (n x n_constraints x 4), "drift", "drift_d", "kinetic", "potential", "work", "step",
-/// "iterations", "pivot_ratio" (n), "n_steps", "n_rejected", "n_evaluations",
+/// "times", "q", "qd" (n x n_coords), "drift", "drift_d", "kinetic", "potential",
+/// "work", "step", "iterations" (n), "n_steps", "n_rejected", "n_evaluations",
 /// "moved_q", "moved_qd", "events" (dicts as a sweep's). `progress(done, total)` counts the asked times reached.
 #[pyfunction]
 #[pyo3(signature = (model, times, q0=None, qd0=None, method="rk8", rtol=1e-8, atol=1e-8, rho_inf=0.9,
@@ -54,6 +54,8 @@ pub(crate) fn simulate<'py>(
         h_max: h_max.unwrap_or(d.h_max),
         max_steps: max_steps.unwrap_or(d.max_steps),
         ic_tol,
+        // qdd, the multipliers and reactions are solved when asked (`simulation_rows`)
+        accelerations: false,
     };
     opts.check().map_err(InputError::new_err)?;
     let m = Arc::clone(&model.model);
@@ -85,16 +87,11 @@ pub(crate) fn simulate<'py>(
     }
     let error = run_error(result, interrupt, |e| model.solve_err(py, e));
     out.truncate();
-    let (k, n, r, nc) = (out.n_done, out.n_coords, out.n_rows, m.constraints.len());
+    let (k, n) = (out.n_done, out.n_coords);
     let d = PyDict::new(py);
     d.set_item("times", out.times.into_pyarray(py))?;
     d.set_item("q", rows_to_array(py, out.q, k, n))?;
     d.set_item("qd", rows_to_array(py, out.qd, k, n))?;
-    d.set_item("qdd", rows_to_array(py, out.qdd, k, n))?;
-    d.set_item("lambda", rows_to_array(py, out.lambda, k, r))?;
-    let reactions = Array3::from_shape_vec((k, nc, linkwork::REACTION_COLUMNS), out.reactions)
-        .expect("n x constraints x 4 buffer");
-    d.set_item("reactions", reactions.into_pyarray(py))?;
     for (name, v) in [
         ("drift", out.drift),
         ("drift_d", out.drift_d),
@@ -102,7 +99,6 @@ pub(crate) fn simulate<'py>(
         ("potential", out.potential),
         ("work", out.work),
         ("step", out.step),
-        ("pivot_ratio", out.pivot_ratio),
     ] {
         d.set_item(name, v.into_pyarray(py))?;
     }
@@ -115,4 +111,44 @@ pub(crate) fn simulate<'py>(
     let events = out.events.iter().map(|e| crate::events::event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
     d.set_item("events", events)?;
     Ok((d, error))
+}
+
+/// The index-1 solve at every row of a simulation (its times, projected q and qd): a
+/// dict of "qdd" (n x n_coords), "lambda" (n x n_rows, in the rows' units),
+/// "reactions" (n x n_constraints x 4) and "pivot_ratio" (n).
+#[pyfunction]
+pub(crate) fn simulation_rows<'py>(
+    py: Python<'py>,
+    model: PyRef<'py, PyModel>,
+    times: PyReadonlyArray1<'py, f64>,
+    q: PyReadonlyArray2<'py, f64>,
+    qd: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let m = Arc::clone(&model.model);
+    let (times, q, qd) = (times.as_slice()?.to_vec(), q.as_array(), qd.as_array());
+    let (k, n, r, nc) = (times.len(), m.n_coords, m.n_rows, m.constraints.len());
+    if q.shape() != [k, n] || qd.shape() != [k, n] {
+        return Err(InputError::new_err(format!(
+            "q and qd must be {k} x {n} (a row per time, a column per coordinate), not {:?} and {:?}",
+            q.shape(),
+            qd.shape()
+        )));
+    }
+    let mut out = SimOutput::new(&m, &times);
+    out.q = q.iter().copied().collect();
+    out.qd = qd.iter().copied().collect();
+    out.n_done = k;
+    laws::clear(&model.failures);
+    let result = py.detach(|| guard("solving the rows of a simulation", || solve_rows(&m, &mut out)));
+    if let Some(e) = run_error(result, None, |e| model.solve_err(py, e)) {
+        return Err(e);
+    }
+    let d = PyDict::new(py);
+    d.set_item("qdd", rows_to_array(py, out.qdd, k, n))?;
+    d.set_item("lambda", rows_to_array(py, out.lambda, k, r))?;
+    let reactions = Array3::from_shape_vec((k, nc, linkwork::REACTION_COLUMNS), out.reactions)
+        .expect("n x constraints x 4 buffer");
+    d.set_item("reactions", reactions.into_pyarray(py))?;
+    d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
+    Ok(d)
 }

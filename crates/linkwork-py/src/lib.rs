@@ -923,6 +923,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synthesis::synth_alt, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_batch, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(dynamics::simulation_rows, m)?)?;
     m.add_function(wrap_pyfunction!(load_power::load_powers, m)?)?;
     m.add_function(wrap_pyfunction!(equilibrium::equilibrium, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity::sensitivities, m)?)?;

@@ -60,12 +60,17 @@ class Simulation(Results):
 
     def __init__(self, model: Model, raw: dict[str, Any], method: str) -> None:
         n = len(raw["times"])
+        # solved when first read (`_solved`): qdd, the multipliers, the reactions, the
+        # pivot ratios and the loads' powers
+        self._lazy: dict[str, Any] = {}
         sweep_raw = dict(raw)
         sweep_raw.update(
             residual=raw["drift"],
             det_sign=np.ones(n),
             events=raw.get("events", []),
-            load_power=np.zeros(n),
+            qdd=None,
+            pivot_ratio=None,
+            load_power=None,
         )
         super().__init__(model, sweep_raw)
         self.method = method
@@ -78,10 +83,69 @@ class Simulation(Results):
         self.moved_q: float = raw["moved_q"]
         self.moved_qd: float = raw["moved_qd"]
         self._energy = (raw["kinetic"], raw["potential"], raw["work"])
-        # the engine's own loads (every kind, units as compiled) along the kept rows
-        assert self.qd is not None  # a simulation keeps its rates
-        self._load_powers: np.ndarray = _core.load_powers(model._core, self.times, self.q, self.qd)
-        self.load_power = self._load_powers.sum(axis=1)
+
+    def _solved(self, name: str) -> Any:
+        """One of the quantities solved at every row on first use: the index-1 solve (qdd,
+        multipliers, reactions, pivot ratios) at the kept q and qd, the loads' powers."""
+        if self._lazy.get(name) is None:
+            assert self.qd is not None  # a simulation keeps its rates
+            if name == "load_powers":
+                self._lazy[name] = _core.load_powers(self.model._core, self.times, self.q, self.qd)
+            else:
+                rows = _core.simulation_rows(self.model._core, self.times, self.q, self.qd)
+                self._lazy.update(
+                    qdd=rows["qdd"],
+                    multipliers=rows["lambda"],
+                    reactions=rows["reactions"],
+                    pivot_ratio=rows["pivot_ratio"],
+                )
+        return self._lazy[name]
+
+    @property  # type: ignore[override]
+    def qdd(self) -> np.ndarray:
+        """(n, n_coords): the accelerations at the kept q and qd."""
+        return self._solved("qdd")
+
+    @qdd.setter
+    def qdd(self, value: np.ndarray | None) -> None:
+        self._lazy["qdd"] = value
+
+    @property  # type: ignore[override]
+    def multipliers(self) -> np.ndarray:
+        """(n, n_rows): the multipliers of M qdd + Phi_q^T lambda = Q_A."""
+        return self._solved("multipliers")
+
+    @multipliers.setter
+    def multipliers(self, value: np.ndarray | None) -> None:
+        self._lazy["multipliers"] = value
+
+    @property  # type: ignore[override]
+    def reactions(self) -> np.ndarray:
+        """(n, n_constraints, 4): each constraint's reaction on its side b (Fx, Fy, torque
+        about its anchor, power)."""
+        return self._solved("reactions")
+
+    @reactions.setter
+    def reactions(self, value: np.ndarray | None) -> None:
+        self._lazy["reactions"] = value
+
+    @property  # type: ignore[override]
+    def pivot_ratio(self) -> np.ndarray:
+        """(n,): the pivot ratio of the augmented matrix at each kept state."""
+        return self._solved("pivot_ratio")
+
+    @pivot_ratio.setter
+    def pivot_ratio(self, value: np.ndarray | None) -> None:
+        self._lazy["pivot_ratio"] = value
+
+    @property  # type: ignore[override]
+    def load_power(self) -> np.ndarray:
+        """(n,): the power of all the loads (`load_powers` one by one)."""
+        return self._solved("load_powers").sum(axis=1)
+
+    @load_power.setter
+    def load_power(self, value: np.ndarray | None) -> None:
+        pass  # always the sum of `load_powers`
 
     def load_powers(self) -> dict[str, np.ndarray]:
         """The power of each load (by name, in the order of the model's loads), each (n,):
@@ -90,7 +154,8 @@ class Simulation(Results):
         where the load takes energy out. A spring's elastic part is the rate of its
         potential energy (in ``energy().potential``); the rest is in ``energy().work``."""
         names = [load[0] for load in self.model._core.loads]
-        return {name: self._load_powers[:, k] for k, name in enumerate(names)}
+        powers = self._solved("load_powers")
+        return {name: powers[:, k] for k, name in enumerate(names)}
 
     def energy(self) -> SimulationEnergy:  # type: ignore[override]
         """Kinetic and potential energy, the work of what is not conservative, and the

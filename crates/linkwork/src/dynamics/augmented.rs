@@ -321,19 +321,35 @@ impl Augmented {
     /// Ledesma's ALI3-P): what the rows determine converges, the nearly dependent
     /// directions stay relaxed. Returns the pivots of A.
     pub fn factor_solve(&mut self, b: &mut [f64]) -> Pivots {
-        let (mu, refine, below) = (MU, REFINE, REGULARISE_BELOW);
+        let pivots = self.factor_for_solve();
+        self.solve_refined(b);
+        pivots
+    }
+
+    /// The factorization `factor_solve` uses: of A, or of the regularised matrix where A's
+    /// pivot ratio is below `REGULARISE_BELOW`. Returns the pivots of A.
+    pub fn factor_for_solve(&mut self) -> Pivots {
         let pivots = self.factor(0.0);
-        if pivots.ratio >= below {
-            self.solve(b);
-            return pivots;
+        if pivots.ratio < REGULARISE_BELOW {
+            self.factor(MU);
         }
-        self.factor(mu);
+        pivots
+    }
+
+    /// Solves A x = b with the last factors (`factor_for_solve`), refined against the
+    /// values now in A if they were regularised (x in `b` on return). The factors may be
+    /// of a nearby matrix: simplified Newton iterations solve with them.
+    pub fn solve_refined(&mut self, b: &mut [f64]) {
+        if !self.regularised {
+            self.solve(b);
+            return;
+        }
         let size = self.n + self.m;
         let rhs = b.to_vec();
         let mut x = vec![0.0; size];
         let mut r = rhs.clone();
         let norm_b = rhs.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE);
-        for _ in 0..refine {
+        for _ in 0..REFINE {
             self.solve(&mut r);
             for (xi, d) in x.iter_mut().zip(&r) {
                 *xi += d;
@@ -344,7 +360,6 @@ impl Augmented {
             }
         }
         b.copy_from_slice(&x);
-        pivots
     }
 
     /// The column of the coordinate most involved in a (near) null direction of A: one

@@ -205,7 +205,7 @@ pub fn integrate(
         if lands {
             let (mut qs, mut qds) = (q.clone(), qd.clone());
             let info = StepInfo { step: h, iterations: iterations as u32, work };
-            store_state(model, sys, out, next, t, &mut qs, &mut qds, info)?;
+            store_state(model, sys, out, next, t, &mut qs, &mut qds, info, opts.accelerations)?;
             next += 1;
         }
         watch.accepted(model, sys, &times, t, &q, &qd, &qdd, &mut out.events);

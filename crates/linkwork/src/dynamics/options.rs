@@ -48,6 +48,9 @@ pub struct SimOptions {
     pub max_steps: usize,
     /// how far the initial conditions may move onto the constraints (scaled)
     pub ic_tol: f64,
+    /// qdd, the multipliers, the reactions and the pivot ratio at every row (an index-1
+    /// solve each); false leaves them NaN, for `record::solve_rows` when they are wanted
+    pub accelerations: bool,
 }
 
 impl Default for SimOptions {
@@ -61,6 +64,7 @@ impl Default for SimOptions {
             h_max: f64::INFINITY,
             max_steps: 10_000_000,
             ic_tol: 1e-6,
+            accelerations: true,
         }
     }
 }

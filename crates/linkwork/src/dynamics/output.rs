@@ -103,35 +103,24 @@ impl SimOutput {
 pub struct Row<'a> {
     pub q: &'a [f64],
     pub qd: &'a [f64],
-    pub qdd: &'a [f64],
-    /// scaled multipliers (unscaled when stored)
-    pub lambda: &'a [f64],
     pub drift: f64,
     pub drift_d: f64,
     pub work: f64,
     pub step: f64,
     pub iterations: u32,
-    pub pivot_ratio: f64,
 }
 
 impl SimOutput {
-    /// Stores row `k`; the energies from the frames of its state.
-    /// Stores row `k` (its reactions written by the caller into `reactions_row`); the
-    /// energies from the frames of its state.
+    /// Row `k`'s reactions (`per_row` values), written by the caller.
     pub fn reactions_row(&mut self, k: usize, per_row: usize) -> &mut [f64] {
         &mut self.reactions[k * per_row..(k + 1) * per_row]
     }
 
-    pub fn store(&mut self, model: &Model, k: usize, row: Row, kinetic: f64, potential: f64) {
-        let (n, m) = (self.n_coords, self.n_rows);
+    /// Stores row `k` with the energies of its state.
+    pub fn store(&mut self, k: usize, row: Row, kinetic: f64, potential: f64) {
+        let n = self.n_coords;
         self.q[k * n..(k + 1) * n].copy_from_slice(row.q);
         self.qd[k * n..(k + 1) * n].copy_from_slice(row.qd);
-        self.qdd[k * n..(k + 1) * n].copy_from_slice(row.qdd);
-        for c in &model.constraints {
-            for i in 0..c.n_rows {
-                self.lambda[k * m + c.row0 + i] = row.lambda[c.row0 + i] * c.row_scale[i];
-            }
-        }
         self.drift[k] = row.drift;
         self.drift_d[k] = row.drift_d;
         self.kinetic[k] = kinetic;
@@ -139,7 +128,6 @@ impl SimOutput {
         self.work[k] = row.work;
         self.step[k] = row.step;
         self.iterations[k] = row.iterations;
-        self.pivot_ratio[k] = row.pivot_ratio;
         self.n_done = k + 1;
     }
 }

@@ -17,8 +17,9 @@ pub struct StepInfo {
     pub work: f64,
 }
 
-/// Projects (q, qd) at t onto the constraints and stores row k: qdd and lambda from the
-/// index-1 solve there, the drift before the projection, the energies.
+/// Projects (q, qd) at t onto the constraints and stores row k: the drift before the
+/// projection, the energies, and with `solve` qdd, lambda, the reactions and the pivot
+/// ratio from the index-1 solve there (otherwise left NaN for `solve_rows`).
 #[allow(clippy::too_many_arguments)]
 pub fn store_state(
     model: &Model,
@@ -29,8 +30,9 @@ pub fn store_state(
     q: &mut [f64],
     qd: &mut [f64],
     info: StepInfo,
+    solve: bool,
 ) -> Result<(), SolveError> {
-    let (iterations, drift, residual) = sys.project_positions(model, q, t, 1e-15);
+    let (iterations, drift, residual, drift_d) = sys.project_state(model, q, qd, t);
     if residual.is_nan() || residual > model.options.tol_residual {
         return Err(SolveError::Step {
             step: k,
@@ -39,33 +41,52 @@ pub fn store_state(
             why: format!("the state cannot be projected onto the constraints (|phi| = {residual:.3e})"),
         });
     }
-    let drift_d = sys.project_velocities(model, q, qd, t);
-    let (mut qdd, mut lambda) = (vec![0.0; model.n_coords], vec![0.0; model.n_rows]);
-    let pivots = sys.accelerations(model, q, qd, t, &mut qdd, &mut lambda);
-    if !qdd.iter().chain(&lambda).all(|v| v.is_finite()) {
-        return Err(SolveError::NonFinite { step: k, time: t, what: "the accelerations".into() });
-    }
     let (tk, vk) = (kinetic(model, sys.frames()), potential(model, sys.frames()));
-    // reactions from the multipliers in the rows' units, at the frames of this state
-    for c in &model.constraints {
-        for i in 0..c.n_rows {
-            sys.data.lambda[c.row0 + i] = lambda[c.row0 + i] * c.row_scale[i];
-        }
-    }
-    let per_row = model.constraints.len() * REACTION_COLUMNS;
-    reactions(model, &sys.data, t, out.reactions_row(k, per_row));
     let row = Row {
         q,
         qd,
-        qdd: &qdd,
-        lambda: &lambda,
         drift,
         drift_d,
         work: info.work,
         step: info.step,
         iterations: info.iterations.max(iterations as u32),
-        pivot_ratio: pivots.ratio,
     };
-    out.store(model, k, row, tk, vk);
+    out.store(k, row, tk, vk);
+    if solve {
+        solve_row(model, sys, out, k)?;
+    }
+    Ok(())
+}
+
+/// qdd, the multipliers (in the rows' units), the reactions and the pivot ratio of the
+/// stored rows, from the index-1 solve at each (what `store_state` leaves when not asked).
+pub fn solve_rows(model: &Model, out: &mut SimOutput) -> Result<(), SolveError> {
+    let mut sys = System::new(model);
+    for k in 0..out.n_done {
+        solve_row(model, &mut sys, out, k)?;
+    }
+    Ok(())
+}
+
+/// Row k's index-1 solve at its stored (q, qd).
+fn solve_row(model: &Model, sys: &mut System, out: &mut SimOutput, k: usize) -> Result<(), SolveError> {
+    let (n, m) = (model.n_coords, model.n_rows);
+    let t = out.times[k];
+    let (q, qd) = (out.q[k * n..(k + 1) * n].to_vec(), out.qd[k * n..(k + 1) * n].to_vec());
+    let (qdd, lambda) = (&mut out.qdd[k * n..(k + 1) * n], &mut out.lambda[k * m..(k + 1) * m]);
+    let pivots = sys.accelerations(model, &q, &qd, t, qdd, lambda);
+    if !qdd.iter().chain(lambda.iter()).all(|v| v.is_finite()) {
+        return Err(SolveError::NonFinite { step: k, time: t, what: "the accelerations".into() });
+    }
+    // the multipliers in the rows' units; the reactions from them at the frames of this state
+    for c in &model.constraints {
+        for i in 0..c.n_rows {
+            lambda[c.row0 + i] *= c.row_scale[i];
+        }
+    }
+    sys.data.lambda.copy_from_slice(lambda);
+    let per_row = model.constraints.len() * REACTION_COLUMNS;
+    reactions(model, &sys.data, t, out.reactions_row(k, per_row));
+    out.pivot_ratio[k] = pivots.ratio;
     Ok(())
 }

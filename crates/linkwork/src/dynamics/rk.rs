@@ -246,13 +246,13 @@ pub fn integrate(
             }
             let (qo, rest) = y_out.split_at_mut(n);
             let info = StepInfo { step: h_step, iterations: 0, work: rest[n] };
-            store_state(model, sys, out, next, tk, qo, &mut rest[..n], info)?;
+            store_state(model, sys, out, next, tk, qo, &mut rest[..n], info, opts.accelerations)?;
             next += 1;
         }
         // the step's end, projected onto the constraints; its derivative evaluated there
         y.copy_from_slice(&y_new);
         let (qs, rest) = y.split_at_mut(n);
-        let (_, _, residual) = sys.project_positions(model, qs, t_new, 1e-15);
+        let (_, _, residual, _) = sys.project_state(model, qs, &mut rest[..n], t_new);
         if residual.is_nan() || residual > model.options.tol_residual {
             return Err(step_error(
                 out,
@@ -261,7 +261,6 @@ pub fn integrate(
                 format!("projection onto the constraints left |phi| = {residual:.3e}"),
             ));
         }
-        sys.project_velocities(model, qs, &mut rest[..n], t_new);
         t = t_new;
         if !rhs.eval(model, sys, t, &y, &mut f) {
             return Err(step_error(out, t, h_step, "the accelerations are not finite".into()));

@@ -15,6 +15,8 @@ use crate::solve::assembly::{gamma, nu_into, update_frames};
 
 /// Gauss-Newton iterations allowed to project positions.
 pub const MAX_PROJECTION: usize = 50;
+/// The scaled residual a projection stops at (round-off of unit-scaled rows).
+pub const PROJECTION_TOL: f64 = 1e-15;
 
 /// The workspace of the equations of motion of one model.
 pub struct System {
@@ -119,6 +121,102 @@ impl System {
             }
         }
         (MAX_PROJECTION, before, residual)
+    }
+
+    /// Projects q onto Phi(q, t) = 0, then qd onto Phi_q qd = nu, as `project_positions`
+    /// and `project_velocities` do but on one factorization: a state near the constraints
+    /// (a step's end, the dense output between) needs one Newton step, and simplified
+    /// Newton with its factors brings both the positions and the rates to round-off; the
+    /// matrix is factored again only where an iteration does not halve the residual.
+    /// Returns (iterations, scaled |phi| before, after, scaled |Phi_q qd - nu| before).
+    pub fn project_state(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        qd: &mut [f64],
+        t: f64,
+    ) -> (usize, f64, f64, f64) {
+        let n = model.n_coords;
+        self.target.copy_from_slice(q);
+        let (mut before, mut residual) = (f64::NAN, f64::NAN);
+        let mut last = f64::INFINITY;
+        // whether the last correction was solved with factors of the iterate it started from
+        let mut fresh = false;
+        let mut factored = false;
+        let mut iterations = 0;
+        for it in 0..=MAX_PROJECTION {
+            self.data.q.copy_from_slice(q);
+            update_frames(&mut self.data);
+            self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+            residual = max_abs(&self.phi);
+            if it == 0 {
+                before = residual;
+            }
+            let slow = residual > 0.5 * last;
+            // done, or stalled at round-off (a full Newton step no longer halving)
+            if !residual.is_finite() || residual <= PROJECTION_TOL || (slow && fresh) || it == MAX_PROJECTION
+            {
+                break;
+            }
+            fresh = !factored || slow;
+            if fresh {
+                self.pivots = self.aug.factor_for_solve();
+                factored = true;
+            }
+            last = residual;
+            for ((d, a), b) in self.dq.iter_mut().zip(&self.target).zip(q.iter()) {
+                *d = a - b;
+            }
+            mass_times(model, &self.data.frames, &self.dq, &mut self.x[..n]);
+            for (r, p) in self.x[n..].iter_mut().zip(&self.phi) {
+                *r = -p;
+            }
+            self.aug.solve_refined(&mut self.x);
+            for (qk, d) in q.iter_mut().zip(&self.x[..n]) {
+                *qk += d;
+            }
+            iterations = it + 1;
+        }
+        if !residual.is_finite() || residual > model.options.tol_residual {
+            return (iterations, before, residual, f64::NAN);
+        }
+        // the Jacobian is filled at the projected q: the rates' corrections Phi_q d = nu -
+        // Phi_q qd with the same factors (M d + Phi_q^T mu = 0), factored here if none is
+        let m = model.n_rows;
+        let mut rate = vec![0.0; m];
+        let mut nu = vec![0.0; m];
+        nu_into(model, t, &mut nu);
+        let (mut before_d, mut last_d) = (f64::NAN, f64::INFINITY);
+        for it in 0..6 {
+            self.aug.jacobian_times(qd, &mut rate);
+            let size = rate.iter().zip(&nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()));
+            let speed = qd.iter().zip(&model.col_scale).fold(0.0f64, |a, (v, s)| a.max((v / s).abs()));
+            if it == 0 {
+                before_d = size;
+            }
+            if !size.is_finite() || size <= PROJECTION_TOL * speed.max(1.0) || (size > 0.5 * last_d && fresh)
+            {
+                break;
+            }
+            if !factored || size > 0.5 * last_d {
+                self.pivots = self.aug.factor_for_solve();
+                (factored, fresh) = (true, true);
+            } else {
+                fresh = false;
+            }
+            last_d = size;
+            self.x[..n].fill(0.0);
+            for ((x, r), v) in self.x[n..].iter_mut().zip(&rate).zip(&nu) {
+                *x = v - r;
+            }
+            self.aug.solve_refined(&mut self.x);
+            for (v, d) in qd.iter_mut().zip(&self.x[..n]) {
+                *v += d;
+            }
+        }
+        self.data.qd.copy_from_slice(qd);
+        update_frames(&mut self.data);
+        (iterations, before, residual, before_d)
     }
 
     /// Projects qd onto Phi_q qd = nu at q (one solve; the augmented matrix is filled at
