@@ -43,6 +43,8 @@ def test_a_target_keeps_its_points_closure_and_angles() -> None:
     assert np.array_equal(t.crank_angles, [0.1, 0.2, 0.4, 0.3])  # any order but no repeat
     free = T.target(SQUARE)
     assert free.closed is False and not free.timed and free.crank_angles is None
+    direct = T.TargetCurve(SQUARE)  # built without the checks: open and untimed
+    assert direct.closed is False and not direct.timed
     # the size is the bounding box's diagonal, wherever the box is
     assert T.target(SQUARE + [7.0, -9.0]).size == pytest.approx(5.0, rel=1e-15)
 
@@ -81,14 +83,17 @@ def test_the_first_non_finite_point_is_named(n: int, data: st.DataObject) -> Non
 
 
 @settings(max_examples=25, deadline=None)
-@given(n=st.integers(3, 9), data=st.data())
-def test_coincident_neighbours_are_named_at_1e_12_of_the_size(n: int, data: st.DataObject) -> None:
+@given(n=st.integers(3, 9), size=st.sampled_from([1e-6, 1.0, 1e6]), data=st.data())
+def test_coincident_neighbours_are_named_at_1e_12_of_the_size(
+    n: int, size: float, data: st.DataObject
+) -> None:
     """Neighbours closer than 1e-12 of the bounding box's diagonal are one point twice
-    (named by their numbers); 3e-12 apart they are two points."""
-    p = _polyline(n + 10, n)
+    (named by their numbers); 3e-12 apart they are two points, whatever the size."""
+    p = size * _polyline(n + 10, n)
     k = data.draw(st.integers(0, n - 2))
-    scale = float(np.hypot(*np.ptp(p, axis=0)))
     q = p.copy()
+    q[k + 1] = q[k]
+    scale = float(np.hypot(*np.ptp(q, axis=0)))  # the box without the moved point
     q[k + 1] = q[k] + [0.5e-12 * scale, 0.0]
     with pytest.raises(SynthesisError, match=rf"target points {k + 1} and {k + 2} coincide"):
         T.target(q)
@@ -96,15 +101,16 @@ def test_coincident_neighbours_are_named_at_1e_12_of_the_size(n: int, data: st.D
     assert np.array_equal(T.target(q).points, q)
 
 
-def test_a_closed_target_that_repeats_its_first_point_is_named() -> None:
-    scale = 5.0
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (3.0, -2.0)])
+def test_a_closed_target_that_repeats_its_first_point_is_named(offset: tuple[float, float]) -> None:
+    square, scale = SQUARE + offset, 5.0
     with pytest.raises(SynthesisError, match="repeats its first point"):
-        T.target(np.vstack([SQUARE, SQUARE[:1]]), closed=True)
+        T.target(np.vstack([square, square[:1]]), closed=True)
     with pytest.raises(SynthesisError, match="repeats its first point"):
-        T.target(np.vstack([SQUARE, [0.5e-12 * scale, 0.0]]), closed=True)
+        T.target(np.vstack([square, square[0] + [0.5e-12 * scale, 0.0]]), closed=True)
     # a last point near the first, but not on it, is a point; an open curve may end at its start
-    assert len(T.target(np.vstack([SQUARE, [0.0, 3e-12 * scale]]), closed=True)) == 5
-    assert len(T.target(np.vstack([SQUARE, SQUARE[:1]]), closed=False)) == 5
+    assert len(T.target(np.vstack([square, square[0] + [0.0, 3e-12 * scale]]), closed=True)) == 5
+    assert len(T.target(np.vstack([square, square[:1]]), closed=False)) == 5
 
 
 def test_bad_crank_angles_are_named() -> None:
