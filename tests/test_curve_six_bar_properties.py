@@ -1,0 +1,229 @@
+"""Properties of how six-bar curve designs are started and screened
+(linkwork.synthesis.curve.six_bar_fit), fast (one engine sweep each, no refinement): the
+dyads added to a four-bar assemble over the whole crank turn within the stated ranges,
+with P on C; the screening finds no defect on a six-bar that traces its four-bar's curve
+forwards, and its smallest transmission angles at B and at D are the closed form's over
+the traced stretch only, at the sweep's steps; crank angles out of order, a four-bar loop
+that cannot turn through the stretch, a dyad too short to follow C, a traced point off
+the closed form by more than 1e-7 of the scale, and a sweep that gives no row are each
+reported as the defect they are."""
+
+from __future__ import annotations
+
+import importlib
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+
+from linkwork.errors import SolveError, SynthesisError
+from linkwork.synthesis import curve as C
+from linkwork.synthesis.curve import constraints as K
+from linkwork.synthesis.curve.tracking import coupler_points
+
+SB = importlib.import_module("linkwork.synthesis.curve.six_bar_fit")
+
+X = np.array([2.0, 0.5, 1.8, 1.5, 0.4, 0.3, 0.2, 0.1, -0.2])  # a crank-rocker
+TH = np.array([0.4, 1.3, 2.0, 3.9, 5.0])
+
+
+def _target(th: np.ndarray = TH, closed: bool = False) -> C.TargetCurve:
+    return C.target(coupler_points(X, th, "open"), closed=closed)
+
+
+def _six_bar(kind: str, side_index: int = 0, th: np.ndarray = TH, closed: bool = False, seed: int = 3):
+    """A six-bar of the crank-rocker X with a dyad from `dyad_seeds` (P at C: it traces
+    X's coupler curve), on the target X traces at the crank angles ``th``."""
+    side, y = SB.dyad_seeds(("open", np.concatenate([X, th])), kind, 2, np.random.default_rng(seed))[
+        side_index
+    ]
+    return C.SixBarProblem(_target(th, closed), kind=kind, side=side), y
+
+
+def _angle_from_0_or_pi(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    mu = np.arccos(np.clip(np.sum(u * v, axis=1) / (np.hypot(*u.T) * np.hypot(*v.T)), -1.0, 1.0))
+    return np.minimum(mu, math.pi - mu)
+
+
+def _stretch_angles(problem: C.SixBarProblem, y: np.ndarray) -> tuple[float, float, float, float]:
+    """The smallest transmission angles at B and at D by the closed form at the screening
+    sweep's steps: over the traced stretch, and over the whole sweep (lead-in included)."""
+    _, times, first = SB.screened_stretch(y[problem.size :], problem.target.closed)
+    p = problem.points(y, times)
+    on = times >= first - 1e-12
+    b = _angle_from_0_or_pi(p["A"] - p["B"], p["O4"] - p["B"])
+    d = _angle_from_0_or_pi(p["C"] - p["D"], p["F"] - p["D"])
+    return float(b[on].min()), float(d[on].min()), float(b.min()), float(d.min())
+
+
+# ---- the dyads --------------------------------------------------------------------------------
+@pytest.mark.parametrize("kind", ["stephenson", "watt"])
+def test_dyad_seeds_assemble_over_the_whole_turn_within_the_stated_ranges(kind: str) -> None:
+    x = np.concatenate([X, TH])
+    out = SB.dyad_seeds(("open", x), kind, 6, np.random.default_rng(5))
+    assert len(out) == 6 and [s for s, _ in out] == ["left", "right"] * 3
+    th = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    c = coupler_points(X, th, "open")
+    centre = c.mean(axis=0)
+    radius = np.hypot(*(c - centre).T).max()
+    for side, y in out:
+        np.testing.assert_array_equal(y[:9], X)
+        np.testing.assert_array_equal(y[15:], TH)
+        assert np.array_equal(y[13:15], [0.0, 0.0])  # P at C
+        pts = C.six_bars.six_bar_points(y, th, kind, "open", side)
+        np.testing.assert_allclose(pts["P"], c, atol=1e-12)  # it traces the four-bar's curve
+        assert np.all(np.isfinite(pts["D"]))  # the dyad assembles over the whole turn
+        d = np.hypot(*(pts["C"] - pts["F"]).T)
+        r5, r6 = y[9:11]
+        # the sampling of dyad_seeds (360 steps) sees the extremes to within 1e-4 of them
+        assert 1.15 * d.max() * (1 - 1e-4) <= r5 + r6 <= 1.6 * d.max() * (1 + 1e-4)
+        assert abs(r5 - r6) <= 0.8 * d.min() * (1 + 1e-4)
+        if kind == "stephenson":
+            assert 1.3 * radius * (1 - 1e-3) <= np.hypot(*(y[11:13] - centre)) <= 3.0 * radius * (1 + 1e-3)
+        else:  # E on the rocker, within (-1, 2) x (-1.5, 1.5) of its length
+            assert -1.0 <= y[11] / X[3] <= 2.0 and -1.5 <= y[12] / X[3] <= 1.5
+    # the same generator gives the same dyads; a CurveDesign is taken as its (circuit, x)
+    again = SB.dyad_seeds(("open", x), kind, 6, np.random.default_rng(5))
+    assert all(np.array_equal(a[1], b[1]) for a, b in zip(out, again))
+
+
+def test_a_four_bar_that_does_not_turn_fully_gets_no_dyad() -> None:
+    x = np.concatenate([[2.0, 1.0, 1.2, 1.5], X[4:], TH])  # not Grashof: no full turn
+    with pytest.raises(SynthesisError, match="does not turn fully"):
+        SB.dyad_seeds(("open", x), "stephenson", 2, np.random.default_rng(0))
+    assert SB.dyad_seeds(("open", np.concatenate([X, TH])), "watt", 0, np.random.default_rng(0)) == []
+
+
+def test_the_smallest_angle_between_bars_is_measured_from_0_or_180_degrees() -> None:
+    u = np.array([[1.0, 0.0], [1.0, 0.0], [1.0, 0.0]])
+    for angle in (0.3, math.pi - 0.3, math.pi / 2):
+        v = np.array([[math.cos(a), math.sin(a)] for a in (angle, math.pi / 2, 2.0)]) * [[2.0], [3.0], [0.5]]
+        assert SB._smallest(u, v) == pytest.approx(min(angle, math.pi - angle, math.pi - 2.0), abs=1e-12)
+    assert SB._smallest(u, -u) == 0.0 and SB._smallest(u[:0], u[:0]) == 0.0
+
+
+# ---- the screening ---------------------------------------------------------------------------
+@pytest.mark.parametrize("kind", ["stephenson", "watt"])
+@pytest.mark.parametrize("side_index", [0, 1])
+def test_a_six_bar_traced_forwards_is_defect_free_with_the_closed_forms_angles(
+    kind: str, side_index: int
+) -> None:
+    problem, y = _six_bar(kind, side_index)
+    defects, mu_b, mu_d, grashof = SB._screen(problem, y)
+    assert defects == () and grashof == "crank-rocker"
+    b, d, _, _ = _stretch_angles(problem, y)
+    # the engine's positions against the closed form's: equal to its solve tolerance
+    assert mu_b == pytest.approx(b, abs=1e-9) and mu_d == pytest.approx(d, abs=1e-9)
+    # and at B the exact smallest angle over the stretch, approached from above
+    assert -1e-12 <= mu_b - K.smallest_transmission(np.concatenate([X, TH]), closed=False)[0] <= 1e-4
+
+
+@pytest.mark.parametrize("kind", ["stephenson", "watt"])
+def test_the_angles_are_over_the_traced_stretch_only(kind: str) -> None:
+    """A stretch from 4.0 to 5.5 rad: the lead-in from the drawing (0) passes the four-bar's
+    smallest angle (at theta2 = 0), which does not count."""
+    th = np.linspace(4.0, 5.5, 5)
+    problem, y = _six_bar(kind, th=th)
+    defects, mu_b, mu_d, _ = SB._screen(problem, y)
+    b, d, b_all, _ = _stretch_angles(problem, y)
+    assert defects == () and b_all < b - 0.05
+    assert mu_b == pytest.approx(b, abs=1e-9) and mu_d == pytest.approx(d, abs=1e-9)
+
+
+def test_crank_angles_out_of_order_are_an_order_defect() -> None:
+    problem, y = _six_bar("stephenson")
+    backwards = y.copy()
+    backwards[15:] = TH[::-1]
+    assert "order" in SB._screen(problem, backwards)[0]
+    closed, yc = _six_bar("watt", th=TH, closed=True)
+    assert SB._screen(closed, yc)[0] == ()
+    yc[-1] = TH[0] + 2 * math.pi  # a closed curve traced over a whole turn
+    assert SB._screen(closed, yc)[0] == ("order",)
+
+
+def test_a_four_bar_loop_that_cannot_turn_through_the_stretch_is_a_branch_defect() -> None:
+    """r = (2.0, 1.0, 1.2, 1.5) assembles only for theta2 <= 2.18 rad from the drawing: a
+    stretch from 3.5 to 5.0 rad is not reached (no transmission angle: 0); one from 0.4 to
+    5.0 meets the dead point inside it."""
+    for th, unreached in ((np.linspace(3.5, 5.0, 5), True), (TH, False)):
+        problem, y = _six_bar("stephenson", th=th)
+        y[:4] = (2.0, 1.0, 1.2, 1.5)
+        y[9:11] = (10.0, 10.0)  # a dyad that reaches C wherever the loop puts it
+        defects, mu_b, mu_d, grashof = SB._screen(problem, y)
+        assert "branch" in defects and "order" not in defects and grashof != "crank-rocker"
+        assert (mu_b == 0.0 and mu_d == 0.0) == unreached
+
+
+def test_a_sweep_stopped_right_after_the_drawing_is_a_branch_defect_only() -> None:
+    """r4 1e-7 above the toggle at the drawing (r1 - r2 = r3 + r4 at theta2 = 0): the
+    sweep's first row is the drawing, on its circuit, and it stops before the next: a
+    branch defect, no circuit defect, no angle over the stretch."""
+    problem, y = _six_bar("stephenson")
+    y[:4] = (2.0, 0.5, 0.8, 0.7 + 1e-7)
+    assert SB._screen(problem, y)[:3] == (("branch",), 0.0, 0.0)
+
+
+class _NoRow:
+    """A compiled model whose sweep fails before its first row, with no partial result."""
+
+    def __init__(self, model: Any) -> None:
+        self.model = model
+
+    def linkages(self) -> Any:
+        return self.model.linkages()
+
+    def sweep(self, *args: Any, **kwargs: Any) -> Any:
+        raise SolveError("no row")
+
+
+def test_a_sweep_that_gives_no_row_is_a_circuit_defect_without_angles(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The design cannot be followed from its drawing at all: reported (branch and
+    circuit), not an error, with no transmission angle."""
+    problem, y = _six_bar("watt")
+    model = problem.model
+
+    class Drawn:
+        def __init__(self, y: Any) -> None:
+            self.mech = model(y)
+
+        def compile(self) -> _NoRow:
+            return _NoRow(self.mech.compile())
+
+    monkeypatch.setattr(problem, "model", Drawn)
+    assert SB._screen(problem, y)[:3] == (("branch", "circuit"), 0.0, 0.0)
+
+
+def test_a_dyad_too_short_to_follow_c_is_a_branch_defect() -> None:
+    problem, y = _six_bar("stephenson")
+    pts = problem.points(y, np.linspace(0.0, 2 * math.pi, 360))
+    d = np.hypot(*(pts["C"] - pts["F"]).T)
+    y[9:11] = 0.5 * (d.min() + d.max()) / 2.0  # r5 + r6 between the nearest and the farthest
+    assert SB._screen(problem, y)[0] == ("branch",)
+
+
+@pytest.mark.parametrize(("off", "defect"), [(0.6e-7, False), (1.4e-7, True)])
+def test_a_traced_point_off_the_closed_form_by_more_than_1e_7_of_the_scale_is_a_circuit_defect(
+    monkeypatch: pytest.MonkeyPatch, off: float, defect: bool
+) -> None:
+    """The scale is the larger of the target's size and the largest of the six-bar's
+    numbers: here O6's x, 30 (the size is 3.3): the closed form's P moved by off * 30 is
+    on the circuit below 1e-7 of it, off it above."""
+    problem, y = _six_bar("stephenson")
+    y[11] = 30.0
+    y[9:11] = (30.0, 1.0)  # r5, r6: reaching O6 from C over the whole turn
+    scale = max(problem.target.size, float(np.max(np.abs(y[:15]))))
+    assert scale == 30.0 and problem.target.size < 5.0
+    assert SB._screen(problem, y)[0] == ()
+    points = problem.points
+
+    def moved(y: Any, t: Any) -> dict[str, np.ndarray]:
+        p = dict(points(y, t))
+        if np.size(t) > 1:  # the screening's reference; the model's drawing (one angle) as it is
+            p["P"] = p["P"] + [off * scale, 0.0]
+        return p
+
+    monkeypatch.setattr(problem, "points", moved)
+    assert ("circuit" in SB._screen(problem, y)[0]) == defect
