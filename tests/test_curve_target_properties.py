@@ -167,6 +167,7 @@ def test_bad_csv_is_named(tmp_path: Path) -> None:
     f = tmp_path / "two.csv"
     f.write_text("0,0\n1,0\n")
     assert len(T.from_csv(f, minimum=2)) == 2
+    assert not T.from_csv(f, minimum=2).closed  # open unless asked
 
 
 # ---- SVG ---------------------------------------------------------------------------------------
@@ -301,6 +302,14 @@ def test_moveto_pairs_after_the_first_are_line_tos() -> None:
     a, _ = T.svg_path_points("M1,1 v3 V2 h-1", 7)
     b, _ = T.svg_path_points("M1,1 L1,4 L1,2 L0,2", 7)
     np.testing.assert_allclose(a, b, atol=1e-12)
+
+
+def test_a_path_without_a_first_moveto_starts_at_the_origin() -> None:
+    for d in ("L4,0 L4,3 Z", "l4,0 l0,3 z"):
+        a, closed = T.svg_path_points(d, 12)
+        b, _ = T.svg_path_points("M0,0 L4,0 L4,3 Z", 12)
+        assert closed
+        np.testing.assert_allclose(a, b, atol=1e-12)
 
 
 def test_bad_path_data_is_named() -> None:
