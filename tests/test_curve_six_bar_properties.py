@@ -227,3 +227,76 @@ def test_a_traced_point_off_the_closed_form_by_more_than_1e_7_of_the_scale_is_a_
 
     monkeypatch.setattr(problem, "points", moved)
     assert ("circuit" in SB._screen(problem, y)[0]) == defect
+
+
+# ---- what a six-bar design and the fit's answer say --------------------------------------------
+def _design(kind: str = "stephenson", **fields: Any) -> Any:
+    problem, y = _six_bar(kind)
+    values: dict[str, Any] = dict(
+        f=0.125, max_deviation=0.25, transmission=math.radians(40.0), violation=0.0, grashof="crank-rocker",
+        defects=(), nfev=7, seconds=0.5, transmission_dyad=math.radians(30.0),
+    )  # fmt: skip
+    values.update(fields)
+    return SB.SixBarDesign(problem, y, **values)
+
+
+@pytest.mark.parametrize("kind", ["stephenson", "watt"])
+def test_a_six_bar_design_draws_its_bodies_and_pivots(kind: str) -> None:
+    """Five bodies (crank, coupler with C, rocker, the dyad's two links) at the closed
+    form's points; the ground pivots O2, O4 and, for a Stephenson, O6 (F); a Watt's F is
+    on the rocker."""
+    d = _design(kind)
+    p = {k: v[0] for k, v in d.problem.points(d.x, [0.9]).items()}
+    bodies, pivots = d.linkage_at(0.9)
+    want = [
+        ["O2", "A"],
+        ["A", "B", "C"],
+        ["O4", "B"] + (["F"] if kind == "watt" else []),
+        ["C", "D", "P"],
+        ["F", "D"],
+    ]
+    assert len(bodies) == 5
+    for body, names in zip(bodies, want):
+        np.testing.assert_array_equal(body, np.array([p[n] for n in names]))
+    ground = ["O2", "O4"] + (["F"] if kind == "stephenson" else [])
+    np.testing.assert_array_equal(pivots, np.array([p[n] for n in ground]))
+    assert d.kind == kind
+    np.testing.assert_allclose(
+        d.residuals(), d.problem.points(d.x, d.x[15:])["P"] - d.problem.target.points, atol=1e-9
+    )
+
+
+def test_a_six_bar_design_states_its_numbers_and_state() -> None:
+    d = _design()
+    text = str(d)
+    assert text.startswith("stephenson six-bar: f 0.125 (largest deviation 0.25); r1 2, r2 0.5")
+    assert f"O6 ({d.x[11]:.6g}, {d.x[12]:.6g})" in text and "P (0, 0)" in text
+    assert (
+        "40.0 deg at B, 30.0 deg at D; defect-free" in text and "violated" not in text and "cut" not in text
+    )
+    assert "E (rocker)" in str(_design("watt"))
+    size = d.problem.target.size
+    assert "violated" not in str(_design(violation=1e-12 * size))
+    bad = str(_design(violation=2e-12 * size, defects=("order", "branch"), cut=True))
+    assert "defects: order, branch; constraints violated by" in bad and "cut short by the time budget" in bad
+
+
+def test_a_six_bar_fit_reports_its_designs_and_why_none() -> None:
+    problem = C.TrackingProblem(_target())
+    x = np.concatenate([X, TH])
+    four = C.CurveFit([C.CurveDesign(problem, x, 0.5, 0.75, 0.7, 0.0, "crank-rocker", (), 1, 0.0)], [], 0.0)
+    designs = [_design(f=0.125), _design(f=0.25)]
+    fit = SB.SixBarFit(designs, ["start 3: no"], four, 1.5)
+    assert fit.best is designs[0] and not fit.budget_ended
+    lines = fit.report(count=1).splitlines()
+    assert lines[0].startswith("2 six-bars from 3 starts in 1.50 s (1 dropped); sorted: defect-free")
+    assert lines[1] == "the best four-bar they grew from: f 0.5 (largest deviation 0.75)"
+    assert len(lines) == 3 and lines[2].startswith("1. [] stephenson six-bar: f 0.125")
+    budget = SB.SixBarFit(designs, [], four, 1.5, budget=2.0, unstarted=1)
+    assert budget.budget_ended and "the time budget of 2 s ended the fit" in budget.report()
+    assert "did not end the fit" in SB.SixBarFit(designs, [], four, 1.5, budget=2.0).report()
+    assert SB.SixBarFit([_design(cut=True)], [], four, 1.0).budget_ended
+    with pytest.raises(SynthesisError, match="no six-bar could be refined: start 3: no; b"):
+        _ = SB.SixBarFit([], ["start 3: no", "b"], four, 1.0).best
+    with pytest.raises(SynthesisError, match="the time budget of 2 s was spent first; no start"):
+        _ = SB.SixBarFit([], [], four, 1.0, budget=2.0, unstarted=4).best
