@@ -304,6 +304,38 @@ def test_moveto_pairs_after_the_first_are_line_tos() -> None:
     np.testing.assert_allclose(a, b, atol=1e-12)
 
 
+@pytest.mark.parametrize(
+    "d",
+    [
+        "M0,0 L0.5,0",  # one side: there and back
+        "M0.1,0 L0.4,0 L0.1,0 L0.1,0.3",  # the last side starts at the start
+        "M0,0 L0.4,0 C0,0 0.2,0.3 0.2,0.3",  # the last segment's first control point at the start
+        "M0,0 Q0.5,0.5 0.6,0 T0.9,0.2",
+    ],
+)
+def test_z_draws_the_side_back_to_the_start(d: str) -> None:
+    """Z is a last line to the start (short sides included): the same samples as the
+    path closed by that line drawn explicitly, and the start not repeated."""
+    start = d.split()[0][1:]
+    implicit, closed = T.svg_path_points(d + " Z", 24)
+    explicit, _ = T.svg_path_points(f"{d} L{start} Z", 24)
+    assert closed
+    np.testing.assert_allclose(implicit, explicit, atol=1e-12)
+    assert np.hypot(*(implicit[-1] - implicit[0])) > 1e-3
+
+
+def test_defaults_and_the_shortest_paths() -> None:
+    """64 samples unless asked (an SVG's too); three samples pass the default minimum; a
+    single line, and one after a zero-length first side, are paths."""
+    assert T.svg_path_points("M0,0 L1,0")[0].shape == (64, 2)
+    pts, _ = T.svg_path_points("M0,0 L1,0", 3)
+    np.testing.assert_allclose(pts, [[0, 0], [0.5, 0], [1, 0]], atol=1e-15)
+    pts, _ = T.svg_path_points("M0,0 L0,0 L1,0", 3)
+    np.testing.assert_allclose(pts, [[0, 0], [0.5, 0], [1, 0]], atol=1e-15)
+    line = SVG.format('<path d="M0,0 L4,0 L4,3"/>')
+    assert len(T.from_svg(line)) == 64 and len(T.from_svg(line, samples=3)) == 3
+
+
 def test_a_path_without_a_first_moveto_starts_at_the_origin() -> None:
     for d in ("L4,0 L4,3 Z", "l4,0 l0,3 z"):
         a, closed = T.svg_path_points(d, 12)
