@@ -292,6 +292,7 @@ def test_a_six_bar_fit_reports_its_designs_and_why_none() -> None:
     assert lines[0].startswith("2 six-bars from 3 starts in 1.50 s (1 dropped); sorted: defect-free")
     assert lines[1] == "the best four-bar they grew from: f 0.5 (largest deviation 0.75)"
     assert len(lines) == 3 and lines[2].startswith("1. [] stephenson six-bar: f 0.125")
+    assert len(SB.SixBarFit(designs * 4, [], four, 1.0).report().splitlines()) == 2 + 5  # five unless asked
     budget = SB.SixBarFit(designs, [], four, 1.5, budget=2.0, unstarted=1)
     assert budget.budget_ended and "the time budget of 2 s ended the fit" in budget.report()
     assert "did not end the fit" in SB.SixBarFit(designs, [], four, 1.5, budget=2.0).report()
@@ -300,3 +301,39 @@ def test_a_six_bar_fit_reports_its_designs_and_why_none() -> None:
         _ = SB.SixBarFit([], ["start 3: no", "b"], four, 1.0).best
     with pytest.raises(SynthesisError, match="the time budget of 2 s was spent first; no start"):
         _ = SB.SixBarFit([], [], four, 1.0, budget=2.0, unstarted=4).best
+
+
+@pytest.mark.parametrize("kind", ["stephenson", "watt"])
+def test_dyad_seeds_cover_their_stated_ranges(kind: str) -> None:
+    """Over 200 dyads (a seeded generator: the same every run) the random numbers fill
+    the ranges `dyad_seeds` states, not narrower ones: O6 at 1.3 to 3 radii all round,
+    E over (-1, 2) x (-1.5, 1.5) of the rocker's length, r5 + r6 from 1.15 to 1.6 of the
+    farthest |C - F| and |r5 - r6| up to 0.8 of the nearest, either link the longer;
+    every one asked for is given, none with F on C's curve (nearest below 0.05 of the
+    farthest)."""
+    out = SB.dyad_seeds(("open", np.concatenate([X, TH])), kind, 200, np.random.default_rng(7))
+    assert len(out) == 200
+    th = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)
+    c = coupler_points(X, th, "open")
+    centre = c.mean(axis=0)
+    radius = np.hypot(*(c - centre).T).max()
+    far = np.array([y[11:13] for _, y in out])
+    if kind == "stephenson":
+        rho = np.hypot(*(far - centre).T) / radius
+        phi = np.mod(np.arctan2(*(far - centre).T[::-1]), 2 * math.pi)
+        assert rho.min() < 1.35 and rho.max() > 2.95 and phi.min() < 0.1 and phi.max() > 2 * math.pi - 0.1
+    else:
+        e = far / X[3]
+        assert (
+            e[:, 0].min() < -0.95 and e[:, 0].max() > 1.95 and e[:, 1].min() < -1.45 and e[:, 1].max() > 1.45
+        )
+    total, diff, longer = [], [], 0
+    for side, y in out:
+        p = C.six_bars.six_bar_points(y, th, kind, "open", side)
+        d = np.hypot(*(p["C"] - p["F"]).T)
+        assert d.min() > 0.05 * d.max()
+        total.append((y[9] + y[10]) / d.max())
+        diff.append(abs(y[9] - y[10]) / d.min())
+        longer += int(y[9] > y[10])
+    assert min(total) < 1.17 and max(total) > 1.58 and max(diff) > 0.78
+    assert 70 <= longer <= 130
