@@ -168,6 +168,14 @@ def test_reconstruct_sums_the_series() -> None:
         np.testing.assert_allclose(got[i], want, rtol=0.0, atol=1e-13)
 
 
+def test_a_curves_descriptors_unless_asked_have_the_shipped_atlas_harmonics() -> None:
+    """A query compares a curve's default descriptors with the shipped atlas's."""
+    from linkwork.synthesis.curve.atlas import load
+
+    shipped = load().descriptors.shape[1:]
+    assert D.descriptors(curve(4)).coeffs.shape == shipped and D.coefficients(curve(4))[0].shape == shipped
+
+
 def test_many_curves_at_once_are_each_alone() -> None:
     many = np.stack([curve(s, 40) for s in range(4)]).reshape(2, 2, 40, 2)
     got = D.descriptors(many, 6)
