@@ -61,3 +61,13 @@ def test_the_region_of_p_is_held_over_the_whole_turn_of_a_closed_curve() -> None
     got, stretch, turn = _row(True, 1.7)
     assert turn > stretch + 0.4
     assert -2e-5 <= got - turn <= 1e-9
+
+
+def test_the_region_of_p_is_held_over_a_stretch_late_in_the_turn() -> None:
+    """A stretch from 4.0 to 5.5 rad (its angles add up past a turn, its span is less):
+    held over the stretch only; P's farthest point from P(4.8) there is its end, 0.32
+    away, and 1.0 elsewhere in the turn."""
+    th = np.linspace(4.0, 5.5, 5)
+    got, stretch, turn = _row(False, 4.8, th)
+    assert got == pytest.approx(stretch, abs=1e-9)
+    assert turn > stretch + 0.4
