@@ -71,3 +71,25 @@ def test_the_region_of_p_is_held_over_a_stretch_late_in_the_turn() -> None:
     got, stretch, turn = _row(False, 4.8, th)
     assert got == pytest.approx(stretch, abs=1e-9)
     assert turn > stretch + 0.4
+
+
+@pytest.mark.parametrize(("at", "angle"), [(1.7, 0), (1.2, 4)])
+def test_the_rows_gradient_in_the_crank_angle_at_the_farthest_point(at: float, angle: int) -> None:
+    """Where P's farthest point is a crank angle's own sample (the first, seen from
+    P(1.7); the last, from P(1.2)), the row moves with that angle alone: its gradient in
+    it is the central difference's (h = 1e-6: agreement to 1e-7 of the row's scale),
+    and zero in the other crank angles."""
+    centre = coupler_points(X, [at], "open")[0]
+    problem = C.TrackingProblem(
+        C.target(coupler_points(X, TH, "open")), regions={"P": {"centre": centre.tolist(), "radius": 0.1}}
+    )
+    row = problem.constraint_names().index("region P")
+    x = np.concatenate([X, TH])
+    _, jac = problem.constraints(x)
+    h = 1e-6
+    for i in range(9, 9 + len(TH)):
+        e = np.zeros_like(x)
+        e[i] = h
+        fd = (problem.constraints(x + e)[0][row] - problem.constraints(x - e)[0][row]) / (2 * h)
+        assert jac[row, i] == pytest.approx(fd, abs=1e-7)
+        assert (abs(jac[row, i]) > 0.1) == (i == 9 + angle)
