@@ -207,15 +207,16 @@ def test_nearest_distances_are_to_the_sides_of_the_polygon(seed: int, closed: bo
     np.testing.assert_allclose(D.nearest_distances(q, c, closed=closed), want, rtol=0.0, atol=1e-14)
 
 
-def test_the_similarity_of_two_similar_point_sets_is_exact() -> None:
-    src = curve(9, 20)
+@pytest.mark.parametrize("size", [1e-3, 1.0, 1e3])
+def test_the_similarity_of_two_similar_point_sets_is_exact(size: float) -> None:
+    src = size * curve(9, 20)
     dst = 3.5 * src @ rot(2.9).T + [4.0, -1.0]
     scale, angle, offset = D._similarity(src, dst)
-    assert scale == pytest.approx(3.5, rel=1e-14)
-    assert math.remainder(angle - 2.9, 2 * math.pi) == pytest.approx(0.0, abs=1e-14)
-    np.testing.assert_allclose(offset, [4.0, -1.0], atol=1e-13)
+    assert scale == pytest.approx(3.5, rel=1e-13)
+    assert math.remainder(angle - 2.9, 2 * math.pi) == pytest.approx(0.0, abs=1e-13)
+    np.testing.assert_allclose(offset, [4.0, -1.0], atol=1e-13 * (1 + size))
     fit = D.ShapeFit(0.0, 0.0, scale, angle, offset)
-    np.testing.assert_allclose(fit.apply(src), dst, atol=1e-13)
+    np.testing.assert_allclose(fit.apply(src), dst, atol=1e-13 * (1 + size))
 
 
 @settings(max_examples=12, deadline=None)

@@ -93,3 +93,14 @@ def test_the_rows_gradient_in_the_crank_angle_at_the_farthest_point(at: float, a
         fd = (problem.constraints(x + e)[0][row] - problem.constraints(x - e)[0][row]) / (2 * h)
         assert jac[row, i] == pytest.approx(fd, abs=1e-7)
         assert (abs(jac[row, i]) > 0.1) == (i == 9 + angle)
+
+
+def test_the_violation_is_the_region_rows_excess_and_zero_inside() -> None:
+    x = np.concatenate([X, TH])
+    for radius, outside in ((0.3, True), (5.0, False)):
+        problem = C.TrackingProblem(
+            C.target(coupler_points(X, TH, "open")), regions={"P": {"centre": [0.0, 0.5], "radius": radius}}
+        )
+        g, _ = problem.constraints(x)
+        assert (g.max() > 0.0) == outside
+        assert problem.violation(x) == (float(g.max()) if outside else 0.0)
