@@ -277,6 +277,15 @@ def test_shape_error_of_another_shape_is_its_distance_after_the_best_similarity(
     assert fit.mean <= rough.mean * (1.0 + 1e-12)
 
 
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_the_polish_lowers_the_mean_distance_below_icps(seed: int) -> None:
+    """ICP matches nearest points (a least-squares fit); the polish, on by default,
+    minimises the mean distance itself: lower by 5 to 11 % on these sheared curves."""
+    c = curve(seed, 90)
+    q = 4.0 * (c @ np.array([[1.0, 0.5], [0.0, 1.0]]).T)[::2]
+    assert D.shape_error(q, c).mean < 0.97 * D.shape_error(q, c, polish=False).mean
+
+
 def test_bad_curves_get_named_errors() -> None:
     good = curve(1, 10)
     with pytest.raises(SynthesisError, match=r"points must be an array of \(x, y\) rows.*\(10,\)"):
