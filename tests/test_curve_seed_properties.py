@@ -171,9 +171,11 @@ def test_alt_seeds_keep_the_crank_rockers_of_the_four_bars_found(monkeypatch: py
         return SimpleNamespace(o2=o2, a=a, o4=o4, b=b, p=p)
 
     other = np.array([2.2, 0.6, 2.0, 1.6, -0.3, 0.5, 0.9, 0.4, 0.2])  # another crank-rocker
+    drag_link = np.array([0.5, 2.0, 1.8, 1.5, *X[4:]])  # ground shortest: two cranks, no crank-rocker
     found = [
         drawn(X, 0.3, "open"),
         drawn(np.array([2.0, 1.0, 1.2, 1.5, *X[4:]]), 0.3, "open"),
+        drawn(drag_link, 0.3, "open"),
         drawn(other, 1.0, "crossed"),
     ]
     asked: dict[str, object] = {}
@@ -191,7 +193,7 @@ def test_alt_seeds_keep_the_crank_rockers_of_the_four_bars_found(monkeypatch: py
     np.testing.assert_allclose(seeds[0].x[:9], X, atol=1e-12)
     np.testing.assert_allclose(seeds[1].x[:9], other, atol=1e-12)
     assert {k: info[k] for k in ("four_bars", "crank_rockers", "kept", "failed")} == {
-        "four_bars": 3, "crank_rockers": 2, "kept": 2, "failed": 2
+        "four_bars": 4, "crank_rockers": 2, "kept": 2, "failed": 2
     }  # fmt: skip
     kept, info = S.alt_seeds(target, seconds=3.0, points=target.points, keep=1)
     assert asked["seconds"] == 3.0 and np.array_equal(asked["points"], target.points)
