@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import time
 from typing import Any
 
 import numpy as np
@@ -101,6 +102,9 @@ def test_the_smallest_angle_between_bars_is_measured_from_0_or_180_degrees() -> 
         v = np.array([[math.cos(a), math.sin(a)] for a in (angle, math.pi / 2, 2.0)]) * [[2.0], [3.0], [0.5]]
         assert SB._smallest(u, v) == pytest.approx(min(angle, math.pi - angle, math.pi - 2.0), abs=1e-12)
     assert SB._smallest(u, -u) == 0.0 and SB._smallest(u[:0], u[:0]) == 0.0
+    # parallel bars whose cosine rounds to 1 + 2e-16: 0, not a domain error
+    w = np.array([[2.1444256595254156, -2.798486548167214]])
+    assert SB._smallest(w, w * 3.6753116875067264) == 0.0
 
 
 # ---- the screening ---------------------------------------------------------------------------
@@ -337,3 +341,44 @@ def test_dyad_seeds_cover_their_stated_ranges(kind: str) -> None:
         longer += int(y[9] > y[10])
     assert min(total) < 1.17 and max(total) > 1.58 and max(diff) > 0.78
     assert 70 <= longer <= 130
+
+
+# ---- the refinement and the fit, a few evaluations each -------------------------------------------
+def test_a_refined_six_bar_states_what_its_numbers_give() -> None:
+    """The design a refinement returns: its f, largest deviation, constraint violation,
+    margins and screening are those of its own numbers, no worse than its start's f."""
+    problem, y = _six_bar("stephenson", 1)
+    y[13:15] = (0.2, -0.1)  # P off C: the start is not on the points
+    t0 = time.perf_counter()
+    d = SB.refine_six_bar(problem, y, max_nfev=4, start=5)
+    assert 0.0 < d.seconds <= time.perf_counter() - t0
+    r, _ = problem.evaluate(d.x)
+    assert d.f == pytest.approx(float(r @ r), rel=1e-12) and d.f <= float(
+        problem.evaluate(y)[0] @ problem.evaluate(y)[0]
+    )
+    assert d.max_deviation == pytest.approx(float(np.hypot(*r.reshape(-1, 2).T).max()), rel=1e-12)
+    assert d.violation == problem.violation(d.x) and d.margins == problem.margins(d.x)
+    assert (d.defects, d.transmission, d.transmission_dyad, d.grashof) == SB._screen(problem, d.x)
+    assert d.start == 5 and 0 < d.nfev and not d.cut
+    assert SB.refine_six_bar(problem, y, max_nfev=1).start == -1  # no start index unless given
+
+
+def test_six_bars_grown_from_given_four_bars_are_sorted_and_labelled() -> None:
+    target = _target()
+    four = C.CurveDesign(
+        C.TrackingProblem(target), np.concatenate([X, TH]), 0.0, 0.0, 0.5, 0.0, "crank-rocker", (), 1, 0.0
+    )
+    fit = SB.fit_six_bars(
+        target, [four, four], kinds=["watt", "stephenson"], best=1, dyads=2, seed=4, workers=1, max_nfev=2
+    )
+    assert len(fit.designs) + len(fit.failures) == 4 and fit.unstarted == 0 and fit.budget is None
+    assert {d.kind for d in fit.designs} <= {"watt", "stephenson"} and all(
+        d.family == "four-bar 1" for d in fit.designs
+    )
+    keys = [(not d.ok, d.f, d.start) for d in fit.designs]
+    assert keys == sorted(keys) and sorted(d.start for d in fit.designs) == sorted(
+        set(d.start for d in fit.designs)
+    )
+    assert fit.four_bars.designs == [four, four] and fit.seconds > 0.0
+    spent = SB.fit_six_bars(target, [four], kinds=["watt"], best=1, dyads=2, seed=4, workers=1, seconds=0.0)
+    assert spent.unstarted == 2 and not spent.designs and spent.budget == 0.0
