@@ -382,3 +382,35 @@ def test_six_bars_grown_from_given_four_bars_are_sorted_and_labelled() -> None:
     assert fit.four_bars.designs == [four, four] and fit.seconds > 0.0
     spent = SB.fit_six_bars(target, [four], kinds=["watt"], best=1, dyads=2, seed=4, workers=1, seconds=0.0)
     assert spent.unstarted == 2 and not spent.designs and spent.budget == 0.0
+
+
+def test_the_six_bar_fit_unless_asked(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without four-bars, `fit` gives them (16 starts, the seed, half the budget, the
+    same evaluations); the best three grow four dyads of each kind, each refined with
+    400 evaluations unless asked; a start that does not turn is a failure with its kind."""
+    target = _target()
+    four = C.CurveDesign(
+        C.TrackingProblem(target), np.concatenate([X, TH]), 0.0, 0.0, 0.5, 0.0, "crank-rocker", (), 1, 0.0
+    )
+    asked: dict[str, Any] = {}
+    refined: list[tuple[int, int]] = []
+
+    def fit(t: Any, **options: Any) -> Any:
+        asked.update(options)
+        return C.CurveFit([four] * 4, [], 0.0)
+
+    def refine(problem: Any, y: Any, max_nfev: int, start: int, deadline: Any) -> Any:
+        refined.append((max_nfev, start))
+        raise C.CircuitError("stood in")
+
+    monkeypatch.setattr(SB, "fit", fit)
+    monkeypatch.setattr(SB, "refine_six_bar", refine)
+    six = SB.fit_six_bars(target, workers=1, seconds=60.0)
+    assert asked["starts"] == 16 and asked["seed"] == 0 and asked["max_nfev"] == 400
+    assert asked["seconds"] == pytest.approx(SB.budget_seconds(60.0) / 2.0)
+    assert len(refined) == 3 * 2 * 4 and all(n == 400 for n, _ in refined) and six.unstarted == 0
+    assert sorted(k for _, k in refined) == list(range(24))
+    assert len(six.failures) == 24 and six.failures[0].endswith("(stephenson from four-bar 1)")
+    assert six.budget == 60.0 and not six.designs
+    SB.fit_six_bars(target, workers=1, starts=5, seed=9, max_nfev=7)
+    assert asked["starts"] == 5 and asked["seed"] == 9 and asked["max_nfev"] == 7 and asked["seconds"] is None
