@@ -244,6 +244,16 @@ def test_shape_error_is_zero_for_a_moved_copy(
     np.testing.assert_allclose(fit.offset, [7.0, -3.0], atol=1e-7 * (1 + scale))
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_icp_finds_a_similarity_onto_the_midpoints_of_the_sides(seed: int) -> None:
+    """Targets at the midpoints of every other side (the closing one included), moved by
+    a similarity: ICP alone (no polish) finds it, at distance zero up to round-off."""
+    c = curve(seed, 60, even=True)
+    middles = 0.5 * (c + np.roll(c, -1, axis=0))[1::2]
+    fit = D.shape_error(2.5 * middles @ rot(0.7).T + [3.0, 1.0], c, polish=False)
+    assert fit.largest < 1e-12 * 2.5
+
+
 @pytest.mark.xfail(strict=True, reason="ICP from the descriptors' starts ends in a local minimum")
 @pytest.mark.parametrize(
     "seed, polish", [(9, False), (24, False), (40, False), (188, False), (378, False), (378, True)]
