@@ -368,6 +368,7 @@ def test_six_bars_grown_from_given_four_bars_are_sorted_and_labelled() -> None:
     four = C.CurveDesign(
         C.TrackingProblem(target), np.concatenate([X, TH]), 0.0, 0.0, 0.5, 0.0, "crank-rocker", (), 1, 0.0
     )
+    t0 = time.perf_counter()
     fit = SB.fit_six_bars(
         target, [four, four], kinds=["watt", "stephenson"], best=1, dyads=2, seed=4, workers=1, max_nfev=2
     )
@@ -379,7 +380,9 @@ def test_six_bars_grown_from_given_four_bars_are_sorted_and_labelled() -> None:
     assert keys == sorted(keys) and sorted(d.start for d in fit.designs) == sorted(
         set(d.start for d in fit.designs)
     )
-    assert fit.four_bars.designs == [four, four] and fit.seconds > 0.0
+    assert fit.four_bars.designs == [four, four] and 0.0 < fit.seconds <= time.perf_counter() - t0
+    none = SB.fit_six_bars(target, [four], best=0, workers=1)  # no four-bar taken: no start
+    assert not none.designs and not none.failures and none.unstarted == 0
     spent = SB.fit_six_bars(target, [four], kinds=["watt"], best=1, dyads=2, seed=4, workers=1, seconds=0.0)
     assert spent.unstarted == 2 and not spent.designs and spent.budget == 0.0
 
