@@ -325,8 +325,8 @@ def test_bad_curves_get_named_errors() -> None:
 
 def test_a_circle_or_a_point_has_no_normalisation() -> None:
     """A regular polygon's first harmonic is a circle (no major axis); a circle run twice
-    has no first harmonic. A first harmonic 1e-6 from a circle, and a small curve, are
-    normalised."""
+    has no first harmonic. A first harmonic 1e-6 from a circle (at any size), and a small
+    curve, are normalised."""
     t = np.linspace(0.0, 2 * math.pi, 40, endpoint=False)
     circle = np.column_stack([np.cos(t), np.sin(t)])
     with pytest.raises(SynthesisError, match="circle or a point"):
@@ -334,7 +334,8 @@ def test_a_circle_or_a_point_has_no_normalisation() -> None:
     twice = np.column_stack([np.cos(2 * t), np.sin(2 * t)])
     with pytest.raises(SynthesisError, match="circle or a point"):
         D.descriptors(twice + 0.1 * np.column_stack([np.cos(4 * t), np.zeros_like(t)]))
-    near = D.descriptors(circle * [1.0 + 1e-6, 1.0])
-    assert 1.0 - 1e-5 < abs(near.coeffs[0, 3]) < 1.0
+    for size in (1e-3, 1.0, 1e3):  # at any size
+        near = D.descriptors(size * circle * [1.0 + 1e-6, 1.0])
+        assert 1.0 - 1e-5 < abs(near.coeffs[0, 3]) < 1.0
     tiny = D.descriptors(1e-4 * curve(2))
     np.testing.assert_allclose(tiny.coeffs, D.descriptors(curve(2)).coeffs, rtol=0.0, atol=1e-10)
