@@ -9,7 +9,8 @@ reach a package whose extension is built beside it (python/linkwork/_core), henc
     python scripts/mutate_python.py --all python/linkwork/synthesis/designs.py:1-80   (lines)
 
 The tests run are MUTATE_TESTS (space-separated), else the module's entry in SUITES, else
-the files that name the module.
+the files that name the module. A mutant whose tests run longer than MUTATE_TIMEOUT seconds
+(default 120: a loop whose counter a mutant turned back) is stopped and counted as caught.
 
 Exit 1 if a mutant survives."""
 
@@ -80,13 +81,16 @@ SUITES = {
     "python/linkwork/model/equilibrium.py": "test_equilibrium.py",
     _CURVE + "constraints.py": "test_curve_constraint_properties.py test_curve_problem_properties.py "
     "test_curve_constraints.py",
-    _CURVE + "tracking.py": "test_curve_problem_properties.py test_curve_screening_properties.py "
-    "test_curve_seed_properties.py test_curve_constraints.py test_curve_synthesis.py",
+    _CURVE + "tracking.py": "test_curve_problem_properties.py test_curve_region_properties.py "
+    "test_curve_screening_properties.py test_curve_seed_properties.py test_curve_constraints.py "
+    "test_curve_synthesis.py",
     _CURVE + "seeds.py": "test_curve_seed_properties.py test_curve_seeds.py",
     _CURVE + "fit.py": "test_curve_screening_properties.py test_curve_synthesis.py test_curve_budget.py",
     _CURVE + "problem.py": "test_curve_screening_properties.py test_curve_cli.py",
-    _CURVE + "shape.py": "test_curve_seeds.py",
-    _CURVE + "target.py": "test_targets.py test_curve_synthesis.py test_curve_cli.py",
+    _CURVE + "descriptors.py": "test_curve_descriptor_properties.py test_curve_atlas.py",
+    _CURVE + "shape.py": "test_curve_shape_properties.py test_curve_seeds.py",
+    _CURVE + "target.py": "test_curve_target_properties.py test_curve_synthesis.py test_curve_cli.py",
+    _CURVE + "six_bar_fit.py": "test_curve_six_bar_properties.py test_curve_six_bars.py",
 }
 
 
@@ -115,6 +119,7 @@ def main(argv: list[str]) -> int:
     # a budget's timeout (SIGTERM) must still restore the module: exit through `finally`
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(124))
     base = None if argv[0] == "--all" else argv[0]
+    timeout = float(os.environ.get("MUTATE_TIMEOUT", "120"))
     survivors: list[str] = []
     total = 0
     for arg in argv[1:]:
@@ -135,13 +140,16 @@ def main(argv: list[str]) -> int:
                 total += 1
                 path.write_text(mutated)
                 t0 = time.monotonic()
-                run = subprocess.run(
-                    [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *tests],
-                    cwd=ROOT, capture_output=True, text=True,
-                )  # fmt: skip
-                verdict = "survived" if run.returncode == 0 else "killed"
+                try:
+                    returncode = subprocess.run(
+                        [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *tests],
+                        cwd=ROOT, capture_output=True, text=True, timeout=timeout,
+                    ).returncode  # fmt: skip
+                    verdict = "survived" if returncode == 0 else "killed"
+                except subprocess.TimeoutExpired:
+                    returncode, verdict = 1, "killed (timeout)"
                 print(f"{arg}:{row}: {what}: {verdict} ({time.monotonic() - t0:.0f} s)", flush=True)
-                if run.returncode == 0:
+                if returncode == 0:
                     survivors.append(f"{arg}:{row}: {what}")
         finally:
             path.write_text(original)

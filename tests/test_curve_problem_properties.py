@@ -230,6 +230,9 @@ def test_constraints_on_the_boundary_are_consistent_and_beyond_it_contradictory(
         ({"regions": {"O2": {"x": [-60.0, -50.0], "y": [0.0, 1.0]}}}, "outside the pivot bounds"),
         ({"regions": {"O2": {"x": [0.0, 1.0], "y": [50.0, 60.0]}}}, "outside the pivot bounds"),
         ({"lengths": (0.0, 1.0)}, "must be > 0"),
+        ({"lengths": (math.nan, 1.0)}, r"length bounds must be numbers, got \(nan, 1.0\)"),
+        ({"pivot": (-1.0, math.nan)}, r"pivot bounds must be numbers, got \(-1.0, nan\)"),
+        ({"coupler": (1.0,)}, r"coupler point bounds are \(lower, upper\) numbers, not \(1.0,\)"),
         ({"links": {"rcx": (0.0, 1.0)}}, "links ranges are for r1, r2, r3, r4, not 'rcx'"),
     ]
     for options, message in cases:

@@ -15,6 +15,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from linkwork.errors import SolveError
 from linkwork.synthesis import curve as C
 from linkwork.synthesis.curve import constraints as K
 from linkwork.synthesis.curve.problem import distinct
@@ -176,3 +177,41 @@ def test_the_screened_stretch_starts_at_the_drawing_and_samples_as_stated() -> N
     assert first == pytest.approx(1.0, abs=1e-12)
     np.testing.assert_allclose(np.diff(times[72:]), 2.0 * np.pi / 360, rtol=1e-12)
     assert F.screened_stretch(th[::-1], closed=False)[0] == ["order"]
+
+
+def test_a_sweep_stopped_right_after_the_drawing_is_a_branch_defect_only() -> None:
+    """r4 1e-7 above the toggle at the drawing (r1 - r2 = r3 + r4 at theta2 = 0): the
+    sweep's first row is the drawing, on its circuit, and it stops before the next: a
+    branch defect, no circuit defect, no angle over the stretch."""
+    x = np.concatenate([[2.0, 0.5, 0.8, 0.7 + 1e-7], X[4:], TH])
+    assert F._screen(_problem(), x)[:2] == (("branch",), 0.0)
+
+
+def test_a_sweep_that_gives_no_row_is_a_circuit_defect_without_an_angle(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The design cannot be followed from its drawing at all (the sweep raises before
+    its first row, with no partial result): reported as a branch and a circuit defect
+    with no transmission angle, not an error."""
+    problem = _problem()
+    model = problem.model
+
+    class NoRow:
+        def __init__(self, compiled: object) -> None:
+            self.compiled = compiled
+
+        def linkages(self) -> object:
+            return self.compiled.linkages()  # type: ignore[attr-defined]
+
+        def sweep(self, *args: object, **kwargs: object) -> object:
+            raise SolveError("no row")
+
+    class Drawn:
+        def __init__(self, x: object) -> None:
+            self.mech = model(x)
+
+        def compile(self) -> NoRow:
+            return NoRow(self.mech.compile())
+
+    monkeypatch.setattr(problem, "model", Drawn)
+    assert F._screen(problem, np.concatenate([X, TH]))[:2] == (("branch", "circuit"), 0.0)

@@ -1,0 +1,107 @@
+"""Properties of the shape problem's closed-form steps (linkwork.synthesis.curve.shape),
+fast and without a fit: a design moved by a similarity traces its curve moved by it (any
+scale, rotation and offset; theta0 kept within a turn), a design is scored as placed or
+as moved by the similarity the shape error finds, whichever is nearer the points, by the
+mean and largest nearest distance of all the points, and a design that does not turn
+fully is not scored."""
+
+from __future__ import annotations
+
+import importlib
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from linkwork.errors import SynthesisError
+from linkwork.synthesis.curve.descriptors import ShapeFit, nearest_distances
+from linkwork.synthesis.curve.tracking import coupler_points
+
+SH = importlib.import_module("linkwork.synthesis.curve.shape")
+
+X = np.array([2.0, 0.5, 1.8, 1.5, 0.4, 0.3, 0.2, 0.1, -0.2])  # a crank-rocker
+
+
+def test_traced_is_the_closed_form_over_a_turn() -> None:
+    got = SH.traced(X, "crossed", 48)
+    np.testing.assert_array_equal(
+        got, coupler_points(X, np.linspace(0.0, 2 * math.pi, 48, endpoint=False), "crossed")
+    )
+    assert SH.traced(X, "open").shape == (720, 2)
+    stuck = np.array([2.0, 1.0, 1.2, 1.5, *X[4:]])  # not Grashof: NaN where it does not assemble
+    assert np.isnan(SH.traced(stuck, "open", 36)).any()
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    scale=st.floats(0.01, 100.0),
+    rotation=st.floats(-20.0, 20.0),
+    offset=st.tuples(st.floats(-50.0, 50.0), st.floats(-50.0, 50.0)),
+    circuit=st.sampled_from(["open", "crossed"]),
+)
+def test_a_moved_design_traces_its_curve_moved(
+    scale: float, rotation: float, offset: tuple[float, float], circuit: str
+) -> None:
+    sim = ShapeFit(0.0, 0.0, scale, rotation, np.array(offset))
+    y = SH.moved(np.concatenate([X, [0.7, 1.1]]), sim)
+    assert -math.pi <= y[6] <= math.pi  # within the refinement's bounds
+    np.testing.assert_array_equal(y[9:], [0.7, 1.1])  # the crank angles are not moved
+    np.testing.assert_allclose(y[:6], scale * X[:6], rtol=1e-15)
+    size = scale * 4.0 + float(np.hypot(*offset))
+    np.testing.assert_allclose(
+        SH.traced(y, circuit, 90), sim.apply(SH.traced(X, circuit, 90)), rtol=0.0, atol=1e-13 * size
+    )
+
+
+def test_a_design_is_scored_as_placed_or_as_moved_whichever_is_nearer() -> None:
+    th = np.linspace(0.0, 2 * math.pi, 40, endpoint=False) + 0.3
+    points = coupler_points(X, th, "open")
+    # on the points as it is: at distance zero to the 720-step polygon's chord error
+    # (below 1e-5 here), and no farther than as placed
+    z, mean, largest = SH._score(points, X, "open")
+    assert 0.0 <= mean <= largest < 1e-5
+    assert mean <= float(nearest_distances(points, SH.traced(X, "open")).mean())
+    np.testing.assert_allclose(z, X, rtol=0.0, atol=1e-4)
+    # shrunk and turned away from them: the similarity found carries it back
+    sim = ShapeFit(0.0, 0.0, 0.5, 1.0, np.array([4.0, 4.0]))
+    z, mean, largest = SH._score(points, SH.moved(X, sim), "open")
+    assert largest < 1e-5 and not np.allclose(z, SH.moved(X, sim))
+    d = nearest_distances(points, SH.traced(z, "open"))
+    assert mean == pytest.approx(float(d.mean()), rel=1e-12) and largest == pytest.approx(
+        float(d.max()), rel=1e-12
+    )
+    # a design that does not turn fully is not scored
+    assert SH._score(points, np.array([2.0, 1.0, 1.2, 1.5, *X[4:]]), "open") is None
+
+
+def test_a_placed_design_moved_by_a_worse_similarity_stays_as_placed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The score takes the placement with the smaller mean nearest distance, not the
+    similarity's because it is the similarity's."""
+    points = coupler_points(X, np.linspace(0.0, 2 * math.pi, 30, endpoint=False), "open")
+    monkeypatch.setattr(SH, "shape_error", lambda *a, **k: ShapeFit(0.0, 0.0, 1.0, 0.0, np.array([0.3, 0.0])))
+    z, mean, _ = SH._score(points, X, "open")
+    np.testing.assert_array_equal(z, X)
+    assert mean < 1e-5
+    moved = X.copy()
+    moved[7] -= 0.3  # 0.3 off in x: the similarity's offset puts it back
+    z, mean, _ = SH._score(points, moved, "open")
+    np.testing.assert_allclose(z, X, atol=1e-15)
+    assert mean < 1e-5
+
+
+def test_a_shape_result_lists_its_designs_by_mean_distance() -> None:
+    def design(mean: float) -> SH.ShapeDesign:
+        return SH.ShapeDesign(X.copy(), "open", mean, 2.0 * mean, "atlas", False, None)
+
+    result = SH.ShapeResult([design(0.01), design(0.02), design(0.03)], 1.25)
+    assert result.best.mean == 0.01
+    lines = result.report(count=2).splitlines()
+    assert lines[0] == "3 designs in 1.25 s, by mean nearest distance" and len(lines) == 3
+    assert lines[1].startswith("1. mean nearest distance 0.01 (largest 0.02); r1 2, r2 0.5")
+    assert "theta0 0.2, O2 (0.1, -0.2); open; from atlas" in lines[1]
+    assert len(SH.ShapeResult([design(0.01)] * 7, 0.0).report().splitlines()) == 6  # five by default
+    with pytest.raises(SynthesisError, match="no starting design could be refined"):
+        _ = SH.ShapeResult([], 0.0).best
+    np.testing.assert_array_equal(design(0.1).curve(12), SH.traced(X, "open", 12))
