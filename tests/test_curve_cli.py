@@ -145,6 +145,21 @@ def test_prescribed_timing_inline() -> None:
 BASE = {"problem": "curve", "curve": {"points": KUNJUR.tolist(), "closed": True}}
 
 
+def test_agree_from_a_problem_file() -> None:
+    # [fit] agree reaches fit: with agree = 1 the first round of 4 starts gives a
+    # defect-free design and the other 4 starts are left, as fit(agree=1) leaves them
+    from linkwork.synthesis.cli import solve
+
+    run = {"starts": 8, "seed": 1, "max_nfev": 20, "workers": 2}
+    text, _, _ = solve({**BASE, "fit": {**run, "keep": 1, "agree": 1}})
+    direct = C.fit(C.target(KUNJUR, closed=True), agree=1, **run)
+    assert direct.unrefined == 4
+    assert "8 starts, seed 1, agree 1 (rounds of 4 starts)" in text
+    assert re.search(r"^\d+ distinct designs from 8 starts", text, re.M)  # the 4 left counted
+    assert "4 starts left unrefined: enough designs agreed on the smallest f" in text
+    assert "left unrefined" not in solve({**BASE, "fit": {**run, "keep": 1}})[0]
+
+
 @pytest.mark.parametrize(
     ("change", "message"),
     [
@@ -176,6 +191,9 @@ BASE = {"problem": "curve", "curve": {"points": KUNJUR.tolist(), "closed": True}
         ({"fit": {"seconds": 5, "budget": 5}}, r"\[fit\] has unknown key\(s\) budget"),
         ({"fit": {"seconds": "5 s"}}, r"fit.seconds \(a time budget\) must be a number > 0"),
         ({"fit": {"workers": 1.5}}, "fit.workers must be an integer"),
+        ({"fit": {"agree": 0}}, "fit.agree must be an integer >= 1"),
+        ({"fit": {"agree": True}}, "fit.agree must be an integer >= 1"),
+        ({"fit": {"agree": "2"}}, "fit.agree must be an integer >= 1"),
         ({"fit": []}, r"\[fit\] must be a table"),
         (
             {"constraints": {"transmission": 100, "lengths": [1, 2]}, "angles": "deg"},

@@ -61,3 +61,27 @@ def test_fit_stops_when_two_designs_agree() -> None:
     assert len(ok) >= 2 and ok[1] <= 1e-20 * t.size**2
     assert stopped.best.f == pytest.approx(every.best.f, abs=1e-20 * t.size**2)
     assert "4 starts left unrefined: enough designs agreed" in stopped.report()
+
+
+def test_six_bars_rank_usable_first_judged_at_b_and_at_d() -> None:
+    # Watt six-bars grown from A (f ~ 0, 19.2 deg at B) and B (f 2.29, 47.5 deg at B), P
+    # at C and one evaluation each: they trace their four-bar's curve, D's angle random
+    t = C.target(C.coupler_points(A, TH, "open"), closed=True)
+    six = C.fit_six_bars(t, _fit(), kinds=("watt",), best=2, dyads=4, seed=1, workers=2, max_nfev=1)
+    designs = six.designs
+    # nothing hidden: every start is a design, all defect-free and within the constraints
+    assert len(designs) == 8 and not six.failures and all(d.ok for d in designs)
+    bound = math.radians(30.0)
+    for d in designs:
+        assert d.usable == (min(d.transmission, d.transmission_dyad) >= bound)
+    # usable first, then by f: a usable six-bar of f 2.29 ranks before one of f ~ 0
+    assert [(not d.usable, d.f) for d in designs] == sorted((not d.usable, d.f) for d in designs)
+    usable = [d for d in designs if d.usable]
+    rest = [d for d in designs if not d.usable]
+    assert usable and rest and rest[0].f < 1e-20 < 1.0 < min(d.f for d in usable)
+    # judged at D too: a six-bar of B's four-bar (47.5 deg at B) with D below 30 deg ranks last
+    assert any(d.transmission >= bound > d.transmission_dyad for d in rest)
+    k = next(k for k, d in enumerate(designs, 1) if d is rest[0])
+    assert f"the smallest f of a defect-free design, {rest[0].f:.4g}, is #{k}'s" in six.report()
+    # a stated bound replaces the default on the six-bar problem as on the four-bar's
+    assert C.SixBarProblem(t, transmission="15 deg").transmission == pytest.approx(math.radians(15.0))

@@ -35,7 +35,17 @@ from .target import TargetCurve
 from .threads import map_starts
 from .tracking import TWO_PI, CircuitError, TrackingProblem, coupler_points
 
-__all__ = ["CurveDesign", "CurveFit", "refine", "random_seeds", "fit", "CURVE_MERIT", "USABLE_TRANSMISSION"]
+__all__ = [
+    "CurveDesign",
+    "CurveFit",
+    "refine",
+    "random_seeds",
+    "fit",
+    "ranked",
+    "smallest_f_note",
+    "CURVE_MERIT",
+    "USABLE_TRANSMISSION",
+]
 
 #: The smallest transmission angle (rad) of a usable design where the problem states
 #: none: 30 degrees, the floor of light-duty linkages (40 is the general rule of thumb);
@@ -43,7 +53,7 @@ __all__ = ["CurveDesign", "CurveFit", "refine", "random_seeds", "fit", "CURVE_ME
 #: input's. It ranks designs, never drops them; a stated ``transmission`` replaces it.
 USABLE_TRANSMISSION = math.radians(30.0)
 
-#: How `fit` orders its designs.
+#: How `fit` (and `fit_six_bars`) order their designs (`ranked`).
 CURVE_MERIT = (
     "defect-free and within the constraints first; of them first the usable (smallest "
     "transmission angle at least the stated bound, else 30 deg); then the smaller tracking error f"
@@ -121,11 +131,16 @@ class TracedDesign(DesignPictures):
         return not self.defects and self.violation <= 1e-12 * self.problem.target.size
 
     @property
+    def smallest_transmission(self) -> float:
+        """The smallest transmission angle `usable` judges (rad): the four-bar loop's."""
+        return self.transmission
+
+    @property
     def usable(self) -> bool:
-        """`ok` and its smallest transmission angle at least the problem's stated bound,
-        else `USABLE_TRANSMISSION`."""
+        """`ok` and its `smallest_transmission` at least the problem's stated bound, else
+        `USABLE_TRANSMISSION`."""
         bound = getattr(self.problem, "transmission", None)
-        return self.ok and self.transmission >= (USABLE_TRANSMISSION if bound is None else bound)
+        return self.ok and self.smallest_transmission >= (USABLE_TRANSMISSION if bound is None else bound)
 
     def plot(self, path: str, **options: Any) -> list[str]:  # type: ignore[override]
         """A PNG of the target points against the traced curve, each point's deviation
@@ -236,19 +251,28 @@ class CurveFit:
         return "\n".join(lines)
 
     def smallest_f_note(self, designs: list[CurveDesign] | None = None) -> str:
-        """A line naming the defect-free design of smallest f among ``designs`` (default
-        the fit's, in their order) where a usable one of larger f is ranked before it
-        ("" otherwise)."""
-        designs = self.designs if designs is None else designs
-        ok = [d for d in designs if d.ok]
-        low = min(ok, key=lambda d: (d.f, d.start), default=None)
-        if low is None or low is ok[0]:
-            return ""
-        k = [id(d) for d in designs].index(id(low)) + 1
-        return (
-            f"the smallest f of a defect-free design, {low.f:.4g}, is #{k}'s: "
-            f"its smallest transmission angle is {math.degrees(low.transmission):.1f} deg"
-        )
+        """`smallest_f_note` of ``designs`` (default the fit's, in their order)."""
+        return smallest_f_note(self.designs if designs is None else designs)
+
+
+def ranked(designs: Sequence[Any]) -> list[Any]:
+    """``designs`` (`TracedDesign`s) in the order of `CURVE_MERIT`, none dropped; ties by
+    the index of their start."""
+    return sorted(designs, key=lambda d: (not d.ok, not d.usable, d.f, d.start))
+
+
+def smallest_f_note(designs: Sequence[Any]) -> str:
+    """A line naming the defect-free design of smallest f among ``designs`` (in their
+    order) where a usable one of larger f is ranked before it ("" otherwise)."""
+    ok = [d for d in designs if d.ok]
+    low = min(ok, key=lambda d: (d.f, d.start), default=None)
+    if low is None or low is ok[0]:
+        return ""
+    k = [id(d) for d in designs].index(id(low)) + 1
+    return (
+        f"the smallest f of a defect-free design, {low.f:.4g}, is #{k}'s: "
+        f"its smallest transmission angle is {math.degrees(low.smallest_transmission):.1f} deg"
+    )
 
 
 def _least_squares() -> Any:
@@ -749,7 +773,7 @@ def fit(
         best[0] = min([best[0]] + [s.f for s in begun if isinstance(s, _Start) and not s.cut])
         done += map_starts(then, begun, workers)
     designs = [d for d in done if isinstance(d, CurveDesign)]
-    designs.sort(key=lambda d: (not d.ok, not d.usable, d.f, d.start))
+    designs = ranked(designs)
     failures = [d for d in done if isinstance(d, str)]
     budget = None if seconds is None else float(seconds)
     unstarted = sum(d is None for d in done)

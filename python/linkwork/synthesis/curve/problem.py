@@ -21,6 +21,7 @@ its tables checked key by key, the fit run, the ranked table of designs.
     [fit]
     starts = 16, seed = 1, max_nfev = 400, workers = 2, keep = 5
     seconds = 20                   # a time budget for the fit (default none)
+    agree = 2                      # rounds of 4 starts until 2 designs agree (default every start)
     [six_bars]                     # optional: six-bars grown from the best four-bars
     kinds = ["watt", "stephenson"] # default both
     best = 2, dyads = 4            # four-bars grown from, dyads added to each (per kind)
@@ -40,7 +41,7 @@ import numpy as np
 
 from ...errors import SynthesisError
 from .constraints import angle
-from .fit import CURVE_MERIT, CurveDesign, CurveFit, fit
+from .fit import CURVE_MERIT, CurveDesign, CurveFit, fit, smallest_f_note
 from .six_bar_fit import SIX_BAR_MERIT, SixBarDesign, SixBarFit, fit_six_bars
 from .six_bars import KINDS
 from .target import TargetCurve, from_csv, from_svg, target
@@ -68,7 +69,7 @@ CONSTRAINT_KEYS = (
     "coupler",
     "pivot",
 )
-FIT_KEYS = ("starts", "seed", "max_nfev", "workers", "keep", "seconds")
+FIT_KEYS = ("starts", "seed", "max_nfev", "workers", "keep", "seconds", "agree")
 SIX_BAR_KEYS = ("kinds", "best", "dyads")
 
 
@@ -208,6 +209,8 @@ def read_options(problem: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
             raise SynthesisError(f"fit.seconds (a time budget) must be a number > 0, not {value!r}")
         run["seconds"] = float(value)
+    if "agree" in f:
+        run["agree"] = _integer("fit", "agree", f["agree"], 1)
     return options, run
 
 
@@ -246,6 +249,9 @@ def six_bar_table(result: SixBarFit, count: int) -> str:
             f"{k:>3}  {d.f:>10.4g}  {d.max_deviation:>12.4g}  {math.degrees(d.transmission):>4.1f} deg  "
             f"{math.degrees(d.transmission_dyad):>4.1f} deg  {d.kind:<11} {defects}; {state}"
         )
+    note = smallest_f_note(designs)
+    if note:
+        lines.append(note)
     for k, d in enumerate(designs[:count], 1):
         lines.append(f"six-bar {k}: {d}")
         if d.margins:
@@ -256,7 +262,7 @@ def six_bar_table(result: SixBarFit, count: int) -> str:
 def table(result: CurveFit, count: int, designs: list[CurveDesign] | None = None) -> str:
     """The ranked table of the first ``count`` of ``designs`` (default the fit's)."""
     designs = result.designs if designs is None else designs
-    starts = len(result.designs) + len(result.failures)
+    starts = len(result.designs) + len(result.failures) + result.unstarted + result.unrefined
     lines = [
         f"{len(designs)} distinct designs from {starts} starts in {result.seconds:.2f} s "
         f"({len(result.failures)} dropped); sorted: {CURVE_MERIT}",
@@ -265,6 +271,8 @@ def table(result: CurveFit, count: int, designs: list[CurveDesign] | None = None
     ]
     if result.budget is not None:
         lines.insert(1, result.budget_note())
+    if result.unrefined:
+        lines.insert(1, f"{result.unrefined} starts left unrefined: enough designs agreed on the smallest f")
     for k, d in enumerate(designs[:count], 1):
         defects = ", ".join(d.defects) or "none"
         state = "hold" if d.violation <= 1e-12 * d.problem.target.size else f"violated by {d.violation:.3g}"
@@ -295,6 +303,7 @@ def solve_curve(
     head = (
         f"curve synthesis: {len(t)} target points ({'closed' if t.closed else 'open'}, {timing} timing), "
         f"{run['starts']} starts, seed {run['seed']}"
+        + (f", agree {run['agree']} (rounds of 4 starts)" if "agree" in run else "")
     )
     if six is None:
         result = fit(t, **run, **options)

@@ -20,7 +20,18 @@ from typing import Any
 import numpy as np
 
 from ...errors import SingularError, SolveError, SynthesisError
-from .fit import CurveDesign, CurveFit, TracedDesign, budget_seconds, fit, screened_stretch, start_refinement
+from .fit import (
+    CURVE_MERIT,
+    CurveDesign,
+    CurveFit,
+    TracedDesign,
+    budget_seconds,
+    fit,
+    ranked,
+    screened_stretch,
+    smallest_f_note,
+    start_refinement,
+)
 from .six_bars import KINDS, SIDES, SixBarProblem, six_bar_points
 from .target import TargetCurve
 from .threads import map_starts
@@ -28,8 +39,9 @@ from .tracking import TWO_PI, CircuitError, coupler_points
 
 __all__ = ["SixBarDesign", "SixBarFit", "dyad_seeds", "fit_six_bars", "refine_six_bar", "SIX_BAR_MERIT"]
 
-#: How `fit_six_bars` orders its designs.
-SIX_BAR_MERIT = "defect-free and within the constraints first; then the smaller tracking error f"
+#: How `fit_six_bars` orders its designs: as `fit` (`ranked`), the smallest transmission
+#: angle the smaller of those at B and at D.
+SIX_BAR_MERIT = CURVE_MERIT + " (the smaller of those at B and at D)"
 
 
 @dataclass
@@ -48,6 +60,11 @@ class SixBarDesign(TracedDesign):
     @property
     def kind(self) -> str:
         return self.problem.kind
+
+    @property
+    def smallest_transmission(self) -> float:
+        """The smaller of the transmission angles at B and at D (rad), which `usable` judges."""
+        return min(self.transmission, self.transmission_dyad)
 
     def residuals(self) -> np.ndarray:
         """P(theta2_i) - P_i at the target points (n x 2), from the engine."""
@@ -78,6 +95,8 @@ class SixBarDesign(TracedDesign):
             f"P ({self.x[13]:.6g}, {self.x[14]:.6g})"
         )
         state = "defect-free" if not self.defects else "defects: " + ", ".join(self.defects)
+        if self.ok and not self.usable:
+            state += "; transmission below the usable"
         if self.violation > 1e-12 * self.problem.target.size:
             state += f"; constraints violated by {self.violation:.3g}"
         if self.cut:
@@ -128,6 +147,9 @@ class SixBarFit:
             ended = "ended the fit" if self.budget_ended else "did not end the fit"
             lines.append(f"the time budget of {self.budget:.4g} s {ended}")
         lines += [f"{k + 1}. [{d.family}] {d}" for k, d in enumerate(self.designs[:count])]
+        note = smallest_f_note(self.designs)
+        if note:
+            lines.append(note)
         return "\n".join(lines)
 
 
@@ -247,15 +269,17 @@ def fit_six_bars(
     max_nfev: int = 400,
     seconds: float | None = None,
     starts: int = 16,
+    agree: int | None = None,
     **problem: Any,
 ) -> SixBarFit:
     """Six-bars of each of ``kinds`` grown from the ``best`` best four-bars of
     ``four_bars`` (a `CurveFit` or designs; default `fit` of ``target`` with ``starts``
-    random starts, ``seed``, and half the budget), ``dyads`` dyads each (`dyad_seeds`,
+    random starts, ``seed``, ``agree`` and half the budget), ``dyads`` dyads each (`dyad_seeds`,
     from a generator seeded with ``seed``), refined on ``workers`` threads on the
     `SixBarProblem` with the options ``problem`` (those of `fit`). ``seconds``: a time
     budget for the whole call, as `fit`'s. The answer does not depend on the number of
-    workers."""
+    workers. Designs are sorted by `SIX_BAR_MERIT` (`ranked`, usable judged by the
+    smaller transmission angle of B and D); none is dropped for it."""
     t0 = time.perf_counter()
     deadline = None if seconds is None else t0 + budget_seconds(seconds)
     for k in kinds:
@@ -265,7 +289,14 @@ def fit_six_bars(
     if four_bars is None:
         half = None if seconds is None else budget_seconds(seconds) / 2.0
         four_bars = fit(
-            target, starts=starts, seed=seed, workers=workers, max_nfev=max_nfev, seconds=half, **problem
+            target,
+            starts=starts,
+            seed=seed,
+            workers=workers,
+            max_nfev=max_nfev,
+            seconds=half,
+            agree=agree,
+            **problem,
         )
     base = four_bars if isinstance(four_bars, CurveFit) else CurveFit(list(four_bars), [], 0.0)
     if not base.designs:
@@ -296,9 +327,8 @@ def fit_six_bars(
 
     done = map_starts(run, enumerate(jobs), workers)
     designs = [d for d in done if isinstance(d, SixBarDesign)]
-    designs.sort(key=lambda d: (not d.ok, d.f, d.start))
     return SixBarFit(
-        designs,
+        ranked(designs),
         [d for d in done if isinstance(d, str)],
         base,
         time.perf_counter() - t0,

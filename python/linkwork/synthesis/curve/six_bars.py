@@ -138,6 +138,11 @@ class SixBarProblem(TrackedResiduals):
         self.side = side
 
     @property
+    def transmission(self) -> float | None:
+        """The stated transmission bound (rad; None: none), held at B and at D."""
+        return self.four.transmission
+
+    @property
     def assembly(self) -> str:
         return f"{self.circuit} circuit with D on the {self.side}"
 
