@@ -6,7 +6,7 @@ steps, the tasks taking turns in each round (``compare.interleaved``). Prints ea
 best time per step and the ratio pylinkage / linkwork (above 1: linkwork faster), and
 checks both tools' foot paths of Jansen's leg against its circle intersections.
 
-    PYTHONPATH=python python benches/positions_only.py [--steps 100000] [--repeats 7]
+    PYTHONPATH=python python benches/positions_only.py [--steps 100000] [--repeats 7] [--clock cpu]
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import time
 from pathlib import Path
 from typing import Any, Callable
 
@@ -97,6 +98,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=100_000)
     parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument(
+        "--clock",
+        choices=("wall", "cpu"),
+        default="wall",
+        help="wall-clock time, or this thread's CPU time (not the turns other processes take)",
+    )
     args = parser.parse_args()
     if os.environ.get("PYTHONHASHSEED") != "0":
         # pylinkage's builder and numba path order Jansen's pins by its sets' order, Python's
@@ -108,7 +115,7 @@ def main() -> None:
         print(f"Jansen's leg, {key}: foot {err:.1e} m from the circle intersections")
         assert err < 1e-9, f"{key}: the foot is off the leg's assembly"
     ts, meta = tasks(args.steps)
-    timed = interleaved(ts, args.repeats)
+    timed = interleaved(ts, args.repeats, time.thread_time if args.clock == "cpu" else time.perf_counter)
     us = {k: secs / args.steps * 1e6 for k, (secs, _) in timed.items()}
     for key in sorted(us):
         print(f"{key:40s} {us[key]:8.4f} us/step")

@@ -424,13 +424,14 @@ pub fn step(
     derivatives: u8,
     h: f64,
 ) -> Result<StepInfo, StepMiss> {
-    step_with::<false>(model, plan, data, t, derivatives, h, &mut [])
+    step_with::<false>(model, plan, data, t, derivatives, h, &mut [], &[])
 }
 
 /// `step` of positions only, each group's step also bounded by `guard` (`travel`: one
-/// per body, this step's bounds written as the groups are solved): a step the guard cannot
-/// show on its branches is a miss (`NearSingular`), for the careful path. Only for plans
-/// that are `guarded`.
+/// per body, this step's bounds written as the groups are solved, where `reads`, from
+/// `guard_reads`, says a later group reads them): a step the guard cannot show on its
+/// branches is a miss (`NearSingular`), for the careful path. Only for plans that are
+/// `guarded`.
 pub fn step_guarded(
     model: &Model,
     plan: &Plan,
@@ -438,8 +439,31 @@ pub fn step_guarded(
     t: f64,
     h: f64,
     travel: &mut [guard::Travel],
+    reads: &[bool],
 ) -> Result<StepInfo, StepMiss> {
-    step_with::<true>(model, plan, data, t, 0, h, travel)
+    step_with::<true>(model, plan, data, t, 0, h, travel, reads)
+}
+
+/// Per group of a `guarded` plan: whether a later group's known pin is on one of its
+/// bodies, so that the bounds of its bodies' motion over a step (`guard::Travel`) are read.
+pub fn guard_reads(plan: &Plan, n_bodies: usize) -> Vec<bool> {
+    // the bodies read by the groups after the one looked at, from the last group back
+    let mut read = vec![false; n_bodies];
+    let mut out = vec![true; plan.blocks.len()];
+    for (i, block) in plan.blocks.iter().enumerate().rev() {
+        let (bodies, known) = match block {
+            Block::Crank(c) => ([Some(c.body), None], [c.known, c.base]),
+            Block::Rrr(r) => ([Some(r.l1.body), Some(r.l2.body)], [r.l1.known, r.l2.known]),
+            Block::Rrp(r) => ([Some(r.link.body), Some(r.slider)], [r.link.known, r.known]),
+            // not guarded: every bound kept
+            _ => return vec![true; plan.blocks.len()],
+        };
+        out[i] = bodies.iter().flatten().any(|&b| read[b]);
+        for &k in known.iter().flatten() {
+            read[k] = true;
+        }
+    }
+    out
 }
 
 /// Whether a plan's steps can be guarded from positions (`guard`): cranks on the ground,
@@ -455,6 +479,7 @@ pub fn guarded(plan: &Plan) -> bool {
 
 /// `step`, with `G`: each group's guard too (positions only).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn step_with<const G: bool>(
     model: &Model,
     plan: &Plan,
@@ -463,6 +488,7 @@ fn step_with<const G: bool>(
     derivatives: u8,
     h: f64,
     travel: &mut [guard::Travel],
+    reads: &[bool],
 ) -> Result<StepInfo, StepMiss> {
     let mut info = StepInfo { iterations: 0, residual: 0.0, closeness: 1.0, det_sign: 1.0, correction: 0.0 };
     let mut newton_index = 0;
@@ -472,8 +498,8 @@ fn step_with<const G: bool>(
         let (closeness, residual) = match block {
             // the guarded groups' positions and guard inlined here, in one pass
             Block::Crank(b) if G => b.solve_guarded(model, data, t, h, travel)?,
-            Block::Rrr(b) if G => b.solve_guarded(data, sign, travel)?,
-            Block::Rrp(b) if G => b.solve_guarded(data, sign, travel)?,
+            Block::Rrr(b) if G => b.solve_guarded(data, sign, travel, reads[i])?,
+            Block::Rrp(b) if G => b.solve_guarded(data, sign, travel, reads[i])?,
             _ if G => return Err(StepMiss::Failed),
             Block::Crank(b) => b.solve(model, data, t, derivatives)?,
             Block::Rrr(b) => b.solve(data, sign, derivatives)?,

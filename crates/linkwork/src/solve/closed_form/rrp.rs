@@ -109,7 +109,8 @@ impl Rrp {
 
     /// `solve` of positions only on a line fixed in the ground, with the guard
     /// (`guard::rrp`) of the step from the link's known pin's bound in `travel`, written
-    /// there for the link and the slider: (closeness, residual), or the miss
+    /// there for the link and the slider where a later group reads them (`read`,
+    /// `closed_form::guard_reads`): (closeness, residual), or the miss
     /// (`NearSingular` where the guard cannot show the step). Only where the slide's line
     /// is the ground's (`closed_form::guarded`).
     #[inline(always)]
@@ -118,6 +119,7 @@ impl Rrp {
         data: &mut Data,
         sign: f64,
         travel: &mut [Travel],
+        read: bool,
     ) -> Result<(f64, f64), StepMiss> {
         let Some((.., p0, dir)) = self.ground_line else { return Err(StepMiss::Failed) };
         let solved = if self.link.known.is_some() {
@@ -129,6 +131,14 @@ impl Rrp {
         let la = self.link.known.map_or(0.0, |k| travel[k].pin(a));
         let p = sub(a, p0);
         let offset = dir[0] * p[1] - dir[1] * p[0];
+        if !read {
+            // the same test; the turn and the slider's path, which no later group reads, not formed
+            return if guard::rrp_shown(self.link.length, offset, la) {
+                Ok(solved)
+            } else {
+                Err(StepMiss::NearSingular)
+            };
+        }
         let turn = guard::rrp(self.link.length, offset, la).ok_or(StepMiss::NearSingular)?;
         travel[self.link.body] = Travel { r: a, len: la, turn };
         // the slider slides: B's path, no turn

@@ -226,7 +226,8 @@ impl Rrr {
     }
 
     /// `solve` of positions only, with the guard (`guard::rrr`) of the step from the
-    /// known pins' bounds in `travel`, written there for both bodies: (closeness,
+    /// known pins' bounds in `travel`, written there for both bodies where a later group
+    /// reads them (`read`, `closed_form::guard_reads`): (closeness,
     /// residual), or the miss (`NearSingular` where the guard cannot show the step). Only
     /// for a dyad of two bodies (`closed_form::guarded`).
     #[inline(always)]
@@ -235,15 +236,16 @@ impl Rrr {
         data: &mut Data,
         sign: f64,
         travel: &mut [Travel],
+        read: bool,
     ) -> Result<(f64, f64), StepMiss> {
         if self.rod {
             return Err(StepMiss::Failed);
         }
         match (self.l1.known.is_some(), self.l2.known.is_some()) {
-            (true, true) => self.guarded_on::<true, true>(data, sign, travel),
-            (true, false) => self.guarded_on::<true, false>(data, sign, travel),
-            (false, true) => self.guarded_on::<false, true>(data, sign, travel),
-            (false, false) => self.guarded_on::<false, false>(data, sign, travel),
+            (true, true) => self.guarded_on::<true, true>(data, sign, travel, read),
+            (true, false) => self.guarded_on::<true, false>(data, sign, travel, read),
+            (false, true) => self.guarded_on::<false, true>(data, sign, travel, read),
+            (false, false) => self.guarded_on::<false, false>(data, sign, travel, read),
         }
     }
 
@@ -253,12 +255,21 @@ impl Rrr {
         data: &mut Data,
         sign: f64,
         travel: &mut [Travel],
+        read: bool,
     ) -> Result<(f64, f64), StepMiss> {
         let s = self.positions_on::<K1, K2>(data, sign)?;
         // the known pins' paths: nothing where a side is the ground
         let la = if K1 { self.l1.known.map_or(0.0, |k| travel[k].pin(s.a)) } else { 0.0 };
         let lc = if K2 { self.l2.known.map_or(0.0, |k| travel[k].pin(s.c)) } else { 0.0 };
         let (r1, r2) = (self.l1.length, self.l2.length);
+        if !read {
+            // the same test; the turns, which no later group reads, not formed
+            return if guard::rrr_shown(r1, r2, s.dd, la + lc) {
+                Ok((s.closeness, s.residual))
+            } else {
+                Err(StepMiss::NearSingular)
+            };
+        }
         let (t1, t2) = guard::rrr(r1, r2, s.dd, la + lc).ok_or(StepMiss::NearSingular)?;
         travel[self.l1.body] = Travel { r: s.a, len: la, turn: t1 };
         travel[self.l2.body] = Travel { r: s.c, len: lc, turn: t2 };
