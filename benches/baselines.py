@@ -1,5 +1,5 @@
 """What users would otherwise run, on the textbook four-bar and slider-crank, for
-``compare.py``.
+``compare.py``, and on Jansen's leg, for ``positions_only.py``.
 
 - pylinkage (optional; ``pip install pylinkage==1.3.0 numba``): its numba fast path,
   closed-form dyads (circle-circle intersections) applied joint after joint.
@@ -150,6 +150,52 @@ def pylinkage_slider_crank(
         return solved
 
     return build, run, decode
+
+
+def pylinkage_jansen(
+    omega: float, steps: int, kinematics: bool
+) -> tuple[Callable[[], Any], Callable[[Any], Any], Callable[[Any], np.ndarray]]:
+    """(build, run, foot) for Jansen's leg (``jansen.py``, its lengths and assembly) in
+    pylinkage: each of its ten bars a binary link (a rigid triangle is three bars; pylinkage
+    1.3's numba path leaves a ternary link's third port behind), each pin where two of
+    them meet, on the branch that draws the leg of ``jansen.pins(0)``. ``foot(out)`` gives
+    the foot's path, row k at crank angle (k + 1) 2 pi / steps."""
+    import jansen
+    from pylinkage.mechanism import MechanismBuilder
+
+    def build() -> Any:
+        b = MechanismBuilder(name="Jansen's leg")
+        b.add_ground_link("ground", ports={"O": jansen.CRANK_PIVOT, "Q": jansen.Q})
+        b.add_driver_link("crank", length=jansen.L["m"], motor_port="O", omega=2.0 * math.pi / steps)
+        ports: dict[str, set[str]] = {"O": {"crank.motor", "ground.O"}, "C": {"crank.tip"}, "Q": {"ground.Q"}}
+        for bar, *ends in jansen.BARS:
+            b.add_link(bar, length=jansen.L[bar])
+            for end, pin in enumerate(ends):
+                if pin in ports:
+                    b.connect(min(ports[pin]), f"{bar}.{end}")
+                ports.setdefault(pin, set()).add(f"{bar}.{end}")
+        # which two pins the builder solves a pin from, so what its branch 0 or 1 means,
+        # follows its sets' order (Python's hash seed): whatever it draws, every pin is then
+        # put where jansen.pins(0) has it, and the numba path follows the nearest solution
+        m = b.build()
+        drawn = jansen.pins(0.0)
+        where = {frozenset(v): drawn[pin] for pin, v in ports.items()}
+        m.set_joint_positions([where[frozenset(j.name.split("_"))] for j in m.joints])
+        if kinematics:
+            m.set_input_velocity(m._driver_links[0], omega, 0.0)
+        m.compile()
+        return m
+
+    def run(m: Any) -> Any:
+        return m.step_fast_with_kinematics(iterations=steps) if kinematics else m.step_fast(iterations=steps)
+
+    i_foot = next(i for i, j in enumerate(build().joints) if j.name == "h.1_i.1")
+
+    def foot(out: Any) -> np.ndarray:
+        pos = out[0] if kinematics else out
+        return np.asarray(pos)[:, i_foot]
+
+    return build, run, foot
 
 
 def fsolve_four_bar(dims: dict[str, float], theta2: np.ndarray, start: tuple[float, float]) -> Solved:

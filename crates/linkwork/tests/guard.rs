@@ -158,7 +158,8 @@ fn a_step_across_a_change_point_is_not_the_guards() {
     let step = |t0: f64, t1: f64| {
         let mut data = state(t0);
         let mut travel = vec![Travel::default(); model.n_bodies];
-        closed_form::step_guarded(&model, plan, &mut data, t1, t1 - t0, &mut travel).is_ok()
+        let reads = closed_form::guard_reads(plan, model.n_bodies);
+        closed_form::step_guarded(&model, plan, &mut data, t1, t1 - t0, &mut travel, &reads).is_ok()
     };
     // the crank along the ground at t = pi - 0.5
     let change = std::f64::consts::PI - 0.5;
@@ -171,4 +172,53 @@ fn a_step_across_a_change_point_is_not_the_guards() {
             assert!(step(change + 1.0, change + 1.0 + h), "h {h}: a step far from the change point refused");
         }
     }
+}
+
+/// The bounds a guarded step forms are those a later group reads (`guard_reads`): on the
+/// Stephenson six-bar the crank's (read by the first dyad) and the first dyad's (its
+/// coupler carries the second dyad's pin C), not the last dyad's; and a step takes the
+/// same verdict with only those formed as with every bound formed, from steps far inside
+/// the guard to steps past it.
+#[test]
+fn a_guarded_step_forms_the_bounds_later_groups_read() {
+    let model = Model::new(six_bar_stephenson(0.0, 5.0)).unwrap();
+    let plan = model.plan.as_ref().unwrap();
+    assert!(closed_form::guarded(plan));
+    let reads = closed_form::guard_reads(plan, model.n_bodies);
+    assert_eq!(reads, vec![true, true, false]);
+    let fb = Model::new(four_bar(&FourBar { r1: 0.38, r2: 0.2, r3: 0.35, r4: 0.25 }, 0.0, 5.0)).unwrap();
+    assert_eq!(closed_form::guard_reads(fb.plan.as_ref().unwrap(), fb.n_bodies), vec![true, false]);
+    let state = |t0: f64| {
+        let times = grid(0.0, t0, 200);
+        let mut data = Data::new(&model);
+        let mut out =
+            SweepOutput::with_request(&model, &times, Request { derivatives: 0, ..Request::default() });
+        sweep(&model, &mut data, &times, &mut out, 0, &mut |_| true).unwrap();
+        data
+    };
+    let every = vec![true; reads.len()];
+    let (mut taken, mut refused) = (0, 0);
+    for k in 1..40 {
+        let t0 = 0.03 * k as f64;
+        for h in [1e-3, 0.02, 0.1, 0.3, 0.8] {
+            let verdict = |reads: &[bool]| {
+                let mut data = state(t0);
+                let mut travel = vec![Travel::default(); model.n_bodies];
+                let ok =
+                    closed_form::step_guarded(&model, plan, &mut data, t0 + h, h, &mut travel, reads).is_ok();
+                (ok, data.q)
+            };
+            let (ok, q) = verdict(&reads);
+            let (ok_all, q_all) = verdict(&every);
+            assert_eq!(ok, ok_all, "t0 {t0}, h {h}");
+            if ok {
+                assert_eq!(q, q_all, "t0 {t0}, h {h}");
+                taken += 1;
+            } else {
+                refused += 1;
+            }
+        }
+    }
+    // both verdicts met
+    assert!(taken > 0 && refused > 0, "taken {taken}, refused {refused}");
 }

@@ -273,6 +273,7 @@ impl SweepOutput {
     }
 
     /// Stores row `row` of the kept coordinates' q, qd, qdd (as the request keeps them).
+    #[inline]
     pub(crate) fn store_coords(&mut self, data: &Data, row: usize) {
         let d = self.request.derivatives;
         let m = self.n_kept;
@@ -342,6 +343,7 @@ impl SweepOutput {
     /// checked: `coord_row`): the rest of the state in `data` and the worst diagnostics
     /// since the last kept row, which start again.
     #[allow(clippy::too_many_arguments)]
+    #[inline]
     pub(crate) fn keep(
         &mut self,
         model: &Model,

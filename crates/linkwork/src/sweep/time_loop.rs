@@ -129,7 +129,12 @@ fn sweep_steps(
         && !req.forces
         && !req.locks
         && plan.is_some_and(closed_form::guarded);
-    let mut guard = Guard { on: guarded, travel: vec![Travel::default(); model.n_bodies], stale: false };
+    let reads = match plan {
+        Some(plan) if guarded => closed_form::guard_reads(plan, model.n_bodies),
+        _ => Vec::new(),
+    };
+    let mut guard =
+        Guard { on: guarded, travel: vec![Travel::default(); model.n_bodies], reads, stale: false };
     // the largest scaled difference between the structured solution and the prediction
     let deviation = |data: &Data| {
         data.q
@@ -361,6 +366,8 @@ struct Run<'a, 'w> {
 struct Guard {
     on: bool,
     travel: Vec<Travel>,
+    /// per group, whether a later group reads its bodies' bounds (`closed_form::guard_reads`)
+    reads: Vec<bool>,
     stale: bool,
 }
 
@@ -379,7 +386,7 @@ impl Guard {
         q_prev: &[f64],
     ) -> Option<PositionInfo> {
         let (t, h) = (times[k], times[k] - times[k - 1]);
-        match closed_form::step_guarded(model, plan, data, t, h, &mut self.travel) {
+        match closed_form::step_guarded(model, plan, data, t, h, &mut self.travel, &self.reads) {
             Ok(s) => {
                 // the caller puts q_prev in hist_q[0]; the rates' history means nothing
                 // until a miss sets it

@@ -2,6 +2,7 @@
 //! Its angle is the driver's value (theta = theta_base + sign f(t)), its origin follows
 //! from the pin: one angle, no equations.
 
+use super::guard::{self, Travel};
 use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates, side, split};
 use super::{NumberMove, Numbers, StepMiss};
 use crate::constraints::{kinds::ConstraintKind, perp, sub, Constraint, Frame};
@@ -63,6 +64,29 @@ impl Crank {
             (false, true) => self.solve_on::<false, true>(model, data, t, derivatives),
             (false, false) => self.solve_on::<false, false>(model, data, t, derivatives),
         }
+    }
+
+    /// `solve` of positions only for a crank on the ground, with the guard's bound on its
+    /// turn over a step of `h` (`guard::law_travel`) written into `travel`: (closeness 1,
+    /// residual), or the miss (`NearSingular` where the driver's law has no bound). Only
+    /// for a crank pinned to the ground with its angle from the ground (`closed_form::guarded`).
+    #[inline(always)]
+    pub fn solve_guarded(
+        &self,
+        model: &Model,
+        data: &mut Data,
+        t: f64,
+        h: f64,
+        travel: &mut [Travel],
+    ) -> Result<(f64, f64), StepMiss> {
+        if self.known.is_some() || self.base.is_some() {
+            return Err(StepMiss::Failed);
+        }
+        let solved = self.solve_on::<false, false>(model, data, t, 0)?;
+        let law = model.constraints[self.driver].kind.law().ok_or(StepMiss::Failed)?;
+        let turn = guard::law_travel(law, h).ok_or(StepMiss::NearSingular)?;
+        travel[self.body] = Travel { r: self.fixed, len: 0.0, turn };
+        Ok(solved)
     }
 
     /// `solve` with `K`, `B`: whether the pin's known side, the angle's base is a body.

@@ -54,9 +54,17 @@ impl Travel {
 /// has one from its form: a constant, a linear law (and either scaled).
 #[inline(always)]
 pub fn law_travel(law: &MotionLaw, h: f64) -> Option<f64> {
+    // the two forms of every step inlined; a scaled law through the call
     match law {
         MotionLaw::Constant { .. } => Some(0.0),
         MotionLaw::Linear { rate, .. } => Some((rate * h).abs()),
+        _ => scaled_travel(law, h),
+    }
+}
+
+/// `law_travel` of a scaled law (a recursion, so not inlined), None for the other forms.
+fn scaled_travel(law: &MotionLaw, h: f64) -> Option<f64> {
+    match law {
         MotionLaw::Scaled { factor, law } => law_travel(law, h).map(|x| factor.abs() * x),
         _ => None,
     }
@@ -76,9 +84,8 @@ pub fn rrr(r1: f64, r2: f64, dd: f64, l: f64) -> Option<(f64, f64)> {
 /// and the turns (meaningless where it is not).
 #[inline(always)]
 pub fn rrr_turns(r1: f64, r2: f64, dd: f64, l: f64) -> (bool, f64, f64) {
-    let d = dd.sqrt();
     let (lo, hi) = (r1.min(r2), r1.max(r2));
-    let margin = (r1 + r2 - d).min(d - (hi - lo));
+    let margin = rrr_margin(r1, r2, dd);
     // NaN fails the comparison
     let ok = l <= GUARD * margin;
     // over the step the margin stays >= m: (r1 + r2 - D)(D - |r1 - r2|) >= m (2 lo - m)
@@ -87,6 +94,28 @@ pub fn rrr_turns(r1: f64, r2: f64, dd: f64, l: f64) -> (bool, f64, f64) {
     let m = margin - l;
     let sin = (m * (2.0 * lo - m) * (2.0 * hi) * (2.0 * (hi - lo) + m)).sqrt() / (2.0 * r1 * r2);
     (ok, l / (r1 * sin), l / (r2 * sin))
+}
+
+/// `rrr`'s test alone (no turns), where no later group reads the bodies' bounds.
+#[inline(always)]
+pub fn rrr_shown(r1: f64, r2: f64, dd: f64, l: f64) -> bool {
+    // NaN fails the comparison
+    l <= GUARD * rrr_margin(r1, r2, dd)
+}
+
+/// D's distance to the nearer of the RRR dyad's limits |r1 - r2| and r1 + r2, D^2 = `dd`.
+#[inline(always)]
+fn rrr_margin(r1: f64, r2: f64, dd: f64) -> f64 {
+    let d = dd.sqrt();
+    let (lo, hi) = (r1.min(r2), r1.max(r2));
+    (r1 + r2 - d).min(d - (hi - lo))
+}
+
+/// `rrp`'s test alone (no turn), where no later group reads the bodies' bounds.
+#[inline(always)]
+pub fn rrp_shown(r1: f64, offset: f64, l: f64) -> bool {
+    // NaN fails the comparison
+    l <= GUARD * (r1 - offset.abs())
 }
 
 /// An RRP dyad on a line fixed in the ground, link r1, its known pin `offset` from the line

@@ -424,13 +424,14 @@ pub fn step(
     derivatives: u8,
     h: f64,
 ) -> Result<StepInfo, StepMiss> {
-    step_with::<false>(model, plan, data, t, derivatives, h, &mut [])
+    step_with::<false>(model, plan, data, t, derivatives, h, &mut [], &[])
 }
 
 /// `step` of positions only, each group's step also bounded by `guard` (`travel`: one
-/// per body, this step's bounds written as the groups are solved): a step the guard cannot
-/// show on its branches is a miss (`NearSingular`), for the careful path. Only for plans
-/// that are `guarded`.
+/// per body, this step's bounds written as the groups are solved, where `reads`, from
+/// `guard_reads`, says a later group reads them): a step the guard cannot show on its
+/// branches is a miss (`NearSingular`), for the careful path. Only for plans that are
+/// `guarded`.
 pub fn step_guarded(
     model: &Model,
     plan: &Plan,
@@ -438,8 +439,31 @@ pub fn step_guarded(
     t: f64,
     h: f64,
     travel: &mut [guard::Travel],
+    reads: &[bool],
 ) -> Result<StepInfo, StepMiss> {
-    step_with::<true>(model, plan, data, t, 0, h, travel)
+    step_with::<true>(model, plan, data, t, 0, h, travel, reads)
+}
+
+/// Per group of a `guarded` plan: whether a later group's known pin is on one of its
+/// bodies, so that the bounds of its bodies' motion over a step (`guard::Travel`) are read.
+pub fn guard_reads(plan: &Plan, n_bodies: usize) -> Vec<bool> {
+    // the bodies read by the groups after the one looked at, from the last group back
+    let mut read = vec![false; n_bodies];
+    let mut out = vec![true; plan.blocks.len()];
+    for (i, block) in plan.blocks.iter().enumerate().rev() {
+        let (bodies, known) = match block {
+            Block::Crank(c) => ([Some(c.body), None], [c.known, c.base]),
+            Block::Rrr(r) => ([Some(r.l1.body), Some(r.l2.body)], [r.l1.known, r.l2.known]),
+            Block::Rrp(r) => ([Some(r.link.body), Some(r.slider)], [r.link.known, r.known]),
+            // not guarded: every bound kept
+            _ => return vec![true; plan.blocks.len()],
+        };
+        out[i] = bodies.iter().flatten().any(|&b| read[b]);
+        for &k in known.iter().flatten() {
+            read[k] = true;
+        }
+    }
+    out
 }
 
 /// Whether a plan's steps can be guarded from positions (`guard`): cranks on the ground,
@@ -453,53 +477,9 @@ pub fn guarded(plan: &Plan) -> bool {
     })
 }
 
-/// The guard of one group solved at the step's end (`guard`), its bodies' bounds written
-/// into `travel`.
-#[inline(always)]
-fn guard_block(
-    model: &Model,
-    block: &Block,
-    data: &Data,
-    h: f64,
-    travel: &mut [guard::Travel],
-) -> Result<(), StepMiss> {
-    use crate::constraints::Constraint;
-    use guard::Travel;
-    let side = |travel: &[Travel], known: Option<usize>, p: [f64; 2]| known.map_or(0.0, |b| travel[b].pin(p));
-    match block {
-        Block::Crank(c) if c.known.is_none() && c.base.is_none() => {
-            let law = model.constraints[c.driver].kind.law().ok_or(StepMiss::Failed)?;
-            let turn = guard::law_travel(law, h).ok_or(StepMiss::NearSingular)?;
-            travel[c.body] = Travel { r: c.fixed, len: 0.0, turn };
-        }
-        Block::Rrr(r) if !r.rod => {
-            let (a, c) = (r.l1.outer(data).1, r.l2.outer(data).1);
-            let (la, lc) = (side(travel, r.l1.known, a), side(travel, r.l2.known, c));
-            let d = sub(c, a);
-            let dd = d[0] * d[0] + d[1] * d[1];
-            let (t1, t2) = guard::rrr(r.l1.length, r.l2.length, dd, la + lc).ok_or(StepMiss::NearSingular)?;
-            travel[r.l1.body] = Travel { r: a, len: la, turn: t1 };
-            travel[r.l2.body] = Travel { r: c, len: lc, turn: t2 };
-        }
-        Block::Rrp(r) if r.ground_line.is_some() => {
-            let Some((.., p0, dir)) = r.ground_line else { return Err(StepMiss::Failed) };
-            let a = r.link.outer(data).1;
-            let la = side(travel, r.link.known, a);
-            let p = sub(a, p0);
-            let offset = dir[0] * p[1] - dir[1] * p[0];
-            let turn = guard::rrp(r.link.length, offset, la).ok_or(StepMiss::NearSingular)?;
-            travel[r.link.body] = Travel { r: a, len: la, turn };
-            // the slider slides: B's path, no turn
-            let b = data.frames[r.link.body].point(r.link.u_middle);
-            travel[r.slider] = Travel { r: b, len: la + r.link.length * turn, turn: 0.0 };
-        }
-        _ => return Err(StepMiss::Failed),
-    }
-    Ok(())
-}
-
 /// `step`, with `G`: each group's guard too (positions only).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn step_with<const G: bool>(
     model: &Model,
     plan: &Plan,
@@ -508,6 +488,7 @@ fn step_with<const G: bool>(
     derivatives: u8,
     h: f64,
     travel: &mut [guard::Travel],
+    reads: &[bool],
 ) -> Result<StepInfo, StepMiss> {
     let mut info = StepInfo { iterations: 0, residual: 0.0, closeness: 1.0, det_sign: 1.0, correction: 0.0 };
     let mut newton_index = 0;
@@ -515,6 +496,11 @@ fn step_with<const G: bool>(
     for (i, block) in plan.blocks.iter().enumerate() {
         let sign = data.blocks.sign[i];
         let (closeness, residual) = match block {
+            // the guarded groups' positions and guard inlined here, in one pass
+            Block::Crank(b) if G => b.solve_guarded(model, data, t, h, travel)?,
+            Block::Rrr(b) if G => b.solve_guarded(data, sign, travel, reads[i])?,
+            Block::Rrp(b) if G => b.solve_guarded(data, sign, travel, reads[i])?,
+            _ if G => return Err(StepMiss::Failed),
             Block::Crank(b) => b.solve(model, data, t, derivatives)?,
             Block::Rrr(b) => b.solve(data, sign, derivatives)?,
             Block::Rrp(b) => b.solve(data, sign, derivatives)?,
@@ -541,9 +527,6 @@ fn step_with<const G: bool>(
         let [c1, rate] = data.blocks.close[i];
         if !matches!(block, Block::Newton(_)) && (c1 + rate * h < 0.25 * c1 || closeness < 0.25 * c1) {
             return Err(StepMiss::NearSingular);
-        }
-        if G {
-            guard_block(model, block, data, h, travel)?;
         }
         data.blocks.next[i] = [closeness, (closeness - c1) / h];
         info.closeness = info.closeness.min(closeness);

@@ -4,6 +4,7 @@
 //! length meets it (two points, one per branch). Velocities and accelerations: B's seen
 //! from the link and from the slide (with the slide's Coriolis term when the line turns).
 
+use super::guard::{self, Travel};
 use super::rrr::{link, xy};
 use super::{add_move, column, split, NumberMove, Numbers, NEAR_SINGULAR};
 use super::{
@@ -104,6 +105,46 @@ impl Rrp {
             (false, true) => self.solve_on::<false, true>(data, sign, derivatives),
             (false, false) => self.solve_on::<false, false>(data, sign, derivatives),
         }
+    }
+
+    /// `solve` of positions only on a line fixed in the ground, with the guard
+    /// (`guard::rrp`) of the step from the link's known pin's bound in `travel`, written
+    /// there for the link and the slider where a later group reads them (`read`,
+    /// `closed_form::guard_reads`): (closeness, residual), or the miss
+    /// (`NearSingular` where the guard cannot show the step). Only where the slide's line
+    /// is the ground's (`closed_form::guarded`).
+    #[inline(always)]
+    pub fn solve_guarded(
+        &self,
+        data: &mut Data,
+        sign: f64,
+        travel: &mut [Travel],
+        read: bool,
+    ) -> Result<(f64, f64), StepMiss> {
+        let Some((.., p0, dir)) = self.ground_line else { return Err(StepMiss::Failed) };
+        let solved = if self.link.known.is_some() {
+            self.solve_on::<true, false>(data, sign, 0)
+        } else {
+            self.solve_on::<false, false>(data, sign, 0)
+        }?;
+        let a = self.link.outer(data).1;
+        let la = self.link.known.map_or(0.0, |k| travel[k].pin(a));
+        let p = sub(a, p0);
+        let offset = dir[0] * p[1] - dir[1] * p[0];
+        if !read {
+            // the same test; the turn and the slider's path, which no later group reads, not formed
+            return if guard::rrp_shown(self.link.length, offset, la) {
+                Ok(solved)
+            } else {
+                Err(StepMiss::NearSingular)
+            };
+        }
+        let turn = guard::rrp(self.link.length, offset, la).ok_or(StepMiss::NearSingular)?;
+        travel[self.link.body] = Travel { r: a, len: la, turn };
+        // the slider slides: B's path, no turn
+        let b = data.frames[self.link.body].point(self.link.u_middle);
+        travel[self.slider] = Travel { r: b, len: la + self.link.length * turn, turn: 0.0 };
+        Ok(solved)
     }
 
     /// `solve` with `K`: whether the link's known side is a body, `S`: whether the slide's

@@ -4,6 +4,7 @@
 //! two pins. Velocities and accelerations: the 2 x 2 system of B's velocity (acceleration)
 //! seen from both links.
 
+use super::guard::{self, Travel};
 use super::{add_move, column, split, BodyRows, NumberMove, Numbers, NEAR_SINGULAR};
 use super::{body_qdd, pinned_accelerations, pinned_rates, point_acc, set_body, StepMiss};
 use crate::constraints::{cross, dot, kinds::ConstraintKind, perp, sub, Frame};
@@ -12,6 +13,19 @@ use crate::model::data::Data;
 use crate::model::plan::{Link, Rrr};
 use crate::model::structure::Group;
 use crate::model::Model;
+
+/// A dyad's positions solved (`Rrr::positions_on`): the known sides' frames and outer
+/// pins, the middle pin, |C - A|^2, the closeness and the pins' residual.
+struct Placed {
+    k1: Frame,
+    a: [f64; 2],
+    k2: Frame,
+    c: [f64; 2],
+    b: [f64; 2],
+    dd: f64,
+    closeness: f64,
+    residual: f64,
+}
 
 impl Link {
     fn new(
@@ -211,14 +225,64 @@ impl Rrr {
         }
     }
 
-    /// `solve` with `K1`, `K2`: whether link 1's, link 2's known side is a body.
+    /// `solve` of positions only, with the guard (`guard::rrr`) of the step from the
+    /// known pins' bounds in `travel`, written there for both bodies where a later group
+    /// reads them (`read`, `closed_form::guard_reads`): (closeness,
+    /// residual), or the miss (`NearSingular` where the guard cannot show the step). Only
+    /// for a dyad of two bodies (`closed_form::guarded`).
     #[inline(always)]
-    fn solve_on<const K1: bool, const K2: bool>(
+    pub fn solve_guarded(
         &self,
         data: &mut Data,
         sign: f64,
-        derivatives: u8,
+        travel: &mut [Travel],
+        read: bool,
     ) -> Result<(f64, f64), StepMiss> {
+        if self.rod {
+            return Err(StepMiss::Failed);
+        }
+        match (self.l1.known.is_some(), self.l2.known.is_some()) {
+            (true, true) => self.guarded_on::<true, true>(data, sign, travel, read),
+            (true, false) => self.guarded_on::<true, false>(data, sign, travel, read),
+            (false, true) => self.guarded_on::<false, true>(data, sign, travel, read),
+            (false, false) => self.guarded_on::<false, false>(data, sign, travel, read),
+        }
+    }
+
+    #[inline(always)]
+    fn guarded_on<const K1: bool, const K2: bool>(
+        &self,
+        data: &mut Data,
+        sign: f64,
+        travel: &mut [Travel],
+        read: bool,
+    ) -> Result<(f64, f64), StepMiss> {
+        let s = self.positions_on::<K1, K2>(data, sign)?;
+        // the known pins' paths: nothing where a side is the ground
+        let la = if K1 { self.l1.known.map_or(0.0, |k| travel[k].pin(s.a)) } else { 0.0 };
+        let lc = if K2 { self.l2.known.map_or(0.0, |k| travel[k].pin(s.c)) } else { 0.0 };
+        let (r1, r2) = (self.l1.length, self.l2.length);
+        if !read {
+            // the same test; the turns, which no later group reads, not formed
+            return if guard::rrr_shown(r1, r2, s.dd, la + lc) {
+                Ok((s.closeness, s.residual))
+            } else {
+                Err(StepMiss::NearSingular)
+            };
+        }
+        let (t1, t2) = guard::rrr(r1, r2, s.dd, la + lc).ok_or(StepMiss::NearSingular)?;
+        travel[self.l1.body] = Travel { r: s.a, len: la, turn: t1 };
+        travel[self.l2.body] = Travel { r: s.c, len: lc, turn: t2 };
+        Ok((s.closeness, s.residual))
+    }
+
+    /// B on the branch `sign` and both bodies placed (positions only).
+    #[inline(always)]
+    fn positions_on<const K1: bool, const K2: bool>(
+        &self,
+        data: &mut Data,
+        sign: f64,
+    ) -> Result<Placed, StepMiss> {
         let (k1, a) = self.l1.outer_on::<K1>(data);
         let (k2, c) = self.l2.outer_on::<K2>(data);
         let (r1, r2) = (self.l1.length, self.l2.length);
@@ -241,6 +305,18 @@ impl Rrr {
         let res2 = if self.rod { 0.0 } else { self.l2.place(data, c, b) };
         // |sin| of the angle at B: |cross(B - A, B - C)| = |height| |d|^2
         let closeness = height.abs() * dd * self.l1.inv_length * self.l2.inv_length;
+        Ok(Placed { k1, a, k2, c, b, dd, closeness, residual: res1.max(res2) })
+    }
+
+    /// `solve` with `K1`, `K2`: whether link 1's, link 2's known side is a body.
+    #[inline(always)]
+    fn solve_on<const K1: bool, const K2: bool>(
+        &self,
+        data: &mut Data,
+        sign: f64,
+        derivatives: u8,
+    ) -> Result<(f64, f64), StepMiss> {
+        let Placed { k1, a, k2, c, b, closeness, residual, .. } = self.positions_on::<K1, K2>(data, sign)?;
         if derivatives >= 1 {
             let (rab, rcb) = (sub(b, a), sub(b, c));
             let (pab, pcb) = (perp(rab), perp(rcb));
@@ -270,7 +346,7 @@ impl Rrr {
                 }
             }
         }
-        Ok((closeness, res1.max(res2)))
+        Ok((closeness, residual))
     }
 
     /// The branch sign, closeness and its rate (with `rates`, else 0) of the configuration
