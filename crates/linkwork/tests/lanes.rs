@@ -276,7 +276,11 @@ fn each_lane_keeps_its_own_branch_and_first_missed_step() {
         let (missed, q, p) = run(&mut turns);
         assert_eq!(turns.hits, 0);
         let again = run(&mut turns);
-        assert!(turns.hits >= missed.iter().map(|m| m.unwrap_or(t.len())).max().unwrap() - 2, "{}", turns.hits);
+        assert!(
+            turns.hits >= missed.iter().map(|m| m.unwrap_or(t.len())).max().unwrap() - 2,
+            "{}",
+            turns.hits
+        );
         assert_eq!(again.0, missed);
         for j in 0..LANES {
             assert_eq!(bits(&again.1[j]), bits(&q[j]));

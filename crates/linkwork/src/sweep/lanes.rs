@@ -57,7 +57,10 @@ pub fn sweep_lanes(
     // else on plain arrays under the widest registers there are
     #[cfg(target_arch = "x86_64")]
     if let Some(simd) = pulp::x86::V3::try_new() {
-        return Some(<pulp::x86::V3 as pulp::Simd>::vectorize(simd, Steps { o: simd, lanes, times, outputs, points, rows, turns, cancelled }));
+        return Some(<pulp::x86::V3 as pulp::Simd>::vectorize(
+            simd,
+            Steps { o: simd, lanes, times, outputs, points, rows, turns, cancelled },
+        ));
     }
     let o = Plain;
     Some(pulp::Arch::new().dispatch(Steps { o, lanes, times, outputs, points, rows, turns, cancelled }))
@@ -81,7 +84,16 @@ impl<O: Ops> pulp::WithSimd for Steps<'_, '_, '_, O> {
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
-        steps(self.o, self.lanes, self.times, self.outputs, self.points, self.rows, self.turns, self.cancelled)
+        steps(
+            self.o,
+            self.lanes,
+            self.times,
+            self.outputs,
+            self.points,
+            self.rows,
+            self.turns,
+            self.cancelled,
+        )
     }
 }
 
@@ -103,8 +115,10 @@ fn steps<O: Ops>(
     lanes.keep_angles(&kept);
     let (nk, np) = (kept.len(), points.len());
     // each point's place in its body, per lane
-    let local: Vec<[V; 2]> =
-        points.iter().map(|(_, u)| [std::array::from_fn(|j| u[j][0]), std::array::from_fn(|j| u[j][1])]).collect();
+    let local: Vec<[V; 2]> = points
+        .iter()
+        .map(|(_, u)| [std::array::from_fn(|j| u[j][0]), std::array::from_fn(|j| u[j][1])])
+        .collect();
     let mut xy = vec![[[0.0; LANES]; 2]; np];
     let mut missed = [None; LANES];
     let mut q = vec![[0.0; LANES]; n];

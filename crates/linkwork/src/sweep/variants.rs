@@ -350,7 +350,8 @@ impl Worker {
         let outputs = &self.full.outputs;
         let cancelled = || cancel.load(Ordering::Relaxed);
         let turns = &mut self.turns;
-        let Some(missed) = sweep_lanes(models, data, ctx.times, outputs, &points, rows, turns, &cancelled) else {
+        let Some(missed) = sweep_lanes(models, data, ctx.times, outputs, &points, rows, turns, &cancelled)
+        else {
             return;
         };
         for (j, row) in lane_rows.iter().enumerate() {

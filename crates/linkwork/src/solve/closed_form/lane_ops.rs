@@ -8,7 +8,10 @@
 //! operand where either is NaN), in both sets; on numbers that are not NaN they are
 //! `f64::min` and `f64::max`. The lanes take them only where a NaN misses the lane anyway.
 
-use super::lanes::{LANES, V};
+/// Designs stepped side by side (AVX2 holds four f64).
+pub const LANES: usize = 4;
+/// One number in every lane.
+pub type V = [f64; LANES];
 
 /// The operations the lanes take, on `F` (LANES numbers) and `M` (LANES truth values).
 pub trait Ops: Copy {

@@ -13,6 +13,7 @@
 
 use super::guard;
 use super::lane_ops::Ops;
+pub use super::lane_ops::{LANES, V};
 use super::NEAR_SINGULAR;
 use crate::constraints::Constraint;
 use crate::input::motion::MotionLaw;
@@ -20,11 +21,6 @@ use crate::math::angle::{angle_of, turned, SMALL_TURN};
 use crate::model::data::Data;
 use crate::model::plan::{Block, Link, Plan};
 use crate::model::Model;
-
-/// Designs stepped side by side (AVX2 holds four f64).
-pub const LANES: usize = 4;
-/// One number in every lane.
-pub type V = [f64; LANES];
 
 /// One body's pose in every lane (q and its frame's cos, sin), and each lane's base for
 /// turning its cos and sin (`Data::frame_base`).
@@ -228,7 +224,14 @@ impl<'m> Lanes<'m> {
     /// step was taken (its figures then the scalar guarded step's, bit for bit: the same
     /// operations). `turns`: the crank's cos and sin of earlier lanes at this step.
     #[inline(always)]
-    pub fn step_positions<O: Ops>(&mut self, o: O, t: f64, h: f64, k: usize, turns: &mut Turns) -> [bool; LANES] {
+    pub fn step_positions<O: Ops>(
+        &mut self,
+        o: O,
+        t: f64,
+        h: f64,
+        k: usize,
+        turns: &mut Turns,
+    ) -> [bool; LANES] {
         let mut bad = o.mask([false; LANES]);
         let mut closeness_min = o.splat(1.0);
         let mut residual = o.splat(0.0);
@@ -260,7 +263,8 @@ impl<'m> Lanes<'m> {
                 }
                 BlockLanes::Rrr(l1, l2) => {
                     let angles = &self.angles;
-                    let (cl, res, b) = rrr_positions(o, l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], angles);
+                    let (cl, res, b) =
+                        rrr_positions(o, l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], angles);
                     bad = o.or(bad, b);
                     (cl, res)
                 }
@@ -417,10 +421,8 @@ fn rrr_turns<O: Ops>(o: O, r1: O::F, r2: O::F, dd: O::F, l: O::F) -> (O::M, O::F
     // NaN fails the comparison: not shown
     let shown = o.le(l, o.mul(o.splat(guard::GUARD), margin));
     let m = o.sub(margin, l);
-    let prod = o.mul(
-        o.mul(o.mul(m, o.sub(o.mul(two, lo), m)), o.mul(two, hi)),
-        o.add(o.mul(two, o.sub(hi, lo)), m),
-    );
+    let prod =
+        o.mul(o.mul(o.mul(m, o.sub(o.mul(two, lo), m)), o.mul(two, hi)), o.add(o.mul(two, o.sub(hi, lo)), m));
     let sin = o.div(o.sqrt(prod), o.mul(o.mul(two, r1), r2));
     (o.not(shown), o.div(l, o.mul(r1, sin)), o.div(l, o.mul(r2, sin)))
 }
@@ -460,15 +462,16 @@ fn rrr_positions<O: Ops>(
         o.sub(o.add(pa[0], o.mul(along, d[0])), o.mul(height, d[1])),
         o.add(o.add(pa[1], o.mul(along, d[1])), o.mul(height, d[0])),
     ];
-    let closeness =
-        o.mul(o.mul(o.mul(o.abs(height), dd), o.load(&l1.inv_length)), o.load(&l2.inv_length));
+    let closeness = o.mul(o.mul(o.mul(o.abs(height), dd), o.load(&l1.inv_length)), o.load(&l2.inv_length));
     // the guard, from the known sides' bounds (read before this dyad's bodies are written)
     let la = l1.known.map_or(zero, |k| pin(o, &travel[k], &pa));
     let lc = l2.known.map_or(zero, |k| pin(o, &travel[k], &pc));
     let (not_shown, t1, t2) = rrr_turns(o, r1, r2, dd, o.add(la, lc));
     bad = o.or(bad, not_shown);
-    travel[l1.body] = TravelLanes { r: [o.store(pa[0]), o.store(pa[1])], len: o.store(la), turn: o.store(t1) };
-    travel[l2.body] = TravelLanes { r: [o.store(pc[0]), o.store(pc[1])], len: o.store(lc), turn: o.store(t2) };
+    travel[l1.body] =
+        TravelLanes { r: [o.store(pa[0]), o.store(pa[1])], len: o.store(la), turn: o.store(t1) };
+    travel[l2.body] =
+        TravelLanes { r: [o.store(pc[0]), o.store(pc[1])], len: o.store(lc), turn: o.store(t2) };
     let res1 = place_with(o, l1, &mut bodies[l1.body], &pa, &b, angles[l1.body]);
     let res2 = place_with(o, l2, &mut bodies[l2.body], &pc, &b, angles[l2.body]);
     (closeness, o.max(res1, res2), bad)
@@ -484,13 +487,21 @@ fn same_bits(a: &[f64; 3], b: &[f64; 3]) -> bool {
 /// (`Link::place`), the body's angle formed only with `angle` (else theta is left as it was: a
 /// positions-only sweep that keeps no angle of the body needs only its cos and sin).
 #[inline(always)]
-fn place_with<O: Ops>(o: O, l: &LinkLanes, body: &mut BodyLanes, a: &[O::F; 2], b: &[O::F; 2], angle: bool) -> O::F {
+fn place_with<O: Ops>(
+    o: O,
+    l: &LinkLanes,
+    body: &mut BodyLanes,
+    a: &[O::F; 2],
+    b: &[O::F; 2],
+    angle: bool,
+) -> O::F {
     let inv = o.load(&l.inv_length);
     let w = [o.mul(o.sub(b[0], a[0]), inv), o.mul(o.sub(b[1], a[1]), inv)];
     let dir = [o.load(&l.dir[0]), o.load(&l.dir[1])];
     let c = o.add(o.mul(dir[0], w[0]), o.mul(dir[1], w[1]));
     let s = o.sub(o.mul(dir[0], w[1]), o.mul(dir[1], w[0]));
-    let (uo, um) = ([o.load(&l.u_outer[0]), o.load(&l.u_outer[1])], [o.load(&l.u_middle[0]), o.load(&l.u_middle[1])]);
+    let (uo, um) =
+        ([o.load(&l.u_outer[0]), o.load(&l.u_outer[1])], [o.load(&l.u_middle[0]), o.load(&l.u_middle[1])]);
     let arm = [o.sub(o.mul(c, uo[0]), o.mul(s, uo[1])), o.add(o.mul(s, uo[0]), o.mul(c, uo[1]))];
     let r = [o.sub(a[0], arm[0]), o.sub(a[1], arm[1])];
     let (cs, sn) = (o.store(c), o.store(s));
