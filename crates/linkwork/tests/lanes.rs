@@ -9,7 +9,7 @@ mod common;
 use common::{four_bar, four_bar_closed, FourBar};
 use linkwork::branches::{asked_branches, sweep_on};
 use linkwork::sensitivity::Parameter;
-use linkwork::solve::closed_form::lanes::LANES;
+use linkwork::solve::closed_form::lanes::{Turns, LANES};
 use linkwork::sweep::lanes::{fit, sweep_lanes, LaneRows};
 use linkwork::{sweep_variants, Data, Model, Outputs, PointDesc, Request, SweepOutput, Variation};
 
@@ -244,29 +244,48 @@ fn each_lane_keeps_its_own_branch_and_first_missed_step() {
             data.push(d);
             outs.push(out);
         }
-        let mut q = vec![vec![f64::NAN; t.len()]; LANES];
-        let mut p = vec![vec![f64::NAN; t.len() * 4]; LANES];
         let points: Vec<_> = (0..2)
             .map(|i| (outs[0].outputs.points[i].0, std::array::from_fn(|j| outs[j].outputs.points[i].1)))
             .collect();
-        let missed = {
+        let run = |turns: &mut Turns| {
+            let mut q = vec![vec![f64::NAN; t.len()]; LANES];
+            let mut p = vec![vec![f64::NAN; t.len() * 4]; LANES];
             let mut rows: Vec<LaneRows> = q
                 .iter_mut()
                 .zip(p.iter_mut())
                 .map(|(q, p)| LaneRows { q, points: p, pivot_min: f64::INFINITY })
                 .collect();
             let rows: &mut [LaneRows; LANES] = (&mut rows[..]).try_into().unwrap();
-            sweep_lanes(
+            let missed = sweep_lanes(
                 std::array::from_fn(|j| &models[j]),
                 std::array::from_fn(|j| &data[j]),
                 &t,
                 &s.outputs,
                 &points,
                 rows,
+                turns,
                 &|| false,
             )
-            .expect("one plan shape")
+            .expect("one plan shape");
+            (missed, q, p)
         };
+        // the crank's cos and sin: computed in the first run, read from the memo in a
+        // second run of the same angles (every step but the first, whose base is each
+        // design's start), the same bits
+        let mut turns = Turns::default();
+        let (missed, q, p) = run(&mut turns);
+        assert_eq!(turns.hits, 0);
+        let again = run(&mut turns);
+        assert!(
+            turns.hits >= missed.iter().map(|m| m.unwrap_or(t.len())).max().unwrap() - 2,
+            "{}",
+            turns.hits
+        );
+        assert_eq!(again.0, missed);
+        for j in 0..LANES {
+            assert_eq!(bits(&again.1[j]), bits(&q[j]));
+            assert_eq!(bits(&again.2[j]), bits(&p[j]));
+        }
         for j in 0..LANES {
             let (out, err) = alone(&s, j, &t, request);
             assert_eq!(missed[j].is_some(), want_missed[j], "lane {j}: {:?}", missed[j]);

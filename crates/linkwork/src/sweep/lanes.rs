@@ -12,7 +12,8 @@
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::solve::closed_form;
-use crate::solve::closed_form::lanes::{self, Lanes, LANES};
+use crate::solve::closed_form::lane_ops::{Ops, Plain};
+use crate::solve::closed_form::lanes::{self, Lanes, Turns, LANES, V};
 use crate::sweep::outputs::{Outputs, Request};
 
 /// Whether the lanes take this model's designs for this request: a plan the lanes step,
@@ -36,9 +37,11 @@ pub struct LaneRows<'a> {
 /// Steps 1.. of `LANES` designs started at step 0 in `data` (each solved there by its
 /// own sweep, with no event), writing each step's kept figures into `rows` as it is taken;
 /// per lane, the first step it missed (None: every step taken). `points`: each kept
-/// point's body and, per lane, its place in the body. `cancelled()`, polled every 4096
-/// steps, stops the lanes: every lane not yet missed misses there. None where the designs'
-/// plans are not of one shape (the caller sweeps them one by one).
+/// point's body and, per lane, its place in the body. `turns`: the crank's cos and sin at
+/// each step as earlier lanes took them (kept across calls by the caller). `cancelled()`,
+/// polled every 4096 steps, stops the lanes: every lane not yet missed misses there. None
+/// where the designs' plans are not of one shape (the caller sweeps them one by one).
+#[allow(clippy::too_many_arguments)]
 pub fn sweep_lanes(
     models: [&Model; LANES],
     data: [&Data; LANES],
@@ -46,40 +49,64 @@ pub fn sweep_lanes(
     outputs: &Outputs,
     points: &[(Option<usize>, [[f64; 2]; LANES])],
     rows: &mut [LaneRows; LANES],
+    turns: &mut Turns,
     cancelled: &dyn Fn() -> bool,
 ) -> Option<[Option<usize>; LANES]> {
     let lanes = Lanes::new(models, data)?;
-    // the whole loop under the machine's widest registers (the lanes' arithmetic inlined)
-    Some(pulp::Arch::new().dispatch(Steps { lanes, times, outputs, points, rows, cancelled }))
+    // the whole loop under AVX2 where the machine has it (the lanes' arithmetic inlined),
+    // else on plain arrays under the widest registers there are
+    #[cfg(target_arch = "x86_64")]
+    if let Some(simd) = pulp::x86::V3::try_new() {
+        return Some(<pulp::x86::V3 as pulp::Simd>::vectorize(
+            simd,
+            Steps { o: simd, lanes, times, outputs, points, rows, turns, cancelled },
+        ));
+    }
+    let o = Plain;
+    Some(pulp::Arch::new().dispatch(Steps { o, lanes, times, outputs, points, rows, turns, cancelled }))
 }
 
 /// The steps as `pulp`'s operation: `with_simd`, inlined into the function its dispatch
 /// compiles for each instruction set, takes `steps` and the lanes' arithmetic with it.
-struct Steps<'a, 'm, 'r> {
+struct Steps<'a, 'm, 'r, O> {
+    o: O,
     lanes: Lanes<'m>,
     times: &'a [f64],
     outputs: &'a Outputs,
     points: &'a [(Option<usize>, [[f64; 2]; LANES])],
     rows: &'a mut [LaneRows<'r>; LANES],
+    turns: &'a mut Turns,
     cancelled: &'a dyn Fn() -> bool,
 }
 
-impl pulp::WithSimd for Steps<'_, '_, '_> {
+impl<O: Ops> pulp::WithSimd for Steps<'_, '_, '_, O> {
     type Output = [Option<usize>; LANES];
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
-        steps(self.lanes, self.times, self.outputs, self.points, self.rows, self.cancelled)
+        steps(
+            self.o,
+            self.lanes,
+            self.times,
+            self.outputs,
+            self.points,
+            self.rows,
+            self.turns,
+            self.cancelled,
+        )
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn steps(
+fn steps<O: Ops>(
+    o: O,
     mut lanes: Lanes,
     times: &[f64],
     outputs: &Outputs,
     points: &[(Option<usize>, [[f64; 2]; LANES])],
     rows: &mut [LaneRows; LANES],
+    turns: &mut Turns,
     cancelled: &dyn Fn() -> bool,
 ) -> [Option<usize>; LANES] {
     let n = lanes.inv_scale.len();
@@ -87,6 +114,12 @@ fn steps(
     // angles only where a kept coordinate is one (points are formed from cos and sin)
     lanes.keep_angles(&kept);
     let (nk, np) = (kept.len(), points.len());
+    // each point's place in its body, per lane
+    let local: Vec<[V; 2]> = points
+        .iter()
+        .map(|(_, u)| [std::array::from_fn(|j| u[j][0]), std::array::from_fn(|j| u[j][1])])
+        .collect();
+    let mut xy = vec![[[0.0; LANES]; 2]; np];
     let mut missed = [None; LANES];
     let mut q = vec![[0.0; LANES]; n];
     for k in 1..times.len() {
@@ -97,8 +130,20 @@ fn steps(
             break;
         }
         let (t, h) = (times[k], times[k] - times[k - 1]);
-        let ok = lanes.step_positions(t, h);
+        let ok = lanes.step_positions(o, t, h, k, turns);
         lanes.coords(&mut q);
+        // `SweepOutput::store_points` from the frames the groups set, in every lane
+        for (((body, _), u), p) in points.iter().zip(&local).zip(xy.iter_mut()) {
+            *p = match body {
+                Some(b) => {
+                    let (c, s) = lanes.cos_sin(*b);
+                    let (c, s, u0, u1) = (o.load(c), o.load(s), o.load(&u[0]), o.load(&u[1]));
+                    let au = [o.sub(o.mul(c, u0), o.mul(s, u1)), o.add(o.mul(s, u0), o.mul(c, u1))];
+                    [o.store(o.add(o.load(&q[3 * b]), au[0])), o.store(o.add(o.load(&q[3 * b + 1]), au[1]))]
+                }
+                None => *u,
+            };
+        }
         for j in 0..LANES {
             if missed[j].is_some() {
                 continue;
@@ -111,19 +156,10 @@ fn steps(
             for (o, &c) in row.q[k * nk..(k + 1) * nk].iter_mut().zip(&kept) {
                 *o = q[c][j];
             }
-            // `SweepOutput::store_points` from the frames the groups set
-            for (i, (body, u)) in points.iter().enumerate() {
+            for (i, p) in xy.iter().enumerate() {
                 let at = (k * np + i) * 2;
-                let xy = match body {
-                    Some(b) => {
-                        let (c, s) = lanes.cos_sin(*b);
-                        let (c, s, u) = (c[j], s[j], u[j]);
-                        let au = [c * u[0] - s * u[1], s * u[0] + c * u[1]];
-                        [q[3 * b][j] + au[0], q[3 * b + 1][j] + au[1]]
-                    }
-                    None => u[j],
-                };
-                row.points[at..at + 2].copy_from_slice(&xy);
+                row.points[at] = p[0][j];
+                row.points[at + 1] = p[1][j];
             }
             row.pivot_min = row.pivot_min.min(lanes.ratio[j]);
         }

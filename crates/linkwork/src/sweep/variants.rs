@@ -26,7 +26,7 @@ use crate::model::data::Data;
 use crate::model::params::{Dynamics, Parameter};
 use crate::model::structure::{structure, Structure};
 use crate::model::Model;
-use crate::solve::closed_form::lanes::LANES;
+use crate::solve::closed_form::lanes::{Turns, LANES};
 use crate::solve::closed_form::Plan;
 use crate::sweep::batch::on_threads;
 use crate::sweep::branches::{asked_branches, sweep_on, Asked};
@@ -249,6 +249,8 @@ struct Worker {
     variants: Vec<Model>,
     starts: Vec<SweepOutput>,
     full: SweepOutput,
+    /// the crank's cos and sin at each step, as the thread's lanes took them
+    turns: Turns,
 }
 
 impl Worker {
@@ -258,6 +260,7 @@ impl Worker {
             variants: vec![model.clone(); LANES],
             starts: vec![start; LANES],
             full: SweepOutput::with_outputs(model, times, request, outputs.clone()),
+            turns: Turns::default(),
         }
     }
 
@@ -346,7 +349,9 @@ impl Worker {
         let Ok(rows) = <&mut [LaneRows; LANES]>::try_from(&mut lane_rows[..]) else { return };
         let outputs = &self.full.outputs;
         let cancelled = || cancel.load(Ordering::Relaxed);
-        let Some(missed) = sweep_lanes(models, data, ctx.times, outputs, &points, rows, &cancelled) else {
+        let turns = &mut self.turns;
+        let Some(missed) = sweep_lanes(models, data, ctx.times, outputs, &points, rows, turns, &cancelled)
+        else {
             return;
         };
         for (j, row) in lane_rows.iter().enumerate() {

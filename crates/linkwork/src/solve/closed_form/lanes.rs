@@ -11,7 +11,9 @@
 //! The arithmetic runs under the best instruction set the machine has (`pulp`'s runtime
 //! dispatch: AVX2 on x86-64, the plain build elsewhere).
 
-use super::guard::{self, Travel};
+use super::guard;
+use super::lane_ops::Ops;
+pub use super::lane_ops::{LANES, V};
 use super::NEAR_SINGULAR;
 use crate::constraints::Constraint;
 use crate::input::motion::MotionLaw;
@@ -19,11 +21,6 @@ use crate::math::angle::{angle_of, turned, SMALL_TURN};
 use crate::model::data::Data;
 use crate::model::plan::{Block, Link, Plan};
 use crate::model::Model;
-
-/// Designs stepped side by side (AVX2 holds four f64).
-pub const LANES: usize = 4;
-/// One number in every lane.
-pub type V = [f64; LANES];
 
 /// One body's pose in every lane (q and its frame's cos, sin), and each lane's base for
 /// turning its cos and sin (`Data::frame_base`).
@@ -35,6 +32,14 @@ pub struct BodyLanes {
     pub c: V,
     pub s: V,
     pub base: [[f64; 3]; LANES],
+}
+
+/// A body's `guard::Travel` in every lane: its reference point, path and turn bounds.
+#[derive(Debug, Clone, Copy, Default)]
+struct TravelLanes {
+    r: [V; 2],
+    len: V,
+    turn: V,
 }
 
 /// A crank on the ground (its pin's known side and its angle's base the ground), per lane.
@@ -110,8 +115,8 @@ pub struct Lanes<'m> {
     pub inv_scale: Vec<V>,
     /// per lane: the step's smallest closeness (the pivot ratio the scalar step reports)
     pub ratio: V,
-    /// per body, per lane: the guard's bounds on its motion over the step (`guard`)
-    travel: Vec<[Travel; LANES]>,
+    /// per body: the guard's bounds on its motion over the step (`guard`), per lane
+    travel: Vec<TravelLanes>,
     /// per body: whether `step_positions` forms its angle (`keep_angles`; all at first)
     angles: Vec<bool>,
 }
@@ -199,7 +204,7 @@ impl<'m> Lanes<'m> {
             inv_l: lane(&|j| 1.0 / models[j].length_scale),
             inv_scale: (0..models[0].n_coords).map(|i| lane(&|j| data[j].inv_col_scale[i])).collect(),
             ratio: [1.0; LANES],
-            travel: vec![[Travel::default(); LANES]; n_bodies],
+            travel: vec![TravelLanes::default(); n_bodies],
             angles: vec![true; n_bodies],
         })
     }
@@ -213,21 +218,29 @@ impl<'m> Lanes<'m> {
         }
     }
 
-    /// Step t of positions only in every lane, as `closed_form::step_guarded`: each group's
-    /// closeness checks and its guard (`guard`) in place of rates and the two-way check.
-    /// Per lane, whether the step was taken (its figures then the scalar guarded step's,
-    /// bit for bit: the same operations).
+    /// Step k (time t, h from the last) of positions only in every lane, as
+    /// `closed_form::step_guarded`: each group's closeness checks and its guard (`guard`)
+    /// in place of rates and the two-way check, on `o`'s registers. Per lane, whether the
+    /// step was taken (its figures then the scalar guarded step's, bit for bit: the same
+    /// operations). `turns`: the crank's cos and sin of earlier lanes at this step.
     #[inline(always)]
-    pub fn step_positions(&mut self, t: f64, h: f64) -> [bool; LANES] {
-        let mut ok = [true; LANES];
-        let mut closeness_min = [1.0f64; LANES];
-        let mut residual = [0.0f64; LANES];
+    pub fn step_positions<O: Ops>(
+        &mut self,
+        o: O,
+        t: f64,
+        h: f64,
+        k: usize,
+        turns: &mut Turns,
+    ) -> [bool; LANES] {
+        let mut bad = o.mask([false; LANES]);
+        let mut closeness_min = o.splat(1.0);
+        let mut residual = o.splat(0.0);
         let mut crank_index = 0;
+        let (hv, quarter, near) = (o.splat(h), o.splat(0.25), o.splat(NEAR_SINGULAR));
         for i in 0..self.blocks.len() {
             let (closeness, res) = match &self.blocks[i] {
                 BlockLanes::Crank(c) => {
                     let laws = self.laws[crank_index];
-                    crank_index += 1;
                     let (f, turn): ([f64; LANES], [Option<f64>; LANES]) = if self.same_laws {
                         ([laws[0].eval(t)[0]; LANES], [guard::law_travel(laws[0], h); LANES])
                     } else {
@@ -236,36 +249,45 @@ impl<'m> Lanes<'m> {
                             std::array::from_fn(|j| guard::law_travel(laws[j], h)),
                         )
                     };
+                    let mut missed = [false; LANES];
                     for j in 0..LANES {
-                        ok[j] &= turn[j].is_some();
-                        let r = [c.fixed[0][j], c.fixed[1][j]];
-                        self.travel[c.body][j] = Travel { r, len: 0.0, turn: turn[j].unwrap_or(0.0) };
+                        missed[j] = turn[j].is_none() || !f[j].is_finite();
                     }
-                    crank_positions(c, &mut self.bodies, &f, &mut ok)
+                    self.travel[c.body] =
+                        TravelLanes { r: c.fixed, len: [0.0; LANES], turn: turn.map(|x| x.unwrap_or(0.0)) };
+                    let memo = turns.slot(crank_index, k);
+                    crank_index += 1;
+                    let (cl, res) = crank_positions(o, c, &mut self.bodies, &f, memo);
+                    bad = o.or(bad, o.mask(missed));
+                    (cl, res)
                 }
                 BlockLanes::Rrr(l1, l2) => {
                     let angles = &self.angles;
-                    rrr_positions(l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], angles, &mut ok)
+                    let (cl, res, b) =
+                        rrr_positions(o, l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], angles);
+                    bad = o.or(bad, b);
+                    (cl, res)
                 }
             };
             let [c1, rate] = self.close[i];
-            for j in 0..LANES {
-                let cl = closeness[j];
-                ok[j] &= !(cl.is_nan()
-                    || cl < NEAR_SINGULAR
-                    || c1[j] + rate[j] * h < 0.25 * c1[j]
-                    || cl < 0.25 * c1[j]);
-                self.close[i][1][j] = (cl - c1[j]) / h;
-                self.close[i][0][j] = cl;
-                closeness_min[j] = closeness_min[j].min(cl);
-                residual[j] = residual[j].max(res[j] * self.inv_l[j]);
-            }
+            let (c1, rate) = (o.load(&c1), o.load(&rate));
+            let quarter_c1 = o.mul(quarter, c1);
+            // the scalar step's checks, in its order: NaN, near singular, the trend
+            let b = o.or(
+                o.or(o.is_nan(closeness), o.lt(closeness, near)),
+                o.or(o.lt(o.add(c1, o.mul(rate, hv)), quarter_c1), o.lt(closeness, quarter_c1)),
+            );
+            bad = o.or(bad, b);
+            self.close[i][1] = o.store(o.div(o.sub(closeness, c1), hv));
+            self.close[i][0] = o.store(closeness);
+            closeness_min = o.min(closeness_min, closeness);
+            residual = o.max(residual, o.mul(res, o.load(&self.inv_l)));
         }
-        for j in 0..LANES {
-            ok[j] &= residual[j].is_finite();
-        }
-        self.ratio = closeness_min;
-        ok
+        // not finite: NaN, or at least infinity (|x| >= inf)
+        let abs_r = o.abs(residual);
+        bad = o.or(bad, o.or(o.is_nan(residual), o.le(o.splat(f64::INFINITY), abs_r)));
+        self.ratio = o.store(closeness_min);
+        o.bits(bad).map(|b| !b)
     }
 
     /// Every coordinate (body-major x, y, theta) in every lane, into `q`.
@@ -285,107 +307,174 @@ impl<'m> Lanes<'m> {
     }
 }
 
+/// The crank's cos and sin at each step, as `turned` gave them to the first lane of the
+/// last lanes that took the step: (the angle and the turning base it started from, the
+/// cos and sin, the base it left). Designs whose crank turns by one law from one start
+/// (an atlas's) take the same angles from the same bases, so each lane after the first
+/// four reads `turned`'s result instead of computing it again: the same bits.
+#[derive(Debug, Clone, Default)]
+pub struct Turns {
+    /// per crank (in plan order), per step
+    memo: Vec<Vec<Turn>>,
+    /// how many steps' cos and sin were read here
+    pub hits: usize,
+}
+
+/// One step's `turned`: its arguments' bits (angle, base) and its results.
+#[derive(Debug, Clone, Copy)]
+pub struct Turn {
+    key: [u64; 4],
+    cs: (f64, f64),
+    base: [f64; 3],
+}
+
+impl Turns {
+    /// The memo of crank `crank` at step k (made as needed; an empty one has a key no
+    /// angle's bits match).
+    #[inline(always)]
+    fn slot(&mut self, crank: usize, k: usize) -> (&mut Turn, &mut usize) {
+        if self.memo.len() <= crank {
+            self.memo.resize(crank + 1, Vec::new());
+        }
+        let steps = &mut self.memo[crank];
+        if steps.len() <= k {
+            steps.resize(k + 1, Turn { key: [u64::MAX; 4], cs: (0.0, 0.0), base: [0.0; 3] });
+        }
+        (&mut steps[k], &mut self.hits)
+    }
+}
+
+/// `turned` by way of `memo`: its result where the arguments are the memo's bits, else
+/// computed and kept there.
+#[inline(always)]
+fn turned_memo(theta: f64, base: &mut [f64; 3], memo: &mut Turn, hits: &mut usize) -> (f64, f64) {
+    let key = [theta.to_bits(), base[0].to_bits(), base[1].to_bits(), base[2].to_bits()];
+    if key == memo.key {
+        *base = memo.base;
+        *hits += 1;
+        return memo.cs;
+    }
+    let cs = turned(theta, base);
+    *memo = Turn { key, cs, base: *base };
+    cs
+}
+
 /// A crank on the ground in every lane, positions only (`Crank::solve_on::<false, false>`
 /// without rates), `f` each lane's law's value at t: (closeness 1, pin residual).
 #[inline(always)]
-fn crank_positions(
+fn crank_positions<O: Ops>(
+    o: O,
     c: &CrankLanes,
     bodies: &mut [BodyLanes],
     f: &[f64; LANES],
-    ok: &mut [bool; LANES],
-) -> (V, V) {
+    (memo, hits): (&mut Turn, &mut usize),
+) -> (O::F, O::F) {
     let body = &mut bodies[c.body];
-    let mut theta = [0.0; LANES];
-    for j in 0..LANES {
-        ok[j] &= f[j].is_finite();
-        theta[j] = 0.0 + c.sign[j] * f[j];
-    }
+    let theta: V = std::array::from_fn(|j| 0.0 + c.sign[j] * f[j]);
     let (mut cs, mut sn) = ([0.0; LANES], [0.0; LANES]);
     let base0 = body.base[0];
     for j in 0..LANES {
         if j > 0 && theta[j].to_bits() == theta[0].to_bits() && same_bits(&body.base[j], &base0) {
             (cs[j], sn[j]) = (cs[0], sn[0]);
             body.base[j] = body.base[0];
+        } else if j == 0 {
+            (cs[j], sn[j]) = turned_memo(theta[j], &mut body.base[j], memo, hits);
         } else {
             (cs[j], sn[j]) = turned(theta[j], &mut body.base[j]);
         }
     }
-    let mut res = [0.0; LANES];
-    for j in 0..LANES {
-        let (cj, sj, u) = (cs[j], sn[j], [c.u_body[0][j], c.u_body[1][j]]);
-        let p = [c.fixed[0][j], c.fixed[1][j]];
-        let arm = [cj * u[0] - sj * u[1], sj * u[0] + cj * u[1]];
-        let r = [p[0] - arm[0], p[1] - arm[1]];
-        body.x[j] = r[0];
-        body.y[j] = r[1];
-        body.th[j] = theta[j];
-        body.c[j] = cj;
-        body.s[j] = sj;
-        let back = [r[0] + arm[0], r[1] + arm[1]];
-        res[j] = (back[0] - p[0]).abs().max((back[1] - p[1]).abs());
-    }
-    ([1.0; LANES], res)
+    let (cj, sj) = (o.load(&cs), o.load(&sn));
+    let u = [o.load(&c.u_body[0]), o.load(&c.u_body[1])];
+    let p = [o.load(&c.fixed[0]), o.load(&c.fixed[1])];
+    let arm = [o.sub(o.mul(cj, u[0]), o.mul(sj, u[1])), o.add(o.mul(sj, u[0]), o.mul(cj, u[1]))];
+    let r = [o.sub(p[0], arm[0]), o.sub(p[1], arm[1])];
+    body.x = o.store(r[0]);
+    body.y = o.store(r[1]);
+    body.th = theta;
+    body.c = cs;
+    body.s = sn;
+    let back = [o.add(r[0], arm[0]), o.add(r[1], arm[1])];
+    let res = o.max(o.abs(o.sub(back[0], p[0])), o.abs(o.sub(back[1], p[1])));
+    (o.splat(1.0), res)
 }
 
 /// The known side's pin of a link in every lane (`outer`'s position only).
 #[inline(always)]
-fn outer_p(l: &LinkLanes, bodies: &[BodyLanes]) -> [V; 2] {
-    let Some(kb) = l.known else { return l.fixed };
+fn outer_p<O: Ops>(o: O, l: &LinkLanes, bodies: &[BodyLanes]) -> [O::F; 2] {
+    let Some(kb) = l.known else { return [o.load(&l.fixed[0]), o.load(&l.fixed[1])] };
     let k = &bodies[kb];
-    let u = &l.u_known;
-    let px: V = std::array::from_fn(|j| k.x[j] + (k.c[j] * u[0][j] - k.s[j] * u[1][j]));
-    let py: V = std::array::from_fn(|j| k.y[j] + (k.s[j] * u[0][j] + k.c[j] * u[1][j]));
+    let (u0, u1) = (o.load(&l.u_known[0]), o.load(&l.u_known[1]));
+    let (c, s) = (o.load(&k.c), o.load(&k.s));
+    let px = o.add(o.load(&k.x), o.sub(o.mul(c, u0), o.mul(s, u1)));
+    let py = o.add(o.load(&k.y), o.add(o.mul(s, u0), o.mul(c, u1)));
     [px, py]
 }
 
-/// An RRR dyad's positions in every lane (`Rrr::solve_on` without rates) and its guard
-/// (`closed_form::guard_block`), each lane's failing guard a miss: (closeness, residual).
+/// `guard::rrr_turns` in every lane (the same operations): whether the step is not shown
+/// (a mask), and the bodies' turn bounds.
 #[inline(always)]
-fn rrr_positions(
+fn rrr_turns<O: Ops>(o: O, r1: O::F, r2: O::F, dd: O::F, l: O::F) -> (O::M, O::F, O::F) {
+    let two = o.splat(2.0);
+    let d = o.sqrt(dd);
+    let (lo, hi) = (o.min(r1, r2), o.max(r1, r2));
+    let margin = o.min(o.sub(o.add(r1, r2), d), o.sub(d, o.sub(hi, lo)));
+    // NaN fails the comparison: not shown
+    let shown = o.le(l, o.mul(o.splat(guard::GUARD), margin));
+    let m = o.sub(margin, l);
+    let prod =
+        o.mul(o.mul(o.mul(m, o.sub(o.mul(two, lo), m)), o.mul(two, hi)), o.add(o.mul(two, o.sub(hi, lo)), m));
+    let sin = o.div(o.sqrt(prod), o.mul(o.mul(two, r1), r2));
+    (o.not(shown), o.div(l, o.mul(r1, sin)), o.div(l, o.mul(r2, sin)))
+}
+
+/// A bound on the path of the pins at `p` of a body moving within `t` (`Travel::pin`).
+#[inline(always)]
+fn pin<O: Ops>(o: O, t: &TravelLanes, p: &[O::F; 2]) -> O::F {
+    let d = [o.sub(p[0], o.load(&t.r[0])), o.sub(p[1], o.load(&t.r[1]))];
+    o.add(o.load(&t.len), o.mul(o.sqrt(o.add(o.mul(d[0], d[0]), o.mul(d[1], d[1]))), o.load(&t.turn)))
+}
+
+/// An RRR dyad's positions in every lane (`Rrr::solve_on` without rates) and its guard
+/// (`closed_form::guard_block`), each lane's failing guard a miss: (closeness, residual,
+/// the lanes missed).
+#[inline(always)]
+fn rrr_positions<O: Ops>(
+    o: O,
     l1: &LinkLanes,
     l2: &LinkLanes,
     bodies: &mut [BodyLanes],
-    travel: &mut [[Travel; LANES]],
+    travel: &mut [TravelLanes],
     sign: &V,
     angles: &[bool],
-    ok: &mut [bool; LANES],
-) -> (V, V) {
-    let (pa, pc) = (outer_p(l1, bodies), outer_p(l2, bodies));
-    let mut b = [[0.0; LANES]; 2];
-    let (mut closeness, mut dds) = ([0.0; LANES], [0.0; LANES]);
-    for j in 0..LANES {
-        let (a, c) = ([pa[0][j], pa[1][j]], [pc[0][j], pc[1][j]]);
-        let (r1, r2) = (l1.length[j], l2.length[j]);
-        let d = [c[0] - a[0], c[1] - a[1]];
-        let dd = d[0] * d[0] + d[1] * d[1];
-        ok[j] &= !(dd.is_nan() || dd <= 0.0);
-        let inv_dd = 1.0 / dd;
-        let along = 0.5 * (dd + r1 * r1 - r2 * r2) * inv_dd;
-        let h2 = r1 * r1 * inv_dd - along * along;
-        ok[j] &= !(h2.is_nan() || h2 < 0.0);
-        let height = sign[j] * h2.sqrt();
-        b[0][j] = a[0] + along * d[0] - height * d[1];
-        b[1][j] = a[1] + along * d[1] + height * d[0];
-        closeness[j] = height.abs() * dd * l1.inv_length[j] * l2.inv_length[j];
-        dds[j] = dd;
-    }
+) -> (O::F, O::F, O::M) {
+    let (pa, pc) = (outer_p(o, l1, bodies), outer_p(o, l2, bodies));
+    let (r1, r2) = (o.load(&l1.length), o.load(&l2.length));
+    let d = [o.sub(pc[0], pa[0]), o.sub(pc[1], pa[1])];
+    let dd = o.add(o.mul(d[0], d[0]), o.mul(d[1], d[1]));
+    let zero = o.splat(0.0);
+    let mut bad = o.or(o.is_nan(dd), o.le(dd, zero));
+    let inv_dd = o.div(o.splat(1.0), dd);
+    let along = o.mul(o.mul(o.splat(0.5), o.sub(o.add(dd, o.mul(r1, r1)), o.mul(r2, r2))), inv_dd);
+    let h2 = o.sub(o.mul(o.mul(r1, r1), inv_dd), o.mul(along, along));
+    bad = o.or(bad, o.or(o.is_nan(h2), o.lt(h2, zero)));
+    let height = o.mul(o.load(sign), o.sqrt(h2));
+    let b = [
+        o.sub(o.add(pa[0], o.mul(along, d[0])), o.mul(height, d[1])),
+        o.add(o.add(pa[1], o.mul(along, d[1])), o.mul(height, d[0])),
+    ];
+    let closeness = o.mul(o.mul(o.mul(o.abs(height), dd), o.load(&l1.inv_length)), o.load(&l2.inv_length));
     // the guard, from the known sides' bounds (read before this dyad's bodies are written)
-    for j in 0..LANES {
-        let (a, c) = ([pa[0][j], pa[1][j]], [pc[0][j], pc[1][j]]);
-        let la = l1.known.map_or(0.0, |k| travel[k][j].pin(a));
-        let lc = l2.known.map_or(0.0, |k| travel[k][j].pin(c));
-        let (shown, t1, t2) = guard::rrr_turns(l1.length[j], l2.length[j], dds[j], la + lc);
-        ok[j] &= shown;
-        travel[l1.body][j] = Travel { r: a, len: la, turn: t1 };
-        travel[l2.body][j] = Travel { r: c, len: lc, turn: t2 };
-    }
-    let res1 = place_with(l1, &mut bodies[l1.body], &pa, &b, angles[l1.body]);
-    let res2 = place_with(l2, &mut bodies[l2.body], &pc, &b, angles[l2.body]);
-    let mut res = [0.0; LANES];
-    for j in 0..LANES {
-        res[j] = res1[j].max(res2[j]);
-    }
-    (closeness, res)
+    let la = l1.known.map_or(zero, |k| pin(o, &travel[k], &pa));
+    let lc = l2.known.map_or(zero, |k| pin(o, &travel[k], &pc));
+    let (not_shown, t1, t2) = rrr_turns(o, r1, r2, dd, o.add(la, lc));
+    bad = o.or(bad, not_shown);
+    travel[l1.body] =
+        TravelLanes { r: [o.store(pa[0]), o.store(pa[1])], len: o.store(la), turn: o.store(t1) };
+    travel[l2.body] =
+        TravelLanes { r: [o.store(pc[0]), o.store(pc[1])], len: o.store(lc), turn: o.store(t2) };
+    let res1 = place_with(o, l1, &mut bodies[l1.body], &pa, &b, angles[l1.body]);
+    let res2 = place_with(o, l2, &mut bodies[l2.body], &pc, &b, angles[l2.body]);
+    (closeness, o.max(res1, res2), bad)
 }
 
 /// Whether two turning bases are the same bits (then the same angle turns the same).
@@ -398,31 +487,34 @@ fn same_bits(a: &[f64; 3], b: &[f64; 3]) -> bool {
 /// (`Link::place`), the body's angle formed only with `angle` (else theta is left as it was: a
 /// positions-only sweep that keeps no angle of the body needs only its cos and sin).
 #[inline(always)]
-fn place_with(l: &LinkLanes, body: &mut BodyLanes, a: &[V; 2], b: &[V; 2], angle: bool) -> V {
-    let (mut cs, mut sn) = ([0.0; LANES], [0.0; LANES]);
-    for j in 0..LANES {
-        let w = [(b[0][j] - a[0][j]) * l.inv_length[j], (b[1][j] - a[1][j]) * l.inv_length[j]];
-        cs[j] = l.dir[0][j] * w[0] + l.dir[1][j] * w[1];
-        sn[j] = l.dir[0][j] * w[1] - l.dir[1][j] * w[0];
-    }
+fn place_with<O: Ops>(
+    o: O,
+    l: &LinkLanes,
+    body: &mut BodyLanes,
+    a: &[O::F; 2],
+    b: &[O::F; 2],
+    angle: bool,
+) -> O::F {
+    let inv = o.load(&l.inv_length);
+    let w = [o.mul(o.sub(b[0], a[0]), inv), o.mul(o.sub(b[1], a[1]), inv)];
+    let dir = [o.load(&l.dir[0]), o.load(&l.dir[1])];
+    let c = o.add(o.mul(dir[0], w[0]), o.mul(dir[1], w[1]));
+    let s = o.sub(o.mul(dir[0], w[1]), o.mul(dir[1], w[0]));
+    let (uo, um) =
+        ([o.load(&l.u_outer[0]), o.load(&l.u_outer[1])], [o.load(&l.u_middle[0]), o.load(&l.u_middle[1])]);
+    let arm = [o.sub(o.mul(c, uo[0]), o.mul(s, uo[1])), o.add(o.mul(s, uo[0]), o.mul(c, uo[1]))];
+    let r = [o.sub(a[0], arm[0]), o.sub(a[1], arm[1])];
+    let (cs, sn) = (o.store(c), o.store(s));
     if angle {
         body_angle(body, &cs, &sn);
     }
-    let mut res = [0.0; LANES];
-    for j in 0..LANES {
-        let (c, s) = (cs[j], sn[j]);
-        let (uo, um) = ([l.u_outer[0][j], l.u_outer[1][j]], [l.u_middle[0][j], l.u_middle[1][j]]);
-        let arm = [c * uo[0] - s * uo[1], s * uo[0] + c * uo[1]];
-        let r = [a[0][j] - arm[0], a[1][j] - arm[1]];
-        body.x[j] = r[0];
-        body.y[j] = r[1];
-        body.c[j] = c;
-        body.s[j] = s;
-        let rot = [c * um[0] - s * um[1], s * um[0] + c * um[1]];
-        let m = [r[0] + rot[0], r[1] + rot[1]];
-        res[j] = (m[0] - b[0][j]).abs().max((m[1] - b[1][j]).abs());
-    }
-    res
+    body.x = o.store(r[0]);
+    body.y = o.store(r[1]);
+    body.c = cs;
+    body.s = sn;
+    let rot = [o.sub(o.mul(c, um[0]), o.mul(s, um[1])), o.add(o.mul(s, um[0]), o.mul(c, um[1]))];
+    let m = [o.add(r[0], rot[0]), o.add(r[1], rot[1])];
+    o.max(o.abs(o.sub(m[0], b[0])), o.abs(o.sub(m[1], b[1])))
 }
 
 /// A body's angle in every lane from its cos and sin, continued from its last (`angle_of`).

@@ -17,6 +17,7 @@
 pub mod affine;
 pub mod crank;
 pub mod guard;
+pub mod lane_ops;
 pub mod lanes;
 pub mod newton;
 pub mod rpr;
