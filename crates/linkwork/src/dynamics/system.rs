@@ -29,6 +29,9 @@ pub struct System {
     pub x: Vec<f64>,
     target: Vec<f64>,
     dq: Vec<f64>,
+    /// m: Phi_q qd and nu of the rates' projection (kept here: it runs every output row)
+    rate: Vec<f64>,
+    nu: Vec<f64>,
     pub pivots: Pivots,
 }
 
@@ -48,6 +51,8 @@ impl System {
             x: vec![0.0; size],
             target: vec![0.0; model.n_coords],
             dq: vec![0.0; model.n_coords],
+            rate: vec![0.0; model.n_rows],
+            nu: vec![0.0; model.n_rows],
             pivots: Pivots::NONE,
         }
     }
@@ -182,14 +187,11 @@ impl System {
         }
         // the Jacobian is filled at the projected q: the rates' corrections Phi_q d = nu -
         // Phi_q qd with the same factors (M d + Phi_q^T mu = 0), factored here if none is
-        let m = model.n_rows;
-        let mut rate = vec![0.0; m];
-        let mut nu = vec![0.0; m];
-        nu_into(model, t, &mut nu);
+        nu_into(model, t, &mut self.nu);
         let (mut before_d, mut last_d) = (f64::NAN, f64::INFINITY);
         for it in 0..6 {
-            self.aug.jacobian_times(qd, &mut rate);
-            let size = rate.iter().zip(&nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()));
+            self.aug.jacobian_times(qd, &mut self.rate);
+            let size = self.rate.iter().zip(&self.nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()));
             let speed = qd.iter().zip(&model.col_scale).fold(0.0f64, |a, (v, s)| a.max((v / s).abs()));
             if it == 0 {
                 before_d = size;
@@ -206,7 +208,7 @@ impl System {
             }
             last_d = size;
             self.x[..n].fill(0.0);
-            for ((x, r), v) in self.x[n..].iter_mut().zip(&rate).zip(&nu) {
+            for ((x, r), v) in self.x[n..].iter_mut().zip(&self.rate).zip(&self.nu) {
                 *x = v - r;
             }
             self.aug.solve_refined(&mut self.x);
