@@ -391,13 +391,7 @@ impl Guard {
                 // the caller puts q_prev in hist_q[0]; the rates' history means nothing
                 // until a miss sets it
                 data.hist_q.rotate_right(1);
-                Some(PositionInfo {
-                    iterations: s.iterations,
-                    residual: s.residual,
-                    pivot_ratio: s.closeness,
-                    det_sign: s.det_sign,
-                    correction: s.correction,
-                })
+                Some(position_info(&s))
             }
             Err(_) => {
                 if self.stale {
@@ -562,13 +556,7 @@ fn closed_step(
             }
             // the caller puts q_prev in hist_q[0] (a run by a swap, not a copy)
             data.hist_q.rotate_right(1);
-            Some(PositionInfo {
-                iterations: s.iterations,
-                residual: s.residual,
-                pivot_ratio: s.closeness,
-                det_sign: s.det_sign,
-                correction: s.correction,
-            })
+            Some(position_info(&s))
         }
         Err(_) => {
             // step k-1's back; the spares take this step's partial rates
@@ -589,6 +577,19 @@ fn closed_step(
 fn assemble_and_factor(model: &Model, data: &mut Data, t: f64, step: usize) -> Result<(), SolveError> {
     crate::solve::assembly::position(model, data, t);
     crate::solve::position::factor(model, data, t, step).map(|_| ())
+}
+
+/// A closed-form step's diagnostics as the sweep reports a step's (its closeness as the
+/// pivot ratio).
+#[inline(always)]
+fn position_info(s: &closed_form::StepInfo) -> PositionInfo {
+    PositionInfo {
+        iterations: s.iterations,
+        residual: s.residual,
+        pivot_ratio: s.closeness,
+        det_sign: s.det_sign,
+        correction: s.correction,
+    }
 }
 
 #[cfg(test)]
