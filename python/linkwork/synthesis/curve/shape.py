@@ -47,8 +47,9 @@ _ROUND = 4
 AGREE = 2
 _AGREE_TOL = 0.01
 # the polish reweights after every _POLISH_NFEV evaluations (a reweighting often converges
-# faster in time than refining each weighting to its end) and stops at the first round
-# that moves the mean nearest distance by less than the fraction _POLISH_GAIN
+# faster in time than refining each weighting to its end), more where a round stalls, and
+# stops where a round of max_nfev moves the mean nearest distance by less than the
+# fraction _POLISH_GAIN
 _POLISH_NFEV = 10
 _POLISH_GAIN = 1e-5
 
@@ -146,10 +147,12 @@ def _polish(
     reweighted least squares on the tracking error over all the points, crank angles
     free: each round weights a point by 1 / sqrt(its distance), so the weighted sum of
     squares is the sum of distances at the round's start (Weiszfeld's device), and
-    refines with the exact Jacobian, at most ``max_nfev`` evaluations a round. The rounds
-    end at ``rounds`` or at the first that moves the mean by less than the fraction
-    _POLISH_GAIN of the round before (converged). The nine design numbers of the best round by the mean
-    nearest distance; None if no round improves on ``design``."""
+    refines with the exact Jacobian. A round first spends _POLISH_NFEV evaluations; one
+    that moves the mean by less than the fraction _POLISH_GAIN of the round before's
+    gives the next four times as many (a short round can stall where its trust region
+    starts too wide), and at ``max_nfev`` it is the last (converged); at most ``rounds``
+    rounds. The nine design numbers of the best round by the mean nearest distance; None
+    if no round improves on ``design``."""
     # the points run the way the design runs them: the one its crank angles fit better
     starts = []
     for way in (points, points[::-1]):
@@ -159,6 +162,7 @@ def _polish(
     _, way, x = min(starts, key=lambda s: s[0])
     tracking = TrackingProblem(make_target(way, closed=True), circuit=design.circuit, **problem)
     best, found, last = design.mean, None, math.inf
+    nfev = min(_POLISH_NFEV, int(max_nfev))
     for _ in range(int(rounds)):
         c = coupler_points(x, x[9:], design.circuit)
         d = np.hypot(*(c - way).T)
@@ -166,7 +170,7 @@ def _polish(
         w = 1.0 / np.sqrt(np.maximum(d, 1e-3 * max(float(d.mean()), 1e-300)))
         try:
             with one_blas_thread():
-                x = refine(tracking, x, max_nfev=max_nfev, weights=w / w.max()).x
+                x = refine(tracking, x, max_nfev=nfev, weights=w / w.max()).x
         except (CircuitError, SynthesisError):
             break
         scored = _score(points, x[:9], design.circuit)
@@ -176,7 +180,9 @@ def _polish(
             best, found = scored[1], x[:9].copy()
         # (the first round may rise above the start: its weights are the start's)
         if abs(last - scored[1]) < _POLISH_GAIN * last:
-            break
+            if nfev >= max_nfev:
+                break
+            nfev = min(4 * nfev, int(max_nfev))
         last = scored[1]
     return found
 
@@ -189,7 +195,7 @@ def shape_fit(
     atlas: Atlas | None = None,
     workers: int | None = None,
     max_nfev: int = 200,
-    polish: int = 60,
+    polish: int = 40,
     refine_points: int = 36,
     agree: int | None = AGREE,
     **problem: Any,
@@ -238,7 +244,7 @@ def shape_fit(
     designs.sort(key=lambda d: d.mean)
     if polish and designs:
         b = designs[0]
-        y = _polish(pts, b, int(polish), _POLISH_NFEV, problem)
+        y = _polish(pts, b, int(polish), max_nfev, problem)
         scored = None if y is None else _score(pts, y, b.circuit)
         if scored is not None and scored[1] < b.mean:
             y, mean, largest = scored
