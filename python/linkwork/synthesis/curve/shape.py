@@ -195,7 +195,7 @@ def shape_fit(
     atlas: Atlas | None = None,
     workers: int | None = None,
     max_nfev: int = 200,
-    polish: int = 40,
+    polish: int = 24,
     refine_points: int = 36,
     agree: int | None = AGREE,
     **problem: Any,
