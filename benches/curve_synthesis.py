@@ -204,7 +204,8 @@ def table(starts: int, seed: int, aside: bool = False, shapes_only: bool = False
         f"Python {platform.python_version()}, {os.cpu_count()} cores (load average {load}); "
         f"`python benches/curve_synthesis.py --starts {starts} --seed {seed}"
         f"{' --aside' if aside else ''}{' --shapes-only' if shapes_only else ''}"
-        f"{f' --sizes {SIZES:g}' if SIZES != 3.0 else ''}`.",
+        f"{f' --sizes {SIZES:g}' if SIZES != 3.0 else ''}"
+        f"{f' --full-budget {FULL_BUDGET:g}' if FULL_BUDGET else ''}`.",
         "",
         "Tracking error f = sum |C(theta2_i) - P_i|^2 under a Grashof crank-rocker (crank "
         f"shortest), no ordering unless said. linkwork: {starts} random crank-rockers (seed {seed}) "
@@ -355,6 +356,8 @@ def _shape_objective(points: np.ndarray, circuit: str):  # noqa: ANN202
 SIZES = 3.0
 # linkwork's atlas seeds on a shape problem (shape_fit's default)
 SHAPE_SEEDS = 12
+# the baselines on the shape problems again for this many seconds (--full-budget; 0: not run)
+FULL_BUDGET = 0.0
 
 
 def _shape_space(points: np.ndarray) -> dict[str, tuple[float, float]]:
@@ -435,6 +438,11 @@ def baselines_shape(points: np.ndarray, budget: float, seed: int) -> tuple[float
     return min(means["pso"]), evals["pso"], min(means["de"]), evals["de"]
 
 
+def _full_columns() -> str:
+    b = f"{FULL_BUDGET:g} s"
+    return f" PSO, {b} | DE, {b} | ratio, {b} |" if FULL_BUDGET else ""
+
+
 def seeds_and_shapes(seed: int, aside: bool = False, shapes_only: bool = False) -> list[str]:
     """The tables of the seeds' effect and of the shape problems, with the baselines."""
     lines = [
@@ -488,15 +496,21 @@ def seeds_and_shapes(seed: int, aside: bool = False, shapes_only: bool = False) 
         "linkwork: `shape_fit(points, "
         f"seed={seed}, **space)` (12 atlas seeds, the target run either way, refined in rounds of 4, "
         "nearest first, until two refined designs agree on the best mean to 1 %, by the tracking "
-        "error with free crank angles on 36 of the points, scored on all, the best polished by 4 rounds "
-        "of reweighted least squares on all the points) on 2 threads. The atlas alone: its nearest "
+        "error with free crank angles on 36 of the points, scored on all, the best polished by "
+        "reweighted least squares on all the points until a round moves the mean by less than 1e-5 "
+        "of it) on 2 threads. The atlas alone: its nearest "
         "design, placed by the best similarity. pylinkage's swarm and scipy's DE on the mean nearest "
         "distance itself over the nine design numbers (closed form, 360 crank angles), each for "
-        "linkwork's wall time, half on each circuit. Ratio: the better baseline over linkwork.",
+        "linkwork's wall time, half on each circuit. Ratio: the better baseline over linkwork."
+        + (
+            f" Then both again for the problem's whole budget of {FULL_BUDGET:g} s (half on each circuit)."
+            if FULL_BUDGET
+            else ""
+        ),
         "",
         "| problem | points | linkwork mean | largest | time | seeds refined | atlas alone | pylinkage PSO "
-        "| DE | ratio | literature design | target (half) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| DE | ratio | literature design | target (half) |" + _full_columns(),
+        "|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if FULL_BUDGET else ""),
     ]
     problems = [(name, C.from_csv(DATA / file, closed=True).points, lit) for name, file, lit in SHAPES]
     for name, pts, lit in problems + (aside_shapes() if aside else []):
@@ -506,10 +520,14 @@ def seeds_and_shapes(seed: int, aside: bool = False, shapes_only: bool = False) 
         pso_m, _, de_m, _ = baselines_shape(pts, res.seconds, seed)
         b = res.best
         lit_s = "" if lit is None else f"{lit:.3g} | {lit / 2:.3g}"
+        full = ""
+        if FULL_BUDGET:
+            pso_f, _, de_f, _ = baselines_shape(pts, FULL_BUDGET, seed)
+            full = f" {pso_f:.4g} | {de_f:.4g} | {min(pso_f, de_f) / b.mean:.3g} |"
         lines.append(
             f"| {name} | {len(pts)} | {b.mean:.4g} | {b.largest:.3g} | {res.seconds:.1f} s "
             f"| {SHAPE_SEEDS - res.unrefined} | {atlas_alone:.4g} "
-            f"| {pso_m:.4g} | {de_m:.4g} | {min(pso_m, de_m) / b.mean:.3g} | {lit_s or ' | '} |"
+            f"| {pso_m:.4g} | {de_m:.4g} | {min(pso_m, de_m) / b.mean:.3g} | {lit_s or ' | '} |" + full
         )
     return lines
 
@@ -524,9 +542,16 @@ def main() -> None:
     ap.add_argument(
         "--sizes", type=float, default=3.0, help="the shape problems' design space, in target sizes"
     )
+    ap.add_argument(
+        "--full-budget",
+        type=float,
+        default=0.0,
+        help="also run the shape problems' baselines for this many seconds (0: not)",
+    )
     args = ap.parse_args()
-    global SIZES
+    global SIZES, FULL_BUDGET
     SIZES = args.sizes
+    FULL_BUDGET = args.full_budget
     text = table(args.starts, args.seed, args.aside, args.shapes_only)
     print(text)
     if args.write:

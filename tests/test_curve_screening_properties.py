@@ -15,6 +15,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from linkwork import examples
 from linkwork.errors import SolveError
 from linkwork.synthesis import curve as C
 from linkwork.synthesis.curve import constraints as K
@@ -185,6 +186,37 @@ def test_a_sweep_stopped_right_after_the_drawing_is_a_branch_defect_only() -> No
     branch defect, no circuit defect, no angle over the stretch."""
     x = np.concatenate([[2.0, 0.5, 0.8, 0.7 + 1e-7], X[4:], TH])
     assert F._screen(_problem(), x)[:2] == (("branch",), 0.0)
+
+
+@pytest.mark.parametrize("circuit", ["open", "crossed"])
+def test_a_four_bar_drawn_exactly_at_a_dead_point_is_reported_not_raised(circuit: str) -> None:
+    """r1 - r2 = r4 - r3 exactly (2 - 0.5 = 1.75 - 0.25, each a binary fraction): at
+    theta2 = 0 the coupler and the
+    rocker lie folded along one line, a dead point at the drawing itself, where the
+    engine can neither assemble the linkage nor take a step: the screening reports a
+    branch defect (and, with no row swept, a circuit defect and no angle), with the type
+    from the lengths (s + l = 0.25 + 2 = p + q: a change point), not SingularError."""
+    x = np.concatenate([[2.0, 0.5, 0.25, 1.75], X[4:], TH])
+    defects, trans, kind = F._screen(_problem(circuit=circuit), x)
+    assert defects == ("branch", "circuit") and trans == 0.0 and kind == "change point"
+
+
+@pytest.mark.parametrize(
+    ("lengths", "theta2"),
+    [
+        ((2.0, 0.5, 1.8, 1.5), 0.3),  # crank-rocker
+        ((0.5, 2.0, 1.8, 1.5), 0.3),  # double-crank
+        ((2.0, 1.8, 0.5, 1.5), 0.8),  # Grashof double-rocker
+        ((2.0, 1.5, 1.8, 0.5), 1.0),  # rocker-crank
+        ((2.0, 1.2, 1.9, 1.3), 0.3),  # non-Grashof
+        ((2.0, 0.5, 1.0, 1.5), 1.0),  # change point
+    ],
+)
+def test_the_grashof_type_from_the_lengths_is_the_engines(lengths: tuple[float, ...], theta2: float) -> None:
+    """`grashof_type` (for a drawing the engine cannot assemble) names what the engine's
+    `Linkage.kind_of` names for the same lengths drawn at a crank angle where they close."""
+    drawn = examples.four_bar(*lengths, theta0=theta2).compile().linkages()[0]
+    assert K.grashof_type(*lengths) == drawn.kind_of
 
 
 def test_a_sweep_that_gives_no_row_is_a_circuit_defect_without_an_angle(

@@ -135,6 +135,17 @@ def test_the_angles_are_over_the_traced_stretch_only(kind: str) -> None:
     assert mu_b == pytest.approx(b, abs=1e-9) and mu_d == pytest.approx(d, abs=1e-9)
 
 
+@pytest.mark.parametrize("kind", ["stephenson", "watt"])
+def test_a_six_bar_drawn_exactly_at_a_dead_point_is_reported_not_raised(kind: str) -> None:
+    """The four-bar loop made r1 - r2 = r4 - r3 exactly (2 - 0.5 = 1.75 - 0.25): folded at
+    the drawing, where the engine can neither assemble nor step: a branch defect (and,
+    no row swept, a circuit defect, no angles) and the type from the lengths, not
+    SingularError."""
+    problem, y = _six_bar(kind)
+    y[:4] = [2.0, 0.5, 0.25, 1.75]
+    assert SB._screen(problem, y) == (("branch", "circuit"), 0.0, 0.0, "change point")
+
+
 def test_crank_angles_out_of_order_are_an_order_defect() -> None:
     problem, y = _six_bar("stephenson")
     backwards = y.copy()

@@ -27,10 +27,38 @@ import numpy as np
 
 from ...errors import SynthesisError
 
-__all__ = ["Region", "region", "angle", "GRASHOF", "transmission_cos", "smallest_transmission"]
+__all__ = [
+    "Region",
+    "region",
+    "angle",
+    "GRASHOF",
+    "grashof_type",
+    "transmission_cos",
+    "smallest_transmission",
+]
 
 #: The Grashof types a problem can ask for: the crank turns fully in each.
 GRASHOF = ("crank-rocker", "double-crank", "full-turn")
+# the engine's tolerance on s + l = p + q, relative to the four lengths' sum
+# (crates/linkwork/src/analysis/linkages.rs, LENGTH_TOL)
+_CHANGE_POINT_TOL = 1e-9
+
+
+def grashof_type(r1: float, r2: float, r3: float, r4: float) -> str:
+    """The Grashof type of ground r1, crank r2, coupler r3, rocker r4 by the engine's rule
+    (`Linkage.kind_of`), from the lengths alone: for a design the engine cannot assemble
+    as drawn (at a dead point) and so cannot describe."""
+    links = [float(r1), float(r2), float(r3), float(r4)]
+    shortest = int(np.argmin(links))
+    sl = links[shortest] + max(links)
+    pq = sum(links) - sl
+    if abs(sl - pq) <= _CHANGE_POINT_TOL * sum(links):
+        return "change point"
+    if sl > pq:
+        return "non-Grashof triple-rocker"
+    return ("double-crank", "crank-rocker", "Grashof double-rocker", "rocker-crank")[shortest]
+
+
 #: The places a region can be stated for.
 PLACES = ("O2", "O4", "P")
 

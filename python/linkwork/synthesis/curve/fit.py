@@ -31,6 +31,7 @@ import numpy as np
 from ...errors import SingularError, SolveError, SynthesisError
 from ...mechanism.builder import Mechanism
 from ...view.design import DesignPictures
+from .constraints import grashof_type
 from .target import TargetCurve
 from .threads import map_starts
 from .tracking import TWO_PI, CircuitError, TrackingProblem, coupler_points
@@ -609,7 +610,11 @@ def _screen(problem: TrackingProblem, x: np.ndarray) -> tuple[tuple[str, ...], f
     transmission angle over the stretch and the engine's Grashof type."""
     defects, times, first = screened_stretch(x[9:], problem.target.closed)
     model = problem.model(x).compile()
-    linkage = model.linkages()[0]
+    try:
+        linkage = model.linkages()[0]
+    except SingularError:
+        # drawn at a dead point: no configuration to describe, no step to take from it
+        return (*defects, "branch", "circuit"), 0.0, grashof_type(*x[:4])
     try:
         res = model.sweep(times, derivatives=0, on_singular="stop")
     except SingularError as e:

@@ -13,7 +13,7 @@ then scored by `shape_error` and moved by its similarity onto the target, and, w
 ``polish``, the mean nearest distance itself is minimised from the best of them over the
 nine design numbers and the crank angles, by reweighted least squares on all the points
 (each point weighted by 1 / sqrt of its distance, the exact Jacobian, the crank turning
-fully).
+fully), reweighted until the mean stops moving.
 """
 
 from __future__ import annotations
@@ -46,6 +46,12 @@ _TRACE = 720
 _ROUND = 4
 AGREE = 2
 _AGREE_TOL = 0.01
+# the polish reweights after every _POLISH_NFEV evaluations (a reweighting often converges
+# faster in time than refining each weighting to its end), more where a round stalls, and
+# stops where a round of max_nfev moves the mean nearest distance by less than the
+# fraction _POLISH_GAIN
+_POLISH_NFEV = 10
+_POLISH_GAIN = 1e-5
 
 
 def traced(x: Any, circuit: str, steps: int = _TRACE) -> np.ndarray:
@@ -141,8 +147,12 @@ def _polish(
     reweighted least squares on the tracking error over all the points, crank angles
     free: each round weights a point by 1 / sqrt(its distance), so the weighted sum of
     squares is the sum of distances at the round's start (Weiszfeld's device), and
-    refines with the exact Jacobian. The nine design numbers of the best round by the
-    mean nearest distance; None if no round improves on ``design``."""
+    refines with the exact Jacobian. A round first spends _POLISH_NFEV evaluations; one
+    that moves the mean by less than the fraction _POLISH_GAIN of the round before's
+    gives the next four times as many (a short round can stall where its trust region
+    starts too wide), and at ``max_nfev`` it is the last (converged); at most ``rounds``
+    rounds. The nine design numbers of the best round by the mean nearest distance; None
+    if no round improves on ``design``."""
     # the points run the way the design runs them: the one its crank angles fit better
     starts = []
     for way in (points, points[::-1]):
@@ -151,7 +161,8 @@ def _polish(
         starts.append((float(np.sum((c - way) ** 2)), way, x))
     _, way, x = min(starts, key=lambda s: s[0])
     tracking = TrackingProblem(make_target(way, closed=True), circuit=design.circuit, **problem)
-    best, found = design.mean, None
+    best, found, last = design.mean, None, math.inf
+    nfev = min(_POLISH_NFEV, int(max_nfev))
     for _ in range(int(rounds)):
         c = coupler_points(x, x[9:], design.circuit)
         d = np.hypot(*(c - way).T)
@@ -159,7 +170,7 @@ def _polish(
         w = 1.0 / np.sqrt(np.maximum(d, 1e-3 * max(float(d.mean()), 1e-300)))
         try:
             with one_blas_thread():
-                x = refine(tracking, x, max_nfev=max_nfev, weights=w / w.max()).x
+                x = refine(tracking, x, max_nfev=nfev, weights=w / w.max()).x
         except (CircuitError, SynthesisError):
             break
         scored = _score(points, x[:9], design.circuit)
@@ -167,6 +178,12 @@ def _polish(
             break
         if scored[1] < best:
             best, found = scored[1], x[:9].copy()
+        # (the first round may rise above the start: its weights are the start's)
+        if abs(last - scored[1]) < _POLISH_GAIN * last:
+            if nfev >= max_nfev:
+                break
+            nfev = min(4 * nfev, int(max_nfev))
+        last = scored[1]
     return found
 
 
@@ -178,7 +195,7 @@ def shape_fit(
     atlas: Atlas | None = None,
     workers: int | None = None,
     max_nfev: int = 200,
-    polish: int = 4,
+    polish: int = 24,
     refine_points: int = 36,
     agree: int | None = AGREE,
     **problem: Any,
@@ -188,8 +205,9 @@ def shape_fit(
     seeds, each refined by the tracking error with free crank angles (`fit`, at most
     ``max_nfev`` evaluations a weight; ``problem``: its options, bounds and constraints),
     scored by the mean nearest distance after the best similarity, the best polished by
-    ``polish`` rounds of reweighted least squares on all the points, which minimise that
-    mean distance itself (0: none). The tracking refinement runs on at most
+    reweighted least squares on all the points, which minimise that mean distance itself,
+    until a round moves it by less than 1e-5 of it or ``polish`` rounds have run (0:
+    none). The tracking refinement runs on at most
     ``refine_points`` of the points (evenly by index; its cost grows with their count),
     the scores on all of them. The seeds are refined in rounds of 4, nearest first, until
     ``agree`` refined designs (default 2) come within 1 % of the best mean nearest

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import SingularError, SolveError, SynthesisError
+from .constraints import grashof_type
 from .fit import (
     CURVE_MERIT,
     CurveDesign,
@@ -237,7 +238,11 @@ def _screen(problem: SixBarProblem, y: np.ndarray) -> tuple[tuple[str, ...], flo
     stretch; the four-bar loop's Grashof type."""
     defects, times, first = screened_stretch(y[problem.size :], problem.target.closed)
     model = problem.model(y).compile()
-    linkage = model.linkages()[0]
+    try:
+        linkage = model.linkages()[0]
+    except SingularError:
+        # drawn at a dead point: no configuration to describe, no step to take from it
+        return (*defects, "branch", "circuit"), 0.0, 0.0, grashof_type(*y[:4])
     res: Any
     try:
         res = model.sweep(times, derivatives=0, on_singular="stop")
