@@ -273,7 +273,8 @@ impl SweepOutput {
     }
 
     /// Stores row `row` of the kept coordinates' q, qd, qdd (as the request keeps them).
-    #[inline]
+    /// Inlined into the sweep's loop, as `keep` is: a call each row cost more than the copy.
+    #[inline(always)]
     pub(crate) fn store_coords(&mut self, data: &Data, row: usize) {
         let d = self.request.derivatives;
         let m = self.n_kept;
@@ -323,6 +324,7 @@ impl SweepOutput {
     /// Stores the rest of row `row` after its coordinates: the points, the forces.
     /// `frames_set`: data.frames hold the poses (and, as solved, the rates) of data.q, as a
     /// structured step leaves them.
+    #[inline(never)]
     fn store_rest(&mut self, model: &Model, data: &Data, t: f64, row: usize, frames_set: bool) {
         if !self.outputs.points.is_empty() {
             self.store_points(data, row, frames_set);
@@ -343,7 +345,7 @@ impl SweepOutput {
     /// checked: `coord_row`): the rest of the state in `data` and the worst diagnostics
     /// since the last kept row, which start again.
     #[allow(clippy::too_many_arguments)]
-    #[inline]
+    #[inline(always)]
     pub(crate) fn keep(
         &mut self,
         model: &Model,
@@ -354,7 +356,9 @@ impl SweepOutput {
         worst: &mut Worst,
         det_sign: f64,
     ) {
-        self.store_rest(model, data, t, row, frames_set);
+        if !self.outputs.points.is_empty() || self.request.forces {
+            self.store_rest(model, data, t, row, frames_set);
+        }
         self.iterations[row] = worst.iterations;
         self.residual[row] = worst.residual;
         self.pivot_ratio[row] = worst.pivot_ratio;

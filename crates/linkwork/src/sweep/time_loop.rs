@@ -74,12 +74,10 @@ pub fn sweep(
     sweep_observed(model, data, times, out, progress_every, progress, &mut |_, _, _| Ok(()))
 }
 
-/// What `sweep_observed` calls after each kept row: (data at the step, its time, the row).
-pub(crate) type Observer<'a> = dyn FnMut(&Data, f64, usize) -> Result<(), SolveError> + 'a;
-
 /// `sweep`, calling `after(data, t, row)` once row `row` is stored, while data holds its
 /// step (q, qd, qdd as solved; with a plan, the frames of q too: the groups set them, or
 /// `closed_form::resync` after the general path). An Err from `after` stops the sweep there.
+/// `after` is a type parameter, not a `dyn`: the no-op of a sweep without one is compiled away.
 pub(crate) fn sweep_observed(
     model: &Model,
     data: &mut Data,
@@ -87,7 +85,7 @@ pub(crate) fn sweep_observed(
     out: &mut SweepOutput,
     progress_every: usize,
     progress: &mut dyn FnMut(usize) -> bool,
-    after: &mut Observer,
+    after: &mut impl FnMut(&Data, f64, usize) -> Result<(), SolveError>,
 ) -> Result<(), SolveError> {
     check_times(model, times)?;
     let req = out.request;
@@ -109,7 +107,7 @@ fn sweep_steps(
     tracker: &mut Tracker,
     progress_every: usize,
     progress: &mut dyn FnMut(usize) -> bool,
-    after: &mut Observer,
+    after: &mut impl FnMut(&Data, f64, usize) -> Result<(), SolveError>,
     runs: bool,
 ) -> Result<(), SolveError> {
     let req = out.request;
@@ -195,7 +193,15 @@ fn sweep_steps(
                                 by_guard = info.is_some();
                             }
                             if info.is_none() {
-                                info = closed_step(model, plan, data, times, k, solved, &tracker.q_prev);
+                                info = closed_step::<false>(
+                                    model,
+                                    plan,
+                                    data,
+                                    times,
+                                    k,
+                                    solved,
+                                    &tracker.q_prev,
+                                );
                             }
                             if info.is_some() {
                                 data.hist_q[0].copy_from_slice(&tracker.q_prev);
@@ -408,8 +414,35 @@ impl Guard {
     }
 }
 
+/// `Run::steps_on` as `pulp`'s operation: its dispatch compiles it, inlined, for the
+/// machine's instruction set (AVX2 where there is: three-operand forms, fewer moves;
+/// the same operations in the same order, so the same bits).
+struct Steps<'r, 'a, 'w, 'd, P: ?Sized, A> {
+    run: &'r mut Run<'a, 'w>,
+    data: &'d mut Data,
+    tracker: &'d mut Tracker,
+    k0: usize,
+    ratio_prev: &'d mut f64,
+    progress: &'d mut P,
+    after: &'d mut A,
+}
+
+impl<P, A> pulp::WithSimd for Steps<'_, '_, '_, '_, P, A>
+where
+    P: FnMut(usize) -> bool + ?Sized,
+    A: FnMut(&Data, f64, usize) -> Result<(), SolveError>,
+{
+    type Output = Result<Option<Handoff>, SolveError>;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        self.run.steps_on(self.data, self.tracker, self.k0, self.ratio_prev, self.progress, self.after)
+    }
+}
+
 impl Run<'_, '_> {
-    /// Steps k0, k0 + 1, ... until one is not taken (handed back) or the times end (None).
+    /// Steps k0, k0 + 1, ... until one is not taken (handed back) or the times end (None):
+    /// `steps_on`, compiled for the machine (`Steps`).
     fn steps(
         &mut self,
         data: &mut Data,
@@ -417,7 +450,20 @@ impl Run<'_, '_> {
         k0: usize,
         ratio_prev: &mut f64,
         progress: &mut dyn FnMut(usize) -> bool,
-        after: &mut Observer,
+        after: &mut impl FnMut(&Data, f64, usize) -> Result<(), SolveError>,
+    ) -> Result<Option<Handoff>, SolveError> {
+        pulp::Arch::new().dispatch(Steps { run: self, data, tracker, k0, ratio_prev, progress, after })
+    }
+
+    #[inline(always)]
+    fn steps_on(
+        &mut self,
+        data: &mut Data,
+        tracker: &mut Tracker,
+        k0: usize,
+        ratio_prev: &mut f64,
+        progress: &mut (impl FnMut(usize) -> bool + ?Sized),
+        after: &mut impl FnMut(&Data, f64, usize) -> Result<(), SolveError>,
     ) -> Result<Option<Handoff>, SolveError> {
         let (model, times) = (self.model, self.times);
         let every = self.out.request.every;
@@ -429,16 +475,30 @@ impl Run<'_, '_> {
             0 => usize::MAX,
             n => k0.next_multiple_of(n),
         };
-        for k in k0..times.len() {
-            if k == progress_at {
+        // every step's q is kept in its row: the guard's steps take their own loop, which
+        // keeps the history there (`guarded`)
+        let rows_hold_q = self.guard.on && every == 1 && self.out.outputs.coords.is_none();
+        let mut k = k0;
+        while k < times.len() {
+            // whether the guard has been tried at step k and missed it (data at step k-1)
+            let mut missed = false;
+            if rows_hold_q {
+                match self.guarded(data, tracker, k, &mut progress_at, ratio_prev, progress, after)? {
+                    None => return Ok(None),
+                    Some(m) => (k, row_next, kept_at, missed) = (m, m, m, true),
+                }
+            }
+            if k == progress_at && !missed {
                 progress_at += self.progress_every;
                 if !progress(k) {
                     return Err(SolveError::Cancelled { step: k });
                 }
             }
             let (t, h) = (times[k], times[k] - times[k - 1]);
-            tracker.q_prev.copy_from_slice(&data.q);
-            if self.guard.on {
+            if !missed {
+                tracker.q_prev.copy_from_slice(&data.q);
+            }
+            if self.guard.on && !missed {
                 if let Some(info) = self.guard.step(model, self.plan, data, times, k, &tracker.q_prev) {
                     std::mem::swap(&mut data.hist_q[0], &mut tracker.q_prev);
                     self.guard.stale = true;
@@ -452,11 +512,13 @@ impl Run<'_, '_> {
                         self.out.keep(model, data, t, row, true, self.worst, info.det_sign);
                         after(data, t, row)?;
                     }
+                    k += 1;
                     continue;
                 }
             }
             let solved = self.solved;
-            let Some(info) = closed_step(model, self.plan, data, times, k, solved, &tracker.q_prev) else {
+            let Some(info) = closed_step::<true>(model, self.plan, data, times, k, solved, &tracker.q_prev)
+            else {
                 return Ok(Some(Handoff { k, solved: None }));
             };
             // step k-1's q becomes the history's newest by a swap: q_prev is copied from q
@@ -491,8 +553,80 @@ impl Run<'_, '_> {
                 self.out.keep(model, data, t, row, true, self.worst, info.det_sign);
                 after(data, t, row)?;
             }
+            k += 1;
         }
         Ok(None)
+    }
+
+    /// Steps k0, k0 + 1, ... by the guard (`closed_form::step_guarded`), where every step's
+    /// coordinates are kept (`every` 1, every coordinate): each step's row is its q, so no
+    /// step sets q aside for a miss nor moves the history; at the step the guard does not
+    /// take, both are set from the rows as the step-by-step loop leaves them there (data at
+    /// step k-1 with `q_prev`, the history of positions and, where the guard took the last
+    /// step, of rates), and it is handed back; None: the times end. Polls `progress` at
+    /// its steps, the handed-back one too.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn guarded(
+        &mut self,
+        data: &mut Data,
+        tracker: &mut Tracker,
+        k0: usize,
+        progress_at: &mut usize,
+        ratio_prev: &mut f64,
+        progress: &mut (impl FnMut(usize) -> bool + ?Sized),
+        after: &mut impl FnMut(&Data, f64, usize) -> Result<(), SolveError>,
+    ) -> Result<Option<usize>, SolveError> {
+        let (model, plan, times) = (self.model, self.plan, self.times);
+        let mut k = k0;
+        let missed = loop {
+            if k == times.len() {
+                break None;
+            }
+            if k == *progress_at {
+                *progress_at += self.progress_every;
+                if !progress(k) {
+                    return Err(SolveError::Cancelled { step: k });
+                }
+            }
+            let (t, h) = (times[k], times[k] - times[k - 1]);
+            let travel = &mut self.guard.travel;
+            let Ok(s) = closed_form::step_guarded_inline(model, plan, data, t, h, travel, &self.guard.reads)
+            else {
+                break Some(k);
+            };
+            let info = position_info(&s);
+            self.guard.stale = true;
+            tracker.det_prev = info.det_sign;
+            *ratio_prev = info.pivot_ratio;
+            self.worst.add(&info);
+            self.out.store_coords(data, k);
+            self.out.keep(model, data, t, k, true, self.worst, info.det_sign);
+            after(data, t, k)?;
+            k += 1;
+        };
+        // the history as the step-by-step loop moves it, one step at a time: q of step k-2
+        // newest (the steps before k0 as they were)
+        let m = self.out.n_kept;
+        let moved = (k - k0).min(data.hist_q.len());
+        data.hist_q.rotate_right(moved);
+        for (i, hist) in data.hist_q[..moved].iter_mut().enumerate() {
+            let row = k - 2 - i;
+            hist.copy_from_slice(&self.out.q[row * m..(row + 1) * m]);
+        }
+        if let Some(k) = missed {
+            if self.guard.stale {
+                // (a law that cannot be evaluated leaves them; the careful path names it)
+                let _ = closed_form::rates(model, plan, data, times[k - 1]);
+                data.hist_qd.copy_from_slice(&data.qd);
+                data.hist_qdd.copy_from_slice(&data.qdd);
+                self.guard.stale = false;
+            }
+            let prev = &self.out.q[(k - 1) * m..k * m];
+            data.q.copy_from_slice(prev);
+            tracker.q_prev.copy_from_slice(prev);
+        }
+        Ok(missed)
     }
 }
 
@@ -523,8 +657,9 @@ fn solved_derivatives(model: &Model, req: &Request) -> u8 {
 /// and a closed form writes its bodies' q, and qd, qdd where asked): step k-1's rates are
 /// set aside by swapping buffers with the plan's spares, not copied. Inlined: a run's loop
 /// then keeps what it reads from step to step (45 fewer instructions a four-bar step).
+/// `I`: the plan's step inlined too (a run's loop, compiled for the machine: `Steps`).
 #[inline(always)]
-fn closed_step(
+fn closed_step<const I: bool>(
     model: &Model,
     plan: &closed_form::Plan,
     data: &mut Data,
@@ -541,7 +676,12 @@ fn closed_step(
         std::mem::swap(&mut data.qdd, &mut data.blocks.qdd_prev);
     }
     let (t, h) = (times[k], times[k] - times[k - 1]);
-    match closed_form::step(model, plan, data, t, derivatives, h) {
+    let solved = if I {
+        closed_form::step_inline(model, plan, data, t, derivatives, h)
+    } else {
+        closed_form::step(model, plan, data, t, derivatives, h)
+    };
+    match solved {
         Ok(s) => {
             // step k-1's rates become the history (the history's old ones the spares)
             if rates {
@@ -656,6 +796,8 @@ mod tests {
                 };
                 for (req, outputs) in [
                     (Request::default(), Outputs::all()),
+                    // the guard's own loop (every step's q kept), and the guard's steps one by one
+                    (Request { derivatives: 0, ..Request::default() }, Outputs::all()),
                     (Request { derivatives: 0, every: 3, ..Request::default() }, Outputs::all()),
                     (Request { derivatives: 1, ..Request::default() }, Outputs::all()),
                     (Request { on_singular: OnSingular::Stop, ..Request::default() }, point),

@@ -57,6 +57,18 @@ impl Crank {
         t: f64,
         derivatives: u8,
     ) -> Result<(f64, f64), StepMiss> {
+        self.solve_inline(model, data, t, derivatives)
+    }
+
+    /// `solve` inlined into its caller (a sweep's step of the plan).
+    #[inline(always)]
+    pub(crate) fn solve_inline(
+        &self,
+        model: &Model,
+        data: &mut Data,
+        t: f64,
+        derivatives: u8,
+    ) -> Result<(f64, f64), StepMiss> {
         // a known side or base on the ground folded in: fixed, at rest
         match (self.known.is_some(), self.base.is_some()) {
             (true, true) => self.solve_on::<true, true>(model, data, t, derivatives),

@@ -428,12 +428,40 @@ pub fn step(
     step_with::<false>(model, plan, data, t, derivatives, h, &mut [], &[])
 }
 
+/// `step` inlined into its caller (a sweep's run of closed-form steps).
+#[inline(always)]
+pub(crate) fn step_inline(
+    model: &Model,
+    plan: &Plan,
+    data: &mut Data,
+    t: f64,
+    derivatives: u8,
+    h: f64,
+) -> Result<StepInfo, StepMiss> {
+    step_with::<false>(model, plan, data, t, derivatives, h, &mut [], &[])
+}
+
 /// `step` of positions only, each group's step also bounded by `guard` (`travel`: one
 /// per body, this step's bounds written as the groups are solved, where `reads`, from
 /// `guard_reads`, says a later group reads them): a step the guard cannot show on its
 /// branches is a miss (`NearSingular`), for the careful path. Only for plans that are
 /// `guarded`.
 pub fn step_guarded(
+    model: &Model,
+    plan: &Plan,
+    data: &mut Data,
+    t: f64,
+    h: f64,
+    travel: &mut [guard::Travel],
+    reads: &[bool],
+) -> Result<StepInfo, StepMiss> {
+    step_with::<true>(model, plan, data, t, 0, h, travel, reads)
+}
+
+/// `step_guarded` inlined into its caller: a sweep's loop of guarded steps, which then
+/// keeps what every step reads (the plan, the model's scale) from one step to the next.
+#[inline(always)]
+pub(crate) fn step_guarded_inline(
     model: &Model,
     plan: &Plan,
     data: &mut Data,
@@ -502,9 +530,9 @@ fn step_with<const G: bool>(
             Block::Rrr(b) if G => b.solve_guarded(data, sign, travel, reads[i])?,
             Block::Rrp(b) if G => b.solve_guarded(data, sign, travel, reads[i])?,
             _ if G => return Err(StepMiss::Failed),
-            Block::Crank(b) => b.solve(model, data, t, derivatives)?,
-            Block::Rrr(b) => b.solve(data, sign, derivatives)?,
-            Block::Rrp(b) => b.solve(data, sign, derivatives)?,
+            Block::Crank(b) => b.solve_inline(model, data, t, derivatives)?,
+            Block::Rrr(b) => b.solve_inline(data, sign, derivatives)?,
+            Block::Rrp(b) => b.solve_inline(data, sign, derivatives)?,
             Block::Rpr(b) => b.solve(data, sign, derivatives)?,
             Block::Affine(b) => b.solve(model, data, t, derivatives, sign)?,
             Block::Newton(b) => {

@@ -97,6 +97,17 @@ impl Rrp {
 
     #[inline]
     pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), StepMiss> {
+        self.solve_inline(data, sign, derivatives)
+    }
+
+    /// `solve` inlined into its caller (a sweep's step of the plan).
+    #[inline(always)]
+    pub(crate) fn solve_inline(
+        &self,
+        data: &mut Data,
+        sign: f64,
+        derivatives: u8,
+    ) -> Result<(f64, f64), StepMiss> {
         // a known side on the ground folded in: the link's pin fixed, the slide's line
         // formed at compile, both at rest
         match (self.link.known.is_some(), self.ground_line.is_none()) {

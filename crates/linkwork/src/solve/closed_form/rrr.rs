@@ -216,6 +216,17 @@ impl Rrr {
     /// B on the branch `sign`; returns (closeness, residual) or the miss.
     #[inline]
     pub fn solve(&self, data: &mut Data, sign: f64, derivatives: u8) -> Result<(f64, f64), StepMiss> {
+        self.solve_inline(data, sign, derivatives)
+    }
+
+    /// `solve` inlined into its caller (a sweep's step of the plan).
+    #[inline(always)]
+    pub(crate) fn solve_inline(
+        &self,
+        data: &mut Data,
+        sign: f64,
+        derivatives: u8,
+    ) -> Result<(f64, f64), StepMiss> {
         // a known side on the ground folded in: its pin fixed, at rest
         match (self.l1.known.is_some(), self.l2.known.is_some()) {
             (true, true) => self.solve_on::<true, true>(data, sign, derivatives),

@@ -126,6 +126,17 @@ impl TwoWay {
         }
     }
 
+    /// The largest motion and misfit of both (the terms of `other` added).
+    #[inline(always)]
+    fn join(&mut self, other: &TwoWay) {
+        if other.motion > self.motion {
+            self.motion = other.motion;
+        }
+        if other.misfit > self.misfit {
+            self.misfit = other.misfit;
+        }
+    }
+
     fn passes(&self) -> bool {
         self.misfit <= CONSISTENCY * self.motion + CONSISTENCY_FLOOR
     }
@@ -144,7 +155,9 @@ pub struct Row<'a> {
 /// instead of the check's pass and the store's copies. The same comparisons in the same
 /// order, so the same answer. The row is written whatever the answer: a step that fails
 /// the check is solved again and its row written again, or the sweep ends before it
-/// (rows past `n_done` are not results).
+/// (rows past `n_done` are not results). Inlined into a run's loop (`time_loop`), which
+/// is compiled for the machine.
+#[inline(always)]
 pub fn continues_storing(
     inv_col_scale: &[f64],
     h: f64,
@@ -186,18 +199,35 @@ fn checked_into<const D: bool, const DD: bool>(
         (&inv_col_scale[..n], &q_prev[..n], &qd[..n], &qdd[..n], &mut out_q[..n]);
     let out_qd = if D { &mut out_qd[..n] } else { out_qd };
     let out_qdd = if DD { &mut out_qdd[..n] } else { out_qdd };
-    let mut check = TwoWay::default();
-    for i in 0..n {
-        let (v, a) = (qd[i], qdd[i]);
-        check.add(h, s[i], q[i], q_prev[i], v, a);
-        out_q[i] = q[i];
+    // two coordinates at a time, each of the pair with its own largest motion and misfit
+    // (the two lanes of a vector register), the two joined at the end: the largest of
+    // terms is the same whatever order they are taken in (a NaN passed over either way)
+    let mut lanes = [TwoWay::default(), TwoWay::default()];
+    for i in (0..n - n % 2).step_by(2) {
+        let j = i + 1;
+        lanes[0].add(h, s[i], q[i], q_prev[i], qd[i], qdd[i]);
+        lanes[1].add(h, s[j], q[j], q_prev[j], qd[j], qdd[j]);
+        (out_q[i], out_q[j]) = (q[i], q[j]);
         if D {
-            out_qd[i] = v;
+            (out_qd[i], out_qd[j]) = (qd[i], qd[j]);
         }
         if DD {
-            out_qdd[i] = a;
+            (out_qdd[i], out_qdd[j]) = (qdd[i], qdd[j]);
         }
     }
+    if n % 2 == 1 {
+        let i = n - 1;
+        lanes[0].add(h, s[i], q[i], q_prev[i], qd[i], qdd[i]);
+        out_q[i] = q[i];
+        if D {
+            out_qd[i] = qd[i];
+        }
+        if DD {
+            out_qdd[i] = qdd[i];
+        }
+    }
+    let [mut check, other] = lanes;
+    check.join(&other);
     check.passes()
 }
 
