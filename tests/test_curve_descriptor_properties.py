@@ -136,6 +136,25 @@ def test_the_normalisation_puts_the_first_harmonic_on_the_x_axis_and_reports_its
     assert flipped or np.allclose(other.coeffs, norm.coeffs, rtol=0.0, atol=1e-13)
 
 
+@pytest.mark.parametrize("seed", range(8))
+def test_the_canonical_end_looks_at_every_even_harmonic(seed: int) -> None:
+    """Raw coefficients whose largest even harmonic is the 4th (the 2nd a hundred times
+    smaller, a random first harmonic): the canonical end makes the largest even-harmonic
+    coefficient positive, which is then one of the 4th's (a start or a rotation changes
+    each harmonic's coefficients but not their size)."""
+    rng = np.random.default_rng(seed)
+    raw = np.zeros((8, 4))
+    raw[0] = rng.uniform(-1.0, 1.0, 4)
+    raw[1] = rng.uniform(-1e-3, 1e-3, 4)
+    raw[2] = rng.uniform(-0.1, 0.1, 4)
+    raw[3] = rng.uniform(-0.1, 0.1, 4)
+    norm = D.normalise(raw, np.zeros(2))
+    even = norm.coeffs[1::2]  # harmonics 2, 4, 6, 8
+    at = np.unravel_index(np.argmax(np.abs(even)), even.shape)
+    assert at[0] == 1  # the premise: the largest is in the 4th harmonic
+    assert even[at] > 0.0
+
+
 def test_flip_even_starts_the_curve_half_a_period_on_turned_half_a_turn() -> None:
     co = D.descriptors(curve(3), 7).coeffs
     for start in (0.0, 0.7):
