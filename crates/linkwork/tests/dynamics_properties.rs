@@ -195,10 +195,10 @@ const KT: f64 = 3.0;
 const TAU: f64 = 2.5;
 const TH0: f64 = 0.3;
 
-/// The energy terms against their closed forms at every row: T = 1/2 I_O w^2 (I_O = J_C
-/// + m L^2), V = m g L sin(theta) + 1/2 k (theta - 0.1)^2, the torque's work tau
-/// (theta - theta0); T + V - W at its start value. With a damper on the spring, the work
-/// also holds -c w^2 integrated: it falls while the balance holds.
+/// The energy terms against their closed forms at every row: T = 1/2 I_O w^2 with
+/// I_O = J_C + m L^2, V = m g L sin(theta) + 1/2 k (theta - 0.1)^2, the torque's work
+/// tau (theta - theta0); T + V - W at its start value. With a damper on the spring, the
+/// work also holds -c w^2 integrated: it falls while the balance holds.
 #[test]
 fn energy_terms_are_their_closed_forms_and_balance() {
     let model = pendulum(0.0);
