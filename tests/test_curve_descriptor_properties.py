@@ -197,14 +197,18 @@ def test_a_curves_descriptors_unless_asked_have_the_shipped_atlas_harmonics() ->
 
 def test_many_curves_at_once_are_each_alone() -> None:
     """Each curve of a batch gets its own descriptors, its own canonical end included
-    (twelve curves: both ends are picked in the batch's last axis)."""
+    (twelve curves: both ends are picked in the batch's last axis), and its own curve
+    back from them."""
     many = np.stack([curve(s, 40) for s in range(12)]).reshape(3, 4, 40, 2)
     got = D.descriptors(many, 6)
     assert got.coeffs.shape == (3, 4, 6, 4)
+    curves = D.reconstruct(got.coeffs, n=32)
+    assert curves.shape == (3, 4, 32, 2)
     for i in range(3):
         for j in range(4):
             one = D.descriptors(many[i, j], 6)
             np.testing.assert_allclose(got.coeffs[i, j], one.coeffs, rtol=0.0, atol=1e-14)
+            np.testing.assert_allclose(curves[i, j], D.reconstruct(one.coeffs, n=32), rtol=0.0, atol=1e-14)
             assert float(got.theta[i, j]) == pytest.approx(float(one.theta), abs=1e-14)
             assert float(got.psi[i, j]) == pytest.approx(float(one.psi), abs=1e-14)
 
