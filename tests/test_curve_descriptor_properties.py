@@ -230,6 +230,9 @@ def test_nearest_distances_are_to_the_sides_of_the_polygon(seed: int, closed: bo
     sides = [(c[i], c[(i + 1) % len(c)]) for i in range(len(c) if closed else len(c) - 1)]
     want = [min(_segment_distance(p, a, b) for a, b in sides) for p in q]
     np.testing.assert_allclose(D.nearest_distances(q, c, closed=closed), want, rtol=0.0, atol=1e-14)
+    # a repeated vertex (a side of zero length) is a point of the polygon already
+    twice = np.insert(c, 1, c[1], axis=0)
+    np.testing.assert_allclose(D.nearest_distances(q, twice, closed=closed), want, rtol=0.0, atol=1e-14)
 
 
 @pytest.mark.parametrize("size", [1e-3, 1.0, 1e3])
