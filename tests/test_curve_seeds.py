@@ -140,6 +140,15 @@ def test_shape_fit_does_not_depend_on_the_way_the_points_run() -> None:
         assert b.mean == pytest.approx(a.mean, rel=1e-6) and b.reverse != a.reverse
 
 
+def test_random_seeds_of_a_shape_fit_run_the_points_as_given() -> None:
+    """Random crank-rockers are drawn for the points as given: their designs say they
+    run the points forwards (only atlas hits of the curve run backwards are reversed)."""
+    th = np.linspace(0.0, 2.0 * math.pi, 36, endpoint=False)
+    result = C.shape_fit(C.coupler_points(KNOWN, th, "open"), k=1, random=3, workers=1, polish=0, agree=None)
+    drawn = [d for d in result.designs if d.family == "random"]
+    assert drawn and not any(d.reverse for d in drawn)
+
+
 def test_a_shape_fit_without_a_refined_design_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
     """No seed refined (every fit empty): the result has no design and asking for the
     best is a named error; there is nothing to polish."""
