@@ -54,13 +54,21 @@ def mutants(source: str, lines: set[int] | None):
     offsets = [0]
     for line in source.splitlines(keepends=True):
         offsets.append(offsets[-1] + len(line))
-    docstring_lines: set[int] = set()
+    # inside a string nothing is mutated (an f-string's expressions are tokens from 3.12 on);
+    # the code around a string on the same line is
+    strings: list[tuple[tuple[int, int], tuple[int, int]]] = []
+    opened: list[tuple[int, int]] = []
+    fstring_start, fstring_end = getattr(tokenize, "FSTRING_START", -1), getattr(tokenize, "FSTRING_END", -1)
     for tok in tokenize.generate_tokens(io.StringIO(source).readline):
         if tok.type == tokenize.STRING:
-            docstring_lines.update(range(tok.start[0], tok.end[0] + 1))
+            strings.append((tok.start, tok.end))
+        elif tok.type == fstring_start:
+            opened.append(tok.start)
+        elif tok.type == fstring_end:
+            strings.append((opened.pop(), tok.end))
     for tok in tokenize.generate_tokens(io.StringIO(source).readline):
         row = tok.start[0]
-        if lines is not None and row not in lines or row in docstring_lines:
+        if lines is not None and row not in lines or any(a <= tok.start < b for a, b in strings):
             continue
         start = offsets[row - 1] + tok.start[1]
         end = offsets[tok.end[0] - 1] + tok.end[1]

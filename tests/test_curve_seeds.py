@@ -5,7 +5,9 @@ known four-bar's curve include that four-bar, and the shape fit improves on its 
 
 from __future__ import annotations
 
+import importlib
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -14,6 +16,8 @@ from linkwork.errors import SynthesisError
 from linkwork.synthesis import curve as C
 from linkwork.synthesis.curve import seeds as S
 from linkwork.synthesis.curve.shape import moved, traced
+
+SH = importlib.import_module("linkwork.synthesis.curve.shape")
 
 pytest.importorskip("scipy")
 
@@ -118,6 +122,42 @@ def test_shape_fit_improves_on_its_seed() -> None:
 
     assert nearest_distances(pts, best.curve()).mean() == pytest.approx(best.mean, rel=1e-12)
     assert result.seconds < 60.0
+
+
+def test_shape_fit_does_not_depend_on_the_way_the_points_run() -> None:
+    """The same points given the other way round: each seed is refined on the points
+    run its own way, so the same designs come out with the opposite direction (36
+    points: the refinement takes them all, the same points either way)."""
+    th = 1.1 + np.linspace(0.0, 2.0 * math.pi, 36, endpoint=False)
+    x = KNOWN.copy()
+    x[4:6] = (-2.0, 5.0)
+    pts = C.coupler_points(x, th, "crossed")
+    pts[::3] += np.random.default_rng(1).normal(0.0, 0.3, (12, 2))
+    ahead = C.shape_fit(pts, k=4, seed=0, workers=1)
+    back = C.shape_fit(pts[::-1].copy(), k=4, seed=0, workers=1)
+    assert len(back.designs) == len(ahead.designs) > 1
+    for a, b in zip(ahead.designs, back.designs):
+        assert b.mean == pytest.approx(a.mean, rel=1e-6) and b.reverse != a.reverse
+
+
+def test_random_seeds_of_a_shape_fit_run_the_points_as_given() -> None:
+    """Random crank-rockers are drawn for the points as given: their designs say they
+    run the points forwards (only atlas hits of the curve run backwards are reversed)."""
+    th = np.linspace(0.0, 2.0 * math.pi, 36, endpoint=False)
+    result = C.shape_fit(C.coupler_points(KNOWN, th, "open"), k=1, random=3, workers=1, polish=0, agree=None)
+    drawn = [d for d in result.designs if d.family == "random"]
+    assert drawn and not any(d.reverse for d in drawn)
+
+
+def test_a_shape_fit_without_a_refined_design_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    """No seed refined (every fit empty): the result has no design and asking for the
+    best is a named error; there is nothing to polish."""
+    monkeypatch.setattr(SH, "fit", lambda *a, **k: SimpleNamespace(designs=[]))
+    th = np.linspace(0.0, 2.0 * math.pi, 36, endpoint=False)
+    result = SH.shape_fit(C.coupler_points(KNOWN, th, "open"), k=2, polish=4)
+    assert result.designs == [] and result.unrefined == 0
+    with pytest.raises(SynthesisError, match="no starting design could be refined"):
+        _ = result.best
 
 
 def test_moved_carries_the_curve() -> None:

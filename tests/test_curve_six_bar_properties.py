@@ -354,6 +354,54 @@ def test_dyad_seeds_cover_their_stated_ranges(kind: str) -> None:
     assert 70 <= longer <= 130
 
 
+class _CountingRng:
+    """A generator that counts its draws (each `uniform` call)."""
+
+    def __init__(self, seed: int) -> None:
+        self.rng, self.calls = np.random.default_rng(seed), 0
+
+    def uniform(self, *args: float) -> float:
+        self.calls += 1
+        return float(self.rng.uniform(*args))
+
+
+def test_a_draw_with_f_near_cs_curve_is_refused_at_any_size() -> None:
+    """E drawn on the rocker of X scaled ten times: about one draw in 200 puts F within
+    0.05 of the farthest |C - F| of C's curve (measured: the rule is relative, the same
+    draws at either size); those are drawn again, so every dyad given keeps F off the
+    curve by that fraction and all those asked for are given."""
+    x = np.concatenate([X[:6] * 10.0, X[6:7], X[7:] * 10.0, TH])
+    rng = _CountingRng(7)
+    out = SB.dyad_seeds(("open", x), "watt", 400, rng)
+    assert len(out) == 400
+    assert rng.calls > 5 * 400  # an accepted draw takes 5 numbers, a refused one 2: some were refused
+    th = np.linspace(0.0, 2 * math.pi, 360, endpoint=False)
+    for side, y in out:
+        p = C.six_bars.six_bar_points(y, th, "watt", "open", side)
+        d = np.hypot(*(p["C"] - p["F"]).T)
+        assert d.min() > 0.05 * d.max()
+
+
+@pytest.mark.parametrize("count", [1, 3])
+def test_dyad_seeds_give_up_after_fifty_draws_for_each_dyad_asked(
+    monkeypatch: pytest.MonkeyPatch, count: int
+) -> None:
+    """A four-bar on which every draw puts F on C's curve: each is refused, and the search
+    ends after 50 draws for each dyad asked (2 numbers each, O6's angle and radius),
+    giving none rather than looping."""
+    real = SB.six_bar_points
+
+    def f_on_c(y: np.ndarray, th: np.ndarray, *args: Any) -> dict[str, np.ndarray]:
+        pts = dict(real(y, th, *args))
+        pts["F"] = pts["C"][::-1].copy()  # F runs along C's curve the other way: they cross
+        return pts
+
+    monkeypatch.setattr(SB, "six_bar_points", f_on_c)
+    rng = _CountingRng(1)
+    assert SB.dyad_seeds(("open", np.concatenate([X, TH])), "stephenson", count, rng) == []
+    assert rng.calls == 2 * 50 * count
+
+
 # ---- the refinement and the fit, a few evaluations each -------------------------------------------
 def test_a_refined_six_bar_states_what_its_numbers_give() -> None:
     """The design a refinement returns: its f, largest deviation, constraint violation,

@@ -1,0 +1,281 @@
+//! Properties of forward dynamics that hold whatever the integrators' inner workings:
+//! each method's error follows its tolerance (the exact motion of a damped oscillator),
+//! rows between steps come from a dense output as accurate as the steps, no step is
+//! longer than h_max; generalized-alpha's coefficients have the spectral radius rho_inf
+//! at infinity and make a second-order method; the energy terms are their closed forms
+//! (a pendulum under gravity on a torsion spring, driven by a constant torque: the work
+//! is the torque times the angle turned); given initial conditions move onto the
+//! constraints by the distance reported, and beyond their tolerance are refused, named.
+//! These are cargo's checks of the engine's integrators (a cargo-mutants run sees only
+//! cargo tests); the Python suite checks the same runs through the binding.
+
+use linkwork::dynamics::gen_alpha::Coefficients;
+use linkwork::dynamics::{simulate, Method, SimOptions, SimOutput};
+use linkwork::{Description, Model, Options, SolveError};
+use nalgebra::{Matrix4, Vector4};
+
+const K: f64 = 50.0;
+const MASS: f64 = 2.0;
+const C: f64 = 0.8;
+
+/// A 2 kg block on a slide along x, a spring (k = 50, free length 1, c) from the ground
+/// point (-1, 0): the spring's length is 1 + x, so x obeys m x'' + c x' + k x = 0.
+fn oscillator(damping: f64) -> Model {
+    let json = format!(
+        r#"{{"name": "oscillator", "gravity": [0, -9.81],
+            "bodies": [{{"name": "block", "x": 0.3, "y": 0.0, "mass": {MASS}, "inertia": 0.1}}],
+            "joints": [{{"type": "prismatic", "name": "slide", "body_a": "ground", "body_b": "block",
+                         "at": [0.3, 0.0], "axis": [1.0, 0.0]}}],
+            "loads": [{{"type": "spring", "name": "s", "body_a": "ground", "at_a": [-1.0, 0.0],
+                        "body_b": "block", "at_b": [0.3, 0.0], "stiffness": {K}, "free_length": 1.0,
+                        "damping": {damping}}}]}}"#
+    );
+    Model::with_options(Description::from_json(&json).unwrap(), Options { free: true, ..Options::default() })
+        .unwrap()
+}
+
+/// x(t) of m x'' + c x' + k x = 0 from x0, v0 (underdamped).
+fn exact(t: f64, c: f64, x0: f64, v0: f64) -> f64 {
+    let w0 = (K / MASS).sqrt();
+    let zeta = c / (2.0 * (K * MASS).sqrt());
+    let wd = w0 * (1.0 - zeta * zeta).sqrt();
+    (-zeta * w0 * t).exp() * (x0 * (wd * t).cos() + (v0 + zeta * w0 * x0) / wd * (wd * t).sin())
+}
+
+fn run(model: &Model, times: &[f64], opts: &SimOptions) -> SimOutput {
+    let mut out = SimOutput::new(model, times);
+    simulate(model, times, None, None, opts, &mut out, &mut |_| true).unwrap();
+    assert_eq!(out.n_done, times.len());
+    out
+}
+
+/// The largest error of x over the rows against the exact motion from rest at 0.3.
+fn x_error(out: &SimOutput) -> f64 {
+    out.times
+        .iter()
+        .enumerate()
+        .map(|(k, &t)| (out.q[3 * k] - exact(t, C, 0.3, 0.0)).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The error control: the tolerance bounds each step's local error, so the global error
+/// follows the method's order. DOP853 (order 8, its estimate of order 8): the error
+/// about the tolerance (measured 1.6 to 2.8 times it; bound 30), 100 times smaller for
+/// a 100 times tighter one (measured 68 and 85; bound 30), with 100^(1/8) = 1.8 times
+/// the steps (measured 1.4 and 1.6). Generalized-alpha (second order, the position's
+/// local error of order 3 estimated): h ~ tol^(1/3), the global error ~ h^2 ~ tol^(2/3)
+/// (measured 4 to 5.4 times it; bound 20), 100^(2/3) = 21.5 times smaller for a 100 times
+/// tighter tolerance (measured 17 and 20; bound 7), with 4.6 times the steps (4.0, 4.4).
+#[test]
+fn a_tighter_tolerance_gives_a_smaller_error_in_proportion() {
+    let model = oscillator(C);
+    let times: Vec<f64> = (0..=100).map(|k| 0.05 * k as f64).collect();
+    for (method, tols, order) in
+        [(Method::Rk8, [1e-6, 1e-8, 1e-10], 8.0), (Method::GenAlpha, [1e-5, 1e-7, 1e-9], 3.0)]
+    {
+        let mut last: Option<(f64, usize)> = None;
+        for tol in tols {
+            let out =
+                run(&model, &times, &SimOptions { method, rtol: tol, atol: tol, ..SimOptions::default() });
+            let err = x_error(&out);
+            let global = if method == Method::Rk8 { tol } else { tol.powf(2.0 / 3.0) };
+            let bound = if method == Method::Rk8 { 30.0 } else { 20.0 };
+            assert!(err < bound * global, "{method:?} tol {tol:.0e}: error {err:.3e}");
+            if let Some((err0, steps0)) = last {
+                let (shrink, ratio) = (err0 / err, out.n_steps as f64 / steps0 as f64);
+                let expected = 100f64.powf(1.0 / order);
+                assert!(
+                    shrink > if method == Method::Rk8 { 30.0 } else { 7.0 },
+                    "{method:?}: error / {shrink:.1}"
+                );
+                assert!(ratio > expected / 2.0 && ratio < 2.0 * expected, "{method:?}: steps x{ratio:.2}");
+            }
+            last = Some((err, out.n_steps));
+        }
+    }
+}
+
+/// Many asked times inside each step: DOP853's rows between its steps (the dense output
+/// of order 7) are as accurate as the steps; generalized-alpha lands a step on every
+/// asked time. No step is longer than h_max.
+#[test]
+fn rows_between_steps_are_as_accurate_as_the_steps_and_no_step_exceeds_h_max() {
+    let model = oscillator(C);
+    let times: Vec<f64> = (0..=400).map(|k| 0.01 * k as f64).collect();
+    let tol = 1e-10;
+    let out = run(&model, &times, &SimOptions { rtol: tol, atol: tol, ..SimOptions::default() });
+    let err = x_error(&out);
+    assert!(out.n_steps * 4 < times.len(), "{} steps", out.n_steps);
+    assert!(err < 30.0 * tol, "dense output error {err:.3e}");
+    for method in [Method::Rk8, Method::GenAlpha] {
+        let h_max = 0.02;
+        let coarse: Vec<f64> = (0..=4).map(|k| 0.5 * k as f64).collect();
+        let opts = SimOptions { method, rtol: 1e-4, atol: 1e-4, h_max, ..SimOptions::default() };
+        let out = run(&model, &coarse, &opts);
+        assert!(out.n_steps >= 100, "{method:?}: {} steps over 2 s with h_max {h_max}", out.n_steps);
+        assert!(out.step[1..].iter().all(|&h| h > 0.0 && h <= h_max), "{method:?}: {:?}", out.step);
+    }
+}
+
+/// One step of generalized-alpha on q'' = -w^2 q (Arnold and Bruls' form, with the
+/// method's coefficients) as a linear map of (q, qd, a, qdd).
+fn amplification(co: Coefficients, hw: f64) -> Matrix4<f64> {
+    let (h, w2) = (1.0, hw * hw);
+    let Coefficients { alpha_m: am, alpha_f: af, beta, gamma } = co;
+    // unknowns (q1, v1, a1, qdd1): the new state from the old one, x1 = L^-1 R x0
+    #[rustfmt::skip]
+    let lhs = Matrix4::new(
+        1.0, 0.0, -h * h * beta, 0.0,
+        0.0, 1.0, -h * gamma, 0.0,
+        0.0, 0.0, 1.0 - am, -(1.0 - af),
+        w2, 0.0, 0.0, 1.0,
+    );
+    #[rustfmt::skip]
+    let rhs = Matrix4::new(
+        1.0, h, h * h * (0.5 - beta), 0.0,
+        0.0, 1.0, h * (1.0 - gamma), 0.0,
+        0.0, 0.0, -am, af,
+        0.0, 0.0, 0.0, 0.0,
+    );
+    lhs.try_inverse().unwrap() * rhs
+}
+
+/// Chung and Hulbert's parameters from rho_inf: at an infinite frequency times step the
+/// method damps every mode by rho_inf a step (its spectral radius), at low frequency it
+/// is second order (the error at t = 1 shrinks four times when the step is halved), and
+/// at rho_inf = 1 it does not damp at all.
+#[test]
+fn generalized_alpha_damps_by_rho_inf_at_infinity_and_is_second_order() {
+    for rho in [0.0, 0.3, 0.6, 0.9, 1.0] {
+        let co = Coefficients::new(rho);
+        let radius =
+            amplification(co, 1e7).complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max);
+        // the limit is approached as hw grows (2e-5 off at hw = 1e7 for rho_inf = 0)
+        assert!((radius - rho).abs() < 1e-4, "rho_inf {rho}: spectral radius {radius}");
+        let error = |steps: usize| {
+            let a = amplification(co, 1.0 / steps as f64);
+            // q'' = -w^2 q (w = 1 / steps, h = 1) from q = 1 at rest, the accelerations at
+            // their exact value: after `steps` steps, w t = 1
+            let w2 = 1.0 / (steps * steps) as f64;
+            let mut x = Vector4::new(1.0, 0.0, -w2, -w2);
+            for _ in 0..steps {
+                x = a * x;
+            }
+            (x[0] - 1f64.cos()).abs()
+        };
+        let ratio = error(200) / error(400);
+        assert!((ratio - 4.0).abs() < 0.1, "rho_inf {rho}: error ratio {ratio}");
+    }
+    let undamped = amplification(Coefficients::new(1.0), 0.5);
+    let radius = undamped.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max);
+    assert!((radius - 1.0).abs() < 1e-12, "{radius}");
+}
+
+/// A bar pinned at its end O to the ground, centre of mass at L from O, under gravity, on
+/// a torsion spring (k, free angle 0.1, damping c) and driven by a constant torque.
+fn pendulum(damping: f64) -> Model {
+    let json = format!(
+        r#"{{"name": "pendulum", "gravity": [0.0, -{G}],
+          "bodies": [{{"name": "bar", "x": {x}, "y": {y}, "theta": {TH0}, "mass": {M}, "inertia": {JC}}}],
+          "joints": [{{"type": "revolute", "name": "O", "body_a": "ground", "body_b": "bar", "at": [0.0, 0.0]}}],
+          "loads": [{{"type": "torsion_spring", "name": "ts", "body_a": "ground", "body_b": "bar",
+                      "stiffness": {KT}, "free_angle": 0.1, "damping": {damping}}},
+                    {{"type": "torque", "name": "tq", "body": "bar", "law": {{"type": "constant", "value": {TAU}}}}}]}}"#,
+        x = L * TH0.cos(),
+        y = L * TH0.sin(),
+    );
+    Model::with_options(Description::from_json(&json).unwrap(), Options { free: true, ..Options::default() })
+        .unwrap()
+}
+const G: f64 = 9.81;
+const M: f64 = 1.7;
+const L: f64 = 0.6;
+const JC: f64 = 0.04;
+const KT: f64 = 3.0;
+const TAU: f64 = 2.5;
+const TH0: f64 = 0.3;
+
+/// The energy terms against their closed forms at every row: T = 1/2 I_O w^2 with
+/// I_O = J_C + m L^2, V = m g L sin(theta) + 1/2 k (theta - 0.1)^2, the torque's work
+/// tau (theta - theta0); T + V - W at its start value. With a damper on the spring, the
+/// work also holds -c w^2 integrated: it falls while the balance holds.
+#[test]
+fn energy_terms_are_their_closed_forms_and_balance() {
+    let model = pendulum(0.0);
+    let times: Vec<f64> = (0..=60).map(|k| 0.05 * k as f64).collect();
+    let io = JC + M * L * L;
+    for method in [Method::Rk8, Method::GenAlpha] {
+        let tol = 1e-10;
+        let out = run(&model, &times, &SimOptions { method, rtol: tol, atol: tol, ..SimOptions::default() });
+        let e0 = out.kinetic[0] + out.potential[0];
+        let mut turned = 0.0f64;
+        for k in 0..times.len() {
+            let (theta, w) = (out.q[3 * k + 2], out.qd[3 * k + 2]);
+            let v = M * G * L * theta.sin() + 0.5 * KT * (theta - 0.1).powi(2);
+            let t = 0.5 * io * w * w;
+            assert!((out.potential[k] - v).abs() < 1e-12 * (1.0 + v.abs()), "{method:?} row {k}: V");
+            assert!((out.kinetic[k] - t).abs() < 1e-12 * (1.0 + t), "{method:?} row {k}: T");
+            let work = TAU * (theta - TH0);
+            let bound = if method == Method::Rk8 { 1e-7 } else { 1e-4 };
+            assert!((out.work[k] - work).abs() < bound, "{method:?} row {k}: W {} vs {work}", out.work[k]);
+            let balance = out.kinetic[k] + out.potential[k] - out.work[k] - e0;
+            assert!(balance.abs() < bound, "{method:?} row {k}: balance {balance:.3e}");
+            turned = turned.max((theta - TH0).abs());
+        }
+        assert!(turned > 0.5, "{method:?}: the bar turned {turned} rad");
+    }
+    let damped = pendulum(0.4);
+    let out = run(&damped, &times, &SimOptions { rtol: 1e-10, atol: 1e-10, ..SimOptions::default() });
+    let e0 = out.kinetic[0] + out.potential[0];
+    for k in 0..times.len() {
+        let balance = out.kinetic[k] + out.potential[k] - out.work[k] - e0;
+        assert!(balance.abs() < 1e-7, "damped row {k}: balance {balance:.3e}");
+        let torque_work = TAU * (out.q[3 * k + 2] - TH0);
+        // the damper's share of the work, never positive, and falling
+        assert!(out.work[k] - torque_work < 1e-9, "row {k}");
+    }
+    let last = times.len() - 1;
+    assert!(out.work[last] - TAU * (out.q[3 * last + 2] - TH0) < -0.05);
+}
+
+/// Given initial conditions off the slide by less than ic_tol move onto it by the
+/// smallest change in the mass metric (y and theta to zero, x kept), report how far
+/// (scaled), and the motion from there is the exact one with the given x and its rate;
+/// beyond ic_tol the positions, or the rates, are refused by name.
+#[test]
+fn given_initial_conditions_move_onto_the_constraints_by_the_distance_reported() {
+    let model = oscillator(C);
+    let times: Vec<f64> = (0..=40).map(|k| 0.05 * k as f64).collect();
+    let (ly, lt) = (model.col_scale[1], model.col_scale[2]);
+    let q0 = [0.25, 4e-7 * ly, 1e-7 * lt];
+    let qd0 = [0.5, 2e-7 * ly, 0.0];
+    let opts = SimOptions { rtol: 1e-10, atol: 1e-10, ..SimOptions::default() };
+    let mut out = SimOutput::new(&model, &times);
+    simulate(&model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true).unwrap();
+    assert!((out.moved.q - 4e-7).abs() < 1e-12, "{:?}", out.moved);
+    assert!((out.moved.qd - 2e-7).abs() < 1e-12, "{:?}", out.moved);
+    assert!((out.q[0] - 0.25).abs() < 1e-15 && out.q[1].abs() < 1e-15 && out.q[2].abs() < 1e-15);
+    assert!((out.qd[0] - 0.5).abs() < 1e-15 && out.qd[1].abs() < 1e-15);
+    // the spring's length is 1 + x: x = 0.25 is 0.25 from its rest
+    let err = times
+        .iter()
+        .enumerate()
+        .map(|(k, &t)| (out.q[3 * k] - exact(t, C, 0.25, 0.5)).abs())
+        .fold(0.0, f64::max);
+    assert!(err < 1e-8, "{err:.3e}");
+    let refused = |q0: [f64; 3], qd0: [f64; 3]| {
+        let mut out = SimOutput::new(&model, &times);
+        simulate(&model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true).unwrap_err()
+    };
+    let e = refused([0.25, 3e-6 * ly, 0.0], [0.0; 3]);
+    assert!(matches!(e, SolveError::Inconsistent { what: "positions", .. }), "{e}");
+    let e = refused([0.25, 0.0, 0.0], [0.0, 3e-6 * ly, 0.0]);
+    assert!(matches!(e, SolveError::Inconsistent { what: "velocities", .. }), "{e}");
+    // within the tolerance on both: accepted
+    refused_not(&model, &times, &opts, [0.25, 9e-7 * ly, 0.0], [0.0, 9e-7 * ly, 0.0]);
+}
+
+fn refused_not(model: &Model, times: &[f64], opts: &SimOptions, q0: [f64; 3], qd0: [f64; 3]) {
+    let mut out = SimOutput::new(model, times);
+    simulate(model, times, Some(&q0), Some(&qd0), opts, &mut out, &mut |_| true).unwrap();
+}
