@@ -56,6 +56,8 @@ pub struct Augmented {
     /// the symmetric equilibration of the last factorization
     scale: Vec<f64>,
     blocks: HashMap<(usize, usize), [u32; 9]>,
+    /// each body's own block (`blocks[(i, i)]`, looked up at every fill)
+    body_blocks: Vec<[u32; 9]>,
     jac: Vec<JacSlots>,
     diag: Vec<u32>,
     /// whether the last factorization was regularised
@@ -120,10 +122,11 @@ impl Augmented {
             let range = &row_idx[col_ptr[c]..col_ptr[c + 1]];
             (col_ptr[c] + range.binary_search(&r).expect("entry in the pattern")) as u32
         };
-        let blocks = pairs
+        let blocks: HashMap<(usize, usize), [u32; 9]> = pairs
             .iter()
             .map(|&(a, b)| ((a, b), std::array::from_fn(|e| slot(3 * a + e / 3, 3 * b + e % 3))))
             .collect();
+        let body_blocks = (0..model.n_bodies).map(|i| blocks[&(i, i)]).collect();
         let none = [[u32::MAX; 3]; MAX_ROWS];
         let jac = model
             .constraints
@@ -171,6 +174,7 @@ impl Augmented {
             scaled: vec![0.0; nnz],
             scale: vec![1.0; size],
             blocks,
+            body_blocks,
             jac,
             diag,
             regularised: false,
@@ -184,7 +188,7 @@ impl Augmented {
         self.values.fill(0.0);
         for (i, body) in model.inertias.iter().enumerate() {
             let mb = mass_block(body, &frames[i]);
-            let slots = self.blocks[&(i, i)];
+            let slots = self.body_blocks[i];
             for e in 0..9 {
                 self.values[slots[e] as usize] = c_m * mb[e / 3][e % 3];
             }
@@ -273,15 +277,23 @@ impl Augmented {
     pub fn factor(&mut self, mu: f64) -> Pivots {
         let size = self.n + self.m;
         self.scale.fill(1.0);
+        for (a, v) in self.scaled.iter_mut().zip(&self.values) {
+            *a = v.abs();
+        }
         let big = &mut self.work[..size];
         for _ in 0..3 {
-            big.fill(0.0);
+            // a column's largest |a_rc| s_r s_c: the same bits as the largest of the products
+            // (rounding is monotonic and the scales positive), one product per entry
             for c in 0..size {
-                for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                    let r = self.row_idx[p];
-                    let v = (self.values[p] * self.scale[r] * self.scale[c]).abs();
-                    big[c] = big[c].max(v);
+                let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
+                let mut b = 0.0f64;
+                for (a, &r) in self.scaled[lo..hi].iter().zip(&self.row_idx[lo..hi]) {
+                    let v = a * self.scale[r];
+                    if v > b {
+                        b = v;
+                    }
                 }
+                big[c] = b * self.scale[c];
             }
             for (s, b) in self.scale.iter_mut().zip(big.iter()) {
                 if *b > 0.0 && b.is_finite() {
