@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import datetime
 import math
+import os
 import platform
 import time
 from functools import partial
@@ -400,9 +401,12 @@ def main() -> None:
         f"errors against the exact solutions sampled every {SAMPLE:g} s.",
         "",
     ]
-    report = "\n".join(head) + run(
-        args.problems, args.steps, args.rtols, args.reference, args.repeat, tuple(args.solvers)
-    )
+    load_before = os.getloadavg()
+    body = run(args.problems, args.steps, args.rtols, args.reference, args.repeat, tuple(args.solvers))
+    load_after = os.getloadavg()
+    before, after = (", ".join(f"{a:.2f}" for a in load) for load in (load_before, load_after))
+    head.insert(-1, f"Load average (1, 5, 15 min): {before} before, {after} after.")
+    report = "\n".join(head) + body
     print(report)
     if args.write:
         path = RESULTS / f"dynamics-{stamp[:10]}.md"
