@@ -62,6 +62,24 @@ def test_a01_pendulum_against_the_exact_solution(method: str, rtol: float, bound
     assert sim.drift.max() < 1e-6 and sim.n_steps_taken > 10
 
 
+@pytest.mark.parametrize("method", ["rk8", "gen-alpha"])
+def test_error_control_does_not_count_the_turns_an_angle_has_made(method: str) -> None:
+    """The same swing started one turn and ten turns round (theta + 2 pi, + 20 pi): the
+    relative tolerance counts an angle's size up to a half-turn only, so both runs take
+    the same steps and agree to the tolerance (rtol |theta| would allow the second ten
+    times the error per step, and take fewer steps)."""
+    model = benchmarks.pendulum().mechanism.compile(free=True)
+    t = np.linspace(0.0, 3.0, 31)
+    runs = []
+    for turns in (1, 10):
+        q0 = np.array(model.q_start, dtype=float)
+        q0[2] += 2.0 * np.pi * turns
+        runs.append(model.simulate(t, method=method, rtol=1e-5, atol=1e-5, q0=q0))
+    a, b = runs
+    assert a.n_steps_taken == b.n_steps_taken and a.n_rejected == b.n_rejected
+    assert np.abs(wrapped(a.q[:, 2] - b.q[:, 2])).max() < 1e-9
+
+
 # -- A02 ------------------------------------------------------------------------------------
 
 

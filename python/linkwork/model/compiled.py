@@ -565,7 +565,8 @@ class Model:
         step; the times come from its dense output) or "gen-alpha" (implicit index-3
         generalized-alpha with spectral radius ``rho_inf``, steps adapted to a local error
         estimate and cut to land on the times). ``rtol``, ``atol``: the local error
-        allowed per step, atol in the model's length unit for lengths (rad for angles).
+        allowed per step, atol in the model's length unit for lengths (rad for angles),
+        rtol relative to each value (an angle's counted up to a half-turn).
         ``h0``, ``h_max``, ``max_steps``: the first and largest step, the most steps.
         A failed step raises `IntegrationError` with ``partial``: the times reached.
         ``free_drivers``: drivers to free for this simulation, by name (True: all), their

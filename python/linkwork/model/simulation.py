@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import _core
+from .events import Event
 from .results import Results
 
 if TYPE_CHECKING:
@@ -67,12 +68,14 @@ class Simulation(Results):
         sweep_raw.update(
             residual=raw["drift"],
             det_sign=np.ones(n),
-            events=raw.get("events", []),
+            events=[],  # made `Event`s when first read (`events`)
             qdd=None,
             pivot_ratio=None,
             load_power=None,
         )
         super().__init__(model, sweep_raw)
+        self._raw_events: list[dict[str, Any]] = raw.get("events", [])
+        self._events: list[Event] | None = None
         self.method = method
         self.drift: np.ndarray = raw["drift"]
         self.drift_d: np.ndarray = raw["drift_d"]
@@ -100,6 +103,17 @@ class Simulation(Results):
                     pivot_ratio=rows["pivot_ratio"],
                 )
         return self._lazy[name]
+
+    @property  # type: ignore[override]
+    def events(self) -> list[Event]:
+        """The singular configurations passed and the locks met, in time order."""
+        if self._events is None:
+            self._events = [Event.from_raw(e) for e in self._raw_events]
+        return self._events
+
+    @events.setter
+    def events(self, value: list[Event]) -> None:
+        self._events = value
 
     @property  # type: ignore[override]
     def qdd(self) -> np.ndarray:

@@ -17,7 +17,7 @@ use crate::dynamics::applied::{applied_force, tangents};
 use crate::dynamics::energy::load_power;
 use crate::dynamics::events::Watch;
 use crate::dynamics::mass::mass_times;
-use crate::dynamics::options::SimOptions;
+use crate::dynamics::options::{relative_sizes, SimOptions};
 use crate::dynamics::output::SimOutput;
 use crate::dynamics::record::{store_state, StepInfo};
 use crate::dynamics::system::{max_abs, System};
@@ -81,6 +81,7 @@ pub fn integrate(
     let mut p_old = power(sys, &lambda, &mut nu, t);
     let mut work = 0.0;
     let scale: Vec<f64> = model.col_scale.iter().map(|s| opts.atol * s).collect();
+    let sizes = relative_sizes(model);
     // the first step: a small fraction of the first interval, then adapted
     let mut h_nat = opts.h0.unwrap_or(((times[1.min(times.len() - 1)] - t).max(t_end - t) * 1e-3).max(1e-9));
     h_nat = h_nat.min(opts.h_max);
@@ -156,7 +157,7 @@ pub fn integrate(
                 q1[i] += d;
                 qd1[i] += c_c * d;
                 qdd1[i] += c_m * d;
-                size = size.max(d.abs() / (scale[i] + opts.rtol * q1[i].abs()));
+                size = size.max(d.abs() / (scale[i] + opts.rtol * q1[i].abs().min(sizes[i])));
             }
             for (l, d) in lambda1.iter_mut().zip(&rhs[n..]) {
                 *l += d;
@@ -179,7 +180,8 @@ pub fn integrate(
         // Zienkiewicz-Xie: the position error's leading term, (beta - 1/6) h^2 (a1 - a)
         let c_err = (co.beta - 1.0 / 6.0).abs() * h * h;
         let err = (0..n).fold(0.0f64, |e, i| {
-            e.max(c_err * (a1[i] - a[i]).abs() / (scale[i] + opts.rtol * q1[i].abs().max(q[i].abs())))
+            let size = q1[i].abs().max(q[i].abs()).min(sizes[i]);
+            e.max(c_err * (a1[i] - a[i]).abs() / (scale[i] + opts.rtol * size))
         });
         let factor = if err == 0.0 { MAX_FACTOR } else { MAX_FACTOR.min(SAFETY * err.powf(-1.0 / 3.0)) };
         if err > 1.0 {

@@ -1,5 +1,7 @@
 //! How a simulation integrates: the method and its tolerances.
 
+use crate::model::Model;
+
 /// The integration method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Method {
@@ -87,4 +89,14 @@ impl SimOptions {
         }
         Ok(())
     }
+}
+
+/// The largest |value| of each coordinate that the relative tolerance counts: a body's
+/// angle at most a half-turn (the turns a crank has made say nothing of the accuracy
+/// wanted: rtol |theta| would loosen the control of a revolving crank turn by turn),
+/// lengths and a joint's own coordinate unbounded.
+pub fn relative_sizes(model: &Model) -> Vec<f64> {
+    (0..model.n_coords)
+        .map(|i| if i < 3 * model.n_bodies && i % 3 == 2 { std::f64::consts::PI } else { f64::INFINITY })
+        .collect()
 }

@@ -12,7 +12,7 @@ use crate::constraints::loads::Load;
 use crate::dynamics::dop853 as tab;
 use crate::dynamics::energy::load_power;
 use crate::dynamics::events::Watch;
-use crate::dynamics::options::SimOptions;
+use crate::dynamics::options::{relative_sizes, SimOptions};
 use crate::dynamics::output::SimOutput;
 use crate::dynamics::record::{store_state, StepInfo};
 use crate::dynamics::system::System;
@@ -102,7 +102,10 @@ pub fn integrate(
     rhs.watch.accepted(model, sys, &times, t, q, qd, &f[n..2 * n], &mut events);
     // the error's scale per controlled component (q and qd): atol in the model's units
     let abs_scale: Vec<f64> = model.col_scale.iter().chain(&model.col_scale).map(|s| opts.atol * s).collect();
-    let scale_of = |a: &[f64], b: &[f64], i: usize| abs_scale[i] + opts.rtol * a[i].abs().max(b[i].abs());
+    // and the size the relative part counts (an angle's at most a half-turn; rates' unbounded)
+    let sizes: Vec<f64> = relative_sizes(model).into_iter().chain(vec![f64::INFINITY; n]).collect();
+    let scale_of =
+        |a: &[f64], b: &[f64], i: usize| abs_scale[i] + opts.rtol * a[i].abs().max(b[i].abs()).min(sizes[i]);
     let rms = |v: &[f64], y: &[f64]| {
         (v[..2 * n].iter().enumerate().map(|(i, x)| (x / scale_of(y, y, i)).powi(2)).sum::<f64>()
             / (2 * n) as f64)
