@@ -41,6 +41,7 @@ def _value(field: Any, k: int = 0) -> Any:
         "curve": {"type": "circle", "centre": [0.0, 0.0], "radius": 0.5},
         "pitch": 0.125,
         "length": 0.125,
+        "interval": [-0.125, 0.25],
         "angle": 0.75,
         "number": 0.75,
         "ratio": 2.0,

@@ -71,6 +71,7 @@ def simulate(
     max_steps: int | None = None,
     ic_tol: float = 1e-6,
     progress: Callable[[int, int], Any] | None = None,
+    at_travel_end: str = "stop",
 ) -> tuple[dict[str, Any], BaseException | None]: ...
 def simulation_rows(
     model: Model,

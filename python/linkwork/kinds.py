@@ -8,7 +8,8 @@ A field's ``bodies`` are the fields naming the bodies it is fixed in (``("body_a
 roles: ``name``, ``body``, ``joint``, ``point`` (a world point at the start, fixed in each
 of its bodies), ``local_point``, ``direction`` (a world direction at the start),
 ``slide`` (a slide's direction, fixed in the guide), ``local_direction``, ``curve``,
-``pitch`` (a wheel's pitch radius), ``coefficients``, ``length``, ``angle``, ``ratio``,
+``pitch`` (a wheel's pitch radius), ``coefficients``, ``length``, ``interval`` (a range
+[min, max] of lengths), ``angle``, ``ratio``,
 ``number``, ``flag``, ``choice`` (one of ``choices``) and ``law`` (a driver's motion law;
 ``input`` says what it sets: ``angle``, ``relative_angle``, ``distance``, ``coordinate``
 or ``slide``). ``unit`` is "length", "angle" or None.

@@ -21,9 +21,11 @@ fn optional(a: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Option<Vec<f64>>> 
 /// "times", "q", "qd" (n x n_coords), "drift", "drift_d", "kinetic", "potential",
 /// "work", "step", "iterations" (n), "n_steps", "n_rejected", "n_evaluations",
 /// "moved_q", "moved_qd", "events" (dicts as a sweep's). `progress(done, total)` counts the asked times reached.
+/// `at_travel_end`: "stop" (the run ends where a slider reaches an end of its travel, the
+/// rows before it kept) or "continue" (reported, the motion goes on).
 #[pyfunction]
 #[pyo3(signature = (model, times, q0=None, qd0=None, method="rk8", rtol=1e-8, atol=1e-8, rho_inf=0.9,
-                    h0=None, h_max=None, max_steps=None, ic_tol=1e-6, progress=None))]
+                    h0=None, h_max=None, max_steps=None, ic_tol=1e-6, progress=None, at_travel_end="stop"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
     py: Python<'py>,
@@ -40,10 +42,20 @@ pub(crate) fn simulate<'py>(
     max_steps: Option<usize>,
     ic_tol: f64,
     progress: Option<Py<PyAny>>,
+    at_travel_end: &str,
 ) -> PyResult<(Bound<'py, PyDict>, Option<PyErr>)> {
     let method = Method::from_name(method).ok_or_else(|| {
         InputError::new_err(format!("method must be \"rk8\" or \"gen-alpha\", not {method:?}"))
     })?;
+    let stop_at_travel_end = match at_travel_end {
+        "stop" => true,
+        "continue" => false,
+        _ => {
+            return Err(InputError::new_err(format!(
+                "at_travel_end must be \"stop\" or \"continue\", not {at_travel_end:?}"
+            )))
+        }
+    };
     let d = SimOptions::default();
     let opts = SimOptions {
         method,
@@ -56,6 +68,7 @@ pub(crate) fn simulate<'py>(
         ic_tol,
         // qdd, the multipliers and reactions are solved when asked (`simulation_rows`)
         accelerations: false,
+        stop_at_travel_end,
     };
     opts.check().map_err(InputError::new_err)?;
     let m = Arc::clone(&model.model);

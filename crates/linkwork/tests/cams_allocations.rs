@@ -36,6 +36,7 @@ fn slide(name: &str, b: &str, at: [f64; 2], axis: [f64; 2]) -> JointDesc {
         pin_b: None,
         axis_a: None,
         angle: None,
+        travel: None,
     }
 }
 

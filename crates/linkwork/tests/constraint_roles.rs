@@ -41,6 +41,7 @@ fn value(role: Role) -> Value {
         Role::Direction(_) | Role::Slide(_) | Role::LocalDirection(_) => json!([1.0, 0.0]),
         Role::Curve(_) => json!({"type": "circle", "centre": [0.0, 0.0], "radius": 0.5}),
         Role::Pitch(_) | Role::Length => json!(0.125),
+        Role::Interval => json!([-0.125, 0.25]),
         Role::Angle | Role::Number => json!(0.75),
         Role::Ratio => json!(2.0),
         Role::Coefficients(_) => json!({"x": 1.0, "y": 0.0, "theta": 0.5}),

@@ -63,6 +63,7 @@ fn turning_slide(slot_side_a: bool) -> Description {
                 pin_b: None,
                 axis_a: None,
                 angle: None,
+                travel: None,
             },
         ],
         drivers: vec![angle("bar", vec![0.4, 1.5, 0.8]), angle("crank", vec![1.0, -4.0, 0.5])],

@@ -225,6 +225,7 @@ class Mechanism:
         pin_b: Sequence[float] | None = None,
         axis_a: Sequence[float] | None = None,
         angle: float | None = None,
+        travel: Sequence[float] | None = None,
     ) -> str:
         """A translational joint: ``body_b`` slides on ``body_a``. 2 rows: no relative
         rotation, no offset across the axis. Drawn: along ``axis`` (a world direction at
@@ -233,6 +234,8 @@ class Mechanism:
         in the direction ``axis_a`` there (or the world ``axis``, for a slide on the
         ground), with ``body_b``'s point ``pin_b`` (in its frame) on it, ``angle`` =
         theta_b - theta_a (default 0); s is 0 where ``pin_b`` is at ``pin_a``.
+        ``travel`` = (min, max): the range of s (a stroke's stops); a simulation reports
+        where the slider reaches either end (`Model.simulate`, ``at_travel_end``).
 
         >>> m = Mechanism("slider, lengths first")
         >>> m.prismatic(m.ground, m.body("slider"), pin_a=(0, 0.02), pin_b=(0, 0), axis=(1, 0))
@@ -264,6 +267,8 @@ class Mechanism:
                 joint[key] = _xy(value)
         if angle is not None:
             joint["angle"] = float(angle)
+        if travel is not None:
+            joint["travel"] = _xy(travel)
         self._joints.append(joint)
         return name
 

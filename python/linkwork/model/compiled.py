@@ -546,6 +546,7 @@ class Model:
         ic_tol: float = 1e-6,
         progress: Callable[[int, int], Any] | bool | None = None,
         free_drivers: Iterable[str] | bool = False,
+        at_travel_end: str = "stop",
     ) -> Simulation:
         """Forward dynamics: the motion under gravity, the loads and the drivers of a
         model compiled with free coordinates (``compile(free=True)``), from ``q0``, ``qd0``
@@ -573,14 +574,20 @@ class Model:
         coordinates then following the forces; the others are kept. The model is compiled
         again without them, free (the simulation's ``model``); a name that is not a
         driver of the model raises `InputError`.
+        ``at_travel_end``: where a slider reaches an end of the ``travel`` its prismatic
+        joint is given (an "end_of_travel" event), "stop" ends the simulation there (the
+        rows asked before it kept, the event last in ``events``) and "continue" reports
+        it and goes on (no stop is modelled: the slider passes the end).
         """
         if free_drivers is not False:
             return self.freed(free_drivers).simulate(
                 times, method=method, rtol=rtol, atol=atol, q0=q0, qd0=qd0, rho_inf=rho_inf, h0=h0,
                 h_max=h_max, max_steps=max_steps, ic_tol=ic_tol, progress=progress,
+                at_travel_end=at_travel_end,
             )  # fmt: skip
         t = _args.times(times)
         method = _args.choice(method, "method", ("rk8", "gen-alpha"))
+        at_travel_end = _args.choice(at_travel_end, "at_travel_end", ("stop", "continue"))
         rtol = _args.number(rtol, "rtol", positive=True)
         atol = _args.number(atol, "atol", positive=True)
         rho_inf = _args.number(rho_inf, "rho_inf")
@@ -611,6 +618,7 @@ class Model:
             max_steps=max_steps,
             ic_tol=ic_tol,
             progress=callback,
+            at_travel_end=at_travel_end,
         )
         results = Simulation(self, raw, method)
         if error is not None:

@@ -18,8 +18,9 @@ KINDS = {
     "bifurcation": "assembly branches meet: the joints' rows become dependent; the sweep follows "
     "the branch it was on",
     "lock": "an output stops and reverses while the input moves (a dead point if driven from that output); "
-    "in a simulation, the whole motion stops and reverses",
+    "in a simulation, the whole motion stops and reverses, or a slider reaches the end of its stroke",
     "branch_jump": "the solution left the branch it was on and halving the step did not bring it back",
+    "end_of_travel": "a simulation's slider reaches an end of the travel its prismatic joint is given",
 }
 
 
@@ -27,7 +28,7 @@ KINDS = {
 class Event:
     """A located event of a sweep or a simulation.
 
-    ``kind``: "limit", "bifurcation", "lock" or "branch_jump" (see `KINDS`); ``step``:
+    ``kind``: "limit", "bifurcation", "lock", "branch_jump" or "end_of_travel" (see `KINDS`); ``step``:
     it lies between times[step - 1] and times[step]; ``time``: where it was located;
     ``q``: the configuration there; ``sigma_min``: smallest singular value of the scaled
     Phi_q there; ``constraints`` / ``coordinates``: the (name, share) of the joints and
@@ -35,7 +36,8 @@ class Event:
     output that locks; ``drivers``: (name, value) of each driver there; ``pivot_ratio``:
     of the sweep's Phi_q there, or the smallest of the augmented matrix a simulation's
     solves met around it. A simulation's lock is the whole motion stopping and reversing
-    (``sigma_min`` NaN, ``output`` the coordinate that turns back).
+    (``sigma_min`` NaN, ``output`` the coordinate that turns back), or a slider at the end
+    of its stroke (``output`` its prismatic joint); an "end_of_travel" names the joint.
     """
 
     kind: str

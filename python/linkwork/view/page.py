@@ -292,7 +292,7 @@ th:first-child, td:first-child { text-align: left; }
 #timeline { position: relative; height: 14px; margin: 0 8px; }
 .mark { position: absolute; top: 0; width: 3px; height: 14px; margin-left: -1px; cursor: pointer; }
 .limit { background: #d62728; } .bifurcation { background: #9467bd; } .lock { background: #ff7f0e; }
-.branch_jump { background: #000; } .closest { background: #7f7f7f; }
+.branch_jump { background: #000; } .end_of_travel { background: #8c564b; } .closest { background: #7f7f7f; }
 #plots { display: grid; grid-template-columns: repeat(auto-fill, minmax(22rem, 1fr)); gap: 0.6rem; }
 .plot { border: 1px solid #ddd; } .plot svg { width: 100%; height: 150px; display: block; cursor: crosshair; }
 .plot h3 { font-size: 13px; margin: 2px 6px; font-weight: normal; }
@@ -416,7 +416,7 @@ function el(tag, attrs) {
 }
 const X = (t) => L + (W - L - R) * (t - T0) / span;
 const KIND_COLOURS = { limit: "#d62728", bifurcation: "#9467bd", lock: "#ff7f0e", branch_jump: "#000000",
-  closest: "#7f7f7f" };
+  end_of_travel: "#8c564b", closest: "#7f7f7f" };
 // one plot: lines over time (a legend when more than one), events dashed, a cursor
 const COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf"];
 function addPlot(title, lines) {

@@ -200,6 +200,8 @@ pub enum Role {
     /// the coefficients of the named body's coordinates
     Coefficients(&'static str),
     Length,
+    /// a range of lengths [min, max]
+    Interval,
     Angle,
     /// a speed ratio
     Ratio,
@@ -243,6 +245,7 @@ impl Role {
             Role::Pitch(_) => "pitch",
             Role::Coefficients(_) => "coefficients",
             Role::Length => "length",
+            Role::Interval => "interval",
             Role::Angle => "angle",
             Role::Ratio => "ratio",
             Role::Number => "number",
@@ -255,7 +258,9 @@ impl Role {
     /// The unit of the value, "length" or "angle" (a law's: of what it sets), or None.
     pub fn unit(&self) -> Option<&'static str> {
         match self {
-            Role::Point(_) | Role::LocalPoint(_) | Role::Pitch(_) | Role::Length => Some("length"),
+            Role::Point(_) | Role::LocalPoint(_) | Role::Pitch(_) | Role::Length | Role::Interval => {
+                Some("length")
+            }
             Role::Angle => Some("angle"),
             Role::Law(i) => Some(if i.is_angle() { "angle" } else { "length" }),
             _ => None,

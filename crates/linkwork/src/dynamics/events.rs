@@ -2,11 +2,14 @@
 //! accepted steps and located between them on the quintic Hermite interpolant of
 //! (q, qd, qdd) at the steps' ends:
 //! - a singular configuration passed (a bifurcation; a limit if a driver row is in the
-//!   dependency): looked for where the smallest pivot ratio of a step's solves is a local
-//!   minimum below `WATCH_BELOW`, located where Phi_q^T w turns over (w the rows'
-//!   dependency), at the interpolated q projected onto the constraints;
+//!   dependency): looked for where the smallest singular value of Phi_q (mass metric)
+//!   at the accepted steps' ends has a local minimum that a V through it could bring to
+//!   zero within the steps (whatever their size), located where Phi_q^T w turns over (w
+//!   the rows' dependency), at the interpolated q projected onto the constraints;
 //! - a lock: the whole motion stops and reverses (every rate zero at once: a swing's end,
-//!   a crank that stops short of a dead centre), located where qd turns against itself.
+//!   a crank that stops short of a dead centre), located where qd turns against itself;
+//! - a slider's limits (`travel`): the end of the travel it is given, and its geometric
+//!   limit (a lock of that slider), located where its slide, or its rate, crosses them.
 #![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
 use nalgebra::DMatrix;
@@ -15,15 +18,16 @@ use crate::constraints::Constraint;
 use crate::dynamics::equilibrium::constraints_dense;
 use crate::dynamics::mass::mass_times;
 use crate::dynamics::system::System;
+use crate::dynamics::travel::{sliders, Slider, GEOMETRIC_BELOW};
 use crate::math::roots::illinois;
 use crate::model::Model;
 use crate::solve::events::{
     classify, constraint_shares, coordinate_shares, Event, EventKind, SingularTriple,
 };
 
-/// A step whose solves' smallest pivot ratio is a local minimum below this is searched
-/// for a singular crossing: near one the ratio falls like the square of the distance (the
-/// Schur complement's eigenvalue), far from any it stays O(0.1 - 1) on the benchmarks.
+/// A step end whose sigma_min (mass metric) is a local minimum below this is always
+/// searched for a singular crossing; above it only if the slopes on either side could
+/// bring it to zero within the steps (a crossing stepped over by long steps).
 pub const WATCH_BELOW: f64 = 0.1;
 /// A reversal is a lock when the rates left where qd turns against itself are below
 /// this fraction of the step's: at a genuine stop they vanish together (the interpolant's
@@ -38,7 +42,8 @@ pub const SINGULAR_BELOW: f64 = 1e-3;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
 
-/// One accepted step's end: the state and the smallest pivot ratio met on the way.
+/// One accepted step's end: the state, the smallest pivot ratio met on the way and
+/// sigma_min of Phi_q there (mass metric).
 #[derive(Debug, Clone)]
 struct Sample {
     t: f64,
@@ -46,6 +51,18 @@ struct Sample {
     qd: Vec<f64>,
     qdd: Vec<f64>,
     pivot: f64,
+    sigma: f64,
+}
+
+/// Whether b, between a and c, is a minimum of sigma_min worth a search: a local minimum,
+/// below `WATCH_BELOW` or no higher than the steeper side's slope could take to zero
+/// within the longer step (a V stepped over: sigma = k |t - t*| gives sigma_b <= k h).
+fn dips(a: &Sample, b: &Sample, c: &Sample) -> bool {
+    if !(b.sigma <= a.sigma && b.sigma < c.sigma) {
+        return false;
+    }
+    let slope = ((a.sigma - b.sigma) / (b.t - a.t)).max((c.sigma - b.sigma) / (c.t - b.t));
+    b.sigma < WATCH_BELOW || b.sigma <= slope * (b.t - a.t).max(c.t - b.t)
 }
 
 /// Watches the accepted steps of a simulation for events.
@@ -60,6 +77,9 @@ pub struct Watch {
     qd: Vec<f64>,
     /// the last dependency of the rows found (inverse iteration's start)
     w: Vec<f64>,
+    /// the prismatic joints, and whether a travel's end stops the simulation
+    sliders: Vec<Slider>,
+    stop_at_travel_end: bool,
 }
 
 /// The quintic Hermite interpolant on [a.t, b.t] at t: q and qd.
@@ -97,7 +117,7 @@ fn dot(model: &Model, a: &[f64], b: &[f64]) -> f64 {
 }
 
 impl Watch {
-    pub fn new(model: &Model) -> Watch {
+    pub fn new(model: &Model, stop_at_travel_end: bool) -> Watch {
         let n = model.n_coords;
         Watch {
             samples: Vec::with_capacity(3),
@@ -107,6 +127,8 @@ impl Watch {
             q: vec![0.0; n],
             qd: vec![0.0; n],
             w: (0..model.n_rows).map(|i| 1.0 + 0.1 * ((i * 7 + 3) % 11) as f64).collect(),
+            sliders: sliders(model),
+            stop_at_travel_end,
         }
     }
 
@@ -120,6 +142,7 @@ impl Watch {
 
     /// An accepted step ended at (t, q, qd, qdd) (the first call: the start). Events
     /// found are appended to `events`, `times` are the output times (for their step).
+    /// Returns the time the simulation stops at: a travel's end met, if it stops there.
     #[allow(clippy::too_many_arguments)]
     pub fn accepted(
         &mut self,
@@ -131,7 +154,7 @@ impl Watch {
         qd: &[f64],
         qdd: &[f64],
         events: &mut Vec<Event>,
-    ) {
+    ) -> Option<f64> {
         let pivot = std::mem::replace(&mut self.step_pivot, f64::INFINITY);
         let mut sample = if self.samples.len() == 3 { self.samples.remove(0) } else { self.empty(q.len()) };
         sample.t = t;
@@ -139,17 +162,23 @@ impl Watch {
         sample.qd.copy_from_slice(qd);
         sample.qdd.copy_from_slice(qdd);
         sample.pivot = pivot;
+        sample.sigma = if model.n_rows == 0 || model.n_rows >= model.n_coords {
+            f64::INFINITY
+        } else {
+            sigma_here(model, sys, q, t, &mut self.w)
+        };
         self.samples.push(sample);
         let k = self.samples.len();
         if k >= 2 {
             self.lock(model, k - 2, times, events);
         }
-        if k == 3 {
-            let (a, b, c) = (&self.samples[0], &self.samples[1], &self.samples[2]);
-            if b.pivot < WATCH_BELOW && b.pivot <= a.pivot && b.pivot < c.pivot {
-                self.singular(model, sys, times, events);
-            }
+        if k == 3 && dips(&self.samples[0], &self.samples[1], &self.samples[2]) {
+            self.singular(model, sys, times, events);
         }
+        if k >= 2 {
+            return self.travel(model, sys, k - 2, times, events);
+        }
+        None
     }
 
     /// The end of the run: a crossing in the last step, its ratio still falling.
@@ -157,17 +186,134 @@ impl Watch {
         let k = self.samples.len();
         if k >= 2 {
             let (b, c) = (&self.samples[k - 2], &self.samples[k - 1]);
-            if c.pivot < WATCH_BELOW && c.pivot <= b.pivot {
+            // still falling at the end: the mirror image of b on the far side stands for c's
+            let mirror = Sample { t: 2.0 * c.t - b.t, ..b.clone() };
+            if c.sigma < b.sigma && dips(b, c, &mirror) {
                 self.samples.drain(..k - 2);
                 self.samples.push(self.samples[1].clone());
                 // [b, c, c]: the search runs over [b, c] only (an empty second interval)
                 self.singular(model, sys, times, events);
             }
         }
+        // a search's window reaches back past the last step's locks and limits
+        events.sort_by(|a, b| a.time.total_cmp(&b.time));
     }
 
     fn empty(&self, n: usize) -> Sample {
-        Sample { t: 0.0, q: vec![0.0; n], qd: vec![0.0; n], qdd: vec![0.0; n], pivot: f64::INFINITY }
+        Sample {
+            t: 0.0,
+            q: vec![0.0; n],
+            qd: vec![0.0; n],
+            qdd: vec![0.0; n],
+            pivot: f64::INFINITY,
+            sigma: f64::INFINITY,
+        }
+    }
+
+    /// Each slider between samples i and i + 1: the end of its travel crossed (the first
+    /// one met, if it stops the simulation: its time returned), its rate changing sign
+    /// where its slide is stationary along every allowed motion (its geometric limit).
+    fn travel(
+        &mut self,
+        model: &Model,
+        sys: &mut System,
+        i: usize,
+        times: &[f64],
+        events: &mut Vec<Event>,
+    ) -> Option<f64> {
+        let (a, b) = (&self.samples[i], &self.samples[i + 1]);
+        let (q, qd) = (&mut self.q, &mut self.qd);
+        let mut stop: Option<f64> = None;
+        for s in &self.sliders {
+            let rate = |t: f64, q: &mut [f64], qd: &mut [f64]| {
+                hermite(a, b, t, q, qd);
+                s.slide(q, qd).1
+            };
+            let ((_, va), (_, vb)) = (s.slide(&a.q, &a.qd), s.slide(&b.q, &b.qd));
+            // where the slide turns back inside the step (its extreme), if it does
+            let turn = if va * vb < 0.0 { illinois(a.t, b.t, |t| Some(rate(t, q, qd))) } else { None };
+            if let Some([lo, hi]) = s.travel {
+                for (bound, side) in [(lo, -1.0), (hi, 1.0)] {
+                    // beyond the end: side (x - bound) > 0; first checked at the extreme
+                    let beyond = |t: f64, q: &mut [f64], qd: &mut [f64]| {
+                        hermite(a, b, t, q, qd);
+                        side * (s.slide(q, qd).0 - bound)
+                    };
+                    if beyond(a.t, q, qd) > 0.0 {
+                        continue;
+                    }
+                    let end = [turn, Some(b.t)].into_iter().flatten().find(|&t| beyond(t, q, qd) > 0.0);
+                    let Some(end) = end else { continue };
+                    let Some(t) = illinois(a.t, end, |t| Some(beyond(t, q, qd))) else { continue };
+                    hermite(a, b, t, q, qd);
+                    let _ = sys.project_positions(model, q, t, 1e-15);
+                    let what = if side > 0.0 { "max" } else { "min" };
+                    let then = if self.stop_at_travel_end {
+                        "the simulation stops there, the rows before it kept"
+                    } else {
+                        "the simulation goes on through it (no stop is modelled)"
+                    };
+                    events.push(Event {
+                        kind: EventKind::EndOfTravel,
+                        step: times.partition_point(|&x| x < t),
+                        time: t,
+                        q: q.clone(),
+                        sigma_min: f64::NAN,
+                        constraints: vec![(s.name.clone(), 1.0)],
+                        coordinates: Vec::new(),
+                        output: Some(s.name.clone()),
+                        drivers: drivers(model, t),
+                        message: format!(
+                            "slider '{}' reaches the end of its travel at t = {t:.12} (its {what}, {bound}): \
+                             {then}",
+                            s.name
+                        ),
+                        pivot_ratio: a.pivot.min(b.pivot),
+                    });
+                    if self.stop_at_travel_end && stop.is_none_or(|x| t < x) {
+                        stop = Some(t);
+                    }
+                }
+            }
+            // the rate's zero: a stroke's end if the mechanism moves on and the slide is
+            // stationary along every motion the joints allow there
+            let Some(t) = turn else { continue };
+            rate(t, q, qd);
+            let speed = dot(model, qd, qd).sqrt();
+            let step_speed = dot(model, &a.qd, &a.qd).sqrt().max(dot(model, &b.qd, &b.qd).sqrt());
+            if speed <= LOCK_SPEED * step_speed || model.n_rows >= model.n_coords {
+                continue;
+            }
+            let _ = sys.project_positions(model, q, t, 1e-15);
+            let Some(basis) = free_motions(model, sys, q, t) else { continue };
+            let share = s.free_share(model, q, &basis);
+            if share > GEOMETRIC_BELOW {
+                continue;
+            }
+            let (x, _) = s.slide(q, qd);
+            events.push(Event {
+                kind: EventKind::Lock,
+                step: times.partition_point(|&x| x < t),
+                time: t,
+                q: q.clone(),
+                sigma_min: f64::NAN,
+                constraints: vec![(s.name.clone(), 1.0)],
+                coordinates: Vec::new(),
+                output: Some(s.name.clone()),
+                drivers: drivers(model, t),
+                message: format!(
+                    "slider '{}' stops and reverses at t = {t:.12} (slide {x:.9e}) while the mechanism \
+                     moves on: the end of its stroke, where the joints leave it no way further",
+                    s.name
+                ),
+                pivot_ratio: a.pivot.min(b.pivot),
+            });
+        }
+        // a stop ends the run: what was found after it did not happen
+        if let Some(t_stop) = stop {
+            events.retain(|e| e.time <= t_stop);
+        }
+        stop
     }
 
     /// The whole motion reverses between samples i and i + 1: a lock if every rate
@@ -267,8 +413,9 @@ impl Watch {
             return;
         }
         self.searched = t;
-        // one crossing, found again from a neighbouring window (the stages' ratios are noisy)
-        if t - self.last_event <= samples[2].t - samples[0].t {
+        // one crossing, found again from a neighbouring window; two crossings may be closer
+        // than a window of long steps (A02's pairs at coarse tolerances)
+        if t - self.last_event <= 0.1 * (samples[2].t - samples[0].t) {
             return;
         }
         let (a, c) = if t <= samples[1].t { (&samples[0], &samples[1]) } else { (&samples[1], &samples[2]) };
@@ -296,12 +443,19 @@ fn mass_sigma(
     qd: &mut [f64],
     w: &mut [f64],
 ) -> f64 {
-    let n = model.n_coords;
     hermite(a, c, t, q, qd);
     let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
     if residual.is_nan() || residual > model.options.tol_residual {
         return f64::INFINITY;
     }
+    sigma_here(model, sys, q, t, w)
+}
+
+/// sigma_min of Phi_q in the mass metric at (q, t), q on the constraints: three steps of
+/// inverse iteration on Phi_q M^-1 Phi_q^T by solves with the augmented matrix, from the
+/// last dependency `w` (left there).
+fn sigma_here(model: &Model, sys: &mut System, q: &[f64], t: f64, w: &mut [f64]) -> f64 {
+    let n = model.n_coords;
     let mut phi = vec![0.0; model.n_rows];
     sys.data.q.copy_from_slice(q);
     crate::solve::assembly::update_frames(&mut sys.data);

@@ -21,6 +21,7 @@ use crate::dynamics::options::{relative_sizes, SimOptions};
 use crate::dynamics::output::SimOutput;
 use crate::dynamics::record::{store_state, StepInfo};
 use crate::dynamics::system::{max_abs, System};
+use crate::dynamics::travel::stop_at;
 use crate::error::SolveError;
 use crate::model::Model;
 use crate::solve::assembly::nu_into;
@@ -68,7 +69,7 @@ pub fn integrate(
     let (mut q, mut qd) = (q.to_vec(), qd.to_vec());
     let (mut qdd, mut lambda) = (vec![0.0; n], vec![0.0; m]);
     let mut t = times[0];
-    let mut watch = Watch::new(model);
+    let mut watch = Watch::new(model, opts.stop_at_travel_end);
     watch.pivot(sys.accelerations(model, &q, &qd, t, &mut qdd, &mut lambda).ratio);
     watch.accepted(model, sys, &times, t, &q, &qd, &qdd, &mut out.events);
     let mut a = qdd.clone();
@@ -210,7 +211,10 @@ pub fn integrate(
             store_state(model, sys, out, next, t, &mut qs, &mut qds, info, opts.accelerations)?;
             next += 1;
         }
-        watch.accepted(model, sys, &times, t, &q, &qd, &qdd, &mut out.events);
+        if let Some(t_stop) = watch.accepted(model, sys, &times, t, &q, &qd, &qdd, &mut out.events) {
+            stop_at(out, t_stop);
+            return Ok(());
+        }
     }
     watch.finish(model, sys, &times, &mut out.events);
     Ok(())

@@ -11,7 +11,8 @@
 //! - `equilibrium`, `modes`: the rest configuration under the loads, its stability and
 //!   its linearized vibration modes.
 //! - `energy`: kinetic and potential energy, the power of what is not conservative.
-//! - `events`: singular configurations passed and locks, located between the steps.
+//! - `events`: singular configurations passed and locks, located between the steps;
+//!   `travel`: the sliders' limits (the travel given, a stroke's end).
 //! - `rk` (with `dop853`): DOP853 on the index-1 form with coordinate projection.
 //! - `gen_alpha`: implicit index-3 generalized-alpha with step-size adaptation.
 //! - `options`, `output`, `record`, `simulate`: the settings, the rows kept and how one
@@ -34,6 +35,7 @@ pub mod record;
 pub mod rk;
 pub mod simulate;
 pub mod system;
+pub mod travel;
 
 pub use options::{Method, SimOptions};
 pub use output::SimOutput;

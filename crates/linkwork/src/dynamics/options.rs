@@ -53,6 +53,9 @@ pub struct SimOptions {
     /// qdd, the multipliers, the reactions and the pivot ratio at every row (an index-1
     /// solve each); false leaves them NaN, for `record::solve_rows` when they are wanted
     pub accelerations: bool,
+    /// a slider reaching an end of its `travel` stops the simulation there (the rows
+    /// before it kept); false: reported, and the motion goes on (no stop is modelled)
+    pub stop_at_travel_end: bool,
 }
 
 impl Default for SimOptions {
@@ -67,6 +70,7 @@ impl Default for SimOptions {
             max_steps: 10_000_000,
             ic_tol: 1e-6,
             accelerations: true,
+            stop_at_travel_end: true,
         }
     }
 }

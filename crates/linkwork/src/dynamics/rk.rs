@@ -16,6 +16,7 @@ use crate::dynamics::options::{relative_sizes, SimOptions};
 use crate::dynamics::output::SimOutput;
 use crate::dynamics::record::{store_state, StepInfo};
 use crate::dynamics::system::System;
+use crate::dynamics::travel::stop_at;
 use crate::error::SolveError;
 use crate::model::Model;
 use crate::solve::assembly::nu_into;
@@ -83,7 +84,7 @@ pub fn integrate(
         lambda: vec![0.0; model.n_rows],
         nu: vec![0.0; model.n_rows],
         evaluations: 0,
-        watch: Watch::new(model),
+        watch: Watch::new(model, opts.stop_at_travel_end),
     };
     let mut y = vec![0.0; len];
     y[..n].copy_from_slice(q);
@@ -268,8 +269,14 @@ pub fn integrate(
         if !rhs.eval(model, sys, t, &y, &mut f) {
             return Err(step_error(out, t, h_step, "the accelerations are not finite".into()));
         }
-        rhs.watch.accepted(model, sys, &times, t, &y[..n], &y[n..2 * n], &f[n..2 * n], &mut events);
+        let stop =
+            rhs.watch.accepted(model, sys, &times, t, &y[..n], &y[n..2 * n], &f[n..2 * n], &mut events);
         out.events.append(&mut events);
+        if let Some(t_stop) = stop {
+            out.n_evaluations += rhs.evaluations;
+            stop_at(out, t_stop);
+            return Ok(());
+        }
         h = h_step * factor;
         h = h.min(opts.h_max);
     }

@@ -6,6 +6,7 @@ use crate::dynamics::options::{Method, SimOptions};
 use crate::dynamics::output::SimOutput;
 use crate::dynamics::record::{store_state, StepInfo};
 use crate::dynamics::system::System;
+use crate::dynamics::travel::check_start;
 use crate::dynamics::{gen_alpha, rk};
 use crate::error::SolveError;
 use crate::model::Model;
@@ -74,6 +75,7 @@ pub fn simulate(
     let tol = |given: bool| if given { opts.ic_tol } else { f64::INFINITY };
     out.moved =
         make_consistent(model, &mut sys, &mut q, &mut qd, times[0], tol(q0.is_some()), tol(qd0.is_some()))?;
+    check_start(model, &q, &qd)?;
     let start = StepInfo { step: 0.0, iterations: 0, work: 0.0 };
     store_state(model, &mut sys, out, 0, times[0], &mut q, &mut qd, start, opts.accelerations)?;
     match opts.method {

@@ -195,7 +195,8 @@ pub enum JointDesc {
     /// `body_b` slides on `body_a` along `axis` through `at` (world, in the drawing); or,
     /// lengths first, along `axis_a` (or `axis`) through `pin_a`, in body_a's frame, with
     /// body_b's point `pin_b` (in its frame) on that line, `angle` = theta_b - theta_a
-    /// (default: the drawing's, or 0 with pins).
+    /// (default: the drawing's, or 0 with pins); `travel` = [min, max], the slide's range
+    /// from the start (a simulation reports its ends).
     Prismatic {
         name: String,
         body_a: String,
@@ -212,6 +213,8 @@ pub enum JointDesc {
         axis_a: Option<[f64; 2]>,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         angle: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        travel: Option<[f64; 2]>,
     },
     /// Weld: `body_b` keeps its starting pose relative to `body_a`.
     Fixed { name: String, body_a: String, body_b: String },
@@ -476,6 +479,8 @@ mod wire {
             axis_a: Option<[f64; 2]>,
             #[serde(default, skip_serializing_if = "Option::is_none")]
             angle: Option<f64>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            travel: Option<[f64; 2]>,
         },
         Fixed {
             name: String,

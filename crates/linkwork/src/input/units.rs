@@ -62,7 +62,7 @@ pub fn internal(desc: &Description) -> Description {
                 pin_a: *pin_a,
                 pin_b: *pin_b,
             },
-            JointDesc::Prismatic { name, body_a, body_b, at, axis, pin_a, pin_b, axis_a, angle } => {
+            JointDesc::Prismatic { name, body_a, body_b, at, axis, pin_a, pin_b, axis_a, angle, travel } => {
                 JointDesc::Prismatic {
                     name: name.clone(),
                     body_a: body_a.clone(),
@@ -73,6 +73,7 @@ pub fn internal(desc: &Description) -> Description {
                     pin_b: *pin_b,
                     axis_a: *axis_a,
                     angle: angle.map(|a| k * a),
+                    travel: *travel,
                 }
             }
             JointDesc::Fixed { name, body_a, body_b } => {

@@ -20,6 +20,8 @@ pub enum EventKind {
     /// The solution left the branch the sweep was following and subdividing the step did
     /// not bring it back.
     BranchJump,
+    /// A simulation's slider reaches an end of the travel its prismatic joint is given.
+    EndOfTravel,
 }
 
 impl EventKind {
@@ -29,6 +31,7 @@ impl EventKind {
             EventKind::Bifurcation => "bifurcation",
             EventKind::Lock => "lock",
             EventKind::BranchJump => "branch_jump",
+            EventKind::EndOfTravel => "end_of_travel",
         }
     }
 }

@@ -143,6 +143,7 @@ pub fn slider_crank(m: &SliderCrank, th2: f64, omega: f64) -> Description {
                 pin_b: None,
                 axis_a: None,
                 angle: None,
+                travel: None,
             },
         ],
         drivers: vec![crank_driver(th2, omega)],
@@ -338,6 +339,7 @@ pub fn translating_cam(
                 pin_b: None,
                 axis_a: None,
                 angle: None,
+                travel: None,
             },
             JointDesc::CamFollower {
                 name: "F".into(),

@@ -20,6 +20,8 @@ pub struct Prismatic {
     pub e_a: [f64; 2],
     /// theta_b - theta_a, constant
     pub theta0: f64,
+    /// the slide's range [min, max] from the start, if given (reported by a simulation)
+    pub travel: Option<[f64; 2]>,
 }
 
 /// One row v . d with v = A_a v_a a body-fixed direction of a: the offset across the
@@ -112,7 +114,7 @@ impl Constraint for Prismatic {
 impl Sample for Prismatic {
     fn sample() -> Self {
         let (s, c) = 0.4f64.sin_cos();
-        Prismatic { u_a: [0.2, 0.05], u_b: [-0.1, 0.3], e_a: [c, s], theta0: -0.3 }
+        Prismatic { u_a: [0.2, 0.05], u_b: [-0.1, 0.3], e_a: [c, s], theta0: -0.3, travel: None }
     }
 }
 
@@ -133,6 +135,7 @@ impl super::Described for Prismatic {
                 ("pin_b", LocalPoint("body_b")),
                 ("axis_a", LocalDirection("body_a")),
                 ("angle", Angle),
+                ("travel", Interval),
             ],
         }]
     };
@@ -151,6 +154,7 @@ pub(crate) fn compile(
     pin_b: Option<[f64; 2]>,
     axis_a: Option<[f64; 2]>,
     angle: Option<f64>,
+    travel: Option<[f64; 2]>,
     cx: &mut dyn CompileContext,
 ) -> Result<Compiled<Prismatic>, String> {
     let (a, b) = cx.pair(body_a, body_b)?;
@@ -184,17 +188,32 @@ pub(crate) fn compile(
         None if lengths_first => 0.0,
         None => drawn_angle,
     };
-    Ok(Compiled::new(Prismatic { u_a, u_b, e_a: e, theta0 }, a, b))
+    if let Some([lo, hi]) = travel {
+        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+            return Err(format!("travel [{lo}, {hi}] must be finite with min < max"));
+        }
+    }
+    Ok(Compiled::new(Prismatic { u_a, u_b, e_a: e, theta0, travel }, a, b))
 }
 
 impl FromDescription for Prismatic {
     fn compile(desc: &Desc, cx: &mut dyn CompileContext) -> Option<Result<Compiled<Self>, String>> {
-        let Desc::Joint(JointDesc::Prismatic { name, body_a, body_b, at, axis, pin_a, pin_b, axis_a, angle }) =
-            desc
+        let Desc::Joint(JointDesc::Prismatic {
+            name,
+            body_a,
+            body_b,
+            at,
+            axis,
+            pin_a,
+            pin_b,
+            axis_a,
+            angle,
+            travel,
+        }) = desc
         else {
             return None;
         };
-        Some(compile(name, body_a, body_b, *at, *axis, *pin_a, *pin_b, *axis_a, *angle, cx))
+        Some(compile(name, body_a, body_b, *at, *axis, *pin_a, *pin_b, *axis_a, *angle, *travel, cx))
     }
     fn slide(&self) -> Option<Slide> {
         Some(Slide { u_a: self.u_a, u_b: self.u_b, e_a: self.e_a })

@@ -366,6 +366,8 @@ impl Tracker {
                  bring it back",
                 drivers.join(", ")
             ),
+            // a sweep's drivers set the slides: a travel's end is not looked for
+            EventKind::EndOfTravel => format!("a slider reaches the end of its travel at t = {t:.12}"),
         };
         Event {
             kind,
