@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from linkwork.errors import SynthesisError
@@ -297,6 +297,9 @@ def test_shape_error_of_a_moved_copy_of_an_unevenly_sampled_curve(seed: int, pol
 
 @settings(max_examples=10, deadline=None)
 @given(seed=st.integers(0, 10_000), shear=st.floats(0.3, 1.0))
+# the polish, on the dense copy's vertices, ended 1e-4 farther on the polygon than ICP here
+@example(seed=6774, shear=0.3)
+@example(seed=6774, shear=0.3125)
 def test_shape_error_of_another_shape_is_its_distance_after_the_best_similarity(
     seed: int, shear: float
 ) -> None:

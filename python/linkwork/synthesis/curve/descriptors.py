@@ -301,9 +301,18 @@ def shape_error(
         )
         if res.fun < best[0]:
             scale, rot, offset = _fit(res.x)
-    cc, ss = np.cos(rot), np.sin(rot)
-    moved = scale * c @ np.array([[cc, ss], [-ss, cc]]) + offset
-    d = nearest_distances(q, moved, closed)
+
+    def exact(scale: float, rot: float, offset: np.ndarray) -> np.ndarray:
+        cc, ss = np.cos(rot), np.sin(rot)
+        return nearest_distances(q, scale * c @ np.array([[cc, ss], [-ss, cc]]) + offset, closed)
+
+    d = exact(scale, rot, offset)
+    if polish:
+        # the polish minimises distances to the dense copy's vertices, not to the polygon
+        # itself: keep the ICP's transform where the polished one is farther on the polygon
+        rough = exact(*best[1:])
+        if rough.mean() < d.mean():
+            d, (scale, rot, offset) = rough, best[1:]
     return ShapeFit(
         float(d.mean()), float(d.max()), float(scale), float(rot), np.asarray(offset, dtype=np.float64)
     )
