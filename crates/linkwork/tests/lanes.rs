@@ -245,7 +245,11 @@ fn each_lane_keeps_its_own_branch_and_first_missed_step() {
     let all = designs();
     // design 4 passes 1e-4 from its change point at half a turn: closer than the crank
     // moves it in a step, so the guard cannot show that step and hands it to the careful path
-    for (picks, want_missed) in [([0, 1, 2, 3], [false; 4]), ([0, 5, 2, 4], [false, true, false, true])] {
+    // LANES designs from each set, taken in turn: crank-rockers and the double-crank; and
+    // two of them with the crank that cannot turn and the design next to its change point
+    for (set, missing) in [(&[0, 1, 2, 3, 7, 8, 9][..], &[][..]), (&[0, 5, 2, 4][..], &[5, 4][..])] {
+        let picks: Vec<usize> = set.iter().copied().cycle().take(LANES).collect();
+        let want_missed: Vec<bool> = picks.iter().map(|i| missing.contains(i)).collect();
         let chosen: Vec<Design> = picks
             .iter()
             .map(|&i| design(all[i].m.r1, all[i].m.r2, all[i].m.r3, all[i].m.r4, all[i].l5, all[i].g))
@@ -337,7 +341,17 @@ fn each_lane_keeps_its_own_branch_and_first_missed_step() {
 #[test]
 fn a_cancelled_batch_stops_its_lanes() {
     let designs = designs();
-    let s = setup(&designs[..LANES]);
+    // LANES designs that turn (the crank-rockers and the double-crank, in turn)
+    let turning: Vec<Design> = [0, 1, 2, 3, 7, 8, 9]
+        .iter()
+        .cycle()
+        .take(LANES)
+        .map(|&i| {
+            let d = &designs[i];
+            design(d.m.r1, d.m.r2, d.m.r3, d.m.r4, d.l5, d.g)
+        })
+        .collect();
+    let s = setup(&turning);
     let turn = std::f64::consts::TAU / OMEGA;
     // ten turns of 10,000 steps each (the lanes poll every 4096 steps), cancelled at the
     // first look: before the lanes start or while they run
