@@ -34,9 +34,9 @@ pub fn fit(model: &Model, request: &Request) -> bool {
 /// rates for the closeness trends the step-by-step loop starts from) and no Newton: data
 /// is first put back to the drawing, so nothing of a design swept before in it is read.
 /// Then the plan's state as `closed_form::resync` leaves a solved start. Some(the start's
-/// smallest closeness: its pivot ratio, as a closed-form step reports it) where every
-/// group closes on its branch clear of its singular configuration with a residual within
-/// tolerance; None: the design is left to its own sweep (which names its error).
+/// pivot ratio: Phi_q's LU there, as a sweep's start reports it) where every group closes
+/// on its branch clear of its singular configuration with a residual within tolerance;
+/// None: the design is left to its own sweep (which names its error).
 pub fn start(model: &Model, plan: &Plan, data: &mut Data, t: f64, signs: &[f64]) -> Option<f64> {
     if signs.len() != plan.blocks.len() {
         return None;
@@ -62,8 +62,14 @@ pub fn start(model: &Model, plan: &Plan, data: &mut Data, t: f64, signs: &[f64])
         }
         closeness_min = closeness_min.min(closeness);
     }
+    // the start's pivot ratio as a sweep's start reports it (a study's `pivot_min`): Phi_q's
+    // LU there, not the dyads' closeness
+    if !crate::solve::assembly::position(model, data, t).is_finite() {
+        return None;
+    }
+    let pivots = crate::solve::position::factor(model, data, t, 0).ok()?;
     closed_form::resync(model, plan, data, t, 1.0, true, None);
-    Some(closeness_min)
+    Some(pivots.ratio)
 }
 
 /// Where a lane's design's figures go: its kept coordinates' and points' rows
