@@ -253,23 +253,21 @@ impl Watch {
                     } else {
                         "the simulation goes on through it (no stop is modelled)"
                     };
-                    events.push(Event {
-                        kind: EventKind::EndOfTravel,
-                        step: times.partition_point(|&x| x < t),
-                        time: t,
-                        q: q.clone(),
-                        sigma_min: f64::NAN,
-                        constraints: vec![(s.name.clone(), 1.0)],
-                        coordinates: Vec::new(),
-                        output: Some(s.name.clone()),
-                        drivers: drivers(model, t),
-                        message: format!(
-                            "slider '{}' reaches the end of its travel at t = {t:.12} (its {what}, {bound}): \
-                             {then}",
-                            s.name
-                        ),
-                        pivot_ratio: a.pivot.min(b.pivot),
-                    });
+                    let message = format!(
+                        "slider '{}' reaches the end of its travel at t = {t:.12} (its {what}, {bound}): {then}",
+                        s.name
+                    );
+                    let pivot = a.pivot.min(b.pivot);
+                    events.push(slider_event(
+                        model,
+                        EventKind::EndOfTravel,
+                        &s.name,
+                        t,
+                        q,
+                        times,
+                        message,
+                        pivot,
+                    ));
                     if self.stop_at_travel_end && stop.is_none_or(|x| t < x) {
                         stop = Some(t);
                     }
@@ -291,23 +289,13 @@ impl Watch {
                 continue;
             }
             let (x, _) = s.slide(q, qd);
-            events.push(Event {
-                kind: EventKind::Lock,
-                step: times.partition_point(|&x| x < t),
-                time: t,
-                q: q.clone(),
-                sigma_min: f64::NAN,
-                constraints: vec![(s.name.clone(), 1.0)],
-                coordinates: Vec::new(),
-                output: Some(s.name.clone()),
-                drivers: drivers(model, t),
-                message: format!(
-                    "slider '{}' stops and reverses at t = {t:.12} (slide {x:.9e}) while the mechanism \
-                     moves on: the end of its stroke, where the joints leave it no way further",
-                    s.name
-                ),
-                pivot_ratio: a.pivot.min(b.pivot),
-            });
+            let message = format!(
+                "slider '{}' stops and reverses at t = {t:.12} (slide {x:.9e}) while the mechanism \
+                 moves on: the end of its stroke, where the joints leave it no way further",
+                s.name
+            );
+            let pivot = a.pivot.min(b.pivot);
+            events.push(slider_event(model, EventKind::Lock, &s.name, t, q, times, message, pivot));
         }
         // a stop ends the run: what was found after it did not happen
         if let Some(t_stop) = stop {
@@ -507,6 +495,33 @@ fn bordered(jac: &DMatrix<f64>, basis: &DMatrix<f64>) -> DMatrix<f64> {
 }
 
 /// Each driver's value at t.
+/// An event of one slider (`name`) at t, in state q: its joint the one constraint.
+#[allow(clippy::too_many_arguments)]
+fn slider_event(
+    model: &Model,
+    kind: EventKind,
+    name: &str,
+    t: f64,
+    q: &[f64],
+    times: &[f64],
+    message: String,
+    pivot_ratio: f64,
+) -> Event {
+    Event {
+        kind,
+        step: times.partition_point(|&x| x < t),
+        time: t,
+        q: q.to_vec(),
+        sigma_min: f64::NAN,
+        constraints: vec![(name.to_string(), 1.0)],
+        coordinates: Vec::new(),
+        output: Some(name.to_string()),
+        drivers: drivers(model, t),
+        message,
+        pivot_ratio,
+    }
+}
+
 fn drivers(model: &Model, t: f64) -> Vec<(String, f64)> {
     model
         .constraints
