@@ -4,10 +4,12 @@ line, its CSV against the exact solutions of IFToMM A01 and A02, and its refusal
 from __future__ import annotations
 
 import csv
+import math
 
 import numpy as np
 import pytest
 
+from linkwork import Constant, Mechanism
 from linkwork.cli import main
 from linkwork.mechanism import benchmarks, examples
 from linkwork.reference import exact
@@ -88,3 +90,26 @@ def test_default_span_and_a_run_that_stops_early_writes_what_it_reached(tmp_path
     assert 1 < len(table["t"]) < 101
     x, y = exact.pendulum_tip(table["t"])
     assert np.abs(table["P1.x"] - x).max() < 1e-8
+
+
+def test_a_slider_at_the_end_of_its_travel_stops_or_goes_on(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """--at-travel-end: a 2 kg slider pushed by 3 N from rest reaches x = 0.5, its travel's
+    max, at t* = sqrt(2 m x / F) = sqrt(2/3) s; "stop" (the default) writes the rows up to
+    t* and names the event, "continue" names it and writes every row, on x = F t^2 / (2 m)."""
+    m = Mechanism("pushed slider")
+    s = m.body("slider", mass=2.0, inertia=0.1)
+    m.prismatic(m.ground, s, at=(0.0, 0.0), axis=(1.0, 0.0), name="guide", travel=(-0.1, 0.5))
+    m.force(s, (0.0, 0.0), (1.0, 0.0), Constant(3.0), name="push")
+    m.save(tmp_path / "pushed.toml")
+    t_star = math.sqrt(2.0 * 2.0 * 0.5 / 3.0)
+    base = ["simulate", str(tmp_path / "pushed.toml"), "--t1", "2", "--steps", "41", "--rtol", "1e-10"]
+    assert main([*base, "--out", str(tmp_path / "stop")]) == 0
+    out = capsys.readouterr().out
+    assert "1 event(s):" in out and "end_of_travel" in out and f"t = {t_star:.9g} s" in out
+    stopped = read(tmp_path / "stop" / "pushed.csv")
+    assert np.array_equal(stopped["t"], np.linspace(0.0, 2.0, 41)[np.linspace(0.0, 2.0, 41) <= t_star])
+    assert main([*base, "--at-travel-end", "continue", "--out", str(tmp_path / "go")]) == 0
+    assert "end_of_travel" in capsys.readouterr().out
+    went = read(tmp_path / "go" / "pushed.csv")
+    assert len(went["t"]) == 41
+    np.testing.assert_allclose(went["slider.x"], 3.0 * went["t"] ** 2 / 4.0, rtol=0, atol=1e-9)

@@ -300,6 +300,7 @@ def simulate(args: argparse.Namespace) -> int:
             qd0=qd0,
             max_steps=args.max_steps,
             progress=sys.stderr.isatty(),
+            at_travel_end=args.at_travel_end,
         )
         status = 0
     except (KeyboardInterrupt, LinkworkError) as e:
@@ -311,6 +312,7 @@ def simulate(args: argparse.Namespace) -> int:
         f"{float(np.max(sim.drift_d)):.2e} (rates); energy balance within "
         f"{float(np.max(np.abs(energy.balance))):.2e}"
     )
+    _print_events(sim.events)
     os.makedirs(args.out, exist_ok=True)
     path = f"{_stem(args)}.csv"
     sim.to_csv(path, points=True)
@@ -328,6 +330,18 @@ def simulate(args: argparse.Namespace) -> int:
         written.append(f"{page} (open it in a browser)")
     print("wrote " + ", ".join(written))
     return status
+
+
+def _print_events(events: list[Any], most: int = 20) -> None:
+    """One line per located event (the first ``most``): where a simulation crossed a
+    singular configuration, locked, or met the end of a slider's travel."""
+    if not events:
+        return
+    print(f"{len(events)} event(s):")
+    for e in events[:most]:
+        print(f"  t = {e.time:.9g} s, {e.kind}: {e.message}")
+    if len(events) > most:
+        print(f"  ... and {len(events) - most} more (the page and Simulation.events have all)")
 
 
 def plot(args: argparse.Namespace) -> int:
@@ -670,6 +684,13 @@ A run that fails part way writes the times it reached and exits with status 1.""
         type=_names,
         metavar="DRIVER,...|all",
         help="drivers to free for this run (their coordinates follow the forces; the others are kept)",
+    )
+    sim.add_argument(
+        "--at-travel-end",
+        choices=("stop", "continue"),
+        default="stop",
+        help="where a slider reaches an end of its joint's travel: stop the run there (the rows before "
+        "it written, exit status 0) or report it and go on (default stop)",
     )
     sim.add_argument(
         "--max-steps", type=_positive_int, default=None, metavar="N", help="stop after N integration steps"
