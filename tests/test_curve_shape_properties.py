@@ -159,3 +159,93 @@ def test_the_polish_lowers_the_mean_distance_below_least_squares_whichever_way_t
     np.testing.assert_allclose(backwards, y, rtol=0.0, atol=1e-9)
     unbeatable = SH.ShapeDesign(z, "open", 0.0, 0.0, "atlas", False, None)
     assert SH._polish(points, unbeatable, 2, 50, {}) is None
+
+
+class _Stop(SynthesisError):
+    """Raised by a stand-in refinement after it has recorded its call: the polish ends."""
+
+
+def _first_refinement(monkeypatch: pytest.MonkeyPatch, points: np.ndarray, design: SH.ShapeDesign) -> dict:
+    """The arguments of the polish's first refinement (the polish stopped there)."""
+    seen: dict = {}
+
+    def record(problem: TrackingProblem, x: np.ndarray, max_nfev: int, weights: np.ndarray) -> None:
+        seen.update(problem=problem, x=np.array(x), max_nfev=max_nfev, weights=np.array(weights))
+        raise _Stop("recorded")
+
+    monkeypatch.setattr(SH, "refine", record)
+    assert SH._polish(points, design, 3, 200, {}) is None
+    return seen
+
+
+def _noisy(x: np.ndarray, sigma: float, seed: int) -> np.ndarray:
+    """36 points of x's open curve, every third pushed off it."""
+    points = coupler_points(x, 0.4 + np.linspace(0.0, 2 * math.pi, 36, endpoint=False), "open")
+    points[::3] += np.random.default_rng(seed).normal(0.0, sigma, (12, 2))
+    return points
+
+
+@pytest.mark.parametrize("seed", [2, 3, 4])
+def test_the_polish_refines_the_closed_curve_from_a_start_that_meets_its_constraints(
+    monkeypatch: pytest.MonkeyPatch, seed: int
+) -> None:
+    """The shape problem's curve is closed: the polish's tracking problem is that of the
+    closed curve (its crank angles within one turn), and it starts from crank angles
+    that meet it (not decreasing, within a turn), also where the points' nearest angles step
+    back and forth so much that their forward steps add up to more than a turn (these
+    noisy points: 6.9 to 7.3 rad measured)."""
+    points = _noisy(X, 0.1, seed)
+    design = SH.ShapeDesign(X.copy(), "open", 1.0, 1.0, "atlas", False, None)
+    seen = _first_refinement(monkeypatch, points, design)
+    problem, x = seen["problem"], seen["x"]
+    assert problem.target.closed and "within one turn" in problem.constraint_names()
+    th = x[9:]
+    assert np.all(np.diff(th) >= 0.0) and th[-1] - th[0] < 2 * math.pi
+    assert problem.violation(x) == 0.0
+
+
+@pytest.mark.parametrize("rotation", np.linspace(0.0, 2 * math.pi, 8, endpoint=False))
+@pytest.mark.parametrize("backwards", [False, True])
+def test_the_polish_runs_the_points_the_way_the_design_traces_them(
+    monkeypatch: pytest.MonkeyPatch, rotation: float, backwards: bool
+) -> None:
+    """Points on the design's own curve (at the crank angles the start samples, so each
+    lies on the curve exactly), turned any way and given either way round: the polish
+    refines them in the order the design's crank traces them, its start on every point
+    (the other order puts the start far from most of them)."""
+    sim = ShapeFit(0.0, 0.0, 1.0, float(rotation), np.array([0.3, -0.2]))
+    x = SH.moved(X, sim)
+    th = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)[7::20]
+    ahead = coupler_points(x, th, "open")
+    points = ahead[::-1].copy() if backwards else ahead
+    design = SH.ShapeDesign(x, "open", 1.0, 1.0, "atlas", False, None)
+    seen = _first_refinement(monkeypatch, points, design)
+    np.testing.assert_array_equal(seen["problem"].target.points, ahead)
+    start = coupler_points(seen["x"], seen["x"][9:], "open")
+    np.testing.assert_allclose(start, ahead, rtol=0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("scale", [1e-3, 1.0, 1e3])
+def test_the_polish_weighs_a_point_by_its_distance_floored_at_a_thousandth_of_the_mean(
+    monkeypatch: pytest.MonkeyPatch, scale: float
+) -> None:
+    """Weiszfeld's device: a round weighs each point by 1 / sqrt(its distance from the
+    start's point at its crank angle), so the weighted sum of squares is the sum of the
+    distances; the distances are floored at 1e-3 of their mean, at any size of the
+    curve, so a point on the curve (a third of these, to rounding) weighs sqrt(1000) times
+    one at the mean distance, not all the weight. Only the ratios of the weights count
+    (least squares' minimiser does not move with a common factor)."""
+    x = SH.moved(X, ShapeFit(0.0, 0.0, scale, 0.5, np.array([scale, 2 * scale])))
+    th = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)[7::20]
+    points = coupler_points(x, th, "open")
+    points[1::3] += np.random.default_rng(5).normal(0.0, 0.002 * scale, (12, 2))
+    points[2::3] += np.random.default_rng(6).normal(0.0, 0.01 * scale, (12, 2))
+    design = SH.ShapeDesign(x, "open", 1.0, 1.0, "atlas", False, None)
+    seen = _first_refinement(monkeypatch, points, design)
+    way = seen["problem"].target.points
+    d = np.hypot(*(coupler_points(seen["x"], seen["x"][9:], "open") - way).T)
+    assert np.sum(d < 1e-9 * d.mean()) >= 10  # the premise: points on the curve (to rounding)
+    floored = np.maximum(d, 1e-3 * d.mean())
+    w = seen["weights"]
+    np.testing.assert_allclose(w / w[0], np.sqrt(floored[0] / floored), rtol=1e-12)
+    assert seen["max_nfev"] == SH._POLISH_NFEV
