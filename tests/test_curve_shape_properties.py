@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -249,3 +250,57 @@ def test_the_polish_weighs_a_point_by_its_distance_floored_at_a_thousandth_of_th
     w = seen["weights"]
     np.testing.assert_allclose(w / w[0], np.sqrt(floored[0] / floored), rtol=1e-12)
     assert seen["max_nfev"] == SH._POLISH_NFEV
+
+
+def test_the_polish_keeps_the_round_of_smallest_mean_and_lengthens_rounds_that_stall(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The polish's rounds, the refinement and the score stood in for (each round moves
+    the pivot O2 by 1e-3, so its design is known): a round of 10 evaluations; one that
+    moves the mean nearest distance by less than 1e-5 of the round before's gives the
+    next four times as many, up to ``max_nfev``; a round at ``max_nfev`` that stalls is
+    the last; at most ``rounds`` rounds. The design returned is the round's with the
+    smallest mean, which here is neither the last round's nor the one with the smallest
+    largest distance (every largest distance is above the start's mean)."""
+    # (mean, largest) of each round; the start's mean is 0.01
+    rounds = [
+        (0.012, 0.02),  # the first round may rise above the start
+        (0.009, 0.05),
+        (0.0089, 0.03),  # moves by 1.1e-2 of the mean before: not stalled
+        (0.0089 * (1 - 1e-7), 0.04),  # stalled: 40 next
+        (0.0085, 0.04),
+        (0.0085 * (1 + 1e-7), 0.06),  # stalled: 160 next
+        (0.0085 * (1 - 2e-7), 0.9),  # stalled: 200 (max_nfev) next; the smallest mean
+        (0.0085 * (1 - 1e-7), 0.011),  # stalled at max_nfev: the last
+    ]
+    nfevs: list[int] = []
+
+    def refine(problem: TrackingProblem, x: np.ndarray, max_nfev: int, weights: np.ndarray):  # noqa: ANN202
+        nfevs.append(max_nfev)
+        y = np.array(x)
+        y[7] += 1e-3
+        return SimpleNamespace(x=y)
+
+    def score(points: np.ndarray, x: np.ndarray, circuit: str):  # noqa: ANN202
+        assert len(nfevs) <= len(scripted), "the polish ran past a stalled round of max_nfev"
+        mean, largest = scripted[len(nfevs) - 1]
+        return x, mean, largest
+
+    monkeypatch.setattr(SH, "refine", refine)
+    monkeypatch.setattr(SH, "_score", score)
+    points = coupler_points(X, np.linspace(0.0, 2 * math.pi, 24, endpoint=False), "open")
+    design = SH.ShapeDesign(X.copy(), "open", 0.01, 0.01, "atlas", False, None)
+    scripted = rounds
+    y = SH._polish(points, design, 50, 200, {})
+    assert nfevs == [10, 10, 10, 10, 40, 40, 160, 200]
+    assert y is not None and y.shape == (9,)
+    np.testing.assert_allclose(y[7] - X[7], 7e-3, rtol=1e-9)  # the seventh round's
+    # at most `rounds` rounds: the best of the first three is the third
+    nfevs.clear()
+    y = SH._polish(points, design, 3, 200, {})
+    assert nfevs == [10, 10, 10] and y is not None
+    np.testing.assert_allclose(y[7] - X[7], 3e-3, rtol=1e-9)
+    # no round below the start's mean: none
+    nfevs.clear()
+    scripted = [(0.02, 0.02), (0.03, 0.03)]
+    assert SH._polish(points, design, 2, 200, {}) is None
