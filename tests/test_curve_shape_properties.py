@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -304,3 +305,155 @@ def test_the_polish_keeps_the_round_of_smallest_mean_and_lengthens_rounds_that_s
     nfevs.clear()
     scripted = [(0.02, 0.02), (0.03, 0.03)]
     assert SH._polish(points, design, 2, 200, {}) is None
+
+
+def _oval(n: int) -> np.ndarray:
+    """n points round an egg-shaped closed curve, unevenly spaced, none repeated."""
+    t = np.linspace(0.0, 2 * math.pi, n, endpoint=False) + 0.3 * np.sin(np.linspace(0.0, 2 * math.pi, n))
+    return np.column_stack([2.0 * np.cos(t) + 0.3 * np.cos(2 * t), np.sin(t)])
+
+
+class _Atlas:
+    """An atlas stand-in: ``hits`` for every query, the queries recorded."""
+
+    def __init__(self, hits: list) -> None:
+        self.hits, self.asked = hits, []
+
+    def query(self, points: np.ndarray, k: int, closed: bool) -> list:
+        self.asked.append(dict(k=k, closed=closed))
+        return self.hits[:k]
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(3, 150), refine_points=st.integers(1, 80))
+def test_the_shape_fit_refines_on_every_sth_point_the_fewest_steps_that_keep_within_its_count(
+    n: int, refine_points: int
+) -> None:
+    """The tracking refinement (the random seeds drawn for it too) takes every s-th
+    target point, s the smallest step that leaves at most ``refine_points`` of them
+    (4 at the least): all the points when there are no more; the scores take them all."""
+    pts = _oval(n)
+    drawn: list = []
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(SH, "random_seeds", lambda t, count, seed: drawn.append(t) or [])
+        result = SH.shape_fit(pts, k=1, random=1, atlas=_Atlas([]), refine_points=refine_points)
+    assert result.designs == [] and len(drawn) == 1
+    cap = max(refine_points, 4)
+    s = next(s for s in range(1, n + 1) if len(pts[::s]) <= cap)
+    np.testing.assert_array_equal(drawn[0].points, pts[::s])
+    assert drawn[0].closed
+
+
+def _fits(monkeypatch: pytest.MonkeyPatch, means: dict[float, tuple[float, float]]) -> dict[str, list]:
+    """Stand-ins for the refinement (`fit`: each seed's design is the seed), the random
+    draws (one crank-rocker), the score (the mean and largest of ``means`` by x[0]) and
+    the polish (returns X with x[0] 99); their calls recorded."""
+    calls: dict[str, list] = {"fit": [], "random": [], "polish": []}
+
+    def fit(
+        target: object, seeds: list, workers: object, max_nfev: int, **problem: object
+    ) -> SimpleNamespace:
+        calls["fit"].append(dict(target=target, families=[s.family for s in seeds], max_nfev=max_nfev))
+        return SimpleNamespace(
+            designs=[SimpleNamespace(x=s.x, circuit=s.circuit, family=s.family) for s in seeds]
+        )
+
+    def random_seeds(target: object, count: int, seed: int) -> list:
+        calls["random"].append(dict(target=target, count=count, seed=seed))
+        return [("open", np.concatenate([X * [1, 1, 1, 1, 1, 1, 1, 1, 1], np.zeros(len(target.points))]))][
+            :count
+        ]
+
+    def score(points: np.ndarray, x: np.ndarray, circuit: str) -> tuple:
+        return np.array(x[:9]), *means[float(x[0])]
+
+    def polish(points: np.ndarray, design: SH.ShapeDesign, rounds: int, max_nfev: int, problem: dict):  # noqa: ANN202
+        calls["polish"].append(dict(design=design, rounds=rounds, max_nfev=max_nfev))
+        y = X.copy()
+        y[0] = 99.0
+        return y
+
+    monkeypatch.setattr(SH, "fit", fit)
+    monkeypatch.setattr(SH, "random_seeds", random_seeds)
+    monkeypatch.setattr(SH, "_score", score)
+    monkeypatch.setattr(SH, "_polish", polish)
+    return calls
+
+
+def _hit(r1: float, reverse: bool) -> SimpleNamespace:
+    return SimpleNamespace(vector=np.concatenate([[r1], X[1:]]), circuit="open", reverse=reverse)
+
+
+def test_the_shape_fits_defaults_are_its_documented_ones(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Called with the target alone: the 12 nearest atlas curves, no random seed (seed
+    0), 200 evaluations a refinement, a polish of at most 24 rounds of at most 200, the
+    refinement on at most 36 of the points (here 19 of 37)."""
+    calls = _fits(monkeypatch, {2.0: (0.01, 0.02), 99.0: (0.02, 0.03)})
+    atlas = _Atlas([_hit(2.0, False)] * 20)
+    SH.shape_fit(_oval(37), atlas=atlas)
+    assert atlas.asked == [dict(k=12, closed=True)]
+    assert [(c["count"], c["seed"]) for c in calls["random"]] == [(0, 0)]
+    assert len(calls["random"][0]["target"].points) == 19
+    assert calls["fit"] and all(c["max_nfev"] == 200 for c in calls["fit"])
+    assert [(c["rounds"], c["max_nfev"]) for c in calls["polish"]] == [(24, 200)]
+
+
+def test_random_seeds_are_refined_on_the_points_they_were_drawn_for(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A random crank-rocker's crank angles are drawn for the points as given: it is
+    refined on those (not on the points run backwards, which the atlas's reversed hits
+    are refined on)."""
+    calls = _fits(monkeypatch, {2.0: (0.01, 0.02), 2.1: (0.02, 0.03), X[0]: (0.03, 0.04)})
+    SH.shape_fit(
+        _oval(30), k=2, random=1, atlas=_Atlas([_hit(2.0, True), _hit(2.1, False)]), polish=0, agree=None
+    )
+    (drawn,) = calls["random"]
+    refined = [c for c in calls["fit"] if "random" in c["families"]]
+    assert len(refined) == 1 and len(calls["fit"]) == 2
+    np.testing.assert_array_equal(refined[0]["target"].points, drawn["target"].points)
+    (backwards,) = [c for c in calls["fit"] if c["families"] == ["atlas"]]
+    np.testing.assert_array_equal(backwards["target"].points, drawn["target"].points[::-1])
+
+
+@pytest.mark.parametrize(("polished", "kept"), [((0.009, 0.5), True), ((0.011, 0.001), False)])
+def test_the_polish_starts_from_the_best_design_and_is_kept_only_below_its_mean(
+    monkeypatch: pytest.MonkeyPatch, polished: tuple[float, float], kept: bool
+) -> None:
+    """The polish starts from the design of smallest mean nearest distance (not the
+    first refined, nor the one of smallest largest distance); its design is put first
+    when its mean is below that design's, whatever its largest distance, and left out
+    otherwise."""
+    means = {2.3: (0.03, 0.005), 2.1: (0.01, 0.2), 2.2: (0.02, 0.1), 99.0: polished}
+    calls = _fits(monkeypatch, means)
+    hits = [_hit(2.3, False), _hit(2.1, True), _hit(2.2, False)]
+    result = SH.shape_fit(_oval(30), k=3, atlas=_Atlas(hits), agree=None)
+    (asked,) = calls["polish"]
+    assert asked["design"].mean == 0.01 and asked["design"].x[0] == 2.1
+    got = [(d.x[0], d.mean) for d in result.designs]
+    rest = [(2.1, 0.01), (2.2, 0.02), (2.3, 0.03)]
+    assert got == ([(99.0, polished[0])] + rest if kept else rest)
+    if kept:
+        best = result.best
+        assert best.largest == polished[1] and best.tracking is None
+        assert best.reverse and best.family == "atlas" and best.circuit == "open"
+
+
+@pytest.mark.parametrize(("agree", "refined"), [(2, 4), (3, 8), (None, 10), (0, 10)])
+def test_the_shape_fits_seeds_are_refined_in_rounds_of_four_until_enough_agree(
+    monkeypatch: pytest.MonkeyPatch, agree: int | None, refined: int
+) -> None:
+    """Ten atlas hits, nearest first, refined in rounds of four (each round's hits run
+    forwards and backwards refined apart): after the first round two designs are within
+    1 % of the best mean, after the second three; the seeds of the rounds not run are
+    reported as left (none when every seed is refined, ``agree`` None or 0)."""
+    r1 = [2.0 + 0.01 * k for k in range(10)]
+    means = [0.05, 0.01, 0.01005, 0.03, 0.04, 0.0101, 0.06, 0.07, 0.08, 0.09]
+    calls = _fits(monkeypatch, {r: (m, 2 * m) for r, m in zip(r1, means)})
+    hits = [_hit(r, k % 3 == 0) for k, r in enumerate(r1)]
+    t0 = time.perf_counter()
+    result = SH.shape_fit(_oval(30), k=10, atlas=_Atlas(hits), polish=0, agree=agree)
+    assert 0.0 <= result.seconds <= time.perf_counter() - t0  # the wall time it took
+    assert sorted(d.x[0] for d in result.designs) == r1[:refined]
+    assert [d.mean for d in result.designs] == sorted(means[:refined])
+    assert result.unrefined == 10 - refined
+    assert sum(len(c["families"]) for c in calls["fit"]) == refined
+    assert all(d.reverse == (r1.index(d.x[0]) % 3 == 0) for d in result.designs)
