@@ -483,9 +483,11 @@ def test_a_six_bar_refinement_unless_asked_spends_the_four_bars_evaluations(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """`refine_six_bar` called alone spends at most 400 evaluations, the four-bar
-    refinement's default (`refine`), and what it is asked otherwise (the least squares
+    refinement's default (`refine`), and what it is asked otherwise, and is numbered as
+    `refine` numbers a refinement that is none of a fit's starts (-1) (the least squares
     stood in for: it records its budget and stops)."""
     spent: list[tuple[int, Any]] = []
+    starts: list[int] = []
 
     class Stop(Exception):
         pass
@@ -500,9 +502,12 @@ def test_a_six_bar_refinement_unless_asked_spends_the_four_bars_evaluations(
             spent.append((max_nfev, z))
             raise Stop
 
-    monkeypatch.setattr(SB, "start_refinement", lambda problem, y, start, deadline: Refinement())
+    monkeypatch.setattr(
+        SB, "start_refinement", lambda problem, y, start, deadline: starts.append(start) or Refinement()
+    )
     for call in (lambda: SB.refine_six_bar(None, None), lambda: SB.refine_six_bar(None, None, max_nfev=7)):
         with pytest.raises(Stop):
             call()
     assert [n for n, _ in spent] == [400, 7]
     assert inspect.signature(C.refine).parameters["max_nfev"].default == 400
+    assert starts == [-1, -1] == [inspect.signature(C.refine).parameters["start"].default] * 2
