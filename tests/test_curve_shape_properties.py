@@ -387,10 +387,16 @@ def _hit(r1: float, reverse: bool) -> SimpleNamespace:
 def test_the_shape_fits_defaults_are_its_documented_ones(monkeypatch: pytest.MonkeyPatch) -> None:
     """Called with the target alone: the 12 nearest atlas curves, no random seed (seed
     0), 200 evaluations a refinement, a polish of at most 24 rounds of at most 200, the
-    refinement on at most 36 of the points (here 19 of 37)."""
-    calls = _fits(monkeypatch, {2.0: (0.01, 0.02), 99.0: (0.02, 0.03)})
-    atlas = _Atlas([_hit(2.0, False)] * 20)
-    SH.shape_fit(_oval(37), atlas=atlas)
+    refinement on at most 36 of the points (here 19 of 37), the rounds stopped when two
+    designs agree (here after the first: the means of `NEAR`)."""
+    r1 = [2.0 + 0.01 * k for k in range(20)]
+    means = {r: (m, 2 * m) for r, m in zip(r1, NEAR + [0.1 + 0.01 * k for k in range(10)])}
+    calls = _fits(monkeypatch, {**means, 99.0: (0.02, 0.03)})
+    atlas = _Atlas([_hit(r, False) for r in r1])
+    result = SH.shape_fit(_oval(37), atlas=atlas)
+    assert result.unrefined == 8 and len(result.designs) == 4
+    head = result.report().splitlines()[0]
+    assert head.startswith("4 designs in") and head.endswith("(8 seeds left: 2 starts agreed on the best)")
     assert atlas.asked == [dict(k=12, closed=True)]
     assert [(c["count"], c["seed"]) for c in calls["random"]] == [(0, 0)]
     assert len(calls["random"][0]["target"].points) == 19
