@@ -272,6 +272,30 @@ def test_shape_error_is_zero_for_a_moved_copy(
     np.testing.assert_allclose(fit.offset, [7.0, -3.0], atol=1e-7 * (1 + scale))
 
 
+@settings(max_examples=12, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    scale=st.floats(0.05, 50.0),
+    angle=st.floats(-math.pi, math.pi),
+    shift=st.integers(0, 59),
+    backwards=st.booleans(),
+)
+def test_the_descriptors_starts_alone_place_the_curve_moved_whole(
+    seed: int, scale: float, angle: float, shift: int, backwards: bool
+) -> None:
+    """Targets that are the whole polygon moved by a similarity (any start, either
+    direction): the similarity of the two normalisations (scale, turn and centre), with
+    no ICP step and no polish, is that similarity, at distance zero up to round-off."""
+    c = curve(seed, 60)
+    q = scale * np.roll(c, shift, axis=0) @ rot(angle).T + [7.0, -3.0]
+    q = q[::-1] if backwards else q
+    fit = D.shape_error(q, c, polish=False, iterations=0)
+    assert fit.largest <= 1e-12 * scale
+    assert fit.scale == pytest.approx(scale, rel=1e-12)
+    assert math.remainder(fit.rotation - angle, 2 * math.pi) == pytest.approx(0.0, abs=1e-12)
+    np.testing.assert_allclose(fit.offset, [7.0, -3.0], rtol=0.0, atol=1e-12 * (10 + scale))
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_icp_finds_a_similarity_onto_the_midpoints_of_the_sides(seed: int) -> None:
     """Targets at the midpoints of every other side (the closing one included), moved by

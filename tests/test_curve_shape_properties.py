@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import importlib
 import math
+import time
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -159,3 +161,315 @@ def test_the_polish_lowers_the_mean_distance_below_least_squares_whichever_way_t
     np.testing.assert_allclose(backwards, y, rtol=0.0, atol=1e-9)
     unbeatable = SH.ShapeDesign(z, "open", 0.0, 0.0, "atlas", False, None)
     assert SH._polish(points, unbeatable, 2, 50, {}) is None
+
+
+class _Stop(SynthesisError):
+    """Raised by a stand-in refinement after it has recorded its call: the polish ends."""
+
+
+def _first_refinement(monkeypatch: pytest.MonkeyPatch, points: np.ndarray, design: SH.ShapeDesign) -> dict:
+    """The arguments of the polish's first refinement (the polish stopped there)."""
+    seen: dict = {}
+
+    def record(problem: TrackingProblem, x: np.ndarray, max_nfev: int, weights: np.ndarray) -> None:
+        seen.update(problem=problem, x=np.array(x), max_nfev=max_nfev, weights=np.array(weights))
+        raise _Stop("recorded")
+
+    monkeypatch.setattr(SH, "refine", record)
+    assert SH._polish(points, design, 3, 200, {}) is None
+    return seen
+
+
+def _noisy(x: np.ndarray, sigma: float, seed: int) -> np.ndarray:
+    """36 points of x's open curve, every third pushed off it."""
+    points = coupler_points(x, 0.4 + np.linspace(0.0, 2 * math.pi, 36, endpoint=False), "open")
+    points[::3] += np.random.default_rng(seed).normal(0.0, sigma, (12, 2))
+    return points
+
+
+@pytest.mark.parametrize("seed", [2, 3, 4])
+def test_the_polish_refines_the_closed_curve_from_a_start_that_meets_its_constraints(
+    monkeypatch: pytest.MonkeyPatch, seed: int
+) -> None:
+    """The shape problem's curve is closed: the polish's tracking problem is that of the
+    closed curve (its crank angles within one turn), and it starts from crank angles
+    that meet it (not decreasing, within a turn), also where the points' nearest angles step
+    back and forth so much that their forward steps add up to more than a turn (these
+    noisy points: 6.9 to 7.3 rad measured)."""
+    points = _noisy(X, 0.1, seed)
+    design = SH.ShapeDesign(X.copy(), "open", 1.0, 1.0, "atlas", False, None)
+    seen = _first_refinement(monkeypatch, points, design)
+    problem, x = seen["problem"], seen["x"]
+    assert problem.target.closed and "within one turn" in problem.constraint_names()
+    th = x[9:]
+    assert np.all(np.diff(th) >= 0.0) and th[-1] - th[0] < 2 * math.pi
+    assert problem.violation(x) == 0.0
+
+
+@pytest.mark.parametrize("rotation", np.linspace(0.0, 2 * math.pi, 8, endpoint=False))
+@pytest.mark.parametrize("backwards", [False, True])
+def test_the_polish_runs_the_points_the_way_the_design_traces_them(
+    monkeypatch: pytest.MonkeyPatch, rotation: float, backwards: bool
+) -> None:
+    """Points on the design's own curve (at the crank angles the start samples, so each
+    lies on the curve exactly), turned any way and given either way round: the polish
+    refines them in the order the design's crank traces them, its start on every point
+    (the other order puts the start far from most of them)."""
+    sim = ShapeFit(0.0, 0.0, 1.0, float(rotation), np.array([0.3, -0.2]))
+    x = SH.moved(X, sim)
+    th = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)[7::20]
+    ahead = coupler_points(x, th, "open")
+    points = ahead[::-1].copy() if backwards else ahead
+    design = SH.ShapeDesign(x, "open", 1.0, 1.0, "atlas", False, None)
+    seen = _first_refinement(monkeypatch, points, design)
+    np.testing.assert_array_equal(seen["problem"].target.points, ahead)
+    start = coupler_points(seen["x"], seen["x"][9:], "open")
+    np.testing.assert_allclose(start, ahead, rtol=0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("scale", [1e-3, 1.0, 1e3])
+def test_the_polish_weighs_a_point_by_its_distance_floored_at_a_thousandth_of_the_mean(
+    monkeypatch: pytest.MonkeyPatch, scale: float
+) -> None:
+    """Weiszfeld's device: a round weighs each point by 1 / sqrt(its distance from the
+    start's point at its crank angle), so the weighted sum of squares is the sum of the
+    distances; the distances are floored at 1e-3 of their mean, at any size of the
+    curve, so a point on the curve (a third of these, to rounding) weighs sqrt(1000) times
+    one at the mean distance, not all the weight. Only the ratios of the weights count
+    (least squares' minimiser does not move with a common factor)."""
+    x = SH.moved(X, ShapeFit(0.0, 0.0, scale, 0.5, np.array([scale, 2 * scale])))
+    th = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)[7::20]
+    points = coupler_points(x, th, "open")
+    points[1::3] += np.random.default_rng(5).normal(0.0, 0.002 * scale, (12, 2))
+    points[2::3] += np.random.default_rng(6).normal(0.0, 0.01 * scale, (12, 2))
+    design = SH.ShapeDesign(x, "open", 1.0, 1.0, "atlas", False, None)
+    seen = _first_refinement(monkeypatch, points, design)
+    way = seen["problem"].target.points
+    d = np.hypot(*(coupler_points(seen["x"], seen["x"][9:], "open") - way).T)
+    assert np.sum(d < 1e-9 * d.mean()) >= 10  # the premise: points on the curve (to rounding)
+    floored = np.maximum(d, 1e-3 * d.mean())
+    w = seen["weights"]
+    np.testing.assert_allclose(w / w[0], np.sqrt(floored[0] / floored), rtol=1e-12)
+    assert seen["max_nfev"] == SH._POLISH_NFEV
+
+
+def test_the_polish_keeps_the_round_of_smallest_mean_and_lengthens_rounds_that_stall(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The polish's rounds, the refinement and the score stood in for (each round moves
+    the pivot O2 by 1e-3, so its design is known): a round of 10 evaluations; one that
+    moves the mean nearest distance by less than 1e-5 of the round before's gives the
+    next four times as many, up to ``max_nfev``; a round at ``max_nfev`` that stalls is
+    the last; at most ``rounds`` rounds. The design returned is the round's with the
+    smallest mean, which here is neither the last round's nor the one with the smallest
+    largest distance (every largest distance is above the start's mean)."""
+    # (mean, largest) of each round; the start's mean is 0.01
+    rounds = [
+        (0.012, 0.02),  # the first round may rise above the start
+        (0.009, 0.05),
+        (0.0089, 0.03),  # moves by 1.1e-2 of the mean before: not stalled
+        (0.0089 * (1 - 1e-7), 0.04),  # stalled: 40 next
+        (0.0085, 0.04),
+        (0.0085 * (1 + 1e-7), 0.06),  # stalled: 160 next
+        (0.0085 * (1 - 2e-7), 0.9),  # stalled: 200 (max_nfev) next; the smallest mean
+        (0.0085 * (1 - 1e-7), 0.011),  # stalled at max_nfev: the last
+    ]
+    nfevs: list[int] = []
+
+    def refine(problem: TrackingProblem, x: np.ndarray, max_nfev: int, weights: np.ndarray):  # noqa: ANN202
+        nfevs.append(max_nfev)
+        y = np.array(x)
+        y[7] += 1e-3
+        return SimpleNamespace(x=y)
+
+    def score(points: np.ndarray, x: np.ndarray, circuit: str):  # noqa: ANN202
+        assert len(nfevs) <= len(scripted), "the polish ran past a stalled round of max_nfev"
+        mean, largest = scripted[len(nfevs) - 1]
+        return x, mean, largest
+
+    monkeypatch.setattr(SH, "refine", refine)
+    monkeypatch.setattr(SH, "_score", score)
+    points = coupler_points(X, np.linspace(0.0, 2 * math.pi, 24, endpoint=False), "open")
+    design = SH.ShapeDesign(X.copy(), "open", 0.01, 0.01, "atlas", False, None)
+    scripted = rounds
+    y = SH._polish(points, design, 50, 200, {})
+    assert nfevs == [10, 10, 10, 10, 40, 40, 160, 200]
+    assert y is not None and y.shape == (9,)
+    np.testing.assert_allclose(y[7] - X[7], 7e-3, rtol=1e-9)  # the seventh round's
+    # at most `rounds` rounds: the best of the first three is the third
+    nfevs.clear()
+    y = SH._polish(points, design, 3, 200, {})
+    assert nfevs == [10, 10, 10] and y is not None
+    np.testing.assert_allclose(y[7] - X[7], 3e-3, rtol=1e-9)
+    # no round below the start's mean: none
+    nfevs.clear()
+    scripted = [(0.02, 0.02), (0.03, 0.03)]
+    assert SH._polish(points, design, 2, 200, {}) is None
+
+
+def _oval(n: int) -> np.ndarray:
+    """n points round an egg-shaped closed curve, unevenly spaced, none repeated."""
+    t = np.linspace(0.0, 2 * math.pi, n, endpoint=False) + 0.3 * np.sin(np.linspace(0.0, 2 * math.pi, n))
+    return np.column_stack([2.0 * np.cos(t) + 0.3 * np.cos(2 * t), np.sin(t)])
+
+
+class _Atlas:
+    """An atlas stand-in: ``hits`` for every query, the queries recorded."""
+
+    def __init__(self, hits: list) -> None:
+        self.hits, self.asked = hits, []
+
+    def query(self, points: np.ndarray, k: int, closed: bool) -> list:
+        self.asked.append(dict(k=k, closed=closed))
+        return self.hits[:k]
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(3, 150), refine_points=st.integers(1, 80))
+def test_the_shape_fit_refines_on_every_sth_point_the_fewest_steps_that_keep_within_its_count(
+    n: int, refine_points: int
+) -> None:
+    """The tracking refinement (the random seeds drawn for it too) takes every s-th
+    target point, s the smallest step that leaves at most ``refine_points`` of them
+    (4 at the least): all the points when there are no more; the scores take them all."""
+    pts = _oval(n)
+    drawn: list = []
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(SH, "random_seeds", lambda t, count, seed: drawn.append(t) or [])
+        result = SH.shape_fit(pts, k=1, random=1, atlas=_Atlas([]), refine_points=refine_points)
+    assert result.designs == [] and len(drawn) == 1
+    cap = max(refine_points, 4)
+    s = next(s for s in range(1, n + 1) if len(pts[::s]) <= cap)
+    np.testing.assert_array_equal(drawn[0].points, pts[::s])
+    assert drawn[0].closed
+
+
+def _fits(monkeypatch: pytest.MonkeyPatch, means: dict[float, tuple[float, float]]) -> dict[str, list]:
+    """Stand-ins for the refinement (`fit`: each seed's design is the seed), the random
+    draws (one crank-rocker), the score (the mean and largest of ``means`` by x[0]) and
+    the polish (returns X with x[0] 99); their calls recorded."""
+    calls: dict[str, list] = {"fit": [], "random": [], "polish": []}
+
+    def fit(
+        target: object, seeds: list, workers: object, max_nfev: int, **problem: object
+    ) -> SimpleNamespace:
+        calls["fit"].append(dict(target=target, families=[s.family for s in seeds], max_nfev=max_nfev))
+        return SimpleNamespace(
+            designs=[SimpleNamespace(x=s.x, circuit=s.circuit, family=s.family) for s in seeds]
+        )
+
+    def random_seeds(target: object, count: int, seed: int) -> list:
+        calls["random"].append(dict(target=target, count=count, seed=seed))
+        return [("open", np.concatenate([X * [1, 1, 1, 1, 1, 1, 1, 1, 1], np.zeros(len(target.points))]))][
+            :count
+        ]
+
+    def score(points: np.ndarray, x: np.ndarray, circuit: str) -> tuple:
+        return np.array(x[:9]), *means[float(x[0])]
+
+    def polish(points: np.ndarray, design: SH.ShapeDesign, rounds: int, max_nfev: int, problem: dict):  # noqa: ANN202
+        calls["polish"].append(dict(design=design, rounds=rounds, max_nfev=max_nfev))
+        y = X.copy()
+        y[0] = 99.0
+        return y
+
+    monkeypatch.setattr(SH, "fit", fit)
+    monkeypatch.setattr(SH, "random_seeds", random_seeds)
+    monkeypatch.setattr(SH, "_score", score)
+    monkeypatch.setattr(SH, "_polish", polish)
+    return calls
+
+
+def _hit(r1: float, reverse: bool) -> SimpleNamespace:
+    return SimpleNamespace(vector=np.concatenate([[r1], X[1:]]), circuit="open", reverse=reverse)
+
+
+def test_the_shape_fits_defaults_are_its_documented_ones(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Called with the target alone: the 12 nearest atlas curves, no random seed (seed
+    0), 200 evaluations a refinement, a polish of at most 24 rounds of at most 200, the
+    refinement on at most 36 of the points (here 19 of 37), the rounds stopped when two
+    designs agree (here after the first: the means of `NEAR`)."""
+    r1 = [2.0 + 0.01 * k for k in range(20)]
+    means = {r: (m, 2 * m) for r, m in zip(r1, NEAR + [0.1 + 0.01 * k for k in range(10)])}
+    calls = _fits(monkeypatch, {**means, 99.0: (0.02, 0.03)})
+    atlas = _Atlas([_hit(r, False) for r in r1])
+    result = SH.shape_fit(_oval(37), atlas=atlas)
+    assert result.unrefined == 8 and len(result.designs) == 4
+    head = result.report().splitlines()[0]
+    assert head.startswith("4 designs in") and head.endswith("(8 seeds left: 2 starts agreed on the best)")
+    assert atlas.asked == [dict(k=12, closed=True)]
+    assert [(c["count"], c["seed"]) for c in calls["random"]] == [(0, 0)]
+    assert len(calls["random"][0]["target"].points) == 19
+    assert calls["fit"] and all(c["max_nfev"] == 200 for c in calls["fit"])
+    assert [(c["rounds"], c["max_nfev"]) for c in calls["polish"]] == [(24, 200)]
+
+
+def test_random_seeds_are_refined_on_the_points_they_were_drawn_for(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A random crank-rocker's crank angles are drawn for the points as given: it is
+    refined on those (not on the points run backwards, which the atlas's reversed hits
+    are refined on)."""
+    calls = _fits(monkeypatch, {2.0: (0.01, 0.02), 2.1: (0.02, 0.03), X[0]: (0.03, 0.04)})
+    SH.shape_fit(
+        _oval(30), k=2, random=1, atlas=_Atlas([_hit(2.0, True), _hit(2.1, False)]), polish=0, agree=None
+    )
+    (drawn,) = calls["random"]
+    refined = [c for c in calls["fit"] if "random" in c["families"]]
+    assert len(refined) == 1 and len(calls["fit"]) == 2
+    np.testing.assert_array_equal(refined[0]["target"].points, drawn["target"].points)
+    (backwards,) = [c for c in calls["fit"] if c["families"] == ["atlas"]]
+    np.testing.assert_array_equal(backwards["target"].points, drawn["target"].points[::-1])
+
+
+@pytest.mark.parametrize(("polished", "kept"), [((0.009, 0.5), True), ((0.011, 0.001), False)])
+def test_the_polish_starts_from_the_best_design_and_is_kept_only_below_its_mean(
+    monkeypatch: pytest.MonkeyPatch, polished: tuple[float, float], kept: bool
+) -> None:
+    """The polish starts from the design of smallest mean nearest distance (not the
+    first refined, nor the one of smallest largest distance); its design is put first
+    when its mean is below that design's, whatever its largest distance, and left out
+    otherwise."""
+    means = {2.3: (0.03, 0.005), 2.1: (0.01, 0.2), 2.2: (0.02, 0.1), 99.0: polished}
+    calls = _fits(monkeypatch, means)
+    hits = [_hit(2.3, False), _hit(2.1, True), _hit(2.2, False)]
+    result = SH.shape_fit(_oval(30), k=3, atlas=_Atlas(hits), agree=None)
+    (asked,) = calls["polish"]
+    assert asked["design"].mean == 0.01 and asked["design"].x[0] == 2.1
+    got = [(d.x[0], d.mean) for d in result.designs]
+    rest = [(2.1, 0.01), (2.2, 0.02), (2.3, 0.03)]
+    assert got == ([(99.0, polished[0])] + rest if kept else rest)
+    if kept:
+        best = result.best
+        assert best.largest == polished[1] and best.tracking is None
+        assert best.reverse and best.family == "atlas" and best.circuit == "open"
+
+
+# the means of ten seeds' designs: in the first round of four two within 1 % of the best
+# (0.5 %; a third 1.5 % off), in the second a third (0.9 %)
+NEAR = [0.05, 0.01, 0.01005, 0.01015, 0.04, 0.01009, 0.06, 0.07, 0.08, 0.09]
+# a curve traced exactly: its two best designs 0 and 1e-12 (1e-12 of the target's size is 4.5e-12)
+EXACT = [0.05, 0.0, 1e-12, 0.03, 0.04, 0.06, 0.07, 0.08, 0.09, 0.1]
+
+
+@pytest.mark.parametrize(
+    ("agree", "means", "refined"),
+    [(2, NEAR, 4), (3, NEAR, 8), (None, NEAR, 10), (0, NEAR, 10), (2, EXACT, 4)],
+)
+def test_the_shape_fits_seeds_are_refined_in_rounds_of_four_until_enough_agree(
+    monkeypatch: pytest.MonkeyPatch, agree: int | None, means: list[float], refined: int
+) -> None:
+    """Ten atlas hits, nearest first, refined in rounds of four (each round's hits run
+    forwards and backwards refined apart) until ``agree`` designs are within 1 % of the
+    best mean (or within 1e-12 of the target's size of it, for a curve traced exactly);
+    the seeds of the rounds not run are reported as left (none when every seed is
+    refined, ``agree`` None or 0)."""
+    r1 = [2.0 + 0.01 * k for k in range(10)]
+    calls = _fits(monkeypatch, {r: (m, 2 * m) for r, m in zip(r1, means)})
+    hits = [_hit(r, k % 3 == 0) for k, r in enumerate(r1)]
+    t0 = time.perf_counter()
+    result = SH.shape_fit(_oval(30), k=10, atlas=_Atlas(hits), polish=0, agree=agree)
+    assert 0.0 <= result.seconds <= time.perf_counter() - t0  # the wall time it took
+    assert sorted(d.x[0] for d in result.designs) == r1[:refined]
+    assert [d.mean for d in result.designs] == sorted(means[:refined])
+    assert result.unrefined == 10 - refined
+    assert sum(len(c["families"]) for c in calls["fit"]) == refined
+    assert all(d.reverse == (r1.index(d.x[0]) % 3 == 0) for d in result.designs)

@@ -11,6 +11,7 @@ reported as the defect they are."""
 from __future__ import annotations
 
 import importlib
+import inspect
 import math
 import time
 from typing import Any
@@ -476,3 +477,37 @@ def test_the_six_bar_fit_unless_asked(monkeypatch: pytest.MonkeyPatch) -> None:
     assert six.budget == 60.0 and not six.designs
     SB.fit_six_bars(target, workers=1, starts=5, seed=9, max_nfev=7)
     assert asked["starts"] == 5 and asked["seed"] == 9 and asked["max_nfev"] == 7 and asked["seconds"] is None
+
+
+def test_a_six_bar_refinement_unless_asked_spends_the_four_bars_evaluations(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """`refine_six_bar` called alone spends at most 400 evaluations, the four-bar
+    refinement's default (`refine`), and what it is asked otherwise, and is numbered as
+    `refine` numbers a refinement that is none of a fit's starts (-1) (the least squares
+    stood in for: it records its budget and stops)."""
+    spent: list[tuple[int, Any]] = []
+    starts: list[int] = []
+
+    class Stop(Exception):
+        pass
+
+    class Refinement:
+        base = np.zeros(3)
+
+        def z_of(self, x: Any) -> Any:
+            return x
+
+        def minimise(self, z: Any, max_nfev: int) -> Any:
+            spent.append((max_nfev, z))
+            raise Stop
+
+    monkeypatch.setattr(
+        SB, "start_refinement", lambda problem, y, start, deadline: starts.append(start) or Refinement()
+    )
+    for call in (lambda: SB.refine_six_bar(None, None), lambda: SB.refine_six_bar(None, None, max_nfev=7)):
+        with pytest.raises(Stop):
+            call()
+    assert [n for n, _ in spent] == [400, 7]
+    assert inspect.signature(C.refine).parameters["max_nfev"].default == 400
+    assert starts == [-1, -1] == [inspect.signature(C.refine).parameters["start"].default] * 2

@@ -201,17 +201,17 @@ def shape_fit(
     **problem: Any,
 ) -> ShapeResult:
     """The shape problem for a closed ``target`` (a `TargetCurve` or an n x 2 array):
-    the ``k`` nearest atlas curves (and ``random`` random crank-rockers, ``seed``) as
-    seeds, each refined by the tracking error with free crank angles (`fit`, at most
-    ``max_nfev`` evaluations a weight; ``problem``: its options, bounds and constraints),
-    scored by the mean nearest distance after the best similarity, the best polished by
-    reweighted least squares on all the points, which minimise that mean distance itself,
-    until a round moves it by less than 1e-5 of it or ``polish`` rounds have run (0:
-    none). The tracking refinement runs on at most
-    ``refine_points`` of the points (evenly by index; its cost grows with their count),
-    the scores on all of them. The seeds are refined in rounds of 4, nearest first, until
-    ``agree`` refined designs (default 2) come within 1 % of the best mean nearest
-    distance (None or 0: every seed)."""
+    the ``k`` (12) nearest atlas curves (and ``random`` (0) random crank-rockers drawn
+    with ``seed`` (0)) as seeds, each refined by the tracking error with free crank
+    angles (`fit`, at most ``max_nfev`` (200) evaluations a weight; ``problem``: its
+    options, bounds and constraints), scored by the mean nearest distance after the best
+    similarity, the best polished by reweighted least squares on all the points, which
+    minimise that mean distance itself, until a round moves it by less than 1e-5 of it
+    or ``polish`` (24) rounds have run (0: none). The tracking refinement runs on at most
+    ``refine_points`` (36; 4 at the least) of the points, every s-th with the smallest
+    such s (its cost grows with their count), the scores on all of them. The seeds are
+    refined in rounds of 4, nearest first, until ``agree`` refined designs (default 2)
+    come within 1 % of the best mean nearest distance (None or 0: every seed)."""
     t0 = time.perf_counter()
     tc = target if isinstance(target, TargetCurve) else make_target(target, closed=True)
     if tc.timed:

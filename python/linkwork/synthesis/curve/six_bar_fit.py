@@ -199,8 +199,9 @@ def dyad_seeds(
 def refine_six_bar(
     problem: SixBarProblem, y: Any, max_nfev: int = 400, start: int = -1, deadline: float | None = None
 ) -> SixBarDesign:
-    """One six-bar refined from ``y`` (`refine`'s least squares on `SixBarProblem`);
-    `CircuitError` if ``y`` does not turn fully on its assembly."""
+    """One six-bar refined from ``y`` (`refine`'s least squares on `SixBarProblem`, at
+    most ``max_nfev`` evaluations, 400 as `refine`'s); `CircuitError` if ``y`` does not
+    turn fully on its assembly."""
     t0 = time.perf_counter()
     ref = start_refinement(problem, y, start, deadline)
     z, nfev, cut = ref.minimise(ref.z_of(ref.base), max_nfev)
