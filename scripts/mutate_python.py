@@ -96,7 +96,8 @@ SUITES = {
     _CURVE + "fit.py": "test_curve_screening_properties.py test_curve_synthesis.py test_curve_budget.py",
     _CURVE + "problem.py": "test_curve_screening_properties.py test_curve_cli.py",
     _CURVE + "descriptors.py": "test_curve_descriptor_properties.py test_curve_atlas.py",
-    _CURVE + "shape.py": "test_curve_shape_properties.py test_curve_seeds.py",
+    _CURVE + "shape.py": "test_curve_shape_properties.py test_curve_shape_polish.py "
+    "test_curve_shape_rounds.py test_curve_seeds.py",
     _CURVE + "target.py": "test_curve_target_properties.py test_curve_synthesis.py test_curve_cli.py",
     _CURVE + "six_bar_fit.py": "test_curve_six_bar_properties.py test_curve_six_bars.py",
 }
