@@ -149,7 +149,7 @@ fn bits(x: &[f64]) -> Vec<u64> {
 /// the designs the lanes take to the end within `LANE_START` of them: a lane starts from
 /// its closed forms where a sweep alone starts by Newton from the drawing, whose last
 /// correction leaves its q a few ulps off the closed form's (and its pivot ratio, the LU's
-/// at the start, a correction away). On one thread and on two. The crank-rockers
+/// at the start, as far). On one thread and on two. The crank-rockers
 /// and the double-crank are the closed form of their own lengths on the asked (open)
 /// circuit at every step.
 #[test]
@@ -195,9 +195,9 @@ fn lanes_are_each_design_swept_alone_bit_for_bit() {
                     let (dq, dp) = (apart(q, &out.q[..k]), apart(p, &out.points[..k * 4]));
                     eprintln!("{what}: in lanes, {dq:.2e} (angle), {dp:.2e} (points) from its sweep alone");
                     assert!(dq <= LANE_START && dp <= LANE_START, "{what}: {dq:e}, {dp:e}");
-                    // the start's pivot ratio is Phi_q's LU at the closed form, the sweep
-                    // alone's at its last Newton iterate, one round-off correction away
-                    // (2.6e-16 apart, relative, at most)
+                    // the start's pivot ratio is Phi_q's LU with its pivots chosen at the
+                    // start, the lanes' closed form or the sweep alone's Newton solution, a
+                    // round-off apart (2.6e-16 apart, relative, at most)
                     let apart = (f.pivot_min[i] - min).abs() / min;
                     assert!(apart <= 1e-12, "{what}: pivot ratio {} against {min}", f.pivot_min[i]);
                 }

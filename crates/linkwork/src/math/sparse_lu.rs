@@ -175,6 +175,16 @@ impl SparseLu {
         self.pivots()
     }
 
+    /// Factors A with its pivot sequence chosen on these values, whatever was chosen
+    /// before: the pivots are then a function of A alone, not of the values a replayed
+    /// sequence was chosen on (a measure of A itself; allocates, as any new choice does).
+    pub fn factor_choosing(&mut self, values: &[f64]) -> Pivots {
+        assert_eq!(values.len(), self.a_row.len(), "values do not match the pattern");
+        self.choose_pivots(values);
+        self.replay(values, false);
+        self.pivots()
+    }
+
     /// Solves A x = b in place (b of length n) with the last factorization: with
     /// P A Q = L D V, L y = P b, then V z = D^-1 y, x = Q z.
     pub fn solve(&mut self, b: &mut [f64]) {

@@ -55,6 +55,23 @@ pub(crate) fn factor(
     Ok(pivots)
 }
 
+/// The pivots of a solved configuration `q` at `t`, as a sweep reports them at its start
+/// (and a study's `pivot_min` reads them): the scaled Phi_q there, factored with its pivots
+/// chosen on its own values. A function of q alone: not of the iterate Newton factored last,
+/// nor of the values on which the fixed-sequence LU chose the sequence it replays, nor of
+/// the path (Newton or closed forms) that solved q. `scratch`: a workspace of `model`'s
+/// structure, overwritten (the solve's own, with its factors, is left as it is).
+pub(crate) fn pivots_at(model: &Model, scratch: &mut Data, q: &[f64], t: f64) -> crate::math::pivots::Pivots {
+    scratch.q.copy_from_slice(q);
+    scratch.qd.fill(0.0);
+    // NaN: every body's sin_cos in full, as in a new workspace
+    scratch.frame_base.fill([f64::NAN, 1.0, 0.0]);
+    if !assembly::position(model, scratch, t).is_finite() {
+        return crate::math::pivots::Pivots::NONE;
+    }
+    scratch.factor.factor_choosing(&model.symbolic, &scratch.jac)
+}
+
 /// Solves Phi(q, t) = 0 starting from data.q; writes data.q, data.phi, the factors.
 ///
 /// `step` is the sweep step (for error messages); `assembly` allows more iterations and

@@ -34,10 +34,18 @@ pub fn fit(model: &Model, request: &Request) -> bool {
 /// rates for the closeness trends the step-by-step loop starts from) and no Newton: data
 /// is first put back to the drawing, so nothing of a design swept before in it is read.
 /// Then the plan's state as `closed_form::resync` leaves a solved start. Some(the start's
-/// pivot ratio: Phi_q's LU there, as a sweep's start reports it) where every group closes
-/// on its branch clear of its singular configuration with a residual within tolerance;
-/// None: the design is left to its own sweep (which names its error).
-pub fn start(model: &Model, plan: &Plan, data: &mut Data, t: f64, signs: &[f64]) -> Option<f64> {
+/// pivot ratio, as a sweep's start reports it: `solve::position::pivots_at`, factored in
+/// `scratch`) where every group closes on its branch clear of its singular configuration
+/// with a residual within tolerance; None: the design is left to its own sweep (which
+/// names its error).
+pub fn start(
+    model: &Model,
+    plan: &Plan,
+    data: &mut Data,
+    scratch: &mut Data,
+    t: f64,
+    signs: &[f64],
+) -> Option<f64> {
     if signs.len() != plan.blocks.len() {
         return None;
     }
@@ -62,14 +70,17 @@ pub fn start(model: &Model, plan: &Plan, data: &mut Data, t: f64, signs: &[f64])
         }
         closeness_min = closeness_min.min(closeness);
     }
-    // the start's pivot ratio as a sweep's start reports it (a study's `pivot_min`): Phi_q's
-    // LU there, not the dyads' closeness
     if !crate::solve::assembly::position(model, data, t).is_finite() {
         return None;
     }
-    let pivots = crate::solve::position::factor(model, data, t, 0).ok()?;
+    // the start's pivot ratio as a sweep's start reports it (a study's `pivot_min`): Phi_q's
+    // LU there, its pivots chosen there, not the dyads' closeness
+    let ratio = crate::solve::position::pivots_at(model, scratch, &data.q, t).ratio;
+    if ratio.is_nan() || ratio < model.options.singular_tol {
+        return None;
+    }
     closed_form::resync(model, plan, data, t, 1.0, true, None);
-    Some(pivots.ratio)
+    Some(ratio)
 }
 
 /// Where a lane's design's figures go: its kept coordinates' and points' rows

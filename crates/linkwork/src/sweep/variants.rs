@@ -249,6 +249,8 @@ struct Worker {
     variants: Vec<Model>,
     /// each lane's workspace, where its design starts (`lanes::start` puts it back first)
     data: Vec<Data>,
+    /// where each lane's start pivot ratio is factored (`lanes::start`)
+    scratch: Data,
     /// each lane's kept points (body, place in it), moved with its design
     points: Vec<Vec<(Option<usize>, [f64; 2])>>,
     full: SweepOutput,
@@ -261,6 +263,7 @@ impl Worker {
         Worker {
             variants: vec![model.clone(); LANES],
             data: (0..LANES).map(|_| Data::new(model)).collect(),
+            scratch: Data::new(model),
             points: vec![outputs.points.clone(); LANES],
             full: SweepOutput::with_outputs(model, times, request, outputs.clone()),
             turns: Turns::default(),
@@ -325,7 +328,9 @@ impl Worker {
             let variant = &self.variants[j];
             let Ok(plan) = variant.plan.as_ref() else { return };
             let Some(signs) = asked.signs(plan) else { return };
-            let Some(r) = lanes::start(variant, plan, &mut self.data[j], t0, signs) else { return };
+            let Some(r) = lanes::start(variant, plan, &mut self.data[j], &mut self.scratch, t0, signs) else {
+                return;
+            };
             *start = r;
         }
         let kept = ctx.kept;
