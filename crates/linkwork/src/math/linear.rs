@@ -486,6 +486,16 @@ impl Factor {
         }
     }
 
+    /// `factor_choosing` where it needs no new choice of the fixed-sequence LU's pivots
+    /// (`SparseLu::factor_if_chosen`); None where it would.
+    pub(crate) fn factor_if_chosen(&mut self, sym: &SymbolicFactor, values: &[f64]) -> Option<Pivots> {
+        self.generation += 1;
+        match &mut self.numeric {
+            Numeric::Refactor(lu) => lu.factor_if_chosen(values),
+            numeric => Some(numeric.factor(sym, values)),
+        }
+    }
+
     /// Solves Phi_q x = rhs in place with the last factorization.
     pub(crate) fn solve(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         self.numeric.solve(sym, rhs)

@@ -17,6 +17,7 @@ use crate::model::Model;
 use crate::solve::closed_form::lane_ops::{Ops, Plain};
 use crate::solve::closed_form::lanes::{self, Lanes, Turns, LANES, V};
 use crate::solve::closed_form::{self, Block, Plan, NEAR_SINGULAR};
+use crate::solve::position::PivotsAt;
 use crate::sweep::outputs::{Outputs, Request};
 
 /// Whether the lanes take this model's designs for this request: a plan the lanes step,
@@ -34,15 +35,14 @@ pub fn fit(model: &Model, request: &Request) -> bool {
 /// rates for the closeness trends the step-by-step loop starts from) and no Newton: data
 /// is first put back to the drawing, so nothing of a design swept before in it is read.
 /// Then the plan's state as `closed_form::resync` leaves a solved start. Some(the start's
-/// pivot ratio, as a sweep's start reports it: `solve::position::pivots_at`, factored in
-/// `scratch`) where every group closes on its branch clear of its singular configuration
+/// pivot ratio, as a sweep's start reports it: `PivotsAt`) where every group closes on its branch clear of its singular configuration
 /// with a residual within tolerance; None: the design is left to its own sweep (which
 /// names its error).
-pub fn start(
+pub(crate) fn start(
     model: &Model,
     plan: &Plan,
     data: &mut Data,
-    scratch: &mut Data,
+    pivots: &mut PivotsAt,
     t: f64,
     signs: &[f64],
 ) -> Option<f64> {
@@ -75,7 +75,7 @@ pub fn start(
     }
     // the start's pivot ratio as a sweep's start reports it (a study's `pivot_min`): Phi_q's
     // LU there, its pivots chosen there, not the dyads' closeness
-    let ratio = crate::solve::position::pivots_at(model, scratch, &data.q, t).ratio;
+    let ratio = pivots.at(model, &data.q, t).ratio;
     if ratio.is_nan() || ratio < model.options.singular_tol {
         return None;
     }

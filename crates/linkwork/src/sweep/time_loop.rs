@@ -12,7 +12,7 @@ use crate::solve::closed_form::guard::Travel;
 use crate::solve::closed_form::{self, Block};
 use crate::solve::forces::solve_forces;
 use crate::solve::position::PositionInfo;
-use crate::solve::position::{pivots_at, solve_position};
+use crate::solve::position::{solve_position, PivotsAt};
 use crate::solve::velocity::solve_velocity;
 use crate::sweep::outputs::{Request, SweepOutput, Worst};
 use crate::sweep::stepping::branch::{continues, continues_storing};
@@ -324,10 +324,10 @@ fn sweep_steps(
             tracker.after_velocity(model, data, times[k - 1], t, k)?;
         }
         if k == 0 {
-            // the start reports its solution's pivots, chosen there (`pivots_at`): Newton's
+            // the start reports its solution's pivots, chosen there (`PivotsAt`): Newton's
             // last factorization is of the iterate before it, on the pivot sequence chosen
             // where Newton began (the drawing); the loop above still steers by that one
-            let at = pivots_at(model, &mut Data::new(model), &data.q, t);
+            let at = PivotsAt::new(model).at(model, &data.q, t);
             worst.add(&PositionInfo { pivot_ratio: at.ratio, ..info });
         } else {
             worst.add(&info);

@@ -28,6 +28,7 @@ use crate::model::structure::{structure, Structure};
 use crate::model::Model;
 use crate::solve::closed_form::lanes::{Turns, LANES};
 use crate::solve::closed_form::Plan;
+use crate::solve::position::PivotsAt;
 use crate::sweep::batch::on_threads;
 use crate::sweep::branches::{asked_branches, sweep_on, Asked};
 use crate::sweep::lanes::{self, sweep_lanes, LaneRows};
@@ -249,8 +250,8 @@ struct Worker {
     variants: Vec<Model>,
     /// each lane's workspace, where its design starts (`lanes::start` puts it back first)
     data: Vec<Data>,
-    /// where each lane's start pivot ratio is factored (`lanes::start`)
-    scratch: Data,
+    /// where each lane's start's pivot ratio is factored (`lanes::start`)
+    pivots: PivotsAt,
     /// each lane's kept points (body, place in it), moved with its design
     points: Vec<Vec<(Option<usize>, [f64; 2])>>,
     full: SweepOutput,
@@ -263,7 +264,7 @@ impl Worker {
         Worker {
             variants: vec![model.clone(); LANES],
             data: (0..LANES).map(|_| Data::new(model)).collect(),
-            scratch: Data::new(model),
+            pivots: PivotsAt::new(model),
             points: vec![outputs.points.clone(); LANES],
             full: SweepOutput::with_outputs(model, times, request, outputs.clone()),
             turns: Turns::default(),
@@ -328,7 +329,7 @@ impl Worker {
             let variant = &self.variants[j];
             let Ok(plan) = variant.plan.as_ref() else { return };
             let Some(signs) = asked.signs(plan) else { return };
-            let Some(r) = lanes::start(variant, plan, &mut self.data[j], &mut self.scratch, t0, signs) else {
+            let Some(r) = lanes::start(variant, plan, &mut self.data[j], &mut self.pivots, t0, signs) else {
                 return;
             };
             *start = r;
