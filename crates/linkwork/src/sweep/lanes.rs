@@ -35,9 +35,9 @@ pub fn fit(model: &Model, request: &Request) -> bool {
 /// rates for the closeness trends the step-by-step loop starts from) and no Newton: data
 /// is first put back to the drawing, so nothing of a design swept before in it is read.
 /// Then the plan's state as `closed_form::resync` leaves a solved start. Some(the start's
-/// pivot ratio, as a sweep's start reports it: `PivotsAt`) where every group closes on its branch clear of its singular configuration
-/// with a residual within tolerance; None: the design is left to its own sweep (which
-/// names its error).
+/// pivot ratio, as a sweep's start reports it: `PivotsAt`) where every group closes on
+/// its branch clear of its singular configuration with a residual within tolerance; None:
+/// the design is left to its own sweep (which names its error).
 pub(crate) fn start(
     model: &Model,
     plan: &Plan,
