@@ -538,6 +538,49 @@ def test_variants_agree_with_redrawn_and_recompiled_designs():
     assert np.max(np.abs(pivots[0] - pivots[1]["figures"]["pivot_min"])) < 1e-14
 
 
+def test_a_designs_pivot_min_is_its_own_sweeps_whatever_path_and_threads_take_it():
+    # a study sweeps a four-bar's designs eight at a time in lanes (each started from its
+    # closed forms, in a workspace reused from design to design) or one by one (a chunk of
+    # fewer than eight; a lane that meets a limit); each design's pivot_min is its sweep
+    # alone's, whichever: the start's is Phi_q's LU with its pivots chosen at the solved
+    # start, not on what the workspace factored before
+    times = np.linspace(0.0, TURN, 60)
+    study = lw.Study(lw.examples.four_bar(), times, ["path P", "events", "pivot_min"])
+    designs = S.grid(
+        {
+            "length crank": list(np.linspace(0.08, 0.3, 12)),
+            "pivot O4.x": [0.3, 0.35, 0.42],
+            "point P.x": [0.3375, 0.2],
+        }
+    )
+    job, n = study.job(designs.names), len(designs.values)
+    alone = [S.run_chunk(job, i, designs.values[i : i + 1], 1)["figures"] for i in range(n)]
+    pivots = np.array([a["pivot_min"][0] for a in alone])
+    paths = np.array([a["path_P"][0] for a in alone])
+    swept = np.isfinite(pivots)
+    assert 0 < np.sum(swept) < n and np.all(np.isfinite(pivots[swept]))
+    for threads in (1, 2):
+        # all in one chunk, then shifted by three: other designs share a lane's eight
+        for start in (0, 3):
+            runs = [S.run_chunk(job, start, designs.values[start:], threads)["figures"] for _ in range(3)]
+            # the same bits whatever the threads took first
+            for run in runs[1:]:
+                assert np.array_equal(run["pivot_min"], runs[0]["pivot_min"], equal_nan=True)
+            got, path = runs[0]["pivot_min"], runs[0]["path_P"]
+            # the lanes' start is the closed form, the sweep alone's Newton's solution: the
+            # same configuration to round-off (paths 1e-13 m apart at most), so two LUs
+            # with the same pivots chosen there agree to a few ulps (1.5e-15 measured)
+            ok = swept[start:]
+            assert np.allclose(got[ok], pivots[start:][ok], rtol=1e-12, atol=0.0)
+            assert np.all(np.isnan(got[~ok]))
+            apart = np.abs(path[ok] - paths[start:][ok])
+            assert np.max(apart) < 1e-13
+            # some designs took the lanes (their start a round-off off Newton's)
+            assert np.any(apart > 0.0)
+    res = study.run(designs, threads=2)
+    assert np.allclose(res.figures["pivot_min"][swept], pivots[swept], rtol=1e-12, atol=0.0)
+
+
 def test_variants_name_bad_values_as_apply_does():
     study = lw.Study(lw.examples.four_bar(), np.linspace(0.0, TURN, 20), ["path P"])
     res = study.run(S.listed([{"length crank": v} for v in (0.2, -0.1, 0.21)]))

@@ -293,6 +293,56 @@ fn a_pivot_below_its_threshold_chooses_the_pivots_again() {
     check(20.0, 3, &mut lu);
 }
 
+/// `factor_choosing` gives a factorization whose pivots were chosen on its own values,
+/// whatever the object factored before: the same bits (pivots, det sign, the smallest
+/// pivot's column, solutions) as a new object's first factorization. Values near the last
+/// ones, whose replayed sequence a new choice mostly takes again (no new choice made),
+/// values far from them (a new choice made), and values of a few levels, +-1 and +-2, whose
+/// ties the order the rows are reached decides (as a pin's rows in Phi_q).
+#[test]
+fn a_choosing_factorization_is_a_new_objects_to_the_bit() {
+    let mut rng = Rng(0x2545F4914F6CDD1D);
+    let (mut replayed, mut chosen) = (0, 0);
+    for (name, n, ptr, rows) in patterns() {
+        for order in orders(n, &mut rng) {
+            let mut lu = SparseLu::new(n, &ptr, &rows, &order);
+            let mut values: Vec<f64> = rows.iter().map(|_| rng.next()).collect();
+            for trial in 0..60 {
+                let next: Vec<f64> = match trial % 3 {
+                    0 => values.iter().map(|v| v + rng.next()).collect(),
+                    1 => values.iter().map(|v| v + 1e-3 * rng.next()).collect(),
+                    _ => values.iter().map(|_| [-2.0, -1.0, 1.0, 2.0][rng.below(4)]).collect(),
+                };
+                lu.factor(&values);
+                let before = lu.pivot_choices();
+                let got = lu.factor_choosing(&next);
+                if lu.pivot_choices() == before {
+                    replayed += 1;
+                } else {
+                    chosen += 1;
+                }
+                let mut fresh = SparseLu::new(n, &ptr, &rows, &order);
+                let want = fresh.factor(&next);
+                let at = format!("{name}, order {:?}.., trial {trial}", &order[..3]);
+                assert_eq!(got.ratio.to_bits(), want.ratio.to_bits(), "{at}: ratio");
+                assert_eq!((got.det_sign, got.column), (want.det_sign, want.column), "{at}");
+                let same = lu
+                    .diagonal()
+                    .zip(fresh.diagonal())
+                    .all(|(a, b)| a.0 == b.0 && a.1.to_bits() == b.1.to_bits());
+                assert!(same, "{at}: pivots");
+                let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+                let (mut x, mut y) = (b.clone(), b);
+                lu.solve(&mut x);
+                fresh.solve(&mut y);
+                assert!(x.iter().zip(&y).all(|(a, b)| a.to_bits() == b.to_bits()), "{at}: solution");
+                values = next;
+            }
+        }
+    }
+    assert!(replayed > 100 && chosen > 100, "replayed {replayed}, chosen again {chosen}");
+}
+
 #[test]
 fn singular_and_non_finite_matrices_are_reported() {
     // second column twice the first: a zero pivot, ratio 0, sign 0

@@ -287,7 +287,9 @@ class Results(_Kinematics):
     Diagnostics, each (n_steps,): ``iterations`` (Newton iterations, each one
     factorization of Phi_q), ``residual`` (inf-norm of the residual at the last Newton
     evaluation, length rows divided by the model's length scale), ``pivot_ratio``
-    (smallest over largest LU pivot of the scaled Phi_q: near 0 means near singular).
+    (smallest over largest LU pivot of the scaled Phi_q: near 0 means near singular; at
+    the start, Phi_q factored at the solved configuration with its pivots chosen there; on
+    steps the closed forms solved, the groups' closeness, docs/analysis.md).
     """
 
     #: True for a `Simulation` (forward dynamics): its views add its energy and drift

@@ -18,7 +18,8 @@ name                           shape              what
 ``events``                     () integer         singular configurations met: limits of
                                                   motion, bifurcations, branch jumps (defects)
 ``pivot_min``                  ()                 the closest approach to a singular
-                                                  configuration (pivot ratio; 0 = singular)
+                                                  configuration: the smallest of the sweep's
+                                                  ``pivot_ratio`` (0 = singular)
 =============================  =================  ==============================================
 
 A design whose sweep fails has NaN (or "" and -1) in every figure and its error in the

@@ -474,6 +474,28 @@ impl Factor {
         self.numeric.factor(sym, values)
     }
 
+    /// `factor`, with the pivots chosen on these values: the fixed-sequence LU otherwise
+    /// replays the sequence its first factorization chose on other values (the other
+    /// kinds choose at every factorization), so its pivots depend on what it factored
+    /// before; these are a function of Phi_q alone.
+    pub(crate) fn factor_choosing(&mut self, sym: &SymbolicFactor, values: &[f64]) -> Pivots {
+        self.generation += 1;
+        match &mut self.numeric {
+            Numeric::Refactor(lu) => lu.factor_choosing(values),
+            numeric => numeric.factor(sym, values),
+        }
+    }
+
+    /// `factor_choosing` where it needs no new choice of the fixed-sequence LU's pivots
+    /// (`SparseLu::factor_if_chosen`); None where it would.
+    pub(crate) fn factor_if_chosen(&mut self, sym: &SymbolicFactor, values: &[f64]) -> Option<Pivots> {
+        self.generation += 1;
+        match &mut self.numeric {
+            Numeric::Refactor(lu) => lu.factor_if_chosen(values),
+            numeric => Some(numeric.factor(sym, values)),
+        }
+    }
+
     /// Solves Phi_q x = rhs in place with the last factorization.
     pub(crate) fn solve(&mut self, sym: &SymbolicFactor, rhs: &mut [f64]) {
         self.numeric.solve(sym, rhs)

@@ -87,6 +87,18 @@ pub struct SparseLu {
     ready: bool,
     /// how many times the pivots were chosen (1 after the first factorization)
     pivot_choices: usize,
+    /// n: the entries of each row of A (the choice prefers sparse rows)
+    row_degree: Vec<u32>,
+}
+
+/// What a replay checks of each pivot.
+#[derive(Clone, Copy, PartialEq)]
+enum Check {
+    None,
+    /// `PIVOT_THRESHOLD` against its column's largest candidate
+    Threshold,
+    /// that a new choice on these values would take it (`is_choice`)
+    Choice,
 }
 
 /// Why a replay stopped.
@@ -104,6 +116,10 @@ impl SparseLu {
         assert!(col_ptr.len() == n + 1 && col_order.len() == n && row_idx.len() == col_ptr[n]);
         assert!(row_idx.len() < NONE as usize, "pattern too large for 32-bit positions");
         assert!(row_idx.iter().all(|&r| r < n), "a row index is out of range");
+        let mut row_degree = vec![0u32; n];
+        for &r in row_idx {
+            row_degree[r] += 1;
+        }
         let mut seen = vec![false; n];
         for &c in col_order {
             assert!(c < n && !std::mem::replace(&mut seen[c], true), "the column order is not a permutation");
@@ -131,6 +147,7 @@ impl SparseLu {
             work: vec![0.0; 2 * n],
             ready: false,
             pivot_choices: 0,
+            row_degree,
         }
     }
 
@@ -167,11 +184,34 @@ impl SparseLu {
     /// non-finite value gives a NaN ratio.
     pub fn factor(&mut self, values: &[f64]) -> Pivots {
         assert_eq!(values.len(), self.a_row.len(), "values do not match the pattern");
-        if !self.ready || matches!(self.replay(values, true), Replay::Repivot) {
+        if !self.ready || matches!(self.replay(values, Check::Threshold), Replay::Repivot) {
             self.choose_pivots(values);
             // the values that chose the pivots pass their own threshold: not checked again
-            self.replay(values, false);
+            self.replay(values, Check::None);
         }
+        self.pivots()
+    }
+
+    /// Factors A on the sequence it replays where a new choice on these values would take
+    /// that sequence again (the pivots `factor_choosing` gives, to the bit, without its
+    /// allocation); None where it would not, or nothing was chosen yet (the factors are
+    /// then left unusable until the next factorization).
+    pub fn factor_if_chosen(&mut self, values: &[f64]) -> Option<Pivots> {
+        assert_eq!(values.len(), self.a_row.len(), "values do not match the pattern");
+        (self.ready && matches!(self.replay(values, Check::Choice), Replay::Done)).then(|| self.pivots())
+    }
+
+    /// Factors A with its pivot sequence chosen on these values, whatever was chosen
+    /// before: the pivots are then a function of A alone, not of the values a replayed
+    /// sequence was chosen on (a measure of A itself; allocates, as any new choice does).
+    pub fn factor_choosing(&mut self, values: &[f64]) -> Pivots {
+        assert_eq!(values.len(), self.a_row.len(), "values do not match the pattern");
+        // the sequence replayed, where a new choice would take it again (no allocation)
+        if let Some(pivots) = self.factor_if_chosen(values) {
+            return pivots;
+        }
+        self.choose_pivots(values);
+        self.replay(values, Check::None);
         self.pivots()
     }
 
@@ -330,9 +370,9 @@ impl SparseLu {
         Pivots { ratio, column: self.col_of_step[at] as usize, det_sign: if lo > 0.0 { sign } else { 0.0 } }
     }
 
-    /// Replays the program on new values. With `check`, stops at the first pivot that
-    /// fails its threshold; a non-finite column goes through (the pivots report it).
-    fn replay(&mut self, values: &[f64], check: bool) -> Replay {
+    /// Replays the program on new values. Stops at the first pivot that fails `check`;
+    /// unchecked, a non-finite column goes through (the pivots report it).
+    fn replay(&mut self, values: &[f64], check: Check) -> Replay {
         let lu = &mut self.lu[..];
         // SAFETY (the three loops): `compile` checked every position against lu.len()
         for &p in &self.fill {
@@ -350,9 +390,18 @@ impl SparseLu {
                 };
             }
             let pivot = lu[d0 + j];
-            let col = &mut lu[self.l_ptr[j] as usize..self.l_ptr[j + 1] as usize];
+            let (l0, l1) = (self.l_ptr[j] as usize, self.l_ptr[j + 1] as usize);
+            let col = &mut lu[l0..l1];
+            if check == Check::Choice {
+                let rows = self.l_row[l0..l1].iter().map(|&i| self.row_of_step[i as usize] as usize);
+                let c = self.col_of_step[j] as usize;
+                let own = &self.a_row[self.a_col_ptr[c]..self.a_col_ptr[c + 1]];
+                if !is_choice(pivot, self.row_of_step[j] as usize, col, rows, own, &self.row_degree) {
+                    return Replay::Repivot;
+                }
+            }
             if pivot == 0.0 {
-                if check && col.iter().any(|&l| l != 0.0) {
+                if check == Check::Threshold && col.iter().any(|&l| l != 0.0) {
                     return Replay::Repivot;
                 }
                 // all candidates zero: a singular column, left as it is
@@ -367,7 +416,7 @@ impl SparseLu {
                 *l *= inv;
                 largest = largest.max(l.abs());
             }
-            if check && largest * PIVOT_THRESHOLD > 1.0 {
+            if check == Check::Threshold && largest * PIVOT_THRESHOLD > 1.0 {
                 return Replay::Repivot;
             }
         }
@@ -540,6 +589,40 @@ impl SparseLu {
         (self.ops, self.op_ptr) = (ops, op_ptr);
         self.ready = true;
     }
+}
+
+/// Whether `choose_pivots`, reaching a column with the same pivots before it, would take
+/// the row replayed there: of the candidates (the pivot, then the column's entries of L
+/// before scaling, in the rows `rows` of A) at least `CHOICE_THRESHOLD` times the largest,
+/// the one whose row of A has the fewest entries, then the largest, then the first
+/// reached: the column's own rows of A (`own`, ascending) in their order, before the rows
+/// its elimination fills in. False where that order between two filled rows decides, or a
+/// value is zero or not finite: a new choice then decides.
+fn is_choice(
+    pivot: f64,
+    pivot_row: usize,
+    col: &[f64],
+    rows: impl Iterator<Item = usize>,
+    own: &[usize],
+    row_degree: &[u32],
+) -> bool {
+    let p = pivot.abs();
+    if !(p > 0.0 && p.is_finite() && col.iter().all(|c| c.is_finite())) {
+        return false;
+    }
+    let largest = col.iter().fold(p, |m, c| m.max(c.abs()));
+    if p < CHOICE_THRESHOLD * largest {
+        return false;
+    }
+    let degree = row_degree[pivot_row];
+    let pivot_own = own.binary_search(&pivot_row).is_ok();
+    col.iter().zip(rows).all(|(c, r)| {
+        let v = c.abs();
+        let eligible = v >= CHOICE_THRESHOLD * largest && v > 0.0;
+        // a tie: the pivot must have been reached first
+        let first = || pivot_own && own.binary_search(&r).map_or(true, |_| pivot_row < r);
+        !eligible || row_degree[r] > degree || (row_degree[r] == degree && (v < p || (v == p && first())))
+    })
 }
 
 /// A fill-reducing column order for LU with partial pivoting (faer's COLAMD): the column

@@ -55,6 +55,56 @@ pub(crate) fn factor(
     Ok(pivots)
 }
 
+/// The pivots of solved configurations, as a sweep reports them at its start (and a
+/// study's `pivot_min` reads them): the scaled Phi_q at q, t, factored with its pivots
+/// chosen on its own values (`Factor::factor_choosing`). A function of q alone: not of the
+/// iterate Newton factored last, nor of the values on which the fixed-sequence LU chose
+/// the sequence it replays, nor of the path (Newton or closed forms) that solved q.
+/// Its own workspace (a solve's, with its factors, is left as it is), and the last few
+/// pivot sequences chosen: a study's designs mostly take one of them again, replayed
+/// without the allocations of a new choice.
+pub(crate) struct PivotsAt {
+    data: Data,
+    /// the most recently taken first
+    factors: Vec<crate::math::linear::Factor>,
+}
+
+/// How many pivot sequences `PivotsAt` keeps.
+const SEQUENCES_KEPT: usize = 4;
+
+impl PivotsAt {
+    pub(crate) fn new(model: &Model) -> PivotsAt {
+        PivotsAt { data: Data::new(model), factors: Vec::new() }
+    }
+
+    /// The pivots of `q` at `t` (a configuration of `model`, which has the structure this
+    /// was made for).
+    pub(crate) fn at(&mut self, model: &Model, q: &[f64], t: f64) -> crate::math::pivots::Pivots {
+        let data = &mut self.data;
+        data.q.copy_from_slice(q);
+        data.qd.fill(0.0);
+        // NaN: every body's sin_cos in full, as in a new workspace
+        data.frame_base.fill([f64::NAN, 1.0, 0.0]);
+        if !assembly::position(model, data, t).is_finite() {
+            return crate::math::pivots::Pivots::NONE;
+        }
+        let sym = &model.symbolic;
+        for i in 0..self.factors.len() {
+            if let Some(pivots) = self.factors[i].factor_if_chosen(sym, &data.jac) {
+                self.factors[..=i].rotate_right(1);
+                return pivots;
+            }
+        }
+        let mut factor = match self.factors.len() {
+            SEQUENCES_KEPT => self.factors.pop().expect("kept sequences"),
+            _ => crate::math::linear::Factor::new(sym),
+        };
+        let pivots = factor.factor_choosing(sym, &data.jac);
+        self.factors.insert(0, factor);
+        pivots
+    }
+}
+
 /// Solves Phi(q, t) = 0 starting from data.q; writes data.q, data.phi, the factors.
 ///
 /// `step` is the sweep step (for error messages); `assembly` allows more iterations and
@@ -137,4 +187,55 @@ pub fn solve_position(
     } else {
         SolveError::NoConvergence { step, time: t, iterations: max_iter, residual, constraint }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sweep::outputs::SweepOutput;
+
+    /// `PivotsAt` gives each configuration the same bits whatever it measured before (in
+    /// any order, with its kept sequences or a new one), and they are a new factorization's
+    /// with its pivots chosen there: over a six-bar's turn, whose best pivot rows change.
+    #[test]
+    fn pivots_at_a_configuration_do_not_depend_on_what_was_measured_before() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+        let mut sequences = 0;
+        for name in ["six_bar_stephenson.toml", "four_bar.toml", "slider_crank.toml"] {
+            let desc = crate::input::files::read_path(&dir.join(name)).unwrap().description;
+            let model = Model::new(desc).unwrap();
+            let (lo, hi) = model.time_domain;
+            let t0 = 0.0f64.max(lo);
+            let times: Vec<f64> = (0..120).map(|k| t0 + (hi.min(t0 + 2.0) - t0) * k as f64 / 120.0).collect();
+            let mut data = Data::new(&model);
+            let mut out = SweepOutput::new(&model, &times);
+            // (a sweep that stops at a limit leaves its steps before it)
+            let _ = crate::sweep::time_loop::sweep(&model, &mut data, &times, &mut out, 0, &mut |_| true);
+            let times = &times[..out.n_done];
+            assert!(times.len() > 20, "{name}: {} steps", times.len());
+            let n = model.n_coords;
+            let at = |k: usize| &out.q[k * n..(k + 1) * n];
+            let mut fresh = Vec::new();
+            for (k, &t) in times.iter().enumerate() {
+                let mut d = Data::new(&model);
+                d.q.copy_from_slice(at(k));
+                assembly::position(&model, &mut d, t);
+                fresh.push(d.factor.factor(&model.symbolic, &d.jac));
+            }
+            let mut forward = PivotsAt::new(&model);
+            let mut backward = PivotsAt::new(&model);
+            for k in 0..times.len() {
+                let j = times.len() - 1 - k;
+                for (p, want) in [
+                    (forward.at(&model, at(k), times[k]), fresh[k]),
+                    (backward.at(&model, at(j), times[j]), fresh[j]),
+                ] {
+                    assert_eq!(p.ratio.to_bits(), want.ratio.to_bits(), "{name}, step {k}");
+                    assert_eq!((p.det_sign, p.column), (want.det_sign, want.column), "{name}, step {k}");
+                }
+            }
+            sequences = sequences.max(forward.factors.len());
+        }
+        assert!(sequences > 1, "no configuration needed a sequence of its own");
+    }
 }

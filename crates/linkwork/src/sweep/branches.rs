@@ -25,6 +25,14 @@ pub struct Asked {
     q: Vec<f64>,
 }
 
+impl Asked {
+    /// Each block's branch sign, in plan order, where `plan`'s groups are the asked ones
+    /// (None: another mechanism).
+    pub fn signs(&self, plan: &closed_form::Plan) -> Option<&[f64]> {
+        plan.blocks.iter().map(Block::name).eq(self.kinds.iter().copied()).then_some(&self.work.sign[..])
+    }
+}
+
 /// The branches `model` takes at `t`, assembled from its drawing as its own sweep starts.
 /// None without a plan, or where the model does not assemble (its designs then start from
 /// their drawings, as it does).

@@ -1,19 +1,23 @@
 //! Many designs of one closed-form plan swept side by side (`solve::closed_form::lanes`):
 //! the designs of a study whose plan is cranks and RRR dyads, with only positions (and
-//! points) asked, taken `LANES` at a time. Each design's start (step 0) is its own sweep's,
-//! on its asked branches (`branches::sweep_on`); then the lanes take the steps a run of
-//! guarded closed-form steps takes (`time_loop`, positions only), each lane's branch kept
-//! by the guard from positions (`closed_form::guard`) as the scalar step keeps it. A lane
-//! that misses a step (a group near its singular configuration, no assembly, a guard that
-//! cannot show the step), or whose start had an event,
-//! is its design swept again alone by the general per-design path, which then goes to the
-//! careful path where it must: every design's figures are the scalar engine's, bit for bit.
+//! points) asked, taken `LANES` at a time. Each design starts (step 0) from its own closed
+//! forms on its asked branches (`start`: no Newton from the base's drawing); then the lanes
+//! take the steps a run of guarded closed-form steps takes (`time_loop`, positions only),
+//! each lane's branch kept by the guard from positions (`closed_form::guard`) as the scalar
+//! step keeps it. A lane that misses a step (a group near its singular configuration, no
+//! assembly, a guard that cannot show the step), or whose start is not clear of its
+//! singular configurations, is its design swept again alone by the general per-design
+//! path, which then goes to the careful path where it must. A lane's steps are the scalar
+//! guarded steps from its start, operation for operation; the start is the closed form
+//! where a sweep alone starts by Newton, so the two differ by round-off (the tests bound it).
 
+use crate::constraints::Frame;
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::solve::closed_form;
 use crate::solve::closed_form::lane_ops::{Ops, Plain};
 use crate::solve::closed_form::lanes::{self, Lanes, Turns, LANES, V};
+use crate::solve::closed_form::{self, Block, Plan, NEAR_SINGULAR};
+use crate::solve::position::PivotsAt;
 use crate::sweep::outputs::{Outputs, Request};
 
 /// Whether the lanes take this model's designs for this request: a plan the lanes step,
@@ -24,6 +28,59 @@ pub fn fit(model: &Model, request: &Request) -> bool {
         && !request.forces
         && !request.locks
         && model.plan.as_ref().is_ok_and(|p| lanes::fits(model, p) && closed_form::guarded(p))
+}
+
+/// Step 0 of a design the lanes take, at t on the branches `signs` (each block's, as
+/// `branches::Asked` holds them), from its own closed forms (`closed_form::assemble`, with
+/// rates for the closeness trends the step-by-step loop starts from) and no Newton: data
+/// is first put back to the drawing, so nothing of a design swept before in it is read.
+/// Then the plan's state as `closed_form::resync` leaves a solved start. Some(the start's
+/// pivot ratio, as a sweep's start reports it: `PivotsAt`) where every group closes on
+/// its branch clear of its singular configuration with a residual within tolerance; None:
+/// the design is left to its own sweep (which names its error).
+pub(crate) fn start(
+    model: &Model,
+    plan: &Plan,
+    data: &mut Data,
+    pivots: &mut PivotsAt,
+    t: f64,
+    signs: &[f64],
+) -> Option<f64> {
+    if signs.len() != plan.blocks.len() {
+        return None;
+    }
+    data.q.copy_from_slice(&model.q_start);
+    data.qd.fill(0.0);
+    data.qdd.fill(0.0);
+    data.frames.fill(Frame::GROUND);
+    // NaN: the first turn computes sin_cos in full (as `Data::new`)
+    data.frame_base.fill([f64::NAN, 1.0, 0.0]);
+    data.blocks.sign.copy_from_slice(signs);
+    let tol = model.options.tol_residual * model.length_scale;
+    let mut closeness_min = f64::INFINITY;
+    for (block, &sign) in plan.blocks.iter().zip(signs) {
+        let solved = match block {
+            Block::Crank(b) => b.solve(model, data, t, 1),
+            Block::Rrr(b) => b.solve(data, sign, 1),
+            _ => return None,
+        };
+        let (closeness, residual) = solved.ok()?;
+        if !(closeness >= NEAR_SINGULAR && residual <= tol) {
+            return None;
+        }
+        closeness_min = closeness_min.min(closeness);
+    }
+    if !crate::solve::assembly::position(model, data, t).is_finite() {
+        return None;
+    }
+    // the start's pivot ratio as a sweep's start reports it (a study's `pivot_min`): Phi_q's
+    // LU there, its pivots chosen there, not the dyads' closeness
+    let ratio = pivots.at(model, &data.q, t).ratio;
+    if ratio.is_nan() || ratio < model.options.singular_tol {
+        return None;
+    }
+    closed_form::resync(model, plan, data, t, 1.0, true, None);
+    Some(ratio)
 }
 
 /// Where a lane's design's figures go: its kept coordinates' and points' rows

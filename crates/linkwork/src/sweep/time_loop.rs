@@ -11,8 +11,8 @@ use crate::solve::acceleration::solve_acceleration;
 use crate::solve::closed_form::guard::Travel;
 use crate::solve::closed_form::{self, Block};
 use crate::solve::forces::solve_forces;
-use crate::solve::position::solve_position;
 use crate::solve::position::PositionInfo;
+use crate::solve::position::{solve_position, PivotsAt};
 use crate::solve::velocity::solve_velocity;
 use crate::sweep::outputs::{Request, SweepOutput, Worst};
 use crate::sweep::stepping::branch::{continues, continues_storing};
@@ -323,7 +323,15 @@ fn sweep_steps(
         } else if req.locks {
             tracker.after_velocity(model, data, times[k - 1], t, k)?;
         }
-        worst.add(&info);
+        if k == 0 {
+            // the start reports its solution's pivots, chosen there (`PivotsAt`): Newton's
+            // last factorization is of the iterate before it, on the pivot sequence chosen
+            // where Newton began (the drawing); the loop above still steers by that one
+            let at = PivotsAt::new(model).at(model, &data.q, t);
+            worst.add(&PositionInfo { pivot_ratio: at.ratio, ..info });
+        } else {
+            worst.add(&info);
+        }
         if k % req.every == 0 {
             if req.forces {
                 if by_blocks {

@@ -28,6 +28,7 @@ use crate::model::structure::{structure, Structure};
 use crate::model::Model;
 use crate::solve::closed_form::lanes::{Turns, LANES};
 use crate::solve::closed_form::Plan;
+use crate::solve::position::PivotsAt;
 use crate::sweep::batch::on_threads;
 use crate::sweep::branches::{asked_branches, sweep_on, Asked};
 use crate::sweep::lanes::{self, sweep_lanes, LaneRows};
@@ -243,11 +244,16 @@ struct Ctx<'a> {
     np: usize,
 }
 
-/// A thread's variant models and outputs, reused for every design it takes: one per lane,
-/// each with its start (step 0) and the one-by-one path's full sweep.
+/// A thread's variant models, workspaces and outputs, reused for every design it takes:
+/// one model and workspace per lane, and the one-by-one path's full sweep.
 struct Worker {
     variants: Vec<Model>,
-    starts: Vec<SweepOutput>,
+    /// each lane's workspace, where its design starts (`lanes::start` puts it back first)
+    data: Vec<Data>,
+    /// where each lane's start's pivot ratio is factored (`lanes::start`)
+    pivots: PivotsAt,
+    /// each lane's kept points (body, place in it), moved with its design
+    points: Vec<Vec<(Option<usize>, [f64; 2])>>,
     full: SweepOutput,
     /// the crank's cos and sin at each step, as the thread's lanes took them
     turns: Turns,
@@ -255,10 +261,11 @@ struct Worker {
 
 impl Worker {
     fn new(model: &Model, times: &[f64], request: Request, outputs: &Outputs) -> Worker {
-        let start = SweepOutput::with_outputs(model, &times[..times.len().min(1)], request, outputs.clone());
         Worker {
             variants: vec![model.clone(); LANES],
-            starts: vec![start; LANES],
+            data: (0..LANES).map(|_| Data::new(model)).collect(),
+            pivots: PivotsAt::new(model),
+            points: vec![outputs.points.clone(); LANES],
             full: SweepOutput::with_outputs(model, times, request, outputs.clone()),
             turns: Turns::default(),
         }
@@ -268,8 +275,8 @@ impl Worker {
     fn set(&mut self, ctx: &Ctx, j: usize, i: usize, out_full: bool) {
         let m = ctx.variation.params.len();
         ctx.variation.apply(ctx.model, &mut self.variants[j], &ctx.deltas[i * m..(i + 1) * m]);
-        let out = if out_full { &mut self.full } else { &mut self.starts[j] };
-        for (slot, k) in out.outputs.points.iter_mut().zip(ctx.named) {
+        let points = if out_full { &mut self.full.outputs.points } else { &mut self.points[j] };
+        for (slot, k) in points.iter_mut().zip(ctx.named) {
             if let Some(k) = k {
                 slot.1 = self.variants[j].points[*k].local;
             }
@@ -301,10 +308,11 @@ impl Worker {
         (pivot_min, out.events.len(), done, err)
     }
 
-    /// Designs `first..first + LANES` in lanes (`sweep::lanes`): each started alone (step
-    /// 0 on its asked branches), then stepped side by side. A design the lanes take to the
-    /// end gets its figures in `done`; the others (a start that fails or has an event, a
-    /// missed step) are left to the one-by-one path, whose sweep overwrites their rows.
+    /// Designs `first..first + LANES` in lanes (`sweep::lanes`): each started from its own
+    /// closed forms on its asked branches (`lanes::start`), then stepped side by side. A
+    /// design the lanes take to the end gets its figures in `done`; the others (a start
+    /// that is not clear, a missed step; all four where no branches are asked) are left to
+    /// the one-by-one path, whose sweep overwrites their rows.
     fn lanes(
         &mut self,
         ctx: &Ctx,
@@ -313,39 +321,49 @@ impl Worker {
         done: &mut [Option<Figures>],
         cancel: &AtomicBool,
     ) {
-        let mut keep_going = |_: usize| !cancel.load(Ordering::Relaxed);
-        let start = &ctx.times[..1];
-        let mut data = Vec::with_capacity(LANES);
-        for j in 0..LANES {
+        let Some(asked) = ctx.asked else { return };
+        let t0 = ctx.times[0];
+        let mut ratio = [0.0; LANES];
+        for (j, start) in ratio.iter_mut().enumerate() {
             self.set(ctx, j, first + j, false);
-            let mut d = Data::new(&self.variants[j]);
-            let out = &mut self.starts[j];
-            let r = sweep_on(&self.variants[j], &mut d, start, out, 4096, &mut keep_going, ctx.asked);
-            if r.is_err() || !out.events.is_empty() || out.n_done != 1 {
+            let variant = &self.variants[j];
+            let Ok(plan) = variant.plan.as_ref() else { return };
+            let Some(signs) = asked.signs(plan) else { return };
+            let Some(r) = lanes::start(variant, plan, &mut self.data[j], &mut self.pivots, t0, signs) else {
                 return;
-            }
-            data.push(d);
+            };
+            *start = r;
         }
-        let (kept, np) = (ctx.kept, ctx.np);
+        let kept = ctx.kept;
+        let coords = self.full.outputs.coords.clone();
         let mut lane_rows: Vec<LaneRows> = rows
             .iter_mut()
-            .zip(&self.starts)
-            .map(|((q, p), out)| {
-                q[..kept].copy_from_slice(&out.q[..kept]);
-                p[..np * 2].copy_from_slice(&out.points[..np * 2]);
-                LaneRows { q, points: p, pivot_min: f64::INFINITY.min(out.pivot_ratio[0]) }
+            .enumerate()
+            .map(|(j, (q, p))| {
+                let data = &self.data[j];
+                // the start's row, as a sweep stores a row the general path solved
+                match &coords {
+                    Some(c) => c.iter().zip(q[..kept].iter_mut()).for_each(|(&c, o)| *o = data.q[c]),
+                    None => q[..kept].copy_from_slice(&data.q),
+                }
+                for (i, (body, u)) in self.points[j].iter().enumerate() {
+                    p[2 * i..2 * i + 2].copy_from_slice(&match body {
+                        Some(b) => {
+                            let (x, y, th) = (data.q[3 * b], data.q[3 * b + 1], data.q[3 * b + 2]);
+                            let (s, c) = th.sin_cos();
+                            [x + (c * u[0] - s * u[1]), y + (s * u[0] + c * u[1])]
+                        }
+                        None => *u,
+                    });
+                }
+                LaneRows { q, points: p, pivot_min: ratio[j] }
             })
             .collect();
-        let points: Vec<_> = (0..np)
-            .map(|p| {
-                (
-                    self.starts[0].outputs.points[p].0,
-                    std::array::from_fn(|j| self.starts[j].outputs.points[p].1),
-                )
-            })
+        let points: Vec<_> = (0..ctx.np)
+            .map(|p| (self.points[0][p].0, std::array::from_fn(|j| self.points[j][p].1)))
             .collect();
         let models = std::array::from_fn(|j| &self.variants[j]);
-        let data = std::array::from_fn(|j| &data[j]);
+        let data = std::array::from_fn(|j| &self.data[j]);
         let Ok(rows) = <&mut [LaneRows; LANES]>::try_from(&mut lane_rows[..]) else { return };
         let outputs = &self.full.outputs;
         let cancelled = || cancel.load(Ordering::Relaxed);

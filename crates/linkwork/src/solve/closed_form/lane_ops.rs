@@ -2,14 +2,17 @@
 //! square roots, absolute values and comparisons, each lane rounded as the scalar
 //! operation rounds it (no fused multiply-add), so a lane's figures are its design's
 //! scalar figures bit for bit. Two sets of the same operations: AVX2 registers (`pulp`'s
-//! `V3`, chosen at run time where the machine has it) and plain arrays (elsewhere).
+//! `V3`, chosen at run time where the machine has it), two of them for the eight lanes,
+//! and plain arrays (elsewhere).
 //!
 //! `min` and `max` are the x86 instructions' (`a < b ? a : b`, `a > b ? a : b`: the second
 //! operand where either is NaN), in both sets; on numbers that are not NaN they are
 //! `f64::min` and `f64::max`. The lanes take them only where a NaN misses the lane anyway.
 
-/// Designs stepped side by side (AVX2 holds four f64).
-pub const LANES: usize = 4;
+/// Designs stepped side by side: two AVX2 registers of four f64. A lane's step is a
+/// chain of dependent quotients and square roots whose latency, not the divider's
+/// throughput, bounds one register's step; two independent chains fill it.
+pub const LANES: usize = 8;
 /// One number in every lane.
 pub type V = [f64; LANES];
 
@@ -126,81 +129,94 @@ mod avx2 {
     use pulp::x86::V3;
     use pulp::{f64x4, m64, m64x4, Simd};
 
-    /// AVX2's registers (four f64): the token says the machine has them.
+    /// Two AVX2 registers (four f64 each; lanes 0-3 and 4-7): the token says the machine
+    /// has them. Each operation is the register's on both halves.
     impl Ops for V3 {
-        type F = f64x4;
-        type M = m64x4;
+        type F = (f64x4, f64x4);
+        type M = (m64x4, m64x4);
         #[inline(always)]
-        fn splat(self, x: f64) -> f64x4 {
-            self.splat_f64s(x)
+        fn splat(self, x: f64) -> Self::F {
+            (self.splat_f64s(x), self.splat_f64s(x))
         }
         #[inline(always)]
-        fn load(self, v: &V) -> f64x4 {
-            f64x4(v[0], v[1], v[2], v[3])
+        fn load(self, v: &V) -> Self::F {
+            (f64x4(v[0], v[1], v[2], v[3]), f64x4(v[4], v[5], v[6], v[7]))
         }
         #[inline(always)]
-        fn store(self, x: f64x4) -> V {
-            [x.0, x.1, x.2, x.3]
+        fn store(self, (x, y): Self::F) -> V {
+            [x.0, x.1, x.2, x.3, y.0, y.1, y.2, y.3]
         }
         #[inline(always)]
-        fn add(self, a: f64x4, b: f64x4) -> f64x4 {
-            self.add_f64s(a, b)
+        fn add(self, a: Self::F, b: Self::F) -> Self::F {
+            (self.add_f64s(a.0, b.0), self.add_f64s(a.1, b.1))
         }
         #[inline(always)]
-        fn sub(self, a: f64x4, b: f64x4) -> f64x4 {
-            self.sub_f64s(a, b)
+        fn sub(self, a: Self::F, b: Self::F) -> Self::F {
+            (self.sub_f64s(a.0, b.0), self.sub_f64s(a.1, b.1))
         }
         #[inline(always)]
-        fn mul(self, a: f64x4, b: f64x4) -> f64x4 {
-            self.mul_f64s(a, b)
+        fn mul(self, a: Self::F, b: Self::F) -> Self::F {
+            (self.mul_f64s(a.0, b.0), self.mul_f64s(a.1, b.1))
         }
         #[inline(always)]
-        fn div(self, a: f64x4, b: f64x4) -> f64x4 {
-            self.div_f64s(a, b)
+        fn div(self, a: Self::F, b: Self::F) -> Self::F {
+            (self.div_f64s(a.0, b.0), self.div_f64s(a.1, b.1))
         }
         #[inline(always)]
-        fn sqrt(self, a: f64x4) -> f64x4 {
-            self.sqrt_f64s(a)
+        fn sqrt(self, a: Self::F) -> Self::F {
+            (self.sqrt_f64s(a.0), self.sqrt_f64s(a.1))
         }
         #[inline(always)]
-        fn abs(self, a: f64x4) -> f64x4 {
-            self.abs_f64s(a)
+        fn abs(self, a: Self::F) -> Self::F {
+            (self.abs_f64s(a.0), self.abs_f64s(a.1))
         }
         #[inline(always)]
-        fn min(self, a: f64x4, b: f64x4) -> f64x4 {
-            self.min_f64s(a, b)
+        fn min(self, a: Self::F, b: Self::F) -> Self::F {
+            (self.min_f64s(a.0, b.0), self.min_f64s(a.1, b.1))
         }
         #[inline(always)]
-        fn max(self, a: f64x4, b: f64x4) -> f64x4 {
-            self.max_f64s(a, b)
+        fn max(self, a: Self::F, b: Self::F) -> Self::F {
+            (self.max_f64s(a.0, b.0), self.max_f64s(a.1, b.1))
         }
         #[inline(always)]
-        fn lt(self, a: f64x4, b: f64x4) -> m64x4 {
-            self.less_than_f64s(a, b)
+        fn lt(self, a: Self::F, b: Self::F) -> Self::M {
+            (self.less_than_f64s(a.0, b.0), self.less_than_f64s(a.1, b.1))
         }
         #[inline(always)]
-        fn le(self, a: f64x4, b: f64x4) -> m64x4 {
-            self.less_than_or_equal_f64s(a, b)
+        fn le(self, a: Self::F, b: Self::F) -> Self::M {
+            (self.less_than_or_equal_f64s(a.0, b.0), self.less_than_or_equal_f64s(a.1, b.1))
         }
         #[inline(always)]
-        fn is_nan(self, a: f64x4) -> m64x4 {
-            self.not_m64s(self.equal_f64s(a, a))
+        fn is_nan(self, a: Self::F) -> Self::M {
+            (self.not_m64s(self.equal_f64s(a.0, a.0)), self.not_m64s(self.equal_f64s(a.1, a.1)))
         }
         #[inline(always)]
-        fn or(self, a: m64x4, b: m64x4) -> m64x4 {
-            self.or_m64s(a, b)
+        fn or(self, a: Self::M, b: Self::M) -> Self::M {
+            (self.or_m64s(a.0, b.0), self.or_m64s(a.1, b.1))
         }
         #[inline(always)]
-        fn not(self, a: m64x4) -> m64x4 {
-            self.not_m64s(a)
+        fn not(self, a: Self::M) -> Self::M {
+            (self.not_m64s(a.0), self.not_m64s(a.1))
         }
         #[inline(always)]
-        fn mask(self, b: [bool; LANES]) -> m64x4 {
-            m64x4(m64::new(b[0]), m64::new(b[1]), m64::new(b[2]), m64::new(b[3]))
+        fn mask(self, b: [bool; LANES]) -> Self::M {
+            let m =
+                |k: usize| m64x4(m64::new(b[k]), m64::new(b[k + 1]), m64::new(b[k + 2]), m64::new(b[k + 3]));
+            (m(0), m(4))
         }
         #[inline(always)]
-        fn bits(self, m: m64x4) -> [bool; LANES] {
-            [m.0.is_set(), m.1.is_set(), m.2.is_set(), m.3.is_set()]
+        fn bits(self, (m, n): Self::M) -> [bool; LANES] {
+            let (a, b) = (m, n);
+            [
+                a.0.is_set(),
+                a.1.is_set(),
+                a.2.is_set(),
+                a.3.is_set(),
+                b.0.is_set(),
+                b.1.is_set(),
+                b.2.is_set(),
+                b.3.is_set(),
+            ]
         }
     }
 }

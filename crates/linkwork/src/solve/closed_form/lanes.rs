@@ -119,6 +119,9 @@ pub struct Lanes<'m> {
     travel: Vec<TravelLanes>,
     /// per body: whether `step_positions` forms its angle (`keep_angles`; all at first)
     angles: Vec<bool>,
+    /// per block: whether a later group reads its bodies' bounds (`closed_form::guard_reads`;
+    /// where none does, the dyad's guard is its test alone, as the scalar step's)
+    reads: Vec<bool>,
 }
 
 impl<'m> Lanes<'m> {
@@ -206,6 +209,7 @@ impl<'m> Lanes<'m> {
             ratio: [1.0; LANES],
             travel: vec![TravelLanes::default(); n_bodies],
             angles: vec![true; n_bodies],
+            reads: super::guard_reads(plans[0], n_bodies),
         })
     }
 
@@ -262,9 +266,10 @@ impl<'m> Lanes<'m> {
                     (cl, res)
                 }
                 BlockLanes::Rrr(l1, l2) => {
-                    let angles = &self.angles;
+                    let (angles, read) = (&self.angles, self.reads[i]);
+                    let travel = &mut self.travel;
                     let (cl, res, b) =
-                        rrr_positions(o, l1, l2, &mut self.bodies, &mut self.travel, &self.sign[i], angles);
+                        rrr_positions(o, l1, l2, &mut self.bodies, travel, &self.sign[i], angles, read);
                     bad = o.or(bad, b);
                     (cl, res)
                 }
@@ -410,14 +415,29 @@ fn outer_p<O: Ops>(o: O, l: &LinkLanes, bodies: &[BodyLanes]) -> [O::F; 2] {
     [px, py]
 }
 
+/// `guard::rrr_margin` in every lane (the same operations): D's distance to the nearer of
+/// the dyad's limits, and the links' lengths in order (lo, hi).
+#[inline(always)]
+fn rrr_margin<O: Ops>(o: O, r1: O::F, r2: O::F, dd: O::F) -> (O::F, O::F, O::F) {
+    let d = o.sqrt(dd);
+    let (lo, hi) = (o.min(r1, r2), o.max(r1, r2));
+    (o.min(o.sub(o.add(r1, r2), d), o.sub(d, o.sub(hi, lo))), lo, hi)
+}
+
+/// `guard::rrr_shown` in every lane: whether the step is not shown (a mask).
+#[inline(always)]
+fn rrr_not_shown<O: Ops>(o: O, r1: O::F, r2: O::F, dd: O::F, l: O::F) -> O::M {
+    let (margin, _, _) = rrr_margin(o, r1, r2, dd);
+    // NaN fails the comparison: not shown
+    o.not(o.le(l, o.mul(o.splat(guard::GUARD), margin)))
+}
+
 /// `guard::rrr_turns` in every lane (the same operations): whether the step is not shown
 /// (a mask), and the bodies' turn bounds.
 #[inline(always)]
 fn rrr_turns<O: Ops>(o: O, r1: O::F, r2: O::F, dd: O::F, l: O::F) -> (O::M, O::F, O::F) {
     let two = o.splat(2.0);
-    let d = o.sqrt(dd);
-    let (lo, hi) = (o.min(r1, r2), o.max(r1, r2));
-    let margin = o.min(o.sub(o.add(r1, r2), d), o.sub(d, o.sub(hi, lo)));
+    let (margin, lo, hi) = rrr_margin(o, r1, r2, dd);
     // NaN fails the comparison: not shown
     let shown = o.le(l, o.mul(o.splat(guard::GUARD), margin));
     let m = o.sub(margin, l);
@@ -435,8 +455,9 @@ fn pin<O: Ops>(o: O, t: &TravelLanes, p: &[O::F; 2]) -> O::F {
 }
 
 /// An RRR dyad's positions in every lane (`Rrr::solve_on` without rates) and its guard
-/// (`closed_form::guard_block`), each lane's failing guard a miss: (closeness, residual,
-/// the lanes missed).
+/// (`Rrr::solve_guarded`: its bodies' bounds only where a later group reads them, `read`),
+/// each lane's failing guard a miss: (closeness, residual, the lanes missed).
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn rrr_positions<O: Ops>(
     o: O,
@@ -446,6 +467,7 @@ fn rrr_positions<O: Ops>(
     travel: &mut [TravelLanes],
     sign: &V,
     angles: &[bool],
+    read: bool,
 ) -> (O::F, O::F, O::M) {
     let (pa, pc) = (outer_p(o, l1, bodies), outer_p(o, l2, bodies));
     let (r1, r2) = (o.load(&l1.length), o.load(&l2.length));
@@ -466,12 +488,16 @@ fn rrr_positions<O: Ops>(
     // the guard, from the known sides' bounds (read before this dyad's bodies are written)
     let la = l1.known.map_or(zero, |k| pin(o, &travel[k], &pa));
     let lc = l2.known.map_or(zero, |k| pin(o, &travel[k], &pc));
-    let (not_shown, t1, t2) = rrr_turns(o, r1, r2, dd, o.add(la, lc));
-    bad = o.or(bad, not_shown);
-    travel[l1.body] =
-        TravelLanes { r: [o.store(pa[0]), o.store(pa[1])], len: o.store(la), turn: o.store(t1) };
-    travel[l2.body] =
-        TravelLanes { r: [o.store(pc[0]), o.store(pc[1])], len: o.store(lc), turn: o.store(t2) };
+    if read {
+        let (not_shown, t1, t2) = rrr_turns(o, r1, r2, dd, o.add(la, lc));
+        bad = o.or(bad, not_shown);
+        travel[l1.body] =
+            TravelLanes { r: [o.store(pa[0]), o.store(pa[1])], len: o.store(la), turn: o.store(t1) };
+        travel[l2.body] =
+            TravelLanes { r: [o.store(pc[0]), o.store(pc[1])], len: o.store(lc), turn: o.store(t2) };
+    } else {
+        bad = o.or(bad, rrr_not_shown(o, r1, r2, dd, o.add(la, lc)));
+    }
     let res1 = place_with(o, l1, &mut bodies[l1.body], &pa, &b, angles[l1.body]);
     let res2 = place_with(o, l2, &mut bodies[l2.body], &pc, &b, angles[l2.body]);
     (closeness, o.max(res1, res2), bad)
