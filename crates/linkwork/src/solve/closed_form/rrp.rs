@@ -16,6 +16,10 @@ use crate::model::plan::{Line, Rrp};
 use crate::model::structure::Group;
 use crate::model::Model;
 
+/// A step of the dyad: (closeness, residual), the link's known pin A, and A's offset from
+/// the slide's line.
+type Solved = ((f64, f64), [f64; 2], f64);
+
 impl Rrp {
     pub fn new(model: &Model, g: &Group) -> Option<Rrp> {
         if g.bodies.len() != 2 || g.constraints.len() != 3 {
@@ -168,7 +172,7 @@ impl Rrp {
         data: &mut Data,
         sign: f64,
         derivatives: u8,
-    ) -> Result<((f64, f64), [f64; 2], f64), StepMiss> {
+    ) -> Result<Solved, StepMiss> {
         let (k1, a) = self.link.outer_on::<K>(data);
         let k = if S { side(data, self.known) } else { Frame::GROUND };
         let (theta_s, cs, ss, p0, dir) = match self.ground_line {
