@@ -6,6 +6,7 @@ use super::guard::{self, Travel};
 use super::{add_move, body_qdd, column, point_acc, set_acc, set_body, set_rates, side, split};
 use super::{NumberMove, Numbers, StepMiss};
 use crate::constraints::{kinds::ConstraintKind, perp, sub, Constraint, Frame};
+use crate::input::motion::MotionLaw;
 use crate::math::angle::turned;
 use crate::model::data::Data;
 use crate::model::plan::Crank;
@@ -94,8 +95,9 @@ impl Crank {
         if self.known.is_some() || self.base.is_some() {
             return Err(StepMiss::Failed);
         }
-        let solved = self.solve_on::<false, false>(model, data, t, 0)?;
+        // the law looked up once, for the angle and its bound
         let law = model.constraints[self.driver].kind.law().ok_or(StepMiss::Failed)?;
+        let solved = self.solve_law::<false, false>(law, data, t, 0)?;
         let turn = guard::law_travel(law, h).ok_or(StepMiss::NearSingular)?;
         travel[self.body] = Travel { r: self.fixed, len: 0.0, turn };
         Ok(solved)
@@ -112,6 +114,18 @@ impl Crank {
         derivatives: u8,
     ) -> Result<(f64, f64), StepMiss> {
         let Some(law) = model.constraints[self.driver].kind.law() else { return Err(StepMiss::Failed) };
+        self.solve_law::<K, B>(law, data, t, derivatives)
+    }
+
+    /// `solve_on` with the driver's law given.
+    #[inline(always)]
+    fn solve_law<const K: bool, const B: bool>(
+        &self,
+        law: &MotionLaw,
+        data: &mut Data,
+        t: f64,
+        derivatives: u8,
+    ) -> Result<(f64, f64), StepMiss> {
         let f = law.eval(t);
         // a law outside its domain: the general path names it (value, nu or gamma)
         if !f[..=derivatives.min(2) as usize].iter().all(|v| v.is_finite()) {

@@ -307,6 +307,22 @@ pub struct StepInfo {
     pub correction: f64,
 }
 
+impl StepInfo {
+    /// A group's closeness (not NaN), scaled residual and branch sign taken into the
+    /// step's: `f64::min` and `max` without their NaN handling, which the closeness needs
+    /// none of and a NaN residual is passed over by either way.
+    #[inline(always)]
+    fn take(&mut self, closeness: f64, residual: f64, sign: f64) {
+        if closeness < self.closeness {
+            self.closeness = closeness;
+        }
+        if residual > self.residual {
+            self.residual = residual;
+        }
+        self.det_sign *= sign;
+    }
+}
+
 /// Why a structured step is handed to the careful path.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StepMiss {
@@ -525,12 +541,21 @@ fn step_with<const G: bool>(
     for (i, block) in plan.blocks.iter().enumerate() {
         let sign = data.blocks.sign[i];
         let (closeness, residual) = match block {
+            // a crank's closeness is 1 (it has no singular configuration): no test, no
+            // trend (its entries stay [1, 0], on which the tests below never fire)
+            Block::Crank(b) => {
+                let (_, residual) = if G {
+                    b.solve_guarded(model, data, t, h, travel)?
+                } else {
+                    b.solve_inline(model, data, t, derivatives)?
+                };
+                info.take(1.0, residual * inv_l, sign);
+                continue;
+            }
             // the guarded groups' positions and guard inlined here, in one pass
-            Block::Crank(b) if G => b.solve_guarded(model, data, t, h, travel)?,
             Block::Rrr(b) if G => b.solve_guarded(data, sign, travel, reads[i])?,
             Block::Rrp(b) if G => b.solve_guarded(data, sign, travel, reads[i])?,
             _ if G => return Err(StepMiss::Failed),
-            Block::Crank(b) => b.solve_inline(model, data, t, derivatives)?,
             Block::Rrr(b) => b.solve_inline(data, sign, derivatives)?,
             Block::Rrp(b) => b.solve_inline(data, sign, derivatives)?,
             Block::Rpr(b) => b.solve(data, sign, derivatives)?,
@@ -558,9 +583,7 @@ fn step_with<const G: bool>(
             return Err(StepMiss::NearSingular);
         }
         data.blocks.next[i] = [closeness, (closeness - c1) / h];
-        info.closeness = info.closeness.min(closeness);
-        info.residual = info.residual.max(residual * inv_l);
-        info.det_sign *= sign;
+        info.take(closeness, residual * inv_l, sign);
     }
     if !info.residual.is_finite() {
         return Err(StepMiss::Failed);

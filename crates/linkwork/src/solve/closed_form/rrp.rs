@@ -16,6 +16,10 @@ use crate::model::plan::{Line, Rrp};
 use crate::model::structure::Group;
 use crate::model::Model;
 
+/// A step of the dyad: (closeness, residual), the link's known pin A, and A's offset from
+/// the slide's line.
+type Solved = ((f64, f64), [f64; 2], f64);
+
 impl Rrp {
     pub fn new(model: &Model, g: &Group) -> Option<Rrp> {
         if g.bodies.len() != 2 || g.constraints.len() != 3 {
@@ -116,6 +120,7 @@ impl Rrp {
             (false, true) => self.solve_on::<false, true>(data, sign, derivatives),
             (false, false) => self.solve_on::<false, false>(data, sign, derivatives),
         }
+        .map(|(solved, ..)| solved)
     }
 
     /// `solve` of positions only on a line fixed in the ground, with the guard
@@ -132,16 +137,16 @@ impl Rrp {
         travel: &mut [Travel],
         read: bool,
     ) -> Result<(f64, f64), StepMiss> {
-        let Some((.., p0, dir)) = self.ground_line else { return Err(StepMiss::Failed) };
-        let solved = if self.link.known.is_some() {
+        if self.ground_line.is_none() {
+            return Err(StepMiss::Failed);
+        }
+        // the known pin and its offset from the line as the step solved them
+        let (solved, a, offset) = if self.link.known.is_some() {
             self.solve_on::<true, false>(data, sign, 0)
         } else {
             self.solve_on::<false, false>(data, sign, 0)
         }?;
-        let a = self.link.outer(data).1;
         let la = self.link.known.map_or(0.0, |k| travel[k].pin(a));
-        let p = sub(a, p0);
-        let offset = dir[0] * p[1] - dir[1] * p[0];
         if !read {
             // the same test; the turn and the slider's path, which no later group reads, not formed
             return if guard::rrp_shown(self.link.length, offset, la) {
@@ -159,14 +164,15 @@ impl Rrp {
     }
 
     /// `solve` with `K`: whether the link's known side is a body, `S`: whether the slide's
-    /// is (else its line is `ground_line`).
+    /// is (else its line is `ground_line`); with the link's known pin A and its offset
+    /// from the line, for the guard.
     #[inline(always)]
     fn solve_on<const K: bool, const S: bool>(
         &self,
         data: &mut Data,
         sign: f64,
         derivatives: u8,
-    ) -> Result<(f64, f64), StepMiss> {
+    ) -> Result<Solved, StepMiss> {
         let (k1, a) = self.link.outer_on::<K>(data);
         let k = if S { side(data, self.known) } else { Frame::GROUND };
         let (theta_s, cs, ss, p0, dir) = match self.ground_line {
@@ -235,7 +241,7 @@ impl Rrp {
         }
         let back = data.frames[self.slider].point(self.u_pin);
         let res2 = (back[0] - b[0]).abs().max((back[1] - b[1]).abs());
-        Ok((closeness, res1.max(res2)))
+        Ok(((closeness, res1.max(res2)), a, off))
     }
 
     /// The branch sign, closeness and its rate (with `rates`, else 0) of the configuration
