@@ -4,8 +4,9 @@
 //! - a singular configuration passed (a bifurcation; a limit if a driver row is in the
 //!   dependency): looked for where the smallest singular value of Phi_q (mass metric)
 //!   at the accepted steps' ends has a local minimum that a V through it could bring to
-//!   zero within the steps (whatever their size), located where Phi_q^T w turns over (w
-//!   the rows' dependency), at the interpolated q projected onto the constraints;
+//!   zero within the steps (whatever their size), located at the minimum of its square
+//!   on the interpolant (Brent's method), the event's configuration that q projected
+//!   onto the constraints;
 //! - a lock: the whole motion stops and reverses (every rate zero at once: a swing's end,
 //!   a crank that stops short of a dead centre), located where qd turns against itself;
 //! - a slider's limits (`travel`): the end of the travel it is given, and its geometric
@@ -19,6 +20,7 @@ use crate::dynamics::equilibrium::constraints_dense;
 use crate::dynamics::mass::mass_times;
 use crate::dynamics::system::System;
 use crate::dynamics::travel::{sliders, Slider, GEOMETRIC_BELOW};
+use crate::math::minimize::brent;
 use crate::math::roots::illinois;
 use crate::model::Model;
 use crate::solve::events::{
@@ -36,9 +38,15 @@ pub const WATCH_BELOW: f64 = 0.1;
 pub const LOCK_SPEED: f64 = 1e-3;
 /// A located minimum is a singular configuration if the scaled Phi_q's smallest singular
 /// value there is below this: at a crossing what is left is the interpolant's error
-/// (1e-9 to 1e-5 from fine to coarse tolerances on the N-four-bar), a close pass that is
-/// not one leaves its own distance (0.06 and more at the N-four-bar's other minima).
-pub const SINGULAR_BELOW: f64 = 1e-3;
+/// (1e-8 to 8e-4 from fine to coarse tolerances on the N-four-bar, rtol 1e-10 to 1e-3),
+/// a close pass that is not one leaves its own distance (0.06 and more at the
+/// N-four-bar's other minima).
+pub const SINGULAR_BELOW: f64 = 1e-2;
+/// The scaled |Phi| an event's configuration may keep: the interpolated q projected onto
+/// the constraints by Gauss-Newton, which near a crossing converges only linearly and
+/// may stall above the projections' tolerance (the residual is quadratic in the distance
+/// to the crossing branches).
+const EVENT_RESIDUAL: f64 = 1e-9;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
 
@@ -354,8 +362,9 @@ impl Watch {
     /// Looks for a singular configuration over [a.t, c.t] (samples 0..3): the smallest
     /// singular value of Phi_q in the mass metric, sqrt of the smallest eigenvalue of
     /// Phi_q M^-1 Phi_q^T (inverse iteration on the augmented matrix), falls like |t - t*|
-    /// into a crossing whatever the rank lost; golden-section search finds its minimum,
-    /// an event if the scaled Phi_q is singular there (below `SINGULAR_BELOW`).
+    /// into a crossing whatever the rank lost; Brent's method finds the minimum of its
+    /// square on the interpolant, an event if the scaled Phi_q is singular there (below
+    /// `SINGULAR_BELOW`).
     fn singular(&mut self, model: &Model, sys: &mut System, times: &[f64], events: &mut Vec<Event>) {
         let (n, m) = (model.n_coords, model.n_rows);
         if m == 0 || m >= n {
@@ -368,34 +377,19 @@ impl Watch {
         let pivot = self.samples[1].pivot.min(self.samples[2].pivot);
         let (q, qd, w) = (&mut self.q, &mut self.qd, &mut self.w);
         let samples = &self.samples;
-        let mut sigma = |t: f64| -> f64 {
+        // sigma_min squared along the interpolant (smooth through a crossing, where
+        // sigma = k |t - t*| is a V), at the interpolated q itself: its distance from
+        // the constraints is the interpolant's error, and a projection there would stall
+        // (near a singular configuration Gauss-Newton converges only linearly)
+        let sigma2 = |t: f64| -> f64 {
             let (a, c) =
                 if t <= samples[1].t { (&samples[0], &samples[1]) } else { (&samples[1], &samples[2]) };
-            mass_sigma(model, sys, a, c, t, q, qd, w)
+            hermite(a, c, t, q, qd);
+            sigma_here(model, sys, q, t, w).powi(2)
         };
-        // golden section down to 1e-4 of the window, then the V through the bracket's
-        // ends: sigma = k |t - t*| on both sides gives t* = (f_lo hi + f_hi lo) / (f_lo + f_hi)
+        // Brent's method from the accepted step's sample, to 1e-9 of the window
         let (lo0, hi0) = (samples[0].t, samples[2].t);
-        let (mut lo, mut hi) = (lo0, hi0);
-        const G: f64 = 0.618_033_988_749_894_9;
-        let (mut x1, mut x2) = (hi - G * (hi - lo), lo + G * (hi - lo));
-        let (mut f1, mut f2) = (sigma(x1), sigma(x2));
-        let tol = 1e-4 * (hi - lo);
-        while hi - lo > tol {
-            if f1 <= f2 {
-                hi = x2;
-                (x2, f2) = (x1, f1);
-                x1 = hi - G * (hi - lo);
-                f1 = sigma(x1);
-            } else {
-                lo = x1;
-                (x1, f1) = (x2, f2);
-                x2 = lo + G * (hi - lo);
-                f2 = sigma(x2);
-            }
-        }
-        let (f_lo, f_hi) = (sigma(lo), sigma(hi));
-        let t = if f_lo + f_hi > 0.0 { (f_lo * hi + f_hi * lo) / (f_lo + f_hi) } else { 0.5 * (lo + hi) };
+        let (t, _) = brent(lo0, hi0, samples[1].t, samples[1].sigma.powi(2), 1e-9 * (hi0 - lo0), 60, sigma2);
         // a minimum on the window's edge lies beyond it: a later window holds it
         if (t - lo0).min(hi0 - t) < 1e-3 * (hi0 - lo0) {
             return;
@@ -417,29 +411,7 @@ impl Watch {
     }
 }
 
-/// sigma_min of Phi_q in the mass metric at t on the interpolant over [a, c] (q projected
-/// onto the constraints): three steps of inverse iteration on Phi_q M^-1 Phi_q^T by
-/// solves with the augmented matrix, from the last dependency `w`.
-#[allow(clippy::too_many_arguments)]
-fn mass_sigma(
-    model: &Model,
-    sys: &mut System,
-    a: &Sample,
-    c: &Sample,
-    t: f64,
-    q: &mut [f64],
-    qd: &mut [f64],
-    w: &mut [f64],
-) -> f64 {
-    hermite(a, c, t, q, qd);
-    let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
-    if residual.is_nan() || residual > model.options.tol_residual {
-        return f64::INFINITY;
-    }
-    sigma_here(model, sys, q, t, w)
-}
-
-/// sigma_min of Phi_q in the mass metric at (q, t), q on the constraints: three steps of
+/// sigma_min of Phi_q in the mass metric at (q, t): three steps of
 /// inverse iteration on Phi_q M^-1 Phi_q^T by solves with the augmented matrix, from the
 /// last dependency `w` (left there).
 fn sigma_here(model: &Model, sys: &mut System, q: &[f64], t: f64, w: &mut [f64]) -> f64 {
@@ -479,7 +451,7 @@ fn jacobian_at(
 ) -> Option<DMatrix<f64>> {
     hermite(a, c, t, q, qd);
     let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
-    if residual.is_nan() || residual > model.options.tol_residual {
+    if residual.is_nan() || residual > EVENT_RESIDUAL.max(model.options.tol_residual) {
         return None;
     }
     Some(constraints_dense(model, sys.frames(), q, t).1)
