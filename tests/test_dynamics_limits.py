@@ -153,7 +153,7 @@ def test_a_slider_turned_by_its_spring_is_not_a_stroke_end() -> None:
     assert not sim.events
 
 
-@pytest.mark.parametrize("rtol", [1e-3, 1e-4, 1e-5, 1e-6, 1e-7])
+@pytest.mark.parametrize("rtol", [1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6, 1e-7])
 def test_a02_coarse_tolerances_report_every_crossing(rtol: float) -> None:
     """N = 2 over 10 s: at coarse tolerances too all ten crossings are reported, each
     within 1e3 rtol of the exact branch's [below 50 rtol measured], and nothing else."""

@@ -50,8 +50,9 @@ const EVENT_RESIDUAL: f64 = 1e-9;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
 
-/// One accepted step's end: the state, the smallest pivot ratio met on the way and
-/// sigma_min of Phi_q there (mass metric).
+/// One accepted step's end: the state, the smallest pivot ratio met on the way,
+/// sigma_min of Phi_q there (mass metric) and at the step's midpoint on the interpolant
+/// (two crossings a long step apart leave no minimum among the ends alone).
 #[derive(Debug, Clone)]
 struct Sample {
     t: f64,
@@ -60,17 +61,19 @@ struct Sample {
     qdd: Vec<f64>,
     pivot: f64,
     sigma: f64,
+    mid: f64,
 }
 
-/// Whether b, between a and c, is a minimum of sigma_min worth a search: a local minimum,
-/// below `WATCH_BELOW` or no higher than the steeper side's slope could take to zero
-/// within the longer step (a V stepped over: sigma = k |t - t*| gives sigma_b <= k h).
-fn dips(a: &Sample, b: &Sample, c: &Sample) -> bool {
-    if !(b.sigma <= a.sigma && b.sigma < c.sigma) {
+/// Whether b, between a and c ((t, sigma_min) each), is a minimum of sigma_min worth a
+/// search: a local minimum, below `WATCH_BELOW` or no higher than the steeper side's
+/// slope could take to zero within the longer interval (a V stepped over: sigma = k |t -
+/// t*| gives sigma_b <= k h).
+fn dips(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> bool {
+    if !(b.1 <= a.1 && b.1 < c.1) {
         return false;
     }
-    let slope = ((a.sigma - b.sigma) / (b.t - a.t)).max((c.sigma - b.sigma) / (c.t - b.t));
-    b.sigma < WATCH_BELOW || b.sigma <= slope * (b.t - a.t).max(c.t - b.t)
+    let slope = ((a.1 - b.1) / (b.0 - a.0)).max((c.1 - b.1) / (c.0 - b.0));
+    b.1 < WATCH_BELOW || b.1 <= slope * (b.0 - a.0).max(c.0 - b.0)
 }
 
 /// Watches the accepted steps of a simulation for events.
@@ -81,6 +84,8 @@ pub struct Watch {
     last_event: f64,
     /// where the last search for a crossing ended
     searched: f64,
+    /// the last point of the samples' sequence (ends and midpoints) tested for a dip
+    tested: f64,
     q: Vec<f64>,
     qd: Vec<f64>,
     /// the last dependency of the rows found (inverse iteration's start)
@@ -132,6 +137,7 @@ impl Watch {
             step_pivot: f64::INFINITY,
             last_event: f64::NEG_INFINITY,
             searched: f64::NEG_INFINITY,
+            tested: f64::NEG_INFINITY,
             q: vec![0.0; n],
             qd: vec![0.0; n],
             w: (0..model.n_rows).map(|i| 1.0 + 0.1 * ((i * 7 + 3) % 11) as f64).collect(),
@@ -170,18 +176,35 @@ impl Watch {
         sample.qd.copy_from_slice(qd);
         sample.qdd.copy_from_slice(qdd);
         sample.pivot = pivot;
-        sample.sigma = if model.n_rows == 0 || model.n_rows >= model.n_coords {
-            f64::INFINITY
-        } else {
-            sigma_here(model, sys, q, t, &mut self.w)
-        };
+        let watched = model.n_rows > 0 && model.n_rows < model.n_coords;
+        sample.sigma = if watched { sigma_here(model, sys, q, t, &mut self.w) } else { f64::INFINITY };
+        sample.mid = f64::INFINITY;
+        if let (Some(a), true) = (self.samples.last(), watched) {
+            let tm = 0.5 * (a.t + t);
+            hermite(a, &sample, tm, &mut self.q, &mut self.qd);
+            sample.mid = sigma_here(model, sys, &self.q, tm, &mut self.w);
+        }
         self.samples.push(sample);
         let k = self.samples.len();
         if k >= 2 {
             self.lock(model, k - 2, times, events);
         }
-        if k == 3 && dips(&self.samples[0], &self.samples[1], &self.samples[2]) {
-            self.singular(model, sys, times, events);
+        if k == 3 {
+            // the sequence of ends and midpoints: each point between two others tested once
+            let s = &self.samples;
+            let fine = [
+                (s[0].t, s[0].sigma),
+                (0.5 * (s[0].t + s[1].t), s[1].mid),
+                (s[1].t, s[1].sigma),
+                (0.5 * (s[1].t + s[2].t), s[2].mid),
+                (s[2].t, s[2].sigma),
+            ];
+            for i in 1..4 {
+                if fine[i].0 > self.tested && dips(fine[i - 1], fine[i], fine[i + 1]) {
+                    self.singular(model, sys, times, events, fine[i - 1].0, fine[i + 1].0, fine[i]);
+                }
+            }
+            self.tested = fine[3].0;
         }
         if k >= 2 {
             return self.travel(model, sys, k - 2, times, events);
@@ -194,13 +217,15 @@ impl Watch {
         let k = self.samples.len();
         if k >= 2 {
             let (b, c) = (&self.samples[k - 2], &self.samples[k - 1]);
-            // still falling at the end: the mirror image of b on the far side stands for c's
-            let mirror = Sample { t: 2.0 * c.t - b.t, ..b.clone() };
-            if c.sigma < b.sigma && dips(b, c, &mirror) {
+            // still falling at the end: the mirror image of the midpoint stands for beyond
+            let tm = 0.5 * (b.t + c.t);
+            let (mid, end) = ((tm, c.mid), (c.t, c.sigma));
+            if c.sigma < c.mid && dips(mid, end, (2.0 * c.t - tm, c.mid)) {
+                let (lo, hi) = (b.t, c.t);
                 self.samples.drain(..k - 2);
                 self.samples.push(self.samples[1].clone());
                 // [b, c, c]: the search runs over [b, c] only (an empty second interval)
-                self.singular(model, sys, times, events);
+                self.singular(model, sys, times, events, lo, hi, mid);
             }
         }
         // a search's window reaches back past the last step's locks and limits
@@ -215,6 +240,7 @@ impl Watch {
             qdd: vec![0.0; n],
             pivot: f64::INFINITY,
             sigma: f64::INFINITY,
+            mid: f64::INFINITY,
         }
     }
 
@@ -359,19 +385,30 @@ impl Watch {
         });
     }
 
-    /// Looks for a singular configuration over [a.t, c.t] (samples 0..3): the smallest
+    /// Looks for a singular configuration over [lo0, hi0] (within samples 0..3), from x
+    /// where sigma_min = fx dips: the smallest
     /// singular value of Phi_q in the mass metric, sqrt of the smallest eigenvalue of
     /// Phi_q M^-1 Phi_q^T (inverse iteration on the augmented matrix), falls like |t - t*|
     /// into a crossing whatever the rank lost; Brent's method finds the minimum of its
     /// square on the interpolant, an event if the scaled Phi_q is singular there (below
     /// `SINGULAR_BELOW`).
-    fn singular(&mut self, model: &Model, sys: &mut System, times: &[f64], events: &mut Vec<Event>) {
+    #[allow(clippy::too_many_arguments)]
+    fn singular(
+        &mut self,
+        model: &Model,
+        sys: &mut System,
+        times: &[f64],
+        events: &mut Vec<Event>,
+        lo0: f64,
+        hi0: f64,
+        (x, fx): (f64, f64),
+    ) {
         let (n, m) = (model.n_coords, model.n_rows);
         if m == 0 || m >= n {
             return;
         }
         // a window that starts before the last minimum found was searched with it
-        if self.samples[0].t <= self.searched {
+        if lo0 <= self.searched {
             return;
         }
         let pivot = self.samples[1].pivot.min(self.samples[2].pivot);
@@ -387,9 +424,8 @@ impl Watch {
             hermite(a, c, t, q, qd);
             sigma_here(model, sys, q, t, w).powi(2)
         };
-        // Brent's method from the accepted step's sample, to 1e-9 of the window
-        let (lo0, hi0) = (samples[0].t, samples[2].t);
-        let (t, _) = brent(lo0, hi0, samples[1].t, samples[1].sigma.powi(2), 1e-9 * (hi0 - lo0), 60, sigma2);
+        // Brent's method from the point of the dip, to 1e-9 of the window
+        let (t, _) = brent(lo0, hi0, x, fx * fx, 1e-9 * (hi0 - lo0), 60, sigma2);
         // a minimum on the window's edge lies beyond it: a later window holds it
         if (t - lo0).min(hi0 - t) < 1e-3 * (hi0 - lo0) {
             return;
@@ -397,7 +433,7 @@ impl Watch {
         self.searched = t;
         // one crossing, found again from a neighbouring window; two crossings may be closer
         // than a window of long steps (A02's pairs at coarse tolerances)
-        if t - self.last_event <= 0.1 * (samples[2].t - samples[0].t) {
+        if t - self.last_event <= 0.1 * (hi0 - lo0) {
             return;
         }
         let (a, c) = if t <= samples[1].t { (&samples[0], &samples[1]) } else { (&samples[1], &samples[2]) };
