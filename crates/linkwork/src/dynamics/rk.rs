@@ -225,6 +225,7 @@ pub fn integrate(
         }
         // the asked times this step reached, from the dense output
         let mut have_dense = false;
+        let first = next;
         while next < times.len() && times[next] <= t_new {
             let tk = times[next];
             if tk == t_new {
@@ -249,7 +250,7 @@ pub fn integrate(
                 }
             }
             let (qo, rest) = y_out.split_at_mut(n);
-            let info = StepInfo { step: h_step, iterations: 0, work: rest[n] };
+            let info = StepInfo { step: h_step, iterations: 0, work: rest[n], keep_scale: next > first };
             store_state(model, sys, out, next, tk, qo, &mut rest[..n], info, opts.accelerations)?;
             next += 1;
         }
