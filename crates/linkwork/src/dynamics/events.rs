@@ -47,6 +47,11 @@ pub const SINGULAR_BELOW: f64 = 1e-2;
 /// may stall above the projections' tolerance (the residual is quadratic in the distance
 /// to the crossing branches).
 const EVENT_RESIDUAL: f64 = 1e-9;
+/// A step is sampled at its midpoint too where sigma_min at one of its ends is below
+/// this: where both ends are above it, a crossing between would need sigma_min to fall by
+/// that much on either side within the step (A01's is 1 throughout, A02's ends 0.1 to
+/// 0.4 around its crossings at the coarsest tolerances).
+pub const MIDPOINT_BELOW: f64 = 0.5;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
 
@@ -178,11 +183,14 @@ impl Watch {
         sample.pivot = pivot;
         let watched = model.n_rows > 0 && model.n_rows < model.n_coords;
         sample.sigma = if watched { sigma_here(model, sys, q, t, &mut self.w) } else { f64::INFINITY };
-        sample.mid = f64::INFINITY;
+        // not sampled: the ends' mean, never a dip of its own
+        sample.mid = self.samples.last().map_or(f64::INFINITY, |a| 0.5 * (a.sigma + sample.sigma));
         if let (Some(a), true) = (self.samples.last(), watched) {
-            let tm = 0.5 * (a.t + t);
-            hermite(a, &sample, tm, &mut self.q, &mut self.qd);
-            sample.mid = sigma_here(model, sys, &self.q, tm, &mut self.w);
+            if a.sigma.min(sample.sigma) < MIDPOINT_BELOW {
+                let tm = 0.5 * (a.t + t);
+                hermite(a, &sample, tm, &mut self.q, &mut self.qd);
+                sample.mid = sigma_here(model, sys, &self.q, tm, &mut self.w);
+            }
         }
         self.samples.push(sample);
         let k = self.samples.len();
