@@ -289,9 +289,9 @@ def test_the_energy_balance_is_measured_from_the_start() -> None:
 def test_a02_reports_each_singular_crossing_at_the_exact_branch_time() -> None:
     """N = 2 over 10 s passes the horizontal (phi = 0 mod pi, all rows of the two loops
     dependent) ten times: one "bifurcation" event each, located within 1e-7 s of the exact
-    branch's crossing [6e-9 measured at rtol 1e-10: the interpolant between steps, projected,
-    and the golden-section search on the mass-metric sigma_min], naming the pins of the
-    loops, with the scaled Phi_q singular there (sigma_min < 1e-6 [~1e-9])."""
+    branch's crossing [1.3e-9 measured at rtol 1e-10: Brent's method on the mass-metric
+    sigma_min squared along the interpolant between steps], naming the pins of the loops,
+    with the scaled Phi_q singular there (sigma_min < 1e-6 [~3e-9])."""
     from scipy.optimize import brentq
 
     bench = benchmarks.n_four_bar(2)
@@ -317,6 +317,24 @@ def test_a02_reports_each_singular_crossing_at_the_exact_branch_time() -> None:
         assert "singular configuration" in e.message and str(e).startswith("bifurcation at t =")
     # the pins of the loops that become dependent carry the dependency
     assert {"O0", "B0c1"} <= {n for n, _ in events[0].constraints} | {"O2", "B1c2"}
+
+
+def test_the_steps_do_not_depend_on_the_times_asked_for() -> None:
+    """rk8 on A02 (N = 2, rtol 1e-8, through ten singular crossings): the states at the
+    times two runs share agree to round-off whatever other times each asks for [4e-15
+    measured; 1e-7 when the rows shared the steps' workspace]: the output rows and the
+    event watch factor on a workspace of their own, so the steps' round-off, which the
+    crossings amplify, follows the steps alone."""
+    bench = benchmarks.n_four_bar(2)
+    model = bench.mechanism.compile(free=True)
+    fine = np.linspace(0.0, 10.0, 2001)
+    coarse = fine[::10]
+    runs = [model.simulate(t, rtol=1e-8, atol=1e-8, qd0=bench.qd0) for t in (fine, coarse)]
+    np.testing.assert_allclose(np.asarray(runs[0].q)[::10], np.asarray(runs[1].q), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(np.asarray(runs[0].qd)[::10], np.asarray(runs[1].qd), rtol=0, atol=1e-12)
+    times = [[e.time for e in r.events] for r in runs]
+    assert len(times[0]) == len(times[1]) == 10
+    np.testing.assert_allclose(times[0], times[1], rtol=0, atol=1e-12)
 
 
 def test_a01_pendulum_reversals_are_locks_at_the_half_periods() -> None:

@@ -153,11 +153,10 @@ def test_a_slider_turned_by_its_spring_is_not_a_stroke_end() -> None:
     assert not sim.events
 
 
-@pytest.mark.parametrize("rtol", [1e-3, 1e-4, 1e-5, 1e-6, 1e-7])
-def test_a02_coarse_tolerances_report_only_true_crossings(rtol: float) -> None:
-    """N = 2 over 10 s: at coarse tolerances every crossing reported is one of the exact
-    branch's, within 1e3 rtol [below 4e-4 s measured]; from rtol 1e-7 all ten are (at
-    1e-3 to 1e-6 the long steps still miss some: 0, 1, 2 and 4 of ten)."""
+@pytest.mark.parametrize("rtol", [1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6, 1e-7])
+def test_a02_coarse_tolerances_report_every_crossing(rtol: float) -> None:
+    """N = 2 over 10 s: at coarse tolerances too all ten crossings are reported, each
+    within 1e3 rtol of the exact branch's [below 50 rtol measured], and nothing else."""
     from scipy.optimize import brentq
 
     bench = benchmarks.n_four_bar(2)
@@ -175,7 +174,6 @@ def test_a02_coarse_tolerances_report_only_true_crossings(rtol: float) -> None:
     assert len(crossings) == 10
     events = [e for e in sim.events if e.kind == "bifurcation"]
     assert len(events) == len(sim.events)
+    assert len(events) == 10
     for e in events:
         assert np.abs(crossings - e.time).min() <= 1e3 * rtol, (rtol, e.time)
-    if rtol <= 1e-7:
-        assert len(events) == 10

@@ -63,6 +63,9 @@ pub struct Augmented {
     diag: Vec<u32>,
     /// whether the last factorization was regularised
     pub regularised: bool,
+    /// factor with the equilibration of the last factorization, not a new one (the
+    /// output rows of a step after its first: nearby states, the same round-off)
+    pub keep_scale: bool,
     work: Vec<f64>,
     /// a regularised solve's refinement: right-hand side, iterate, residual
     refine: Vec<f64>,
@@ -181,6 +184,7 @@ impl Augmented {
             jac,
             diag,
             regularised: false,
+            keep_scale: false,
             work: vec![0.0; 2 * size],
             refine: vec![0.0; 3 * size],
         }
@@ -280,12 +284,15 @@ impl Augmented {
     /// matrix. Returns the pivots.
     pub fn factor(&mut self, mu: f64) -> Pivots {
         let size = self.n + self.m;
-        self.scale.fill(1.0);
-        for (a, v) in self.scaled.iter_mut().zip(&self.values) {
-            *a = v.abs();
+        let sweeps = if self.keep_scale { 0 } else { 3 };
+        if sweeps > 0 {
+            self.scale.fill(1.0);
+            for (a, v) in self.scaled.iter_mut().zip(&self.values) {
+                *a = v.abs();
+            }
         }
         let big = &mut self.work[..size];
-        for _ in 0..3 {
+        for _ in 0..sweeps {
             // a column's largest |a_rc| s_r s_c: the same bits as the largest of the products
             // (rounding is monotonic and the scales positive), one product per entry
             for c in 0..size {

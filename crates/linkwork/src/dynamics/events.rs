@@ -4,8 +4,9 @@
 //! - a singular configuration passed (a bifurcation; a limit if a driver row is in the
 //!   dependency): looked for where the smallest singular value of Phi_q (mass metric)
 //!   at the accepted steps' ends has a local minimum that a V through it could bring to
-//!   zero within the steps (whatever their size), located where Phi_q^T w turns over (w
-//!   the rows' dependency), at the interpolated q projected onto the constraints;
+//!   zero within the steps (whatever their size), located at the minimum of its square
+//!   on the interpolant (Brent's method), the event's configuration that q projected
+//!   onto the constraints;
 //! - a lock: the whole motion stops and reverses (every rate zero at once: a swing's end,
 //!   a crank that stops short of a dead centre), located where qd turns against itself;
 //! - a slider's limits (`travel`): the end of the travel it is given, and its geometric
@@ -19,6 +20,7 @@ use crate::dynamics::equilibrium::constraints_dense;
 use crate::dynamics::mass::mass_times;
 use crate::dynamics::system::System;
 use crate::dynamics::travel::{sliders, Slider, GEOMETRIC_BELOW};
+use crate::math::minimize::brent;
 use crate::math::roots::illinois;
 use crate::model::Model;
 use crate::solve::events::{
@@ -36,14 +38,26 @@ pub const WATCH_BELOW: f64 = 0.1;
 pub const LOCK_SPEED: f64 = 1e-3;
 /// A located minimum is a singular configuration if the scaled Phi_q's smallest singular
 /// value there is below this: at a crossing what is left is the interpolant's error
-/// (1e-9 to 1e-5 from fine to coarse tolerances on the N-four-bar), a close pass that is
-/// not one leaves its own distance (0.06 and more at the N-four-bar's other minima).
-pub const SINGULAR_BELOW: f64 = 1e-3;
+/// (1e-8 to 8e-4 from fine to coarse tolerances on the N-four-bar, rtol 1e-10 to 1e-3),
+/// a close pass that is not one leaves its own distance (0.06 and more at the
+/// N-four-bar's other minima).
+pub const SINGULAR_BELOW: f64 = 1e-2;
+/// The scaled |Phi| an event's configuration may keep: the interpolated q projected onto
+/// the constraints by Gauss-Newton, which near a crossing converges only linearly and
+/// may stall above the projections' tolerance (the residual is quadratic in the distance
+/// to the crossing branches).
+const EVENT_RESIDUAL: f64 = 1e-9;
+/// A step is sampled at its midpoint too where sigma_min at one of its ends is below
+/// this: where both ends are above it, a crossing between would need sigma_min to fall by
+/// that much on either side within the step (A01's is 1 throughout, A02's ends 0.1 to
+/// 0.4 around its crossings at the coarsest tolerances).
+pub const MIDPOINT_BELOW: f64 = 0.5;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
 
-/// One accepted step's end: the state, the smallest pivot ratio met on the way and
-/// sigma_min of Phi_q there (mass metric).
+/// One accepted step's end: the state, the smallest pivot ratio met on the way,
+/// sigma_min of Phi_q there (mass metric) and at the step's midpoint on the interpolant
+/// (two crossings a long step apart leave no minimum among the ends alone).
 #[derive(Debug, Clone)]
 struct Sample {
     t: f64,
@@ -52,17 +66,19 @@ struct Sample {
     qdd: Vec<f64>,
     pivot: f64,
     sigma: f64,
+    mid: f64,
 }
 
-/// Whether b, between a and c, is a minimum of sigma_min worth a search: a local minimum,
-/// below `WATCH_BELOW` or no higher than the steeper side's slope could take to zero
-/// within the longer step (a V stepped over: sigma = k |t - t*| gives sigma_b <= k h).
-fn dips(a: &Sample, b: &Sample, c: &Sample) -> bool {
-    if !(b.sigma <= a.sigma && b.sigma < c.sigma) {
+/// Whether b, between a and c ((t, sigma_min) each), is a minimum of sigma_min worth a
+/// search: a local minimum, below `WATCH_BELOW` or no higher than the steeper side's
+/// slope could take to zero within the longer interval (a V stepped over: sigma = k |t -
+/// t*| gives sigma_b <= k h).
+fn dips(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> bool {
+    if !(b.1 <= a.1 && b.1 < c.1) {
         return false;
     }
-    let slope = ((a.sigma - b.sigma) / (b.t - a.t)).max((c.sigma - b.sigma) / (c.t - b.t));
-    b.sigma < WATCH_BELOW || b.sigma <= slope * (b.t - a.t).max(c.t - b.t)
+    let slope = ((a.1 - b.1) / (b.0 - a.0)).max((c.1 - b.1) / (c.0 - b.0));
+    b.1 < WATCH_BELOW || b.1 <= slope * (b.0 - a.0).max(c.0 - b.0)
 }
 
 /// Watches the accepted steps of a simulation for events.
@@ -73,6 +89,8 @@ pub struct Watch {
     last_event: f64,
     /// where the last search for a crossing ended
     searched: f64,
+    /// the last point of the samples' sequence (ends and midpoints) tested for a dip
+    tested: f64,
     q: Vec<f64>,
     qd: Vec<f64>,
     /// the last dependency of the rows found (inverse iteration's start)
@@ -124,6 +142,7 @@ impl Watch {
             step_pivot: f64::INFINITY,
             last_event: f64::NEG_INFINITY,
             searched: f64::NEG_INFINITY,
+            tested: f64::NEG_INFINITY,
             q: vec![0.0; n],
             qd: vec![0.0; n],
             w: (0..model.n_rows).map(|i| 1.0 + 0.1 * ((i * 7 + 3) % 11) as f64).collect(),
@@ -162,18 +181,38 @@ impl Watch {
         sample.qd.copy_from_slice(qd);
         sample.qdd.copy_from_slice(qdd);
         sample.pivot = pivot;
-        sample.sigma = if model.n_rows == 0 || model.n_rows >= model.n_coords {
-            f64::INFINITY
-        } else {
-            sigma_here(model, sys, q, t, &mut self.w)
-        };
+        let watched = model.n_rows > 0 && model.n_rows < model.n_coords;
+        sample.sigma = if watched { sigma_here(model, sys, q, t, &mut self.w) } else { f64::INFINITY };
+        // not sampled: the ends' mean, never a dip of its own
+        sample.mid = self.samples.last().map_or(f64::INFINITY, |a| 0.5 * (a.sigma + sample.sigma));
+        if let (Some(a), true) = (self.samples.last(), watched) {
+            if a.sigma.min(sample.sigma) < MIDPOINT_BELOW {
+                let tm = 0.5 * (a.t + t);
+                hermite(a, &sample, tm, &mut self.q, &mut self.qd);
+                sample.mid = sigma_here(model, sys, &self.q, tm, &mut self.w);
+            }
+        }
         self.samples.push(sample);
         let k = self.samples.len();
         if k >= 2 {
             self.lock(model, k - 2, times, events);
         }
-        if k == 3 && dips(&self.samples[0], &self.samples[1], &self.samples[2]) {
-            self.singular(model, sys, times, events);
+        if k == 3 {
+            // the sequence of ends and midpoints: each point between two others tested once
+            let s = &self.samples;
+            let fine = [
+                (s[0].t, s[0].sigma),
+                (0.5 * (s[0].t + s[1].t), s[1].mid),
+                (s[1].t, s[1].sigma),
+                (0.5 * (s[1].t + s[2].t), s[2].mid),
+                (s[2].t, s[2].sigma),
+            ];
+            for i in 1..4 {
+                if fine[i].0 > self.tested && dips(fine[i - 1], fine[i], fine[i + 1]) {
+                    self.singular(model, sys, times, events, fine[i - 1].0, fine[i + 1].0, fine[i]);
+                }
+            }
+            self.tested = fine[3].0;
         }
         if k >= 2 {
             return self.travel(model, sys, k - 2, times, events);
@@ -186,13 +225,15 @@ impl Watch {
         let k = self.samples.len();
         if k >= 2 {
             let (b, c) = (&self.samples[k - 2], &self.samples[k - 1]);
-            // still falling at the end: the mirror image of b on the far side stands for c's
-            let mirror = Sample { t: 2.0 * c.t - b.t, ..b.clone() };
-            if c.sigma < b.sigma && dips(b, c, &mirror) {
+            // still falling at the end: the mirror image of the midpoint stands for beyond
+            let tm = 0.5 * (b.t + c.t);
+            let (mid, end) = ((tm, c.mid), (c.t, c.sigma));
+            if c.sigma < c.mid && dips(mid, end, (2.0 * c.t - tm, c.mid)) {
+                let (lo, hi) = (b.t, c.t);
                 self.samples.drain(..k - 2);
                 self.samples.push(self.samples[1].clone());
                 // [b, c, c]: the search runs over [b, c] only (an empty second interval)
-                self.singular(model, sys, times, events);
+                self.singular(model, sys, times, events, lo, hi, mid);
             }
         }
         // a search's window reaches back past the last step's locks and limits
@@ -207,6 +248,7 @@ impl Watch {
             qdd: vec![0.0; n],
             pivot: f64::INFINITY,
             sigma: f64::INFINITY,
+            mid: f64::INFINITY,
         }
     }
 
@@ -351,51 +393,47 @@ impl Watch {
         });
     }
 
-    /// Looks for a singular configuration over [a.t, c.t] (samples 0..3): the smallest
+    /// Looks for a singular configuration over [lo0, hi0] (within samples 0..3), from x
+    /// where sigma_min = fx dips: the smallest
     /// singular value of Phi_q in the mass metric, sqrt of the smallest eigenvalue of
     /// Phi_q M^-1 Phi_q^T (inverse iteration on the augmented matrix), falls like |t - t*|
-    /// into a crossing whatever the rank lost; golden-section search finds its minimum,
-    /// an event if the scaled Phi_q is singular there (below `SINGULAR_BELOW`).
-    fn singular(&mut self, model: &Model, sys: &mut System, times: &[f64], events: &mut Vec<Event>) {
+    /// into a crossing whatever the rank lost; Brent's method finds the minimum of its
+    /// square on the interpolant, an event if the scaled Phi_q is singular there (below
+    /// `SINGULAR_BELOW`).
+    #[allow(clippy::too_many_arguments)]
+    fn singular(
+        &mut self,
+        model: &Model,
+        sys: &mut System,
+        times: &[f64],
+        events: &mut Vec<Event>,
+        lo0: f64,
+        hi0: f64,
+        (x, fx): (f64, f64),
+    ) {
         let (n, m) = (model.n_coords, model.n_rows);
         if m == 0 || m >= n {
             return;
         }
         // a window that starts before the last minimum found was searched with it
-        if self.samples[0].t <= self.searched {
+        if lo0 <= self.searched {
             return;
         }
         let pivot = self.samples[1].pivot.min(self.samples[2].pivot);
         let (q, qd, w) = (&mut self.q, &mut self.qd, &mut self.w);
         let samples = &self.samples;
-        let mut sigma = |t: f64| -> f64 {
+        // sigma_min squared along the interpolant (smooth through a crossing, where
+        // sigma = k |t - t*| is a V), at the interpolated q itself: its distance from
+        // the constraints is the interpolant's error, and a projection there would stall
+        // (near a singular configuration Gauss-Newton converges only linearly)
+        let sigma2 = |t: f64| -> f64 {
             let (a, c) =
                 if t <= samples[1].t { (&samples[0], &samples[1]) } else { (&samples[1], &samples[2]) };
-            mass_sigma(model, sys, a, c, t, q, qd, w)
+            hermite(a, c, t, q, qd);
+            sigma_here(model, sys, q, t, w).powi(2)
         };
-        // golden section down to 1e-4 of the window, then the V through the bracket's
-        // ends: sigma = k |t - t*| on both sides gives t* = (f_lo hi + f_hi lo) / (f_lo + f_hi)
-        let (lo0, hi0) = (samples[0].t, samples[2].t);
-        let (mut lo, mut hi) = (lo0, hi0);
-        const G: f64 = 0.618_033_988_749_894_9;
-        let (mut x1, mut x2) = (hi - G * (hi - lo), lo + G * (hi - lo));
-        let (mut f1, mut f2) = (sigma(x1), sigma(x2));
-        let tol = 1e-4 * (hi - lo);
-        while hi - lo > tol {
-            if f1 <= f2 {
-                hi = x2;
-                (x2, f2) = (x1, f1);
-                x1 = hi - G * (hi - lo);
-                f1 = sigma(x1);
-            } else {
-                lo = x1;
-                (x1, f1) = (x2, f2);
-                x2 = lo + G * (hi - lo);
-                f2 = sigma(x2);
-            }
-        }
-        let (f_lo, f_hi) = (sigma(lo), sigma(hi));
-        let t = if f_lo + f_hi > 0.0 { (f_lo * hi + f_hi * lo) / (f_lo + f_hi) } else { 0.5 * (lo + hi) };
+        // Brent's method from the point of the dip, to 1e-9 of the window
+        let (t, _) = brent(lo0, hi0, x, fx * fx, 1e-9 * (hi0 - lo0), 60, sigma2);
         // a minimum on the window's edge lies beyond it: a later window holds it
         if (t - lo0).min(hi0 - t) < 1e-3 * (hi0 - lo0) {
             return;
@@ -403,7 +441,7 @@ impl Watch {
         self.searched = t;
         // one crossing, found again from a neighbouring window; two crossings may be closer
         // than a window of long steps (A02's pairs at coarse tolerances)
-        if t - self.last_event <= 0.1 * (samples[2].t - samples[0].t) {
+        if t - self.last_event <= 0.1 * (hi0 - lo0) {
             return;
         }
         let (a, c) = if t <= samples[1].t { (&samples[0], &samples[1]) } else { (&samples[1], &samples[2]) };
@@ -417,29 +455,7 @@ impl Watch {
     }
 }
 
-/// sigma_min of Phi_q in the mass metric at t on the interpolant over [a, c] (q projected
-/// onto the constraints): three steps of inverse iteration on Phi_q M^-1 Phi_q^T by
-/// solves with the augmented matrix, from the last dependency `w`.
-#[allow(clippy::too_many_arguments)]
-fn mass_sigma(
-    model: &Model,
-    sys: &mut System,
-    a: &Sample,
-    c: &Sample,
-    t: f64,
-    q: &mut [f64],
-    qd: &mut [f64],
-    w: &mut [f64],
-) -> f64 {
-    hermite(a, c, t, q, qd);
-    let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
-    if residual.is_nan() || residual > model.options.tol_residual {
-        return f64::INFINITY;
-    }
-    sigma_here(model, sys, q, t, w)
-}
-
-/// sigma_min of Phi_q in the mass metric at (q, t), q on the constraints: three steps of
+/// sigma_min of Phi_q in the mass metric at (q, t): three steps of
 /// inverse iteration on Phi_q M^-1 Phi_q^T by solves with the augmented matrix, from the
 /// last dependency `w` (left there).
 fn sigma_here(model: &Model, sys: &mut System, q: &[f64], t: f64, w: &mut [f64]) -> f64 {
@@ -479,7 +495,7 @@ fn jacobian_at(
 ) -> Option<DMatrix<f64>> {
     hermite(a, c, t, q, qd);
     let (_, _, residual) = sys.project_positions(model, q, t, 1e-15);
-    if residual.is_nan() || residual > model.options.tol_residual {
+    if residual.is_nan() || residual > EVENT_RESIDUAL.max(model.options.tol_residual) {
         return None;
     }
     Some(constraints_dense(model, sys.frames(), q, t).1)

@@ -207,7 +207,7 @@ pub fn integrate(
         }
         if lands {
             let (mut qs, mut qds) = (q.clone(), qd.clone());
-            let info = StepInfo { step: h, iterations: iterations as u32, work };
+            let info = StepInfo { step: h, iterations: iterations as u32, work, keep_scale: false };
             store_state(model, sys, out, next, t, &mut qs, &mut qds, info, opts.accelerations)?;
             next += 1;
         }

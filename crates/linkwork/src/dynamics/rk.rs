@@ -99,8 +99,12 @@ pub fn integrate(
             what: "the accelerations at the start".into(),
         });
     }
+    // the output rows and the event watch factor on a workspace of their own: the sparse
+    // LU's pivot order (re-chosen where a pivot fails its threshold) then follows the
+    // steps alone, and so do the steps' round-off, whatever times and events are asked
+    let mut aux = System::new(model);
     let mut events = Vec::new();
-    rhs.watch.accepted(model, sys, &times, t, q, qd, &f[n..2 * n], &mut events);
+    rhs.watch.accepted(model, &mut aux, &times, t, q, qd, &f[n..2 * n], &mut events);
     // the error's scale per controlled component (q and qd): atol in the model's units
     let abs_scale: Vec<f64> = model.col_scale.iter().chain(&model.col_scale).map(|s| opts.atol * s).collect();
     // and the size the relative part counts (an angle's at most a half-turn; rates' unbounded)
@@ -225,6 +229,7 @@ pub fn integrate(
         }
         // the asked times this step reached, from the dense output
         let mut have_dense = false;
+        let first = next;
         while next < times.len() && times[next] <= t_new {
             let tk = times[next];
             if tk == t_new {
@@ -249,8 +254,8 @@ pub fn integrate(
                 }
             }
             let (qo, rest) = y_out.split_at_mut(n);
-            let info = StepInfo { step: h_step, iterations: 0, work: rest[n] };
-            store_state(model, sys, out, next, tk, qo, &mut rest[..n], info, opts.accelerations)?;
+            let info = StepInfo { step: h_step, iterations: 0, work: rest[n], keep_scale: next > first };
+            store_state(model, &mut aux, out, next, tk, qo, &mut rest[..n], info, opts.accelerations)?;
             next += 1;
         }
         // the step's end, projected onto the constraints; its derivative evaluated there
@@ -270,7 +275,7 @@ pub fn integrate(
             return Err(step_error(out, t, h_step, "the accelerations are not finite".into()));
         }
         let stop =
-            rhs.watch.accepted(model, sys, &times, t, &y[..n], &y[n..2 * n], &f[n..2 * n], &mut events);
+            rhs.watch.accepted(model, &mut aux, &times, t, &y[..n], &y[n..2 * n], &f[n..2 * n], &mut events);
         out.events.append(&mut events);
         if let Some(t_stop) = stop {
             out.n_evaluations += rhs.evaluations;
@@ -280,7 +285,7 @@ pub fn integrate(
         h = h_step * factor;
         h = h.min(opts.h_max);
     }
-    rhs.watch.finish(model, sys, &times, &mut out.events);
+    rhs.watch.finish(model, &mut aux, &times, &mut out.events);
     out.n_evaluations += rhs.evaluations;
     Ok(())
 }

@@ -76,7 +76,7 @@ pub fn simulate(
     out.moved =
         make_consistent(model, &mut sys, &mut q, &mut qd, times[0], tol(q0.is_some()), tol(qd0.is_some()))?;
     check_start(model, &q, &qd)?;
-    let start = StepInfo { step: 0.0, iterations: 0, work: 0.0 };
+    let start = StepInfo { step: 0.0, iterations: 0, work: 0.0, keep_scale: false };
     store_state(model, &mut sys, out, 0, times[0], &mut q, &mut qd, start, opts.accelerations)?;
     match opts.method {
         Method::Rk8 => rk::integrate(model, &mut sys, opts, &q, &qd, out, poll),

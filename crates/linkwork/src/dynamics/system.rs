@@ -141,6 +141,32 @@ impl System {
         qd: &mut [f64],
         t: f64,
     ) -> (usize, f64, f64, f64) {
+        self.project_state_scaled(model, q, qd, t, false)
+    }
+
+    /// `project_state`, its factorizations equilibrated as the last one was if
+    /// `keep_scale` (an output row near the one before it: only round-off differs).
+    pub fn project_state_scaled(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        qd: &mut [f64],
+        t: f64,
+        keep_scale: bool,
+    ) -> (usize, f64, f64, f64) {
+        self.aug.keep_scale = keep_scale;
+        let result = self.project_state_inner(model, q, qd, t);
+        self.aug.keep_scale = false;
+        result
+    }
+
+    fn project_state_inner(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        qd: &mut [f64],
+        t: f64,
+    ) -> (usize, f64, f64, f64) {
         let n = model.n_coords;
         self.target.copy_from_slice(q);
         let (mut before, mut residual) = (f64::NAN, f64::NAN);
