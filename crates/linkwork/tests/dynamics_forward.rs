@@ -3,36 +3,20 @@
 //! named errors of a massless free coordinate and of a run out of steps.
 
 use linkwork::dynamics::{simulate, Method, SimOptions, SimOutput};
-use linkwork::{Description, Model, Options, SolveError};
+use linkwork::SolveError;
 
-/// A 2 kg block on a slide along x, a spring (k = 50, free length 1, c = 0.8) from the
-/// ground point (-1, 0): released at rest 0.3 from its rest position; gravity across.
-fn oscillator(mass: f64) -> Model {
-    let json = format!(
-        r#"{{"name": "oscillator", "gravity": [0, -9.81],
-            "bodies": [{{"name": "block", "x": 0.3, "y": 0.0, "mass": {mass}, "inertia": 0.1}}],
-            "joints": [{{"type": "prismatic", "name": "slide", "body_a": "ground", "body_b": "block",
-                         "at": [0.3, 0.0], "axis": [1.0, 0.0]}}],
-            "loads": [{{"type": "spring", "name": "s", "body_a": "ground", "at_a": [-1.0, 0.0],
-                        "body_b": "block", "at_b": [0.3, 0.0], "stiffness": 50.0, "free_length": 1.0,
-                        "damping": 0.8}}]}}"#
-    );
-    Model::with_options(Description::from_json(&json).unwrap(), Options { free: true, ..Options::default() })
-        .unwrap()
-}
+#[path = "common/oscillator.rs"]
+mod oscillator_model;
+use oscillator_model::{exact, oscillator, C, MASS};
 
-/// x(t) of the damped oscillator from x0 at rest.
-fn exact(t: f64) -> f64 {
-    let (k, m, c, x0) = (50.0f64, 2.0f64, 0.8f64, 0.3f64);
-    let w0 = (k / m).sqrt();
-    let zeta = c / (2.0 * (k * m).sqrt());
-    let wd = w0 * (1.0 - zeta * zeta).sqrt();
-    (-zeta * w0 * t).exp() * (x0 * (wd * t).cos() + zeta * w0 * x0 / wd * (wd * t).sin())
+/// x(t) of the damped oscillator released at rest 0.3.
+fn released(t: f64) -> f64 {
+    exact(t, C, 0.3, 0.0)
 }
 
 #[test]
 fn a_damped_oscillator_follows_its_exact_motion_and_balances_its_energy() {
-    let model = oscillator(2.0);
+    let model = oscillator(MASS, C);
     let times: Vec<f64> = (0..=100).map(|k| 0.05 * k as f64).collect();
     // (method, rtol, bound on x): DOP853 measured 2.8e-10; generalized-alpha (second
     // order, numerically damped at rho_inf = 0.9) 2.4e-5
@@ -41,7 +25,8 @@ fn a_damped_oscillator_follows_its_exact_motion_and_balances_its_energy() {
         let mut out = SimOutput::new(&model, &times);
         simulate(&model, &times, None, None, &opts, &mut out, &mut |_| true).unwrap();
         assert_eq!(out.n_done, times.len());
-        let err = times.iter().enumerate().map(|(k, &t)| (out.q[3 * k] - exact(t)).abs()).fold(0.0, f64::max);
+        let err =
+            times.iter().enumerate().map(|(k, &t)| (out.q[3 * k] - released(t)).abs()).fold(0.0, f64::max);
         assert!(err < bound, "{method:?}: x error {err:.3e}");
         // the slide holds: y and theta stay 0
         assert!(out.q.chunks(3).all(|q| q[1].abs() < 1e-12 && q[2].abs() < 1e-12));
@@ -61,7 +46,7 @@ fn a_damped_oscillator_follows_its_exact_motion_and_balances_its_energy() {
 
 #[test]
 fn a_free_coordinate_without_mass_is_named() {
-    let model = oscillator(0.0);
+    let model = oscillator(0.0, C);
     let mut out = SimOutput::new(&model, &[0.0, 1.0]);
     let e = simulate(&model, &[0.0, 1.0], None, None, &SimOptions::default(), &mut out, &mut |_| true)
         .unwrap_err();
@@ -70,7 +55,7 @@ fn a_free_coordinate_without_mass_is_named() {
 
 #[test]
 fn a_run_out_of_steps_keeps_the_rows_done() {
-    let model = oscillator(2.0);
+    let model = oscillator(MASS, C);
     let times: Vec<f64> = (0..=100).map(|k| 0.05 * k as f64).collect();
     let opts = SimOptions { max_steps: 30, rtol: 1e-10, atol: 1e-10, ..SimOptions::default() };
     let mut out = SimOutput::new(&model, &times);
@@ -78,7 +63,7 @@ fn a_run_out_of_steps_keeps_the_rows_done() {
     assert!(matches!(e, SolveError::Step { .. }), "{e}");
     assert!(out.n_done > 1 && out.n_done < times.len());
     for (k, &t) in times.iter().enumerate().take(out.n_done) {
-        assert!((out.q[3 * k] - exact(t)).abs() < 1e-8);
+        assert!((out.q[3 * k] - released(t)).abs() < 1e-8);
     }
     // cancelled from the progress poll: a named error too
     let mut out = SimOutput::new(&model, &times);
@@ -91,7 +76,7 @@ fn a_run_out_of_steps_keeps_the_rows_done() {
 fn rows_solved_later_match_the_rows_solved_in_the_run() {
     // accelerations: false leaves qdd, lambda, the reactions and the pivot ratios NaN;
     // solve_rows fills them from the same stored states, to the bit
-    let model = oscillator(2.0);
+    let model = oscillator(MASS, C);
     let times: Vec<f64> = (0..=40).map(|k| 0.05 * k as f64).collect();
     let run = |accelerations: bool| {
         let opts = SimOptions { rtol: 1e-8, atol: 1e-8, accelerations, ..SimOptions::default() };

@@ -14,33 +14,9 @@ use linkwork::dynamics::{simulate, Method, SimOptions, SimOutput};
 use linkwork::{Description, Model, Options, SolveError};
 use nalgebra::{Matrix4, Vector4};
 
-const K: f64 = 50.0;
-const MASS: f64 = 2.0;
-const C: f64 = 0.8;
-
-/// A 2 kg block on a slide along x, a spring (k = 50, free length 1, c) from the ground
-/// point (-1, 0): the spring's length is 1 + x, so x obeys m x'' + c x' + k x = 0.
-fn oscillator(damping: f64) -> Model {
-    let json = format!(
-        r#"{{"name": "oscillator", "gravity": [0, -9.81],
-            "bodies": [{{"name": "block", "x": 0.3, "y": 0.0, "mass": {MASS}, "inertia": 0.1}}],
-            "joints": [{{"type": "prismatic", "name": "slide", "body_a": "ground", "body_b": "block",
-                         "at": [0.3, 0.0], "axis": [1.0, 0.0]}}],
-            "loads": [{{"type": "spring", "name": "s", "body_a": "ground", "at_a": [-1.0, 0.0],
-                        "body_b": "block", "at_b": [0.3, 0.0], "stiffness": {K}, "free_length": 1.0,
-                        "damping": {damping}}}]}}"#
-    );
-    Model::with_options(Description::from_json(&json).unwrap(), Options { free: true, ..Options::default() })
-        .unwrap()
-}
-
-/// x(t) of m x'' + c x' + k x = 0 from x0, v0 (underdamped).
-fn exact(t: f64, c: f64, x0: f64, v0: f64) -> f64 {
-    let w0 = (K / MASS).sqrt();
-    let zeta = c / (2.0 * (K * MASS).sqrt());
-    let wd = w0 * (1.0 - zeta * zeta).sqrt();
-    (-zeta * w0 * t).exp() * (x0 * (wd * t).cos() + (v0 + zeta * w0 * x0) / wd * (wd * t).sin())
-}
+#[path = "common/oscillator.rs"]
+mod oscillator_model;
+use oscillator_model::{exact, oscillator, C, MASS};
 
 fn run(model: &Model, times: &[f64], opts: &SimOptions) -> SimOutput {
     let mut out = SimOutput::new(model, times);
@@ -68,7 +44,7 @@ fn x_error(out: &SimOutput) -> f64 {
 /// tighter tolerance (measured 17 and 20; bound 7), with 4.6 times the steps (4.0, 4.4).
 #[test]
 fn a_tighter_tolerance_gives_a_smaller_error_in_proportion() {
-    let model = oscillator(C);
+    let model = oscillator(MASS, C);
     let times: Vec<f64> = (0..=100).map(|k| 0.05 * k as f64).collect();
     for (method, tols, order) in
         [(Method::Rk8, [1e-6, 1e-8, 1e-10], 8.0), (Method::GenAlpha, [1e-5, 1e-7, 1e-9], 3.0)]
@@ -105,7 +81,7 @@ fn a_tighter_tolerance_gives_a_smaller_error_in_proportion() {
 /// asked time. No step is longer than h_max.
 #[test]
 fn rows_between_steps_are_as_accurate_as_the_steps_and_no_step_exceeds_h_max() {
-    let model = oscillator(C);
+    let model = oscillator(MASS, C);
     let times: Vec<f64> = (0..=400).map(|k| 0.01 * k as f64).collect();
     let tol = 1e-10;
     let out = run(&model, &times, &SimOptions { rtol: tol, atol: tol, ..SimOptions::default() });
@@ -249,7 +225,7 @@ fn energy_terms_are_their_closed_forms_and_balance() {
 /// beyond ic_tol the positions, or the rates, are refused by name.
 #[test]
 fn given_initial_conditions_move_onto_the_constraints_by_the_distance_reported() {
-    let model = oscillator(C);
+    let model = oscillator(MASS, C);
     let times: Vec<f64> = (0..=40).map(|k| 0.05 * k as f64).collect();
     let (ly, lt) = (model.col_scale[1], model.col_scale[2]);
     let q0 = [0.25, 4e-7 * ly, 1e-7 * lt];
