@@ -21,7 +21,8 @@ pub enum EventKind {
     /// The solution left the branch the sweep was following and subdividing the step did
     /// not bring it back.
     BranchJump,
-    /// A simulation's slider reaches an end of the travel its prismatic joint is given.
+    /// A slider crosses an end of the travel its prismatic joint is given: a simulation's
+    /// stops there or goes on; a sweep goes on through it (kinematics models no stop).
     EndOfTravel,
 }
 
