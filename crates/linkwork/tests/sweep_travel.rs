@@ -5,12 +5,9 @@
 //! slide a translation driver moves past its stops.
 mod common;
 
-use common::{body, slider_crank, SliderCrank};
+use common::{slider_crank, SliderCrank};
 use linkwork::stepping::singular::{Event, EventKind};
-use linkwork::{
-    sweep_batch, Data, Description, DriverDesc, JointDesc, Model, MotionLaw, Options, Request, SolverKind,
-    SweepOutput,
-};
+use linkwork::{sweep_batch, Data, Description, JointDesc, Model, Options, Request, SolverKind, SweepOutput};
 
 const SC: SliderCrank = SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 };
 const TH0: f64 = 1.5;
@@ -218,34 +215,20 @@ fn a_batch_reports_each_models_travel_ends() {
 /// at pi + asin(1/6); a start outside the travel is an event at the first time.
 #[test]
 fn a_driven_slide_beyond_its_travel_is_reported() {
-    let driven = |law: MotionLaw, travel: [f64; 2]| Description {
-        name: "driven slider".into(),
-        units: Default::default(),
-        bodies: vec![body("slider", 0.0, 0.0, 0.0)],
-        joints: vec![JointDesc::Prismatic {
-            name: "guide".into(),
-            body_a: "ground".into(),
-            body_b: "slider".into(),
-            at: Some([0.0, 0.0]),
-            axis: Some([1.0, 0.0]),
-            pin_a: None,
-            pin_b: None,
-            axis_a: None,
-            angle: None,
-            travel: Some(travel),
-        }],
-        drivers: vec![DriverDesc::Translation { name: "push".into(), joint: "guide".into(), law }],
-        points: vec![],
-        gravity: [0.0, 0.0],
-        loads: vec![],
-        outputs: Vec::new(),
-        branch: None,
-        close: None,
-        free: false,
-        initial_rates: Default::default(),
+    const LINEAR: &str = r#"{"type": "linear", "value": 0.0, "rate": 0.4}"#;
+    // the slide along x set by the translation driver "push" (its law as JSON)
+    let driven = |law: &str, [lo, hi]: [f64; 2]| {
+        let json = format!(
+            r#"{{"name": "driven slider",
+                "bodies": [{{"name": "slider", "x": 0.0, "y": 0.0}}],
+                "joints": [{{"type": "prismatic", "name": "guide", "body_a": "ground", "body_b": "slider",
+                             "at": [0.0, 0.0], "axis": [1.0, 0.0], "travel": [{lo}, {hi}]}}],
+                "drivers": [{{"type": "translation", "name": "push", "joint": "guide", "law": {law}}}]}}"#
+        );
+        Description::from_json(&json).unwrap()
     };
     let times: Vec<f64> = (0..=40).map(|k| 0.05 * k as f64).collect();
-    let desc = driven(MotionLaw::Linear { value: 0.0, rate: 0.4 }, [-0.1, 0.5]);
+    let desc = driven(LINEAR, [-0.1, 0.5]);
     for solver in [SolverKind::Auto, SolverKind::General] {
         for req in [Request::default(), Request { derivatives: 0, ..Request::default() }] {
             let out = swept(&desc, solver, req, &times);
@@ -259,7 +242,7 @@ fn a_driven_slide_beyond_its_travel_is_reported() {
     }
     let times: Vec<f64> = (0..=200).map(|k| 0.025 * k as f64).collect();
     let out = swept(
-        &driven(MotionLaw::Harmonic { mean: 0.0, amplitude: 0.6, omega: 1.0, phase: 0.0 }, [-0.1, 0.5]),
+        &driven(r#"{"type": "harmonic", "mean": 0.0, "amplitude": 0.6, "omega": 1.0}"#, [-0.1, 0.5]),
         SolverKind::Auto,
         Request::default(),
         &times,
@@ -272,12 +255,7 @@ fn a_driven_slide_beyond_its_travel_is_reported() {
     for (g, w) in got.iter().zip(want) {
         assert!((g - w).abs() < 1e-10, "{g} against {w}");
     }
-    let out = swept(
-        &driven(MotionLaw::Linear { value: 0.0, rate: 0.4 }, [0.1, 0.5]),
-        SolverKind::Auto,
-        Request::default(),
-        &times[..10],
-    );
+    let out = swept(&driven(LINEAR, [0.1, 0.5]), SolverKind::Auto, Request::default(), &times[..10]);
     let ends = travel_ends(&out);
     assert_eq!(ends.len(), 1);
     assert!(
