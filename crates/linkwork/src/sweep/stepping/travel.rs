@@ -9,6 +9,7 @@
 //! through it (kinematics models no stop). A slide a translation driver sets is watched as
 //! well: its law is what moves it past the end. Only a model with a travel pays for it.
 
+use crate::constraints::kinds::ConstraintKind;
 use crate::math::roots::illinois;
 use crate::model::data::Data;
 use crate::model::slider::{sliders, Slider};
@@ -37,10 +38,11 @@ pub struct Travels {
 impl Travels {
     /// None where no prismatic joint of the model is given a travel.
     pub fn new(model: &Model) -> Option<Travels> {
-        let sliders: Vec<Slider> = sliders(model).into_iter().filter(|s| s.travel.is_some()).collect();
-        if sliders.is_empty() {
+        let given = |c: &ConstraintKind| matches!(c, ConstraintKind::Prismatic(p) if p.travel.is_some());
+        if !model.constraints.iter().any(|c| given(&c.kind)) {
             return None;
         }
+        let sliders: Vec<Slider> = sliders(model).into_iter().filter(|s| s.travel.is_some()).collect();
         let mut scratch = Data::new(model);
         scratch.with_velocity = true;
         let n = model.n_coords;
@@ -147,18 +149,21 @@ fn crossings(
     let Some([lo, hi]) = s.travel else { return };
     // the slide's turn inside the step, where its rate changes sign: the pieces either
     // side of it are monotone, each crossing an end at most once
-    let mut pieces = vec![(a.t, xa), (b.t, xb)];
+    // (on the stack: a step allocates only where it finds a crossing)
+    let mut pieces = [(a.t, xa), (b.t, xb), (b.t, xb)];
+    let mut n = 2;
     if va * vb < 0.0 {
         let rate = |t: f64, scratch: &mut Data| {
             solve_at(model, scratch, a, b, t, step).then(|| s.slide(&scratch.q, &scratch.qd).1)
         };
         if let Some(tm) = illinois(a.t, b.t, |t| rate(t, scratch)) {
             if solve_at(model, scratch, a, b, tm, step) {
-                pieces.insert(1, (tm, s.slide(&scratch.q, &scratch.qd).0));
+                pieces[1] = (tm, s.slide(&scratch.q, &scratch.qd).0);
+                n = 3;
             }
         }
     }
-    for w in pieces.windows(2) {
+    for w in pieces[..n].windows(2) {
         let ((t0, x0), (t1, x1)) = (w[0], w[1]);
         for (bound, side) in [(lo, -1.0), (hi, 1.0)] {
             // beyond the end: side (x - bound) > 0
