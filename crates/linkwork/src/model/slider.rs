@@ -88,9 +88,7 @@ impl Slider {
         let qr = basis.transpose().qr();
         (qr.q().transpose() * &g).norm() / norm
     }
-}
 
-impl Slider {
     /// The translation driver that sets this slide (on the same two bodies), if any.
     pub fn driver<'m>(&self, model: &'m Model) -> Option<&'m str> {
         slide_driver(model, self.body_a, self.body_b)
