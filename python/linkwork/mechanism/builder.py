@@ -234,8 +234,9 @@ class Mechanism:
         in the direction ``axis_a`` there (or the world ``axis``, for a slide on the
         ground), with ``body_b``'s point ``pin_b`` (in its frame) on it, ``angle`` =
         theta_b - theta_a (default 0); s is 0 where ``pin_b`` is at ``pin_a``.
-        ``travel`` = (min, max): the range of s (a stroke's stops); a simulation reports
-        where the slider reaches either end (`Model.simulate`, ``at_travel_end``).
+        ``travel`` = (min, max): the range of s (a stroke's stops); a sweep reports where
+        the slider crosses either end and goes on, a simulation where it reaches one
+        (`Model.simulate`, ``at_travel_end``): "end_of_travel" events.
 
         >>> m = Mechanism("slider, lengths first")
         >>> m.prismatic(m.ground, m.body("slider"), pin_a=(0, 0.02), pin_b=(0, 0), axis=(1, 0))

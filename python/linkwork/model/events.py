@@ -1,5 +1,6 @@
-"""Events of a sweep (limits of motion, bifurcations, locks, branch jumps) and limits
-of motion of a driven input. See docs/analysis.md for what each means and what to do.
+"""Events of a sweep (limits of motion, bifurcations, locks, branch jumps, ends of a
+slider's travel) and limits of motion of a driven input. See docs/analysis.md for what
+each means and what to do.
 """
 
 from __future__ import annotations
@@ -20,7 +21,9 @@ KINDS = {
     "lock": "an output stops and reverses while the input moves (a dead point if driven from that output); "
     "in a simulation, the whole motion stops and reverses, or a slider reaches the end of its stroke",
     "branch_jump": "the solution left the branch it was on and halving the step did not bring it back",
-    "end_of_travel": "a simulation's slider reaches an end of the travel its prismatic joint is given",
+    "end_of_travel": "a slider crosses an end of the travel its prismatic joint is given: a simulation "
+    "stops there or goes on, a sweep goes on through it (kinematics models no stop) and also reports "
+    "where the slider comes back inside",
 }
 
 
@@ -37,7 +40,8 @@ class Event:
     of the sweep's Phi_q there, or the smallest of the augmented matrix a simulation's
     solves met around it. A simulation's lock is the whole motion stopping and reversing
     (``sigma_min`` NaN, ``output`` the coordinate that turns back), or a slider at the end
-    of its stroke (``output`` its prismatic joint); an "end_of_travel" names the joint.
+    of its stroke (``output`` its prismatic joint); an "end_of_travel" names the joint
+    (``output``), the end and its time.
     """
 
     kind: str

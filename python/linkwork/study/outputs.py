@@ -16,7 +16,8 @@ name                           shape              what
                                                   over the sweep (torque or force; solves the
                                                   inverse dynamics)
 ``events``                     () integer         singular configurations met: limits of
-                                                  motion, bifurcations, branch jumps (defects)
+                                                  motion, bifurcations, branch jumps (defects);
+                                                  and crossings of a slider's travel ends
 ``pivot_min``                  ()                 the closest approach to a singular
                                                   configuration: the smallest of the sweep's
                                                   ``pivot_ratio`` (0 = singular)

@@ -15,16 +15,16 @@
 
 use nalgebra::DMatrix;
 
-use crate::constraints::Constraint;
 use crate::dynamics::equilibrium::constraints_dense;
 use crate::dynamics::mass::mass_times;
 use crate::dynamics::system::System;
-use crate::dynamics::travel::{sliders, Slider, GEOMETRIC_BELOW};
+use crate::dynamics::travel::GEOMETRIC_BELOW;
 use crate::math::minimize::brent;
 use crate::math::roots::illinois;
+use crate::model::slider::{sliders, Slider};
 use crate::model::Model;
 use crate::solve::events::{
-    classify, constraint_shares, coordinate_shares, Event, EventKind, SingularTriple,
+    classify, constraint_shares, coordinate_shares, driver_values, Event, EventKind, SingularTriple,
 };
 
 /// A step end whose sigma_min (mass metric) is a local minimum below this is always
@@ -387,7 +387,7 @@ impl Watch {
             constraints: Vec::new(),
             coordinates,
             output,
-            drivers: drivers(model, t),
+            drivers: driver_values(model, t),
             message,
             pivot_ratio: a.pivot.min(b.pivot),
         });
@@ -532,19 +532,10 @@ fn slider_event(
         constraints: vec![(name.to_string(), 1.0)],
         coordinates: Vec::new(),
         output: Some(name.to_string()),
-        drivers: drivers(model, t),
+        drivers: driver_values(model, t),
         message,
         pivot_ratio,
     }
-}
-
-fn drivers(model: &Model, t: f64) -> Vec<(String, f64)> {
-    model
-        .constraints
-        .iter()
-        .filter(|c| c.role == "driver")
-        .filter_map(|c| c.kind.law().map(|l| (c.name.clone(), l.eval(t)[0])))
-        .collect()
 }
 
 /// A basis (rows, scaled coordinates) of the motions the constraints allow at q: the
@@ -611,7 +602,7 @@ fn singular_event(model: &Model, d: &DMatrix<f64>, q: &[f64], t: f64, times: &[f
         constraints: constraint_shares(model, &triple.w, SHARE_FLOOR),
         coordinates: coordinate_shares(model, &triple.v, SHARE_FLOOR),
         output: None,
-        drivers: drivers(model, t),
+        drivers: driver_values(model, t),
         message,
         pivot_ratio: pivot,
     }

@@ -9,6 +9,7 @@ pub mod memory;
 pub mod params;
 pub mod plan;
 pub mod rank;
+pub mod slider;
 pub mod structure;
 
 use std::sync::Arc;

@@ -2,6 +2,7 @@
 //! branch jumps) and how a singular configuration is described: the smallest singular
 //! triple of the scaled Phi_q, the constraints and coordinates carrying it, and its kind.
 
+use crate::constraints::Constraint;
 use crate::model::Model;
 
 /// What kind of event a sweep or a simulation reports.
@@ -20,7 +21,8 @@ pub enum EventKind {
     /// The solution left the branch the sweep was following and subdividing the step did
     /// not bring it back.
     BranchJump,
-    /// A simulation's slider reaches an end of the travel its prismatic joint is given.
+    /// A slider crosses an end of the travel its prismatic joint is given: a simulation's
+    /// stops there or goes on; a sweep goes on through it (kinematics models no stop).
     EndOfTravel,
 }
 
@@ -61,6 +63,16 @@ pub struct Event {
     /// the smallest pivot ratio of the factorizations met near it (a sweep's Phi_q, a
     /// simulation's augmented matrix); NaN where none applies
     pub pivot_ratio: f64,
+}
+
+/// Each driver's value at t (its motion law there), as an event reports them.
+pub fn driver_values(model: &Model, t: f64) -> Vec<(String, f64)> {
+    model
+        .constraints
+        .iter()
+        .filter(|c| c.role == "driver")
+        .filter_map(|c| c.kind.law().map(|l| (c.name.clone(), l.eval(t)[0])))
+        .collect()
 }
 
 /// The smallest singular value of the scaled Phi_q and its singular vectors.

@@ -19,6 +19,7 @@ use crate::sweep::stepping::branch::{continues, continues_storing};
 use crate::sweep::stepping::predict::{predict, Predictor};
 use crate::sweep::stepping::tracking::JUMP_RATIO;
 use crate::sweep::stepping::tracking::{is_jump, Tracker, JUMP_FLOOR, JUMP_FLOOR_RATES};
+use crate::sweep::stepping::travel::Travels;
 
 /// Checks that the times can be swept: finite, strictly monotone, inside every
 /// driver's table.
@@ -93,8 +94,14 @@ pub(crate) fn sweep_observed(
     out.events.clear();
     data.with_velocity = solved_derivatives(model, &req) >= 1;
     let mut tracker = Tracker::new(model, req.on_singular, req.locks);
+    tracker.travels = Travels::new(model);
     let result = sweep_steps(model, data, times, out, &mut tracker, progress_every, progress, after, true);
     out.events = std::mem::take(&mut tracker.events);
+    if tracker.travels.is_some() {
+        // a travel's crossings are found after the step's own events: in time order
+        let direction = if times.len() > 1 { (times[1] - times[0]).signum() } else { 1.0 };
+        out.events.sort_by(|a, b| (a.time * direction).total_cmp(&(b.time * direction)));
+    }
     result
 }
 
@@ -147,7 +154,8 @@ fn sweep_steps(
     let mut worst = Worst::default();
     // the run of steps in one loop (`Run`): every group is a closed form, and nothing else
     // is asked of a step
-    let run = plan.filter(|_| runs && fast_closed && !req.forces && !req.locks);
+    // (a model with a travel goes step by step, each step then watched: the same steps)
+    let run = plan.filter(|_| runs && fast_closed && !req.forces && !req.locks && tracker.travels.is_none());
     // where the run stopped: the step it handed back
     let mut handoff: Option<Handoff> = None;
     let mut k = 0;
@@ -331,6 +339,10 @@ fn sweep_steps(
             worst.add(&PositionInfo { pivot_ratio: at.ratio, ..info });
         } else {
             worst.add(&info);
+        }
+        if let Some(travels) = tracker.travels.as_mut() {
+            let rates = rates_set || (solved >= 1 && !by_guard);
+            travels.after_step(model, data, t, k, rates, &mut tracker.events);
         }
         if k % req.every == 0 {
             if req.forces {

@@ -16,20 +16,23 @@
 //! for cancellation. Locks (an output stopping and reversing) are located on the output's
 //! rate. All of this allocates only when something happens.
 
-use crate::constraints::{kinds::ConstraintKind, Constraint};
+use crate::constraints::kinds::ConstraintKind;
 use crate::error::SolveError;
 use crate::math::pivots::NEAR_SINGULAR;
 use crate::math::roots::illinois;
 use crate::model::data::Data;
+use crate::model::slider::slide_driver;
 use crate::model::Model;
 use crate::solve::acceleration::solve_acceleration;
 use crate::solve::deflation::deflated_newton;
+use crate::solve::events::driver_values;
 use crate::solve::position::{solve_position, PositionInfo};
 use crate::solve::velocity::solve_velocity;
 use crate::sweep::stepping::branch::{consistent, interpolate, State, CONSISTENCY};
 use crate::sweep::stepping::singular::{
     classify, constraint_shares, coordinate_shares, smallest_singular, Event, EventKind,
 };
+use crate::sweep::stepping::travel::Travels;
 
 /// A step whose Newton correction exceeds this fraction of the predicted motion (or of
 /// `JUMP_FLOOR` when little motion is predicted) is suspected of leaving its branch. On a
@@ -100,12 +103,7 @@ pub fn outputs(model: &Model) -> Vec<Output> {
                 terms: vec![(3 * moving + 2, 1.0)],
             }),
             ConstraintKind::Prismatic(p) => {
-                let slide_driven = model.constraints.iter().any(|d| {
-                    matches!(d.kind, ConstraintKind::TranslationDriver(_))
-                        && d.body_a == c.body_a
-                        && d.body_b == c.body_b
-                });
-                if slide_driven {
+                if slide_driver(model, c.body_a, c.body_b).is_some() {
                     continue;
                 }
                 // the slide axis in world axes: fixed in a, and a does not turn
@@ -289,6 +287,8 @@ pub struct Tracker {
     /// the new branch; span times past the crossing come from this branch
     switched: Option<(f64, State)>,
     pub events: Vec<Event>,
+    /// the sliders' travels watched step by step (a sweep of a model that gives some)
+    pub(crate) travels: Option<Travels>,
 }
 
 impl Tracker {
@@ -304,6 +304,7 @@ impl Tracker {
             span: None,
             switched: None,
             events: Vec::new(),
+            travels: None,
         }
     }
 
@@ -340,12 +341,7 @@ impl Tracker {
             EventKind::Limit | EventKind::Bifurcation => classify(model, &triple),
             k => k,
         };
-        let values: Vec<(String, f64)> = model
-            .constraints
-            .iter()
-            .filter(|c| c.role == "driver")
-            .filter_map(|c| c.kind.law().map(|l| (c.name.clone(), l.eval(t)[0])))
-            .collect();
+        let values = driver_values(model, t);
         let drivers: Vec<String> = values.iter().map(|(n, v)| format!("{n} = {v:.12}")).collect();
         let message = match kind {
             EventKind::Limit => format!(
@@ -366,7 +362,7 @@ impl Tracker {
                  bring it back",
                 drivers.join(", ")
             ),
-            // a sweep's drivers set the slides: a travel's end is not looked for
+            // made by `travel::Travels`, which words its own
             EventKind::EndOfTravel => format!("a slider reaches the end of its travel at t = {t:.12}"),
         };
         Event {
