@@ -32,6 +32,8 @@ pub struct System {
     /// m: Phi_q qd and nu of the rates' projection (kept here: it runs every output row)
     rate: Vec<f64>,
     nu: Vec<f64>,
+    /// n: the iterate of the smallest |phi| of a projection (`project_state`)
+    best: Vec<f64>,
     pub pivots: Pivots,
 }
 
@@ -53,6 +55,7 @@ impl System {
             dq: vec![0.0; model.n_coords],
             rate: vec![0.0; model.n_rows],
             nu: vec![0.0; model.n_rows],
+            best: vec![0.0; model.n_coords],
             pivots: Pivots::NONE,
         }
     }
@@ -175,6 +178,9 @@ impl System {
         let mut fresh = false;
         let mut factored = false;
         let mut iterations = 0;
+        // unregularised Newton, after a regularised one stalled above tol_residual
+        let mut exact = false;
+        let mut best = f64::INFINITY;
         for it in 0..=MAX_PROJECTION {
             self.data.q.copy_from_slice(q);
             update_frames(&mut self.data);
@@ -184,14 +190,35 @@ impl System {
                 before = residual;
             }
             let slow = residual > 0.5 * last;
-            // done, or stalled at round-off (a full Newton step no longer halving)
-            if !residual.is_finite() || residual <= PROJECTION_TOL || (slow && fresh) || it == MAX_PROJECTION
+            let stalled = slow && fresh;
+            // next to a singular configuration the regularised corrections relax the rows
+            // that become dependent, and Gauss-Newton stalls (or wanders) where a small
+            // residual is left there: from the best iterate on, unregularised Newton steps
+            // (their corrections along the weak directions as small as that residual)
+            let failing = best > model.options.tol_residual && it < MAX_PROJECTION;
+            if stalled && self.aug.regularised && !exact && failing {
+                exact = true;
+                if best < residual {
+                    q.copy_from_slice(&self.best);
+                    self.data.q.copy_from_slice(q);
+                    update_frames(&mut self.data);
+                    self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+                    residual = best;
+                }
+            } else if !residual.is_finite()
+                || residual <= PROJECTION_TOL
+                || (stalled && !exact)
+                || it == MAX_PROJECTION
             {
                 break;
             }
+            if residual < best {
+                best = residual;
+                self.best.copy_from_slice(q);
+            }
             fresh = !factored || slow;
             if fresh {
-                self.pivots = self.aug.factor_for_solve();
+                self.pivots = if exact { self.aug.factor(0.0) } else { self.aug.factor_for_solve() };
                 factored = true;
             }
             last = residual;
@@ -210,6 +237,11 @@ impl System {
         }
         if !residual.is_finite() || residual > model.options.tol_residual {
             return (iterations, before, residual, f64::NAN);
+        }
+        if exact {
+            // the rates' projection regularised as before: an exact solve there would turn
+            // the rates' drift along the weak directions into large rates
+            factored = false;
         }
         // the Jacobian is filled at the projected q: the rates' corrections Phi_q d = nu -
         // Phi_q qd with the same factors (M d + Phi_q^T mu = 0), factored here if none is
