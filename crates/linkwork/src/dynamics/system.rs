@@ -18,6 +18,17 @@ pub const MAX_PROJECTION: usize = 50;
 /// The scaled residual a projection stops at (round-off of unit-scaled rows).
 pub const PROJECTION_TOL: f64 = 1e-15;
 
+/// Where a positions' projection ended: its iterations, scaled |phi| before and after,
+/// whether its last correction used factors of the iterate it started from, and whether
+/// factors usable by the rates' projection are in place.
+struct Settled {
+    iterations: usize,
+    before: f64,
+    residual: f64,
+    fresh: bool,
+    factored: bool,
+}
+
 /// The workspace of the equations of motion of one model.
 pub struct System {
     pub aug: Augmented,
@@ -171,6 +182,50 @@ impl System {
         t: f64,
     ) -> (usize, f64, f64, f64) {
         let n = model.n_coords;
+        let Settled { iterations, before, residual, mut fresh, mut factored } =
+            self.settle_positions(model, q, t);
+        if !residual.is_finite() || residual > model.options.tol_residual {
+            return (iterations, before, residual, f64::NAN);
+        }
+        // the Jacobian is filled at the projected q: the rates' corrections Phi_q d = nu -
+        // Phi_q qd with the same factors (M d + Phi_q^T mu = 0), factored here if none is
+        nu_into(model, t, &mut self.nu);
+        let (mut before_d, mut last_d) = (f64::NAN, f64::INFINITY);
+        for it in 0..6 {
+            self.aug.jacobian_times(qd, &mut self.rate);
+            let size = self.rate.iter().zip(&self.nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()));
+            let speed = qd.iter().zip(&model.col_scale).fold(0.0f64, |a, (v, s)| a.max((v / s).abs()));
+            if it == 0 {
+                before_d = size;
+            }
+            if !size.is_finite() || size <= PROJECTION_TOL * speed.max(1.0) || (size > 0.5 * last_d && fresh)
+            {
+                break;
+            }
+            if !factored || size > 0.5 * last_d {
+                self.pivots = self.aug.factor_for_solve();
+                (factored, fresh) = (true, true);
+            } else {
+                fresh = false;
+            }
+            last_d = size;
+            self.x[..n].fill(0.0);
+            for ((x, r), v) in self.x[n..].iter_mut().zip(&self.rate).zip(&self.nu) {
+                *x = v - r;
+            }
+            self.aug.solve_refined(&mut self.x);
+            for (v, d) in qd.iter_mut().zip(&self.x[..n]) {
+                *v += d;
+            }
+        }
+        self.data.qd.copy_from_slice(qd);
+        update_frames(&mut self.data);
+        (iterations, before, residual, before_d)
+    }
+
+    /// The positions' part of `project_state`.
+    fn settle_positions(&mut self, model: &Model, q: &mut [f64], t: f64) -> Settled {
+        let n = model.n_coords;
         self.target.copy_from_slice(q);
         let (mut before, mut residual) = (f64::NAN, f64::NAN);
         let mut last = f64::INFINITY;
@@ -235,48 +290,10 @@ impl System {
             }
             iterations = it + 1;
         }
-        if !residual.is_finite() || residual > model.options.tol_residual {
-            return (iterations, before, residual, f64::NAN);
-        }
-        if exact {
-            // the rates' projection regularised as before: an exact solve there would turn
-            // the rates' drift along the weak directions into large rates
-            factored = false;
-        }
-        // the Jacobian is filled at the projected q: the rates' corrections Phi_q d = nu -
-        // Phi_q qd with the same factors (M d + Phi_q^T mu = 0), factored here if none is
-        nu_into(model, t, &mut self.nu);
-        let (mut before_d, mut last_d) = (f64::NAN, f64::INFINITY);
-        for it in 0..6 {
-            self.aug.jacobian_times(qd, &mut self.rate);
-            let size = self.rate.iter().zip(&self.nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()));
-            let speed = qd.iter().zip(&model.col_scale).fold(0.0f64, |a, (v, s)| a.max((v / s).abs()));
-            if it == 0 {
-                before_d = size;
-            }
-            if !size.is_finite() || size <= PROJECTION_TOL * speed.max(1.0) || (size > 0.5 * last_d && fresh)
-            {
-                break;
-            }
-            if !factored || size > 0.5 * last_d {
-                self.pivots = self.aug.factor_for_solve();
-                (factored, fresh) = (true, true);
-            } else {
-                fresh = false;
-            }
-            last_d = size;
-            self.x[..n].fill(0.0);
-            for ((x, r), v) in self.x[n..].iter_mut().zip(&self.rate).zip(&self.nu) {
-                *x = v - r;
-            }
-            self.aug.solve_refined(&mut self.x);
-            for (v, d) in qd.iter_mut().zip(&self.x[..n]) {
-                *v += d;
-            }
-        }
-        self.data.qd.copy_from_slice(qd);
-        update_frames(&mut self.data);
-        (iterations, before, residual, before_d)
+        // after unregularised steps the rates' projection factors again, regularised as
+        // before: an exact solve would turn their drift along the weak directions into
+        // large rates
+        Settled { iterations, before, residual, fresh, factored: factored && !exact }
     }
 
     /// Projects qd onto Phi_q qd = nu at q (one solve; the augmented matrix is filled at
@@ -295,11 +312,8 @@ impl System {
 
     /// Scaled |Phi_q qd - nu| with the Jacobian last filled.
     pub fn velocity_drift(&mut self, model: &Model, qd: &[f64], t: f64) -> f64 {
-        let m = model.n_rows;
-        let mut rate = vec![0.0; m];
-        self.aug.jacobian_times(qd, &mut rate);
-        let mut nu = vec![0.0; m];
-        nu_into(model, t, &mut nu);
-        rate.iter().zip(&nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()))
+        self.aug.jacobian_times(qd, &mut self.rate);
+        nu_into(model, t, &mut self.nu);
+        self.rate.iter().zip(&self.nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()))
     }
 }
