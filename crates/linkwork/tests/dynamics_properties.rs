@@ -260,3 +260,57 @@ fn refused_not(model: &Model, times: &[f64], opts: &SimOptions, q0: [f64; 3], qd
     let mut out = SimOutput::new(model, times);
     simulate(model, times, Some(&q0), Some(&qd0), opts, &mut out, &mut |_| true).unwrap();
 }
+
+/// A parallelogram (crank r2 = 0.1 and rocker pinned 0.3 apart, a coupler of 0.3) free,
+/// drawn with the crank at 0.5 rad; its exact states at crank angle th turning at w.
+fn free_parallelogram() -> Model {
+    let json = r#"{"name": "parallelogram", "gravity": [0.0, -9.81],
+        "bodies": [{"name": "crank", "x": 0.0, "y": 0.0, "theta": 0.5, "mass": 0.4, "inertia": 0.002},
+                   {"name": "coupler", "x": 0.08775825618903728, "y": 0.04794255386042030, "theta": 0.0,
+                    "mass": 1.1, "inertia": 0.01},
+                   {"name": "rocker", "x": 0.3, "y": 0.0, "theta": 0.5, "mass": 0.7, "inertia": 0.003}],
+        "joints": [{"type": "revolute", "name": "O2", "body_a": "ground", "body_b": "crank", "at": [0.0, 0.0]},
+                   {"type": "revolute", "name": "A", "body_a": "crank", "body_b": "coupler",
+                    "at": [0.08775825618903728, 0.04794255386042030]},
+                   {"type": "revolute", "name": "B", "body_a": "coupler", "body_b": "rocker",
+                    "at": [0.38775825618903728, 0.04794255386042030]},
+                   {"type": "revolute", "name": "O4", "body_a": "ground", "body_b": "rocker", "at": [0.3, 0.0]}]}"#;
+    Model::with_options(Description::from_json(json).unwrap(), Options { free: true, ..Options::default() })
+        .unwrap()
+}
+
+#[test]
+fn the_augmented_solves_on_kept_pivot_sequences_match_new_choices() {
+    // four turns, the states 0.05 rad or more from the change points (th = k pi): one
+    // workspace that keeps its pivot sequences (and the spares it chose before) against
+    // a new workspace for every state, whose sequence is chosen on that state's values
+    use linkwork::dynamics::system::System;
+    let model = free_parallelogram();
+    let (n, m) = (model.n_coords, model.n_rows);
+    let (r2, w) = (0.1, 3.0);
+    let mut kept = System::new(&model);
+    let (mut qdd_a, mut qdd_b, mut l_a, mut l_b) = (vec![0.0; n], vec![0.0; n], vec![0.0; m], vec![0.0; m]);
+    let mut solved = 0;
+    for k in 0..800 {
+        let th = 0.5 + 8.0 * std::f64::consts::PI * k as f64 / 800.0;
+        let off = th.rem_euclid(std::f64::consts::PI);
+        if off.min(std::f64::consts::PI - off) < 0.05 {
+            continue;
+        }
+        let (c, s) = (th.cos(), th.sin());
+        let q = [0.0, 0.0, th, r2 * c, r2 * s, 0.0, 0.3, 0.0, th];
+        let qd = [0.0, 0.0, w, -r2 * s * w, r2 * c * w, 0.0, 0.0, 0.0, w];
+        kept.accelerations(&model, &q, &qd, 0.0, &mut qdd_a, &mut l_a);
+        let mut fresh = System::new(&model);
+        fresh.accelerations(&model, &q, &qd, 0.0, &mut qdd_b, &mut l_b);
+        // round-off of the solves (pivot ratios above 1e-3 here): 1e-12 of each's size
+        let size = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        for (a, b) in [(&qdd_a, &qdd_b), (&l_a, &l_b)] {
+            let diff = a.iter().zip(b.iter()).fold(0.0f64, |d, (x, y)| d.max((x - y).abs()));
+            assert!(diff <= 1e-12 * size(b).max(1.0), "th = {th}: {a:?} vs {b:?}");
+        }
+        solved += 1;
+    }
+    assert!(solved > 700);
+    assert!(kept.aug.spare_uses > 0, "no spare sequence was used");
+}

@@ -32,6 +32,10 @@ const MU: f64 = 1e-9;
 /// (by mu / sigma^2 each sweep), those below stay relaxed.
 const REFINE: usize = 5;
 
+/// Pivot sequences kept besides the one in use: a mechanism that turns round (A02's
+/// cranks) needs a few in turn, and replaying one kept is far cheaper than a new choice.
+const SPARE_SEQUENCES: usize = 3;
+
 /// Slots of one constraint's Jacobian entries (and of their transposes).
 #[derive(Debug, Clone, Copy)]
 struct JacSlots {
@@ -51,6 +55,10 @@ pub struct Augmented {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     lu: SparseLu,
+    /// pivot sequences chosen before, the most recently used first (`factor_lu`)
+    spare: Vec<SparseLu>,
+    /// factorizations on a spare sequence so far
+    pub spare_uses: usize,
     /// values in the pattern's order (unscaled)
     pub values: Vec<f64>,
     scaled: Vec<f64>,
@@ -176,6 +184,8 @@ impl Augmented {
             col_ptr,
             row_idx,
             lu,
+            spare: Vec::with_capacity(SPARE_SEQUENCES + 1),
+            spare_uses: 0,
             values: vec![0.0; nnz],
             scaled: vec![0.0; nnz],
             scale: vec![1.0; size],
@@ -323,6 +333,29 @@ impl Augmented {
             }
         }
         self.regularised = mu > 0.0;
+        self.factor_lu()
+    }
+
+    /// Factors the equilibrated values on the pivot sequence in use if its pivots pass
+    /// their threshold, else on the most recently used spare sequence that passes (the
+    /// same bound on L), else on a new choice (the sequence it replaces kept as a spare).
+    fn factor_lu(&mut self) -> Pivots {
+        if let Some(pivots) = self.lu.factor_replayed(&self.scaled) {
+            return pivots;
+        }
+        for i in 0..self.spare.len() {
+            if let Some(pivots) = self.spare[i].factor_replayed(&self.scaled) {
+                std::mem::swap(&mut self.lu, &mut self.spare[i]);
+                let used = self.spare.remove(i);
+                self.spare.insert(0, used);
+                self.spare_uses += 1;
+                return pivots;
+            }
+        }
+        if self.lu.pivot_choices() > 0 {
+            self.spare.insert(0, self.lu.clone());
+            self.spare.truncate(SPARE_SEQUENCES);
+        }
         self.lu.factor(&self.scaled)
     }
 

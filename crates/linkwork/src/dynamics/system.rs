@@ -18,6 +18,17 @@ pub const MAX_PROJECTION: usize = 50;
 /// The scaled residual a projection stops at (round-off of unit-scaled rows).
 pub const PROJECTION_TOL: f64 = 1e-15;
 
+/// Where a positions' projection ended: its iterations, scaled |phi| before and after,
+/// whether its last correction used factors of the iterate it started from, and whether
+/// factors usable by the rates' projection are in place.
+struct Settled {
+    iterations: usize,
+    before: f64,
+    residual: f64,
+    fresh: bool,
+    factored: bool,
+}
+
 /// The workspace of the equations of motion of one model.
 pub struct System {
     pub aug: Augmented,
@@ -32,6 +43,8 @@ pub struct System {
     /// m: Phi_q qd and nu of the rates' projection (kept here: it runs every output row)
     rate: Vec<f64>,
     nu: Vec<f64>,
+    /// n: the iterate of the smallest |phi| of a projection (`project_state`)
+    best: Vec<f64>,
     pub pivots: Pivots,
 }
 
@@ -53,6 +66,7 @@ impl System {
             dq: vec![0.0; model.n_coords],
             rate: vec![0.0; model.n_rows],
             nu: vec![0.0; model.n_rows],
+            best: vec![0.0; model.n_coords],
             pivots: Pivots::NONE,
         }
     }
@@ -168,46 +182,8 @@ impl System {
         t: f64,
     ) -> (usize, f64, f64, f64) {
         let n = model.n_coords;
-        self.target.copy_from_slice(q);
-        let (mut before, mut residual) = (f64::NAN, f64::NAN);
-        let mut last = f64::INFINITY;
-        // whether the last correction was solved with factors of the iterate it started from
-        let mut fresh = false;
-        let mut factored = false;
-        let mut iterations = 0;
-        for it in 0..=MAX_PROJECTION {
-            self.data.q.copy_from_slice(q);
-            update_frames(&mut self.data);
-            self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
-            residual = max_abs(&self.phi);
-            if it == 0 {
-                before = residual;
-            }
-            let slow = residual > 0.5 * last;
-            // done, or stalled at round-off (a full Newton step no longer halving)
-            if !residual.is_finite() || residual <= PROJECTION_TOL || (slow && fresh) || it == MAX_PROJECTION
-            {
-                break;
-            }
-            fresh = !factored || slow;
-            if fresh {
-                self.pivots = self.aug.factor_for_solve();
-                factored = true;
-            }
-            last = residual;
-            for ((d, a), b) in self.dq.iter_mut().zip(&self.target).zip(q.iter()) {
-                *d = a - b;
-            }
-            mass_times(model, &self.data.frames, &self.dq, &mut self.x[..n]);
-            for (r, p) in self.x[n..].iter_mut().zip(&self.phi) {
-                *r = -p;
-            }
-            self.aug.solve_refined(&mut self.x);
-            for (qk, d) in q.iter_mut().zip(&self.x[..n]) {
-                *qk += d;
-            }
-            iterations = it + 1;
-        }
+        let Settled { iterations, before, residual, mut fresh, mut factored } =
+            self.settle_positions(model, q, t);
         if !residual.is_finite() || residual > model.options.tol_residual {
             return (iterations, before, residual, f64::NAN);
         }
@@ -247,6 +223,79 @@ impl System {
         (iterations, before, residual, before_d)
     }
 
+    /// The positions' part of `project_state`.
+    fn settle_positions(&mut self, model: &Model, q: &mut [f64], t: f64) -> Settled {
+        let n = model.n_coords;
+        self.target.copy_from_slice(q);
+        let (mut before, mut residual) = (f64::NAN, f64::NAN);
+        let mut last = f64::INFINITY;
+        // whether the last correction was solved with factors of the iterate it started from
+        let mut fresh = false;
+        let mut factored = false;
+        let mut iterations = 0;
+        // unregularised Newton, after a regularised one stalled above tol_residual
+        let mut exact = false;
+        let mut best = f64::INFINITY;
+        for it in 0..=MAX_PROJECTION {
+            self.data.q.copy_from_slice(q);
+            update_frames(&mut self.data);
+            self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+            residual = max_abs(&self.phi);
+            if it == 0 {
+                before = residual;
+            }
+            let slow = residual > 0.5 * last;
+            let stalled = slow && fresh;
+            // next to a singular configuration the regularised corrections relax the rows
+            // that become dependent, and Gauss-Newton stalls (or wanders) where a small
+            // residual is left there: from the best iterate on, unregularised Newton steps
+            // (their corrections along the weak directions as small as that residual)
+            let failing = best > model.options.tol_residual && it < MAX_PROJECTION;
+            if stalled && self.aug.regularised && !exact && failing {
+                exact = true;
+                if best < residual {
+                    q.copy_from_slice(&self.best);
+                    self.data.q.copy_from_slice(q);
+                    update_frames(&mut self.data);
+                    self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+                    residual = best;
+                }
+            } else if !residual.is_finite()
+                || residual <= PROJECTION_TOL
+                || (stalled && !exact)
+                || it == MAX_PROJECTION
+            {
+                break;
+            }
+            if residual < best {
+                best = residual;
+                self.best.copy_from_slice(q);
+            }
+            fresh = !factored || slow;
+            if fresh {
+                self.pivots = if exact { self.aug.factor(0.0) } else { self.aug.factor_for_solve() };
+                factored = true;
+            }
+            last = residual;
+            for ((d, a), b) in self.dq.iter_mut().zip(&self.target).zip(q.iter()) {
+                *d = a - b;
+            }
+            mass_times(model, &self.data.frames, &self.dq, &mut self.x[..n]);
+            for (r, p) in self.x[n..].iter_mut().zip(&self.phi) {
+                *r = -p;
+            }
+            self.aug.solve_refined(&mut self.x);
+            for (qk, d) in q.iter_mut().zip(&self.x[..n]) {
+                *qk += d;
+            }
+            iterations = it + 1;
+        }
+        // after unregularised steps the rates' projection factors again, regularised as
+        // before: an exact solve would turn their drift along the weak directions into
+        // large rates
+        Settled { iterations, before, residual, fresh, factored: factored && !exact }
+    }
+
     /// Projects qd onto Phi_q qd = nu at q (one solve; the augmented matrix is filled at
     /// q here). Returns the scaled |Phi_q qd - nu| before the projection.
     pub fn project_velocities(&mut self, model: &Model, q: &[f64], qd: &mut [f64], t: f64) -> f64 {
@@ -263,11 +312,8 @@ impl System {
 
     /// Scaled |Phi_q qd - nu| with the Jacobian last filled.
     pub fn velocity_drift(&mut self, model: &Model, qd: &[f64], t: f64) -> f64 {
-        let m = model.n_rows;
-        let mut rate = vec![0.0; m];
-        self.aug.jacobian_times(qd, &mut rate);
-        let mut nu = vec![0.0; m];
-        nu_into(model, t, &mut nu);
-        rate.iter().zip(&nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()))
+        self.aug.jacobian_times(qd, &mut self.rate);
+        nu_into(model, t, &mut self.nu);
+        self.rate.iter().zip(&self.nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()))
     }
 }

@@ -192,6 +192,14 @@ impl SparseLu {
         self.pivots()
     }
 
+    /// Factors A on the sequence it replays if every pivot passes its threshold; None
+    /// where one fails or nothing was chosen yet (the factors are then left unusable
+    /// until the next factorization).
+    pub fn factor_replayed(&mut self, values: &[f64]) -> Option<Pivots> {
+        assert_eq!(values.len(), self.a_row.len(), "values do not match the pattern");
+        (self.ready && matches!(self.replay(values, Check::Threshold), Replay::Done)).then(|| self.pivots())
+    }
+
     /// Factors A on the sequence it replays where a new choice on these values would take
     /// that sequence again (the pivots `factor_choosing` gives, to the bit, without its
     /// allocation); None where it would not, or nothing was chosen yet (the factors are
