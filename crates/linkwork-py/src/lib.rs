@@ -3,11 +3,12 @@
 
 use std::sync::Arc;
 
+use linkwork::memory::Column;
 use linkwork::model::OnRedundant;
 use linkwork::stepping::singular::Event;
 use linkwork::{Data, Description, LinearKind, Model, ModelError, Options, SolveError, SweepOutput};
-use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use numpy::ndarray::{Array2, ArrayView, Dimension, IntoDimension, Ix1};
+use numpy::{IntoPyArray, PyArray, PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -240,6 +241,42 @@ fn rows_to_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, m: usize) -> Bound
     Array2::from_shape_vec((n, m), v).expect("n x m buffer").into_pyarray(py).into_any()
 }
 
+/// Keeps a sweep's output column (and so the memory it shares with the sweep's other
+/// columns) alive while a NumPy array over it lives: the array's base.
+#[pyclass(frozen, module = "linkwork._core")]
+struct OutputMemory(#[allow(dead_code)] Box<dyn std::any::Any + Send + Sync>);
+
+/// A sweep's output column moved into NumPy, no copy: an array of `shape` over its
+/// elements, whose base keeps the column.
+fn column_array<'py, T, D>(py: Python<'py>, column: Column<T>, shape: D) -> PyResult<Bound<'py, PyAny>>
+where
+    T: numpy::Element + Copy + Send + Sync + 'static,
+    D: IntoDimension,
+{
+    let shape = shape.into_dimension();
+    assert_eq!(shape.size(), column.len(), "an output column of the shape asked");
+    // the elements lie in the column's Block, which moving the column does not move
+    let at = column.as_ptr();
+    let owner = Bound::new(py, OutputMemory(Box::new(column)))?;
+    // SAFETY: `at` points to shape.size() initialised elements of T, contiguous, row-major,
+    // which the column owned by `owner` (the array's base, kept as long as the array is)
+    // keeps alive and never moves; nothing else reads or writes them
+    let array = unsafe {
+        let view = ArrayView::from_shape_ptr(shape, at);
+        PyArray::borrow_from_array(&view, owner.into_any())
+    };
+    Ok(array.into_any())
+}
+
+/// `column_array` of one dimension.
+fn column_1d<'py, T>(py: Python<'py>, column: Column<T>) -> PyResult<Bound<'py, PyAny>>
+where
+    T: numpy::Element + Copy + Send + Sync + 'static,
+{
+    let n = column.len();
+    column_array(py, column, Ix1(n))
+}
+
 fn parse_request(
     derivatives: u8,
     forces: bool,
@@ -292,39 +329,34 @@ fn parse_outputs(
 fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, PyDict>> {
     let (n, m, np) = (out.n_done, out.n_kept, out.outputs.points.len());
     let d = PyDict::new(py);
-    d.set_item("q", rows_to_array(py, out.q, n, m))?;
     let derivatives = out.request.derivatives;
-    d.set_item("qd", (derivatives >= 1).then(|| rows_to_array(py, out.qd, n, m)))?;
-    d.set_item("qdd", (derivatives >= 2).then(|| rows_to_array(py, out.qdd, n, m)))?;
+    let rows = |c: Column<f64>| column_array(py, c, (n, m));
+    d.set_item("q", rows(out.q)?)?;
+    d.set_item("qd", if derivatives >= 1 { Some(rows(out.qd)?) } else { None })?;
+    d.set_item("qdd", if derivatives >= 2 { Some(rows(out.qdd)?) } else { None })?;
     if np > 0 {
-        let points = |v: Vec<f64>| {
-            numpy::ndarray::Array3::from_shape_vec((n, np, 2), v)
-                .expect("n x points x 2 buffer")
-                .into_pyarray(py)
-        };
-        d.set_item("points", points(out.points))?;
-        d.set_item("points_d", (derivatives >= 1).then(|| points(out.points_d)))?;
-        d.set_item("points_dd", (derivatives >= 2).then(|| points(out.points_dd)))?;
+        let points = |c: Column<f64>| column_array(py, c, (n, np, 2));
+        d.set_item("points", points(out.points)?)?;
+        d.set_item("points_d", if derivatives >= 1 { Some(points(out.points_d)?) } else { None })?;
+        d.set_item("points_dd", if derivatives >= 2 { Some(points(out.points_dd)?) } else { None })?;
     }
-    d.set_item("iterations", out.iterations.into_pyarray(py))?;
-    d.set_item("residual", out.residual.into_pyarray(py))?;
-    d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
-    d.set_item("times", out.times.into_pyarray(py))?;
-    d.set_item("det_sign", out.det_sign.into_pyarray(py))?;
+    d.set_item("iterations", column_1d(py, out.iterations)?)?;
+    d.set_item("residual", column_1d(py, out.residual)?)?;
+    d.set_item("pivot_ratio", column_1d(py, out.pivot_ratio)?)?;
+    d.set_item("times", column_1d(py, out.times)?)?;
+    d.set_item("det_sign", column_1d(py, out.det_sign)?)?;
     let events = out.events.iter().map(|e| events::event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
     d.set_item("events", events)?;
     if out.request.forces {
         let (r, nc) = (out.n_rows, out.n_constraints);
-        d.set_item("lambda", rows_to_array(py, out.lambda, n, r))?;
+        let rows = |c: Column<f64>| column_array(py, c, (n, r));
+        d.set_item("lambda", rows(out.lambda)?)?;
         let [pi, pg, pl] = out.lambda_parts;
-        d.set_item("lambda_inertia", rows_to_array(py, pi, n, r))?;
-        d.set_item("lambda_gravity", rows_to_array(py, pg, n, r))?;
-        d.set_item("lambda_loads", rows_to_array(py, pl, n, r))?;
-        let reactions =
-            numpy::ndarray::Array3::from_shape_vec((n, nc, linkwork::REACTION_COLUMNS), out.reactions)
-                .expect("n x nc x 4 buffer");
-        d.set_item("reactions", reactions.into_pyarray(py))?;
-        d.set_item("load_power", out.load_power.into_pyarray(py))?;
+        d.set_item("lambda_inertia", rows(pi)?)?;
+        d.set_item("lambda_gravity", rows(pg)?)?;
+        d.set_item("lambda_loads", rows(pl)?)?;
+        d.set_item("reactions", column_array(py, out.reactions, (n, nc, linkwork::REACTION_COLUMNS))?)?;
+        d.set_item("load_power", column_1d(py, out.load_power)?)?;
     }
     Ok(d)
 }
