@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use linkwork::memory::Column;
+use linkwork::memory::{Block, Column};
 use linkwork::model::OnRedundant;
 use linkwork::stepping::singular::Event;
 use linkwork::{Data, Description, LinearKind, Model, ModelError, Options, SolveError, SweepOutput};
@@ -241,40 +241,57 @@ fn rows_to_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, m: usize) -> Bound
     Array2::from_shape_vec((n, m), v).expect("n x m buffer").into_pyarray(py).into_any()
 }
 
-/// Keeps a sweep's output column (and so the memory it shares with the sweep's other
-/// columns) alive while a NumPy array over it lives: the array's base.
+/// Keeps a sweep's output memory (the `Block` its columns share) alive while a NumPy
+/// array over it lives: the arrays' base.
 #[pyclass(frozen, module = "linkwork._core")]
-struct OutputMemory(#[allow(dead_code)] Box<dyn std::any::Any + Send + Sync>);
+struct OutputMemory(#[allow(dead_code)] Arc<Block>);
 
-/// A sweep's output column moved into NumPy, no copy: an array of `shape` over its
-/// elements, whose base keeps the column.
-fn column_array<'py, T, D>(py: Python<'py>, column: Column<T>, shape: D) -> PyResult<Bound<'py, PyAny>>
-where
-    T: numpy::Element + Copy + Send + Sync + 'static,
-    D: IntoDimension,
-{
-    let shape = shape.into_dimension();
-    assert_eq!(shape.size(), column.len(), "an output column of the shape asked");
-    // the elements lie in the column's Block, which moving the column does not move
-    let at = column.as_ptr();
-    let owner = Bound::new(py, OutputMemory(Box::new(column)))?;
-    // SAFETY: `at` points to shape.size() initialised elements of T, contiguous, row-major,
-    // which the column owned by `owner` (the array's base, kept as long as the array is)
-    // keeps alive and never moves; nothing else reads or writes them
-    let array = unsafe {
-        let view = ArrayView::from_shape_ptr(shape, at);
-        PyArray::borrow_from_array(&view, owner.into_any())
-    };
-    Ok(array.into_any())
+/// The base objects of a sweep's arrays: one per Block (a sweep's columns share one).
+#[derive(Default)]
+struct Owners<'py> {
+    last: Option<(Arc<Block>, Bound<'py, PyAny>)>,
 }
 
-/// `column_array` of one dimension.
-fn column_1d<'py, T>(py: Python<'py>, column: Column<T>) -> PyResult<Bound<'py, PyAny>>
-where
-    T: numpy::Element + Copy + Send + Sync + 'static,
-{
-    let n = column.len();
-    column_array(py, column, Ix1(n))
+impl<'py> Owners<'py> {
+    /// A sweep's output column moved into NumPy, no copy: an array of `shape` over its
+    /// elements, whose base keeps their Block.
+    fn array<T, D>(&mut self, py: Python<'py>, column: Column<T>, shape: D) -> PyResult<Bound<'py, PyAny>>
+    where
+        T: numpy::Element + Copy,
+        D: IntoDimension,
+    {
+        let shape = shape.into_dimension();
+        assert_eq!(shape.size(), column.len(), "an output column of the shape asked");
+        let Some(block) = column.block() else {
+            // no elements, no memory
+            return Ok(PyArray::<T, _>::zeros(py, shape, false).into_any());
+        };
+        let owner = match &self.last {
+            Some((b, owner)) if Arc::ptr_eq(b, block) => owner.clone(),
+            _ => {
+                let owner = Bound::new(py, OutputMemory(Arc::clone(block)))?.into_any();
+                self.last = Some((Arc::clone(block), owner.clone()));
+                owner
+            }
+        };
+        // SAFETY: the column's elements, shape.size() of them, initialised, contiguous,
+        // row-major, lie in the Block that `owner` (the array's base, kept as long as the
+        // array is) keeps alive and never moves; no other column covers them
+        let array = unsafe {
+            let view = ArrayView::from_shape_ptr(shape, column.as_ptr());
+            PyArray::borrow_from_array(&view, owner)
+        };
+        Ok(array.into_any())
+    }
+
+    /// `array` of one dimension.
+    fn array_1d<T>(&mut self, py: Python<'py>, column: Column<T>) -> PyResult<Bound<'py, PyAny>>
+    where
+        T: numpy::Element + Copy,
+    {
+        let n = column.len();
+        self.array(py, column, Ix1(n))
+    }
 }
 
 fn parse_request(
@@ -330,33 +347,38 @@ fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, Py
     let (n, m, np) = (out.n_done, out.n_kept, out.outputs.points.len());
     let d = PyDict::new(py);
     let derivatives = out.request.derivatives;
-    let rows = |c: Column<f64>| column_array(py, c, (n, m));
-    d.set_item("q", rows(out.q)?)?;
-    d.set_item("qd", if derivatives >= 1 { Some(rows(out.qd)?) } else { None })?;
-    d.set_item("qdd", if derivatives >= 2 { Some(rows(out.qdd)?) } else { None })?;
+    let mut o = Owners::default();
+    d.set_item("q", o.array(py, out.q, (n, m))?)?;
+    d.set_item("qd", if derivatives >= 1 { Some(o.array(py, out.qd, (n, m))?) } else { None })?;
+    d.set_item("qdd", if derivatives >= 2 { Some(o.array(py, out.qdd, (n, m))?) } else { None })?;
     if np > 0 {
-        let points = |c: Column<f64>| column_array(py, c, (n, np, 2));
-        d.set_item("points", points(out.points)?)?;
-        d.set_item("points_d", if derivatives >= 1 { Some(points(out.points_d)?) } else { None })?;
-        d.set_item("points_dd", if derivatives >= 2 { Some(points(out.points_dd)?) } else { None })?;
+        let shape = (n, np, 2);
+        d.set_item("points", o.array(py, out.points, shape)?)?;
+        d.set_item(
+            "points_d",
+            if derivatives >= 1 { Some(o.array(py, out.points_d, shape)?) } else { None },
+        )?;
+        d.set_item(
+            "points_dd",
+            if derivatives >= 2 { Some(o.array(py, out.points_dd, shape)?) } else { None },
+        )?;
     }
-    d.set_item("iterations", column_1d(py, out.iterations)?)?;
-    d.set_item("residual", column_1d(py, out.residual)?)?;
-    d.set_item("pivot_ratio", column_1d(py, out.pivot_ratio)?)?;
-    d.set_item("times", column_1d(py, out.times)?)?;
-    d.set_item("det_sign", column_1d(py, out.det_sign)?)?;
+    d.set_item("iterations", o.array_1d(py, out.iterations)?)?;
+    d.set_item("residual", o.array_1d(py, out.residual)?)?;
+    d.set_item("pivot_ratio", o.array_1d(py, out.pivot_ratio)?)?;
+    d.set_item("times", o.array_1d(py, out.times)?)?;
+    d.set_item("det_sign", o.array_1d(py, out.det_sign)?)?;
     let events = out.events.iter().map(|e| events::event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
     d.set_item("events", events)?;
     if out.request.forces {
         let (r, nc) = (out.n_rows, out.n_constraints);
-        let rows = |c: Column<f64>| column_array(py, c, (n, r));
-        d.set_item("lambda", rows(out.lambda)?)?;
+        d.set_item("lambda", o.array(py, out.lambda, (n, r))?)?;
         let [pi, pg, pl] = out.lambda_parts;
-        d.set_item("lambda_inertia", rows(pi)?)?;
-        d.set_item("lambda_gravity", rows(pg)?)?;
-        d.set_item("lambda_loads", rows(pl)?)?;
-        d.set_item("reactions", column_array(py, out.reactions, (n, nc, linkwork::REACTION_COLUMNS))?)?;
-        d.set_item("load_power", column_1d(py, out.load_power)?)?;
+        d.set_item("lambda_inertia", o.array(py, pi, (n, r))?)?;
+        d.set_item("lambda_gravity", o.array(py, pg, (n, r))?)?;
+        d.set_item("lambda_loads", o.array(py, pl, (n, r))?)?;
+        d.set_item("reactions", o.array(py, out.reactions, (n, nc, linkwork::REACTION_COLUMNS))?)?;
+        d.set_item("load_power", o.array_1d(py, out.load_power)?)?;
     }
     Ok(d)
 }
