@@ -3,11 +3,12 @@
 
 use std::sync::Arc;
 
+use linkwork::memory::{Block, Column};
 use linkwork::model::OnRedundant;
 use linkwork::stepping::singular::Event;
 use linkwork::{Data, Description, LinearKind, Model, ModelError, Options, SolveError, SweepOutput};
-use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use numpy::ndarray::{Array2, ArrayView, Dimension, IntoDimension, Ix1};
+use numpy::{IntoPyArray, PyArray, PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -240,6 +241,59 @@ fn rows_to_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, m: usize) -> Bound
     Array2::from_shape_vec((n, m), v).expect("n x m buffer").into_pyarray(py).into_any()
 }
 
+/// Keeps a sweep's output memory (the `Block` its columns share) alive while a NumPy
+/// array over it lives: the arrays' base.
+#[pyclass(frozen, module = "linkwork._core")]
+struct OutputMemory(#[allow(dead_code)] Arc<Block>);
+
+/// The base objects of a sweep's arrays: one per Block (a sweep's columns share one).
+#[derive(Default)]
+struct Owners<'py> {
+    last: Option<(Arc<Block>, Bound<'py, PyAny>)>,
+}
+
+impl<'py> Owners<'py> {
+    /// A sweep's output column moved into NumPy, no copy: an array of `shape` over its
+    /// elements, whose base keeps their Block.
+    fn array<T, D>(&mut self, py: Python<'py>, column: Column<T>, shape: D) -> PyResult<Bound<'py, PyAny>>
+    where
+        T: numpy::Element + Copy,
+        D: IntoDimension,
+    {
+        let shape = shape.into_dimension();
+        assert_eq!(shape.size(), column.len(), "an output column of the shape asked");
+        let Some(block) = column.block() else {
+            // no elements, no memory
+            return Ok(PyArray::<T, _>::zeros(py, shape, false).into_any());
+        };
+        let owner = match &self.last {
+            Some((b, owner)) if Arc::ptr_eq(b, block) => owner.clone(),
+            _ => {
+                let owner = Bound::new(py, OutputMemory(Arc::clone(block)))?.into_any();
+                self.last = Some((Arc::clone(block), owner.clone()));
+                owner
+            }
+        };
+        // SAFETY: the column's elements, shape.size() of them, initialised, contiguous,
+        // row-major, lie in the Block that `owner` (the array's base, kept as long as the
+        // array is) keeps alive and never moves; no other column covers them
+        let array = unsafe {
+            let view = ArrayView::from_shape_ptr(shape, column.as_ptr());
+            PyArray::borrow_from_array(&view, owner)
+        };
+        Ok(array.into_any())
+    }
+
+    /// `array` of one dimension.
+    fn array_1d<T>(&mut self, py: Python<'py>, column: Column<T>) -> PyResult<Bound<'py, PyAny>>
+    where
+        T: numpy::Element + Copy,
+    {
+        let n = column.len();
+        self.array(py, column, Ix1(n))
+    }
+}
+
 fn parse_request(
     derivatives: u8,
     forces: bool,
@@ -292,39 +346,39 @@ fn parse_outputs(
 fn output_dict<'py>(py: Python<'py>, out: SweepOutput) -> PyResult<Bound<'py, PyDict>> {
     let (n, m, np) = (out.n_done, out.n_kept, out.outputs.points.len());
     let d = PyDict::new(py);
-    d.set_item("q", rows_to_array(py, out.q, n, m))?;
     let derivatives = out.request.derivatives;
-    d.set_item("qd", (derivatives >= 1).then(|| rows_to_array(py, out.qd, n, m)))?;
-    d.set_item("qdd", (derivatives >= 2).then(|| rows_to_array(py, out.qdd, n, m)))?;
+    let mut o = Owners::default();
+    d.set_item("q", o.array(py, out.q, (n, m))?)?;
+    d.set_item("qd", if derivatives >= 1 { Some(o.array(py, out.qd, (n, m))?) } else { None })?;
+    d.set_item("qdd", if derivatives >= 2 { Some(o.array(py, out.qdd, (n, m))?) } else { None })?;
     if np > 0 {
-        let points = |v: Vec<f64>| {
-            numpy::ndarray::Array3::from_shape_vec((n, np, 2), v)
-                .expect("n x points x 2 buffer")
-                .into_pyarray(py)
-        };
-        d.set_item("points", points(out.points))?;
-        d.set_item("points_d", (derivatives >= 1).then(|| points(out.points_d)))?;
-        d.set_item("points_dd", (derivatives >= 2).then(|| points(out.points_dd)))?;
+        let shape = (n, np, 2);
+        d.set_item("points", o.array(py, out.points, shape)?)?;
+        d.set_item(
+            "points_d",
+            if derivatives >= 1 { Some(o.array(py, out.points_d, shape)?) } else { None },
+        )?;
+        d.set_item(
+            "points_dd",
+            if derivatives >= 2 { Some(o.array(py, out.points_dd, shape)?) } else { None },
+        )?;
     }
-    d.set_item("iterations", out.iterations.into_pyarray(py))?;
-    d.set_item("residual", out.residual.into_pyarray(py))?;
-    d.set_item("pivot_ratio", out.pivot_ratio.into_pyarray(py))?;
-    d.set_item("times", out.times.into_pyarray(py))?;
-    d.set_item("det_sign", out.det_sign.into_pyarray(py))?;
+    d.set_item("iterations", o.array_1d(py, out.iterations)?)?;
+    d.set_item("residual", o.array_1d(py, out.residual)?)?;
+    d.set_item("pivot_ratio", o.array_1d(py, out.pivot_ratio)?)?;
+    d.set_item("times", o.array_1d(py, out.times)?)?;
+    d.set_item("det_sign", o.array_1d(py, out.det_sign)?)?;
     let events = out.events.iter().map(|e| events::event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
     d.set_item("events", events)?;
     if out.request.forces {
         let (r, nc) = (out.n_rows, out.n_constraints);
-        d.set_item("lambda", rows_to_array(py, out.lambda, n, r))?;
+        d.set_item("lambda", o.array(py, out.lambda, (n, r))?)?;
         let [pi, pg, pl] = out.lambda_parts;
-        d.set_item("lambda_inertia", rows_to_array(py, pi, n, r))?;
-        d.set_item("lambda_gravity", rows_to_array(py, pg, n, r))?;
-        d.set_item("lambda_loads", rows_to_array(py, pl, n, r))?;
-        let reactions =
-            numpy::ndarray::Array3::from_shape_vec((n, nc, linkwork::REACTION_COLUMNS), out.reactions)
-                .expect("n x nc x 4 buffer");
-        d.set_item("reactions", reactions.into_pyarray(py))?;
-        d.set_item("load_power", out.load_power.into_pyarray(py))?;
+        d.set_item("lambda_inertia", o.array(py, pi, (n, r))?)?;
+        d.set_item("lambda_gravity", o.array(py, pg, (n, r))?)?;
+        d.set_item("lambda_loads", o.array(py, pl, (n, r))?)?;
+        d.set_item("reactions", o.array(py, out.reactions, (n, nc, linkwork::REACTION_COLUMNS))?)?;
+        d.set_item("load_power", o.array_1d(py, out.load_power)?)?;
     }
     Ok(d)
 }

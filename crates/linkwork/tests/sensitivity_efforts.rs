@@ -50,7 +50,7 @@ fn multipliers(desc: &Value, engine: Option<(usize, usize, f64)>, times: &[f64])
     let mut data = Data::new(&model);
     let mut out = SweepOutput::with_forces(&model, times);
     linkwork::sweep(&model, &mut data, times, &mut out, 0, &mut |_| true).unwrap();
-    out.lambda
+    out.lambda.to_vec()
 }
 
 /// dlambda/dp of every parameter (the engine's numbers of every joint and driver, and

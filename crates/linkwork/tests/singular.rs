@@ -161,7 +161,7 @@ fn det_sign_agrees_between_the_linear_solvers() {
             let (out, r) = run(&model, &times, Request::default());
             r.unwrap();
             assert!(out.det_sign.iter().all(|s| s.abs() == 1.0));
-            out.det_sign
+            out.det_sign.to_vec()
         })
         .collect();
     assert_eq!(signs[0], signs[1]);

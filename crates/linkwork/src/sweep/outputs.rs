@@ -3,7 +3,7 @@
 
 use crate::error::SolveError;
 use crate::model::data::Data;
-use crate::model::memory::zeroed;
+use crate::model::memory::{Column, Columns};
 use crate::model::Model;
 use crate::solve::forces::{load_power, reactions, REACTION_COLUMNS};
 use crate::solve::position::PositionInfo;
@@ -89,35 +89,35 @@ pub struct SweepOutput {
     pub n_done: usize,
     pub request: Request,
     /// n_steps
-    pub times: Vec<f64>,
+    pub times: Column<f64>,
     /// what is kept of the coordinates and which body points
     pub outputs: Outputs,
     /// n_steps x n_kept (qd, qdd empty when not solved)
-    pub q: Vec<f64>,
-    pub qd: Vec<f64>,
-    pub qdd: Vec<f64>,
+    pub q: Column<f64>,
+    pub qd: Column<f64>,
+    pub qdd: Column<f64>,
     /// n_steps x outputs.points.len() x 2: the points' world positions, velocities, accelerations
     /// (empty when not solved)
-    pub points: Vec<f64>,
-    pub points_d: Vec<f64>,
-    pub points_dd: Vec<f64>,
+    pub points: Column<f64>,
+    pub points_d: Column<f64>,
+    pub points_dd: Column<f64>,
     /// n_steps: Newton iterations (factorizations) of each step
-    pub iterations: Vec<u32>,
+    pub iterations: Column<u32>,
     /// n_steps: scaled residual inf-norm at each step's last Newton evaluation
-    pub residual: Vec<f64>,
+    pub residual: Column<f64>,
     /// n_steps: smallest / largest pivot of the scaled Phi_q (0 at a singular configuration)
-    pub pivot_ratio: Vec<f64>,
+    pub pivot_ratio: Column<f64>,
     /// n_steps x n_rows: Lagrange multipliers (empty without forces)
-    pub lambda: Vec<f64>,
+    pub lambda: Column<f64>,
     /// 3 x (n_steps x n_rows): lambda split into inertia, gravity and loads
-    pub lambda_parts: [Vec<f64>; 3],
+    pub lambda_parts: [Column<f64>; 3],
     /// n_steps x n_constraints x 4: each constraint's reaction on its side b (Fx, Fy in
     /// world axes, torque about its anchor) and the power it delivers
-    pub reactions: Vec<f64>,
+    pub reactions: Column<f64>,
     /// n_steps: power of the applied loads, Q_loads . qd
-    pub load_power: Vec<f64>,
+    pub load_power: Column<f64>,
     /// n_steps: sign of det Phi_q at each kept step (flips where a singularity is crossed)
-    pub det_sign: Vec<f64>,
+    pub det_sign: Column<f64>,
     /// the located events, in time order: limits, bifurcations, locks, branch jumps
     pub events: Vec<Event>,
 }
@@ -154,7 +154,29 @@ impl SweepOutput {
         let n = times.len().div_ceil(every);
         let (r, nc) = (model.n_rows, model.constraints.len());
         let (m, np) = (outputs.n_kept(model), outputs.points.len());
-        let sized = |on: bool, len: usize| if on { zeroed(len) } else { Vec::new() };
+        // every column in one allocation (`Columns`), laid out in the order taken below;
+        // what is not kept has no length
+        let on = |on: bool, len: usize| if on { len } else { 0 };
+        let mut c = Columns::default();
+        c.add::<f64>(times.len().div_ceil(every));
+        for len in [n * m, on(d >= 1, n * m), on(d >= 2, n * m)] {
+            c.add::<f64>(len);
+        }
+        for len in [n * np * 2, on(d >= 1, n * np * 2), on(d >= 2, n * np * 2)] {
+            c.add::<f64>(len);
+        }
+        c.add::<u32>(n);
+        for len in [n, n, on(forces, n * r), on(forces, n * r), on(forces, n * r), on(forces, n * r)] {
+            c.add::<f64>(len);
+        }
+        for len in [on(forces, n * nc * REACTION_COLUMNS), on(forces, n), n] {
+            c.add::<f64>(len);
+        }
+        c.finish();
+        let mut times_kept = c.take::<f64>();
+        for (o, &t) in times_kept.iter_mut().zip(times.iter().step_by(every)) {
+            *o = t;
+        }
         SweepOutput {
             n_steps: n,
             n_coords: model.n_coords,
@@ -163,22 +185,22 @@ impl SweepOutput {
             n_constraints: nc,
             n_done: 0,
             request,
-            times: times.iter().step_by(every).copied().collect(),
+            times: times_kept,
             outputs,
-            q: zeroed(n * m),
-            qd: sized(d >= 1, n * m),
-            qdd: sized(d >= 2, n * m),
-            points: zeroed(n * np * 2),
-            points_d: sized(d >= 1, n * np * 2),
-            points_dd: sized(d >= 2, n * np * 2),
-            iterations: zeroed(n),
-            residual: zeroed(n),
-            pivot_ratio: zeroed(n),
-            lambda: sized(forces, n * r),
-            lambda_parts: std::array::from_fn(|_| sized(forces, n * r)),
-            reactions: sized(forces, n * nc * REACTION_COLUMNS),
-            load_power: sized(forces, n),
-            det_sign: zeroed(n),
+            q: c.take(),
+            qd: c.take(),
+            qdd: c.take(),
+            points: c.take(),
+            points_d: c.take(),
+            points_dd: c.take(),
+            iterations: c.take(),
+            residual: c.take(),
+            pivot_ratio: c.take(),
+            lambda: c.take(),
+            lambda_parts: std::array::from_fn(|_| c.take()),
+            reactions: c.take(),
+            load_power: c.take(),
+            det_sign: c.take(),
             events: Vec::new(),
         }
     }
