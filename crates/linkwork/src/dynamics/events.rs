@@ -460,17 +460,17 @@ impl Watch {
 /// last dependency `w` (left there).
 fn sigma_here(model: &Model, sys: &mut System, q: &[f64], t: f64, w: &mut [f64]) -> f64 {
     let n = model.n_coords;
-    let mut phi = vec![0.0; model.n_rows];
     sys.data.q.copy_from_slice(q);
     crate::solve::assembly::update_frames(&mut sys.data);
-    sys.aug.fill(model, &sys.data.frames, q, t, 1.0, &mut phi);
+    sys.aug.fill(model, &sys.data.frames, q, t, 1.0, &mut sys.phi);
     sys.aug.factor(0.0);
-    let mut x = vec![0.0; n + model.n_rows];
+    // the workspace's own solve buffer (n + m)
+    let x = &mut sys.x;
     let mut growth = 0.0;
     for _ in 0..3 {
         x[..n].fill(0.0);
         x[n..].copy_from_slice(w);
-        sys.aug.solve(&mut x);
+        sys.aug.solve(x);
         growth = x[n..].iter().map(|v| v * v).sum::<f64>().sqrt();
         if !(growth > 0.0 && growth.is_finite()) {
             return 0.0;

@@ -1,6 +1,8 @@
 //! What a simulation keeps at each of the times asked for: q, qd, qdd, the multipliers,
 //! the constraints' drift, the energy balance and the step's diagnostics, in contiguous
 //! (times x columns) arrays allocated once. A failure keeps the rows done (`n_done`).
+//! qdd, the multipliers, the reactions and the pivot ratios are allocated where rows are
+//! solved (`solved_rows`): a run that leaves them to `record::solve_rows` has them empty.
 
 use crate::dynamics::initial::Moved;
 use crate::model::Model;
@@ -17,6 +19,8 @@ pub struct SimOutput {
     pub n_done: usize,
     pub q: Vec<f64>,
     pub qd: Vec<f64>,
+    /// qdd, `lambda`, `reactions` and `pivot_ratio`: empty until a row is solved, then
+    /// of every row (NaN where not solved)
     pub qdd: Vec<f64>,
     /// multipliers of M qdd + Phi_q^T lambda = Q_A (in the rows' own units)
     pub lambda: Vec<f64>,
@@ -60,9 +64,6 @@ impl SimOutput {
             n_done: 0,
             q: nan(k * n),
             qd: nan(k * n),
-            qdd: nan(k * n),
-            lambda: nan(k * m),
-            reactions: nan(k * model.constraints.len() * REACTION_COLUMNS),
             drift: nan(k),
             drift_d: nan(k),
             kinetic: nan(k),
@@ -70,8 +71,19 @@ impl SimOutput {
             work: nan(k),
             step: nan(k),
             iterations: vec![0; k],
-            pivot_ratio: nan(k),
             ..SimOutput::default()
+        }
+    }
+
+    /// Allocates qdd, the multipliers, the reactions and the pivot ratios (NaN) if they
+    /// are not yet: before the first row is solved.
+    pub fn solved_rows(&mut self, model: &Model) {
+        if self.pivot_ratio.is_empty() {
+            let (k, n, m) = (self.times.len(), self.n_coords, self.n_rows);
+            self.qdd = vec![f64::NAN; k * n];
+            self.lambda = vec![f64::NAN; k * m];
+            self.reactions = vec![f64::NAN; k * model.constraints.len() * REACTION_COLUMNS];
+            self.pivot_ratio = vec![f64::NAN; k];
         }
     }
 
@@ -81,6 +93,7 @@ impl SimOutput {
         let nr = self.reactions.len() / self.times.len().max(1);
         self.reactions.truncate(k * nr);
         self.times.truncate(k);
+        // (the solved rows' arrays, where still empty, stay empty)
         for (v, w) in [(&mut self.q, n), (&mut self.qd, n), (&mut self.qdd, n), (&mut self.lambda, m)] {
             v.truncate(k * w);
         }

@@ -22,7 +22,8 @@ pub struct StepInfo {
 
 /// Projects (q, qd) at t onto the constraints and stores row k: the drift before the
 /// projection, the energies, and with `solve` qdd, lambda, the reactions and the pivot
-/// ratio from the index-1 solve there (otherwise left NaN for `solve_rows`).
+/// ratio from the index-1 solve there (otherwise left for `solve_rows`: those arrays
+/// stay empty).
 #[allow(clippy::too_many_arguments)]
 pub fn store_state(
     model: &Model,
@@ -65,6 +66,7 @@ pub fn store_state(
 /// stored rows, from the index-1 solve at each (what `store_state` leaves when not asked).
 pub fn solve_rows(model: &Model, out: &mut SimOutput) -> Result<(), SolveError> {
     let mut sys = System::new(model);
+    out.solved_rows(model);
     for k in 0..out.n_done {
         solve_row(model, &mut sys, out, k)?;
     }
@@ -74,6 +76,7 @@ pub fn solve_rows(model: &Model, out: &mut SimOutput) -> Result<(), SolveError> 
 /// Row k's index-1 solve at its stored (q, qd).
 fn solve_row(model: &Model, sys: &mut System, out: &mut SimOutput, k: usize) -> Result<(), SolveError> {
     let (n, m) = (model.n_coords, model.n_rows);
+    out.solved_rows(model);
     let t = out.times[k];
     let (q, qd) = (out.q[k * n..(k + 1) * n].to_vec(), out.qd[k * n..(k + 1) * n].to_vec());
     let (qdd, lambda) = (&mut out.qdd[k * n..(k + 1) * n], &mut out.lambda[k * m..(k + 1) * m]);

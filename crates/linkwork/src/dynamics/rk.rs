@@ -180,10 +180,7 @@ pub fn integrate(
             rhs.step_pivot = f64::INFINITY;
             let mut finite = true;
             for s in 1..tab::STAGES {
-                for i in 0..len {
-                    let dy: f64 = (0..s).map(|j| tab::A[s][j] * k[j][i]).sum();
-                    stage[i] = y[i] + h * dy;
-                }
+                combine(&tab::A[s][..s], &k[..s], h, &y, &mut stage);
                 let (head, tail) = k.split_at_mut(s);
                 let _ = head;
                 finite &= rhs.eval(model, sys, t + tab::C[s] * h, &stage, &mut tail[0]);
@@ -192,10 +189,7 @@ pub fn integrate(
                 }
             }
             if finite {
-                for i in 0..len {
-                    let dy: f64 = (0..tab::STAGES).map(|j| tab::B[j] * k[j][i]).sum();
-                    y_new[i] = y[i] + h * dy;
-                }
+                combine(&tab::B, &k[..tab::STAGES], h, &y, &mut y_new);
                 let (head, tail) = k.split_at_mut(tab::STAGES);
                 let _ = head;
                 finite = rhs.eval(model, sys, t + h, &y_new, &mut tail[0]);
@@ -262,15 +256,15 @@ pub fn integrate(
                     have_dense = true;
                 }
                 let x = (tk - t) / h_step;
-                y_out.fill(0.0);
-                for (i, fc) in dense.iter().rev().enumerate() {
-                    for (v, c) in y_out.iter_mut().zip(fc) {
-                        *v += c;
-                        *v *= if i % 2 == 0 { x } else { 1.0 - x };
+                let x1 = 1.0 - x;
+                // Hairer's contd8, one component at a time (its sum in a register)
+                for (i, (v, y0)) in y_out.iter_mut().zip(&y).enumerate() {
+                    let mut sum = 0.0;
+                    for (p, fc) in dense.iter().rev().enumerate() {
+                        sum += fc[i];
+                        sum *= if p % 2 == 0 { x } else { x1 };
                     }
-                }
-                for (v, y0) in y_out.iter_mut().zip(&y) {
-                    *v += y0;
+                    *v = sum + y0;
                 }
             }
             let (qo, rest) = y_out.split_at_mut(n);
@@ -403,6 +397,21 @@ fn error_norm(k: &[Vec<f64>], h: f64, y: &[f64], y_new: &[f64], n: usize, scale_
     h.abs() * e5 / ((e5 + 0.01 * e3) * (2 * n) as f64).sqrt()
 }
 
+/// out = y + h sum_j a_j k_j, the sum over j in order for each component (the bits of
+/// `(0..s).map(..).sum()`), a stage at a time over all components.
+fn combine(a: &[f64], k: &[Vec<f64>], h: f64, y: &[f64], out: &mut [f64]) {
+    let len = out.len();
+    out.fill(-0.0);
+    for (&aj, kj) in a.iter().zip(k) {
+        for (o, v) in out.iter_mut().zip(&kj[..len]) {
+            *o += aj * v;
+        }
+    }
+    for (o, y0) in out.iter_mut().zip(y) {
+        *o = y0 + h * *o;
+    }
+}
+
 /// The dense output's coefficients of the step (t, y) -> (t + h, y_new): three more
 /// stages, then F0..F6 (Hairer's contd8).
 #[allow(clippy::too_many_arguments)]
@@ -421,10 +430,7 @@ fn dense_coefficients(
 ) {
     let len = y.len();
     for s in tab::STAGES + 1..tab::STAGES_EXTENDED {
-        for i in 0..len {
-            let dy: f64 = (0..s).map(|j| tab::A[s][j] * k[j][i]).sum();
-            stage[i] = y[i] + h * dy;
-        }
+        combine(&tab::A[s][..s], &k[..s], h, y, stage);
         let (_, tail) = k.split_at_mut(s);
         rhs.eval(model, sys, t + tab::C[s] * h, stage, &mut tail[0]);
     }
