@@ -203,12 +203,13 @@ impl Augmented {
     /// Writes c_m M(q) in the top-left block (zeroing the rest of it), Phi_q and Phi_q^T
     /// (scaled rows) at the frames and q (own coordinates), and phi into `phi` (m).
     pub fn fill(&mut self, model: &Model, frames: &[Frame], q: &[f64], t: f64, c_m: f64, phi: &mut [f64]) {
-        self.values.fill(0.0);
+        let values = &mut self.values[..];
+        values.fill(0.0);
         for (i, body) in model.inertias.iter().enumerate() {
             let mb = mass_block(body, &frames[i]);
             let slots = self.body_blocks[i];
             for e in 0..9 {
-                self.values[slots[e] as usize] = c_m * mb[e / 3][e % 3];
+                values[slots[e] as usize] = c_m * mb[e / 3][e % 3];
             }
         }
         for (c, s) in model.constraints.iter().zip(&self.jac) {
@@ -221,17 +222,17 @@ impl Augmented {
                 phi[c.row0 + i] = rows.phi[i] * rs;
                 for j in 0..3 {
                     if c.body_a.is_some() {
-                        self.values[s.a[i][j] as usize] = rows.jac_a[i][j] * rs;
-                        self.values[s.at[i][j] as usize] = rows.jac_a[i][j] * rs;
+                        values[s.a[i][j] as usize] = rows.jac_a[i][j] * rs;
+                        values[s.at[i][j] as usize] = rows.jac_a[i][j] * rs;
                     }
                     if c.body_b.is_some() {
-                        self.values[s.b[i][j] as usize] = rows.jac_b[i][j] * rs;
-                        self.values[s.bt[i][j] as usize] = rows.jac_b[i][j] * rs;
+                        values[s.b[i][j] as usize] = rows.jac_b[i][j] * rs;
+                        values[s.bt[i][j] as usize] = rows.jac_b[i][j] * rs;
                     }
                 }
                 if c.extra.is_some() {
-                    self.values[s.s[i] as usize] += rows.jac_s[i] * rs;
-                    self.values[s.st[i] as usize] += rows.jac_s[i] * rs;
+                    values[s.s[i] as usize] += rows.jac_s[i] * rs;
+                    values[s.st[i] as usize] += rows.jac_s[i] * rs;
                 }
             }
         }
@@ -254,11 +255,11 @@ impl Augmented {
     pub fn jacobian_times(&self, x: &[f64], out: &mut [f64]) {
         out.fill(0.0);
         let n = self.n;
-        for c in 0..n {
-            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                let r = self.row_idx[p];
+        for (c, &xc) in x[..n].iter().enumerate() {
+            let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
+            for (&r, v) in self.row_idx[lo..hi].iter().zip(&self.values[lo..hi]) {
                 if r >= n {
-                    out[r - n] += self.values[p] * x[c];
+                    out[r - n] += v * xc;
                 }
             }
         }
@@ -281,10 +282,10 @@ impl Augmented {
     /// r = b - A x with the unregularised values.
     fn residual(&self, x: &[f64], b: &[f64], r: &mut [f64]) {
         r.copy_from_slice(b);
-        for c in 0..self.n + self.m {
-            let xc = x[c];
-            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                r[self.row_idx[p]] -= self.values[p] * xc;
+        for (c, &xc) in x[..self.n + self.m].iter().enumerate() {
+            let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
+            for (&i, v) in self.row_idx[lo..hi].iter().zip(&self.values[lo..hi]) {
+                r[i] -= v * xc;
             }
         }
     }
@@ -301,30 +302,34 @@ impl Augmented {
                 *a = v.abs();
             }
         }
+        // the fields as slices: their data pointers stay in registers through the loops
+        let (col_ptr, row_idx, values) = (&self.col_ptr[..], &self.row_idx[..], &self.values[..]);
+        let (scaled, scale) = (&mut self.scaled[..], &mut self.scale[..size]);
         let big = &mut self.work[..size];
         for _ in 0..sweeps {
             // a column's largest |a_rc| s_r s_c: the same bits as the largest of the products
             // (rounding is monotonic and the scales positive), one product per entry
-            for c in 0..size {
-                let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
+            for (c, bc) in big.iter_mut().enumerate() {
+                let (lo, hi) = (col_ptr[c], col_ptr[c + 1]);
                 let mut b = 0.0f64;
-                for (a, &r) in self.scaled[lo..hi].iter().zip(&self.row_idx[lo..hi]) {
-                    let v = a * self.scale[r];
+                for (a, &r) in scaled[lo..hi].iter().zip(&row_idx[lo..hi]) {
+                    let v = a * scale[r];
                     if v > b {
                         b = v;
                     }
                 }
-                big[c] = b * self.scale[c];
+                *bc = b * scale[c];
             }
-            for (s, b) in self.scale.iter_mut().zip(big.iter()) {
+            for (s, b) in scale.iter_mut().zip(big.iter()) {
                 if *b > 0.0 && b.is_finite() {
                     *s /= b.sqrt();
                 }
             }
         }
-        for c in 0..size {
-            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                self.scaled[p] = self.values[p] * self.scale[self.row_idx[p]] * self.scale[c];
+        for (c, &sc) in scale.iter().enumerate() {
+            let (lo, hi) = (col_ptr[c], col_ptr[c + 1]);
+            for ((a, v), &r) in scaled[lo..hi].iter_mut().zip(&values[lo..hi]).zip(&row_idx[lo..hi]) {
+                *a = v * scale[r] * sc;
             }
         }
         if mu > 0.0 {
