@@ -256,16 +256,7 @@ pub fn integrate(
                     have_dense = true;
                 }
                 let x = (tk - t) / h_step;
-                let x1 = 1.0 - x;
-                // Hairer's contd8, one component at a time (its sum in a register)
-                for (i, (v, y0)) in y_out.iter_mut().zip(&y).enumerate() {
-                    let mut sum = 0.0;
-                    for (p, fc) in dense.iter().rev().enumerate() {
-                        sum += fc[i];
-                        sum *= if p % 2 == 0 { x } else { x1 };
-                    }
-                    *v = sum + y0;
-                }
+                contd8(&dense, x, &y, &mut y_out);
             }
             let (qo, rest) = y_out.split_at_mut(n);
             let info = StepInfo { step: h_step, iterations: 0, work: rest[n], keep_scale: next > first };
@@ -395,6 +386,36 @@ fn error_norm(k: &[Vec<f64>], h: f64, y: &[f64], y_new: &[f64], n: usize, scale_
         return 0.0;
     }
     h.abs() * e5 / ((e5 + 0.01 * e3) * (2 * n) as f64).sqrt()
+}
+
+/// Hairer's contd8 at x in [0, 1] of the step: y + the interpolant, whose powers are
+/// summed four components at a time in registers.
+fn contd8(dense: &[Vec<f64>], x: f64, y: &[f64], out: &mut [f64]) {
+    const LANES: usize = 4;
+    let x1 = 1.0 - x;
+    let len = out.len();
+    let mut i = 0;
+    while i < len {
+        let w = LANES.min(len - i);
+        let mut sum = [0.0f64; LANES];
+        for (p, fc) in dense.iter().rev().enumerate() {
+            let s = if p % 2 == 0 { x } else { x1 };
+            if w == LANES {
+                let c: &[f64; LANES] = fc[i..i + LANES].try_into().expect("four components");
+                for l in 0..LANES {
+                    sum[l] = (sum[l] + c[l]) * s;
+                }
+            } else {
+                for l in 0..w {
+                    sum[l] = (sum[l] + fc[i + l]) * s;
+                }
+            }
+        }
+        for l in 0..w {
+            out[i + l] = sum[l] + y[i + l];
+        }
+        i += w;
+    }
 }
 
 /// out = y + h sum_j a_j k_j, the sum over j in order for each component (the bits of
