@@ -7,6 +7,7 @@ use linkwork::dynamics::record::solve_rows;
 use linkwork::dynamics::{Method, SimOptions, SimOutput};
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -102,27 +103,27 @@ pub(crate) fn simulate<'py>(
     out.truncate();
     let (k, n) = (out.n_done, out.n_coords);
     let d = PyDict::new(py);
-    d.set_item("times", out.times.into_pyarray(py))?;
-    d.set_item("q", rows_to_array(py, out.q, k, n))?;
-    d.set_item("qd", rows_to_array(py, out.qd, k, n))?;
+    d.set_item(intern!(py, "times"), out.times.into_pyarray(py))?;
+    d.set_item(intern!(py, "q"), rows_to_array(py, out.q, k, n))?;
+    d.set_item(intern!(py, "qd"), rows_to_array(py, out.qd, k, n))?;
     for (name, v) in [
-        ("drift", out.drift),
-        ("drift_d", out.drift_d),
-        ("kinetic", out.kinetic),
-        ("potential", out.potential),
-        ("work", out.work),
-        ("step", out.step),
+        (intern!(py, "drift"), out.drift),
+        (intern!(py, "drift_d"), out.drift_d),
+        (intern!(py, "kinetic"), out.kinetic),
+        (intern!(py, "potential"), out.potential),
+        (intern!(py, "work"), out.work),
+        (intern!(py, "step"), out.step),
     ] {
         d.set_item(name, v.into_pyarray(py))?;
     }
-    d.set_item("iterations", out.iterations.into_pyarray(py))?;
-    d.set_item("n_steps", out.n_steps)?;
-    d.set_item("n_rejected", out.n_rejected)?;
-    d.set_item("n_evaluations", out.n_evaluations)?;
-    d.set_item("moved_q", out.moved.q)?;
-    d.set_item("moved_qd", out.moved.qd)?;
+    d.set_item(intern!(py, "iterations"), out.iterations.into_pyarray(py))?;
+    d.set_item(intern!(py, "n_steps"), out.n_steps)?;
+    d.set_item(intern!(py, "n_rejected"), out.n_rejected)?;
+    d.set_item(intern!(py, "n_evaluations"), out.n_evaluations)?;
+    d.set_item(intern!(py, "moved_q"), out.moved.q)?;
+    d.set_item(intern!(py, "moved_qd"), out.moved.qd)?;
     let events = out.events.iter().map(|e| crate::events::event_dict(py, e)).collect::<PyResult<Vec<_>>>()?;
-    d.set_item("events", events)?;
+    d.set_item(intern!(py, "events"), events)?;
     Ok((d, error))
 }
 

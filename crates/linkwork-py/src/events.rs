@@ -5,6 +5,7 @@ use linkwork::stepping::singular::Event;
 use linkwork::stepping::tracking::OnSingular;
 use linkwork::Data;
 use numpy::{IntoPyArray, PyReadonlyArray1};
+use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -24,18 +25,19 @@ pub(crate) fn parse_on_singular(s: &str) -> PyResult<OnSingular> {
 /// One event: kind, step, time, q, sigma_min, constraints, coordinates, output, drivers,
 /// message, pivot_ratio.
 pub(crate) fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
+    // the keys made Python strings once (a simulation returns an event per lock met)
     let d = PyDict::new(py);
-    d.set_item("kind", e.kind.name())?;
-    d.set_item("step", e.step)?;
-    d.set_item("time", e.time)?;
-    d.set_item("q", e.q.clone().into_pyarray(py))?;
-    d.set_item("sigma_min", e.sigma_min)?;
-    d.set_item("constraints", e.constraints.clone())?;
-    d.set_item("coordinates", e.coordinates.clone())?;
-    d.set_item("output", e.output.clone())?;
-    d.set_item("drivers", e.drivers.clone())?;
-    d.set_item("message", e.message.clone())?;
-    d.set_item("pivot_ratio", e.pivot_ratio)?;
+    d.set_item(intern!(py, "kind"), e.kind.name())?;
+    d.set_item(intern!(py, "step"), e.step)?;
+    d.set_item(intern!(py, "time"), e.time)?;
+    d.set_item(intern!(py, "q"), e.q.clone().into_pyarray(py))?;
+    d.set_item(intern!(py, "sigma_min"), e.sigma_min)?;
+    d.set_item(intern!(py, "constraints"), e.constraints.clone())?;
+    d.set_item(intern!(py, "coordinates"), e.coordinates.clone())?;
+    d.set_item(intern!(py, "output"), e.output.clone())?;
+    d.set_item(intern!(py, "drivers"), e.drivers.clone())?;
+    d.set_item(intern!(py, "message"), e.message.clone())?;
+    d.set_item(intern!(py, "pivot_ratio"), e.pivot_ratio)?;
     Ok(d)
 }
 
