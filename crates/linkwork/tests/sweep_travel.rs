@@ -264,3 +264,38 @@ fn a_driven_slide_beyond_its_travel_is_reported() {
             && ends[0].message.contains("its min")
     );
 }
+
+/// The travel is closed: a slide exactly at an end is inside it. A slider driven at
+/// -0.5 m/s from an end of [-0.25, 0] (the steps 0.25 s apart, binary fractions, so that
+/// the slide equals each end exactly at a step): no event at the start, at the max; it
+/// reaches the min exactly at t = 0.5 and is beyond it after: one event, there. Started at
+/// the min of [0, 0.25] and driven at +0.5 m/s: the same at the max.
+#[test]
+fn a_slide_exactly_at_an_end_of_its_travel_is_inside_and_leaves_it_once() {
+    let driven = |rate: f64, [lo, hi]: [f64; 2]| {
+        let json = format!(
+            r#"{{"name": "driven slider",
+                "bodies": [{{"name": "slider", "x": 0.0, "y": 0.0}}],
+                "joints": [{{"type": "prismatic", "name": "guide", "body_a": "ground", "body_b": "slider",
+                             "at": [0.0, 0.0], "axis": [1.0, 0.0], "travel": [{lo}, {hi}]}}],
+                "drivers": [{{"type": "translation", "name": "push", "joint": "guide",
+                              "law": {{"type": "linear", "value": 0.0, "rate": {rate}}}}}]}}"#
+        );
+        Description::from_json(&json).unwrap()
+    };
+    let times: Vec<f64> = (0..=8).map(|k| 0.25 * k as f64).collect();
+    for (rate, travel, end) in [(-0.5, [-0.25, 0.0], "min"), (0.5, [0.0, 0.25], "max")] {
+        let desc = driven(rate, travel);
+        for solver in [SolverKind::Auto, SolverKind::General] {
+            for req in [Request::default(), Request { derivatives: 0, ..Request::default() }] {
+                let out = swept(&desc, solver, req, &times);
+                let ends = travel_ends(&out);
+                assert_eq!(ends.len(), 1, "{rate} {solver:?} {req:?}: {:#?}", out.events);
+                let e = ends[0];
+                assert_eq!(e.time, 0.5, "{}", e.message);
+                assert!(e.message.contains("reaches the end of its travel") && e.message.contains(end));
+                assert_eq!(e.q[0], travel[if end == "max" { 1 } else { 0 }], "{:?}", e.q);
+            }
+        }
+    }
+}
