@@ -212,7 +212,8 @@ fn a_batch_reports_each_models_travel_ends() {
 /// A slider driven along x at 0.4 m/s on a travel [-0.1, 0.5]: its law moves it past the
 /// max at t = 1.25 exactly (to 1e-12 s), the event naming its driver; back and forth as
 /// x = 0.6 sin(t) it leaves and re-enters at asin(5/6), pi - asin(5/6), and passes the min
-/// at pi + asin(1/6); a start outside the travel is an event at the first time.
+/// at pi + asin(1/6); a start outside the travel, below its min or beyond its max, is an
+/// event at the first time.
 #[test]
 fn a_driven_slide_beyond_its_travel_is_reported() {
     const LINEAR: &str = r#"{"type": "linear", "value": 0.0, "rate": 0.4}"#;
@@ -262,6 +263,15 @@ fn a_driven_slide_beyond_its_travel_is_reported() {
         ends[0].time == 0.0
             && ends[0].message.contains("starts outside its travel")
             && ends[0].message.contains("its min")
+    );
+    // and beyond the other end: the start is reported at its max
+    let out = swept(&driven(LINEAR, [-0.5, -0.1]), SolverKind::Auto, Request::default(), &times[..10]);
+    let ends = travel_ends(&out);
+    assert_eq!(ends.len(), 1, "{:#?}", out.events);
+    assert!(
+        ends[0].time == 0.0
+            && ends[0].message.contains("starts outside its travel")
+            && ends[0].message.contains("its max")
     );
 }
 
