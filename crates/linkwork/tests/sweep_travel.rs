@@ -309,3 +309,28 @@ fn a_slide_exactly_at_an_end_of_its_travel_is_inside_and_leaves_it_once() {
         }
     }
 }
+
+/// The clipped stroke of the test above, wherever the outer dead centre falls inside its
+/// step: the grid moved by 0.1 to 0.9 of a step, so that the slide turns in the step's
+/// first or second half (its rate larger at the step's start or at its end). Each time,
+/// the crossings are the closed form's, to 1e-9 s, on every path.
+#[test]
+fn a_clipped_stroke_is_found_wherever_the_turn_falls_in_its_step() {
+    let (lo, hi) = stroke();
+    let bound = hi - 1e-7;
+    let desc = crank_with_travel([lo - 1e-3, bound]);
+    let t1 = 3.0 * std::f64::consts::TAU / OMEGA;
+    for shift in [0.1, 0.3, 0.5, 0.7, 0.9] {
+        let times: Vec<f64> = (0..=150).map(|k| t1 * (k as f64 + shift) / 150.0).collect();
+        let expected = closed_crossings(bound, times[0], *times.last().unwrap());
+        assert_eq!(expected.len(), 6, "{shift}");
+        for (solver, req) in paths() {
+            let out = swept(&desc, solver, req, &times);
+            let ends = travel_ends(&out);
+            assert_eq!(ends.len(), expected.len(), "{shift} {solver:?} {req:?}: {:#?}", out.events);
+            for (e, t) in ends.iter().zip(&expected) {
+                assert!((e.time - t).abs() < 1e-9, "{shift} {solver:?} {req:?}: {} against {t}", e.time);
+            }
+        }
+    }
+}
