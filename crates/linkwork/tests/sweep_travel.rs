@@ -212,7 +212,8 @@ fn a_batch_reports_each_models_travel_ends() {
 /// A slider driven along x at 0.4 m/s on a travel [-0.1, 0.5]: its law moves it past the
 /// max at t = 1.25 exactly (to 1e-12 s), the event naming its driver; back and forth as
 /// x = 0.6 sin(t) it leaves and re-enters at asin(5/6), pi - asin(5/6), and passes the min
-/// at pi + asin(1/6); a start outside the travel is an event at the first time.
+/// at pi + asin(1/6); a start outside the travel, below its min or beyond its max, is an
+/// event at the first time.
 #[test]
 fn a_driven_slide_beyond_its_travel_is_reported() {
     const LINEAR: &str = r#"{"type": "linear", "value": 0.0, "rate": 0.4}"#;
@@ -263,4 +264,73 @@ fn a_driven_slide_beyond_its_travel_is_reported() {
             && ends[0].message.contains("starts outside its travel")
             && ends[0].message.contains("its min")
     );
+    // and beyond the other end: the start is reported at its max
+    let out = swept(&driven(LINEAR, [-0.5, -0.1]), SolverKind::Auto, Request::default(), &times[..10]);
+    let ends = travel_ends(&out);
+    assert_eq!(ends.len(), 1, "{:#?}", out.events);
+    assert!(
+        ends[0].time == 0.0
+            && ends[0].message.contains("starts outside its travel")
+            && ends[0].message.contains("its max")
+    );
+}
+
+/// The travel is closed: a slide exactly at an end is inside it. A slider driven at
+/// -0.5 m/s from an end of [-0.25, 0] (the steps 0.25 s apart, binary fractions, so that
+/// the slide equals each end exactly at a step): no event at the start, at the max; it
+/// reaches the min exactly at t = 0.5 and is beyond it after: one event, there. Started at
+/// the min of [0, 0.25] and driven at +0.5 m/s: the same at the max.
+#[test]
+fn a_slide_exactly_at_an_end_of_its_travel_is_inside_and_leaves_it_once() {
+    let driven = |rate: f64, [lo, hi]: [f64; 2]| {
+        let json = format!(
+            r#"{{"name": "driven slider",
+                "bodies": [{{"name": "slider", "x": 0.0, "y": 0.0}}],
+                "joints": [{{"type": "prismatic", "name": "guide", "body_a": "ground", "body_b": "slider",
+                             "at": [0.0, 0.0], "axis": [1.0, 0.0], "travel": [{lo}, {hi}]}}],
+                "drivers": [{{"type": "translation", "name": "push", "joint": "guide",
+                              "law": {{"type": "linear", "value": 0.0, "rate": {rate}}}}}]}}"#
+        );
+        Description::from_json(&json).unwrap()
+    };
+    let times: Vec<f64> = (0..=8).map(|k| 0.25 * k as f64).collect();
+    for (rate, travel, end) in [(-0.5, [-0.25, 0.0], "min"), (0.5, [0.0, 0.25], "max")] {
+        let desc = driven(rate, travel);
+        for solver in [SolverKind::Auto, SolverKind::General] {
+            for req in [Request::default(), Request { derivatives: 0, ..Request::default() }] {
+                let out = swept(&desc, solver, req, &times);
+                let ends = travel_ends(&out);
+                assert_eq!(ends.len(), 1, "{rate} {solver:?} {req:?}: {:#?}", out.events);
+                let e = ends[0];
+                assert_eq!(e.time, 0.5, "{}", e.message);
+                assert!(e.message.contains("reaches the end of its travel") && e.message.contains(end));
+                assert_eq!(e.q[0], travel[if end == "max" { 1 } else { 0 }], "{:?}", e.q);
+            }
+        }
+    }
+}
+
+/// The clipped stroke of the test above, wherever the outer dead centre falls inside its
+/// step: the grid moved by 0.1 to 0.9 of a step, so that the slide turns in the step's
+/// first or second half (its rate larger at the step's start or at its end). Each time,
+/// the crossings are the closed form's, to 1e-9 s, on every path.
+#[test]
+fn a_clipped_stroke_is_found_wherever_the_turn_falls_in_its_step() {
+    let (lo, hi) = stroke();
+    let bound = hi - 1e-7;
+    let desc = crank_with_travel([lo - 1e-3, bound]);
+    let t1 = 3.0 * std::f64::consts::TAU / OMEGA;
+    for shift in [0.1, 0.3, 0.5, 0.7, 0.9] {
+        let times: Vec<f64> = (0..=150).map(|k| t1 * (k as f64 + shift) / 150.0).collect();
+        let expected = closed_crossings(bound, times[0], *times.last().unwrap());
+        assert_eq!(expected.len(), 6, "{shift}");
+        for (solver, req) in paths() {
+            let out = swept(&desc, solver, req, &times);
+            let ends = travel_ends(&out);
+            assert_eq!(ends.len(), expected.len(), "{shift} {solver:?} {req:?}: {:#?}", out.events);
+            for (e, t) in ends.iter().zip(&expected) {
+                assert!((e.time - t).abs() < 1e-9, "{shift} {solver:?} {req:?}: {} against {t}", e.time);
+            }
+        }
+    }
 }
