@@ -105,6 +105,15 @@ impl System {
         self.pivots
     }
 
+    /// Fills the augmented matrix and phi at positions q (the frames moved there) and
+    /// returns the scaled |phi|: each projection iteration starts so.
+    fn fill_at(&mut self, model: &Model, q: &[f64], t: f64) -> f64 {
+        self.data.q.copy_from_slice(q);
+        update_frames(&mut self.data);
+        self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+        max_abs(&self.phi)
+    }
+
     /// Projects q onto Phi(q, t) = 0 by the smallest change in the mass metric; returns
     /// (iterations, scaled |phi| before, after). Stops when |phi| <= tol, when it no
     /// longer halves (round-off), or after `MAX_PROJECTION` iterations (the caller judges
@@ -115,10 +124,7 @@ impl System {
         let (mut before, mut residual) = (f64::NAN, f64::NAN);
         let mut last = f64::INFINITY;
         for it in 0..MAX_PROJECTION {
-            self.data.q.copy_from_slice(q);
-            update_frames(&mut self.data);
-            self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
-            residual = max_abs(&self.phi);
+            residual = self.fill_at(model, q, t);
             if it == 0 {
                 before = residual;
             }
@@ -237,10 +243,7 @@ impl System {
         let mut exact = false;
         let mut best = f64::INFINITY;
         for it in 0..=MAX_PROJECTION {
-            self.data.q.copy_from_slice(q);
-            update_frames(&mut self.data);
-            self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
-            residual = max_abs(&self.phi);
+            residual = self.fill_at(model, q, t);
             if it == 0 {
                 before = residual;
             }
@@ -255,9 +258,7 @@ impl System {
                 exact = true;
                 if best < residual {
                     q.copy_from_slice(&self.best);
-                    self.data.q.copy_from_slice(q);
-                    update_frames(&mut self.data);
-                    self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);
+                    self.fill_at(model, q, t);
                     residual = best;
                 }
             } else if !residual.is_finite()
