@@ -16,7 +16,7 @@ pub struct StepInfo {
     pub iterations: u32,
     pub work: f64,
     /// the row is not the first of its step: its factorizations keep the equilibration
-    /// of the row before (`System::project_state_scaled`)
+    /// of the row before (`System::project_state`)
     pub keep_scale: bool,
 }
 
@@ -36,7 +36,7 @@ pub fn store_state(
     info: StepInfo,
     solve: bool,
 ) -> Result<(), SolveError> {
-    let (iterations, drift, residual, drift_d) = sys.project_state_scaled(model, q, qd, t, info.keep_scale);
+    let (iterations, drift, residual, drift_d) = sys.project_state(model, q, qd, t, info.keep_scale);
     if residual.is_nan() || residual > model.options.tol_residual {
         return Err(SolveError::Step {
             step: k,

@@ -266,7 +266,7 @@ pub fn integrate(
         // the step's end, projected onto the constraints; its derivative evaluated there
         y.copy_from_slice(&y_new);
         let (qs, rest) = y.split_at_mut(n);
-        let (_, _, residual, _) = sys.project_state(model, qs, &mut rest[..n], t_new);
+        let (_, _, residual, _) = sys.project_state(model, qs, &mut rest[..n], t_new, false);
         if residual.is_nan() || residual > model.options.tol_residual {
             return Err(step_error(
                 out,

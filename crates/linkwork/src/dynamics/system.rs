@@ -153,20 +153,10 @@ impl System {
     /// (a step's end, the dense output between) needs one Newton step, and simplified
     /// Newton with its factors brings both the positions and the rates to round-off; the
     /// matrix is factored again only where an iteration does not halve the residual.
+    /// Its factorizations are equilibrated as the last one was if `keep_scale` (an output
+    /// row near the one before it: only round-off differs).
     /// Returns (iterations, scaled |phi| before, after, scaled |Phi_q qd - nu| before).
     pub fn project_state(
-        &mut self,
-        model: &Model,
-        q: &mut [f64],
-        qd: &mut [f64],
-        t: f64,
-    ) -> (usize, f64, f64, f64) {
-        self.project_state_scaled(model, q, qd, t, false)
-    }
-
-    /// `project_state`, its factorizations equilibrated as the last one was if
-    /// `keep_scale` (an output row near the one before it: only round-off differs).
-    pub fn project_state_scaled(
         &mut self,
         model: &Model,
         q: &mut [f64],
