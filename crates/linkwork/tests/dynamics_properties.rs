@@ -76,6 +76,35 @@ fn a_tighter_tolerance_gives_a_smaller_error_in_proportion() {
     }
 }
 
+/// A largest step equal to the spacing of the asked times (0.01 k, as `np.arange` makes
+/// them): where a step of h_max from one time ends a rounding short of the next, the next
+/// step is not a sliver below t's resolution (a failed run) but lands on the time; the
+/// same at the end of the run.
+#[test]
+fn a_largest_step_equal_to_the_rows_spacing_lands_on_every_row() {
+    let model = oscillator(MASS, C);
+    let times: Vec<f64> = (0..=300).map(|k| 0.01 * k as f64).collect();
+    for method in [Method::Rk8, Method::GenAlpha] {
+        let h_max = 0.01;
+        let opts = SimOptions { method, rtol: 1e-3, atol: 1e-3, h_max, ..SimOptions::default() };
+        let out = run(&model, &times, &opts);
+        assert_eq!(out.n_done, times.len(), "{method:?}");
+        assert!(
+            out.step[1..].iter().all(|&h| h > 0.0 && h <= h_max * (1.0 + 1e-12)),
+            "{method:?}: {:?}",
+            out.step
+        );
+        assert!(x_error(&out) < 1e-3, "{method:?}: {:.3e}", x_error(&out));
+    }
+    // times 0.5 % further apart than h_max: each reached by two even steps, not by h_max
+    // and a sliver of 0.5 % of it
+    let wider: Vec<f64> = (0..=300).map(|k| 0.01005 * k as f64).collect();
+    let opts =
+        SimOptions { method: Method::GenAlpha, rtol: 1e-3, atol: 1e-3, h_max: 0.01, ..SimOptions::default() };
+    let out = run(&model, &wider, &opts);
+    assert!(out.step[1..].iter().all(|&h| (0.4e-2..=0.01).contains(&h)), "{:?}", out.step);
+}
+
 /// Many asked times inside each step: DOP853's rows between its steps (the dense output
 /// of order 7) are as accurate as the steps; generalized-alpha lands a step on every
 /// asked time. No step is longer than h_max.
@@ -94,7 +123,12 @@ fn rows_between_steps_are_as_accurate_as_the_steps_and_no_step_exceeds_h_max() {
         let opts = SimOptions { method, rtol: 1e-4, atol: 1e-4, h_max, ..SimOptions::default() };
         let out = run(&model, &coarse, &opts);
         assert!(out.n_steps >= 100, "{method:?}: {} steps over 2 s with h_max {h_max}", out.n_steps);
-        assert!(out.step[1..].iter().all(|&h| h > 0.0 && h <= h_max), "{method:?}: {:?}", out.step);
+        // h_max holds to rounding: a step landing on a time may pass it by an ulp or two
+        assert!(
+            out.step[1..].iter().all(|&h| h > 0.0 && h <= h_max * (1.0 + 1e-12)),
+            "{method:?}: {:?}",
+            out.step
+        );
     }
 }
 

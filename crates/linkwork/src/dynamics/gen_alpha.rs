@@ -106,7 +106,7 @@ pub fn integrate(
         }
         let min_step = 10.0 * (t.abs() * f64::EPSILON).max(f64::MIN_POSITIVE);
         let to_next = times[next] - t;
-        let h = h_nat.min(to_next);
+        let h = opts.step_toward(h_nat, to_next);
         if h < min_step {
             return Err(step_error(out, t, h, "the step size fell below its floor (10 ulp of t)".into()));
         }

@@ -93,6 +93,25 @@ impl SimOptions {
         }
         Ok(())
     }
+
+    /// The step to take toward a time `to_next` ahead, the step the error control allows
+    /// being `h`: `to_next` itself where it is no longer than `h`, or longer by under 1 %
+    /// (as Hairer's codes do: never a sliver of a step left before the time, which rounding
+    /// can make smaller than t's own resolution), past `h_max` only by rounding (else half
+    /// of it); otherwise `h`.
+    pub fn step_toward(&self, h: f64, to_next: f64) -> f64 {
+        if to_next <= h {
+            to_next
+        } else if to_next <= 1.01 * h {
+            if to_next <= self.h_max * (1.0 + 1e-12) {
+                to_next
+            } else {
+                0.5 * to_next
+            }
+        } else {
+            h
+        }
+    }
 }
 
 /// The largest |value| of each coordinate that the relative tolerance counts: a body's

@@ -172,7 +172,7 @@ pub fn integrate(
         // one step from (t, y) with f = y'(t): retried smaller until its error passes
         let min_step = 10.0 * (t.abs() * f64::EPSILON).max(f64::MIN_POSITIVE);
         let (h_step, factor) = loop {
-            h = h.min(t_end - t);
+            h = opts.step_toward(h, t_end - t);
             if h < min_step {
                 return Err(step_error(out, t, h, "the step size fell below its floor (10 ulp of t)".into()));
             }
