@@ -392,7 +392,10 @@ impl Augmented {
     pub fn factor_for_solve(&mut self) -> Pivots {
         let pivots = self.factor(0.0);
         if pivots.ratio < REGULARISE_BELOW {
+            // the same values: the equilibration just computed (the same bits as a new one)
+            let keep = std::mem::replace(&mut self.keep_scale, true);
             self.factor(MU);
+            self.keep_scale = keep;
         }
         pivots
     }

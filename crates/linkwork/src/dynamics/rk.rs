@@ -179,6 +179,9 @@ pub fn integrate(
             k[0].copy_from_slice(&f);
             rhs.step_pivot = f64::INFINITY;
             let mut finite = true;
+            // the stages' matrices equilibrated as the step's first was (its f, at y): within
+            // a step the entries' sizes barely change, and the sweeps cost as much as the LU
+            sys.aug.keep_scale = true;
             for s in 1..tab::STAGES {
                 combine(&tab::A[s][..s], &k[..s], h, &y, &mut stage);
                 let (head, tail) = k.split_at_mut(s);
@@ -194,6 +197,7 @@ pub fn integrate(
                 let _ = head;
                 finite = rhs.eval(model, sys, t + h, &y_new, &mut tail[0]);
             }
+            sys.aug.keep_scale = false;
             let error = if finite { error_norm(&k, h, &y, &y_new, n, &scale_of) } else { f64::INFINITY };
             out.n_steps += 1;
             if error < 1.0 {
@@ -450,11 +454,14 @@ fn dense_coefficients(
     stage: &mut [f64],
 ) {
     let len = y.len();
+    // equilibrated as the step's stages were
+    sys.aug.keep_scale = true;
     for s in tab::STAGES + 1..tab::STAGES_EXTENDED {
         combine(&tab::A[s][..s], &k[..s], h, y, stage);
         let (_, tail) = k.split_at_mut(s);
         rhs.eval(model, sys, t + tab::C[s] * h, stage, &mut tail[0]);
     }
+    sys.aug.keep_scale = false;
     let f_new = &k[tab::STAGES];
     for i in 0..len {
         let dy = y_new[i] - y[i];
