@@ -72,8 +72,10 @@ pub struct Augmented {
     /// whether the last factorization was regularised
     pub regularised: bool,
     /// factor with the equilibration of the last factorization, not a new one (the
-    /// output rows of a step after its first: nearby states, the same round-off)
+    /// output rows of a step after its first: nearby states, the same round-off); a
+    /// new one all the same where none was computed yet
     pub keep_scale: bool,
+    equilibrated: bool,
     work: Vec<f64>,
     /// a regularised solve's refinement: right-hand side, iterate, residual
     refine: Vec<f64>,
@@ -195,6 +197,7 @@ impl Augmented {
             diag,
             regularised: false,
             keep_scale: false,
+            equilibrated: false,
             work: vec![0.0; 2 * size],
             refine: vec![0.0; 3 * size],
         }
@@ -295,7 +298,8 @@ impl Augmented {
     /// matrix. Returns the pivots.
     pub fn factor(&mut self, mu: f64) -> Pivots {
         let size = self.n + self.m;
-        let sweeps = if self.keep_scale { 0 } else { 3 };
+        let sweeps = if self.keep_scale && self.equilibrated { 0 } else { 3 };
+        self.equilibrated = true;
         if sweeps > 0 {
             self.scale.fill(1.0);
             for (a, v) in self.scaled.iter_mut().zip(&self.values) {

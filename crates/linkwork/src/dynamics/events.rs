@@ -463,7 +463,11 @@ fn sigma_here(model: &Model, sys: &mut System, q: &[f64], t: f64, w: &mut [f64])
     sys.data.q.copy_from_slice(q);
     crate::solve::assembly::update_frames(&mut sys.data);
     sys.aug.fill(model, &sys.data.frames, q, t, 1.0, &mut sys.phi);
+    // equilibrated as the workspace's last factorization (a row or a sample nearby): the
+    // sweeps would cost as much as the LU, and sigma does not depend on them
+    let keep = std::mem::replace(&mut sys.aug.keep_scale, true);
     sys.aug.factor(0.0);
+    sys.aug.keep_scale = keep;
     // the workspace's own solve buffer (n + m)
     let x = &mut sys.x;
     let mut growth = 0.0;

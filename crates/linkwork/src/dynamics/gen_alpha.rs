@@ -147,8 +147,11 @@ pub fn integrate(
             }
             let System { aug, loads, .. } = &mut *sys;
             tangents(model, loads, &q1, &qd1, &qdd1, t1, &mut |b| aug.add_tangent(&b, 1.0, c_c));
-            // the watch sees the last iteration's (the predictor's states are off the path)
+            // the watch sees the last iteration's (the predictor's states are off the path);
+            // the iterations after a step's first keep its equilibration
+            sys.aug.keep_scale = it > 1;
             last_pivot = sys.aug.factor_solve(&mut rhs).ratio;
+            sys.aug.keep_scale = false;
             if !rhs.iter().all(|v| v.is_finite()) {
                 break;
             }
