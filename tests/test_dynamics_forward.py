@@ -121,6 +121,26 @@ def test_a02_n_four_bar_stays_on_its_branch(
     assert np.abs(e.balance).max() < 10 * bound * G * (3 * n + 1)
 
 
+def test_gen_alpha_names_a_singular_crossing_it_cannot_pass() -> None:
+    """At a tight tolerance generalized-alpha's index-3 Newton iterations stall at A02's
+    first singular crossing (t = 0.714 s, every link horizontal): the step size collapses
+    there, and the run ends with a named IntegrationError that says so and names rk8, the
+    rows before the crossing kept and on the exact branch. rk8 passes the same crossing."""
+    bench = benchmarks.n_four_bar(2)
+    model = bench.mechanism.compile(free=True)
+    t = np.linspace(0.0, 2.0, 41)
+    with pytest.raises(IntegrationError, match=r"singular configuration \(pivot ratio .*rk8") as info:
+        model.simulate(t, method="gen-alpha", rtol=1e-10, atol=1e-10, qd0=bench.qd0)
+    partial = info.value.partial
+    done = t[: partial.n_steps]
+    assert 0.65 < done[-1] < 0.72, done[-1]
+    phi, _ = exact.n_four_bar_branch(2, 2.0).phi(done)
+    for k in range(3):
+        assert np.abs(wrapped(partial.body(f"crank{k}").theta - phi)).max() < 1e-6
+    sim = model.simulate(t, method="rk8", rtol=1e-10, atol=1e-10, qd0=bench.qd0)
+    assert any(abs(e.time - 0.7141) < 1e-3 for e in sim.events)
+
+
 def test_a02_crossings_keep_the_energy_balance() -> None:
     """The steps through A02's singular crossings (their solves regularised) lose kinetic
     energy to the projection of the rates, a loss that varies with where the steps fall

@@ -14,6 +14,7 @@
 #![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
 use crate::dynamics::applied::{applied_force, tangents};
+use crate::dynamics::augmented::REGULARISE_BELOW;
 use crate::dynamics::energy::load_power;
 use crate::dynamics::events::Watch;
 use crate::dynamics::mass::mass_times;
@@ -92,6 +93,8 @@ pub fn integrate(
     let mut phi = vec![0.0; m];
     let mut rhs = vec![0.0; n + m];
     let mut next = 1;
+    // the smallest pivot ratio of the last step tried (its Newton iterations)
+    let mut newton_pivot = f64::INFINITY;
     while next < times.len() {
         if out.n_steps >= opts.max_steps {
             return Err(step_error(
@@ -108,7 +111,16 @@ pub fn integrate(
         let to_next = times[next] - t;
         let h = opts.step_toward(h_nat, to_next);
         if h < min_step {
-            return Err(step_error(out, t, h, "the step size fell below its floor (10 ulp of t)".into()));
+            let mut why = String::from("the step size fell below its floor (10 ulp of t)");
+            if newton_pivot < REGULARISE_BELOW {
+                // the index-3 iterations at a bifurcation: their corrections along the rows'
+                // dependency converge too slowly for a tight tolerance
+                why += &format!(
+                    ", at a singular configuration (pivot ratio {newton_pivot:.1e}) that generalized-alpha \
+                     cannot pass at this tolerance: method=\"rk8\" passes it, as may a larger atol"
+                );
+            }
+            return Err(step_error(out, t, h, why));
         }
         let lands = h == to_next;
         let t1 = if lands { times[next] } else { t + h };
@@ -132,6 +144,7 @@ pub fn integrate(
         let mut converged = false;
         let mut iterations = 0;
         let mut last_pivot = f64::INFINITY;
+        newton_pivot = f64::INFINITY;
         for it in 1..=MAX_NEWTON {
             iterations = it;
             sys.set_state(&q1, &qd1);
@@ -151,6 +164,7 @@ pub fn integrate(
             // the iterations after a step's first keep its equilibration
             sys.aug.keep_scale = it > 1;
             last_pivot = sys.aug.factor_solve(&mut rhs).ratio;
+            newton_pivot = newton_pivot.min(last_pivot);
             sys.aug.keep_scale = false;
             if !rhs.iter().all(|v| v.is_finite()) {
                 break;
