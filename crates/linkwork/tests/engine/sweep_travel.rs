@@ -3,7 +3,7 @@
 //! sqrt(l^2 - (r sin(theta) - e)^2), on every path a sweep takes (the plan's closed forms
 //! with rates, positions only under the guard, the general Newton), in a batch, and a
 //! slide a translation driver moves past its stops.
-mod common;
+use crate::common;
 
 use common::{slider_crank, SliderCrank};
 use linkwork::motion::{ExpressionLaw, MotionLaw};
