@@ -102,8 +102,10 @@ def run_one(name: str, package: str, profile: str, timeout: int, out: Path) -> t
         f = out / "mutants.out" / f"{outcome}.txt"
         for line in f.read_text().splitlines() if f.exists() else []:
             found[line.strip()] = outcome
-    if len(found) != 1 or name not in found:
-        # the name matched no mutant, or more than one: not a uniform draw any more
+    # (a struct field's deletion in the file passes any --re, cargo-mutants 27: those run
+    # too, their outcomes not counted)
+    if name not in found:
+        # the name matched no mutant: the list is not of this tree
         return (f"error ({len(found)} outcomes: {sorted(found.values())})", seconds)
     return (found[name], seconds)
 
@@ -142,6 +144,8 @@ def main() -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     log = args.out / "sample.jsonl"
     rows = [json.loads(s) for s in log.read_text().splitlines()] if log.exists() else []
+    # a row in error (the name not run) is run again
+    rows = [r for r in rows if not r["outcome"].startswith("error")]
     if args.summary:
         print(summary(rows))
         return 0
