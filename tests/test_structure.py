@@ -182,7 +182,7 @@ def test_an_rpr_dyad_in_closed_form_is_the_general_path(mechanism: lw.Mechanism)
     t = np.linspace(0.0, 2.0 * math.pi / 5.0 * 2, 1601)  # two crank turns
     a, b = model.sweep(t), mechanism.compile(solver="general").sweep(t)
     assert (a.iterations[1:] == 0).all(), "every step after the start by the closed form"
-    # both to round-off over the step's conditioning (as crates/linkwork/tests/blocks.rs)
+    # both to round-off over the step's conditioning (as crates/linkwork/tests/engine/blocks.rs)
     for x, y, tol in ((a.q, b.q, 1e-12), (a.qd, b.qd, 1e-11), (a.qdd, b.qdd, 1e-10)):
         assert np.abs(x - y).max() <= tol * np.abs(y).max()
     assert np.array_equal(a.det_sign, b.det_sign) and len(a.events) == len(b.events)

@@ -4,7 +4,7 @@ against the closed form / the law of cosines at every step and at the extremes.
 The per-step arrays (`Results.transmission_angle`, computed in Python by
 `Linkage.transmission_angle_of`) are checked only here, by pytest; the Rust summaries
 (`Model.linkages`) are checked here at sampled states and by cargo at every step
-(crates/linkwork/tests/transmission_angles.rs)."""
+(crates/linkwork/tests/engine/transmission_angles.rs)."""
 
 import math
 

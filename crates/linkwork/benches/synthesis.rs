@@ -1,7 +1,7 @@
 //! Synthesis benchmarks (criterion): one exact problem, all roots, certified.
 //!
 //! - `burmester`: five-pose Burmester dyads by parameter homotopy (5 paths) and by the
-//!   elimination (resultant.rs), on the generator of tests/synthesis.rs; either way every
+//!   elimination (resultant.rs), on the generator of tests/engine/synthesis.rs; either way every
 //!   root is polished and alpha-certified.
 //! - `timed`: the five-point timed path dyad, both ways.
 //!

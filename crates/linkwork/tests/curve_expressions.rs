@@ -5,7 +5,7 @@
 //! along the cam's x axis) is, as a polar profile about O, r(phi) = e cos phi +
 //! sqrt(R^2 - e^2 sin^2 phi) (the far root of |r e(phi) - (e, 0)| = R). Written so, it must
 //! move a translating knife-edge, roller or flat-faced follower exactly as the `circle`
-//! curve does and as the formulas of tests/cams.rs say: q, qd and qdd of the follower to
+//! curve does and as the formulas of tests/engine/cams.rs say: q, qd and qdd of the follower to
 //! 1e-10 relative (Newton stops at 1e-12 scaled; the closed forms lose a few digits of
 //! their own). The contact parameter differs (a polar angle about O, not about the
 //! circle's centre), and is checked against its own closed form.
@@ -57,7 +57,7 @@ fn the_eccentric_cam_as_an_expression_moves_its_followers_like_the_circle() {
     let coefficients = [th0, w, 0.5 * alpha];
     for kind in ["knife", "roller", "flat"] {
         let reach = if kind == "roller" { R + RHO } else { R };
-        // the follower's height at cam angle th and its derivatives in th (tests/cams.rs)
+        // the follower's height at cam angle th and its derivatives in th (tests/engine/cams.rs)
         let y_of = |th: f64| -> [f64; 3] {
             if kind == "flat" {
                 return [E * th.sin() + R, E * th.cos(), -E * th.sin()];

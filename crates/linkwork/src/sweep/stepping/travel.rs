@@ -152,9 +152,13 @@ fn crossings(
     // (on the stack: a step allocates only where it finds a crossing)
     let mut pieces = [(a.t, xa), (b.t, xb), (b.t, xb)];
     let mut n = 2;
+    // at the steps themselves, their own solutions: a step whose rates could not be
+    // solved (the chord's there) still bounds the searches either side of it
+    let mark = |t: f64| [a, b].into_iter().find(|m| m.t == t).map(|m| s.slide(&m.q, &m.qd));
     if va * vb < 0.0 {
-        let rate = |t: f64, scratch: &mut Data| {
-            solve_at(model, scratch, a, b, t, step).then(|| s.slide(&scratch.q, &scratch.qd).1)
+        let rate = |t: f64, scratch: &mut Data| match mark(t) {
+            Some((_, v)) => Some(v),
+            None => solve_at(model, scratch, a, b, t, step).then(|| s.slide(&scratch.q, &scratch.qd).1),
         };
         if let Some(tm) = illinois(a.t, b.t, |t| rate(t, scratch)) {
             if solve_at(model, scratch, a, b, tm, step) {
@@ -171,9 +175,10 @@ fn crossings(
             if out0 == out1 {
                 continue;
             }
-            let past = |t: f64, scratch: &mut Data| {
-                solve_at(model, scratch, a, b, t, step)
-                    .then(|| side * (s.slide(&scratch.q, &scratch.qd).0 - bound))
+            let past = |t: f64, scratch: &mut Data| match mark(t) {
+                Some((x, _)) => Some(side * (x - bound)),
+                None => solve_at(model, scratch, a, b, t, step)
+                    .then(|| side * (s.slide(&scratch.q, &scratch.qd).0 - bound)),
             };
             let Some(t) = illinois(t0, t1, |t| past(t, scratch)) else { continue };
             if !solve_at(model, scratch, a, b, t, step) {

@@ -16,7 +16,7 @@
 //! term (a velocity term, a centre of mass's lever, the (dPhi_q/dp)^T lambda part) is off
 //! by 1e-3 or more.
 
-mod common;
+use crate::common;
 
 use common::with_number;
 use linkwork::constraints::Constraint;

@@ -6,7 +6,7 @@
 use linkwork::{Expression, Format, Model};
 use proptest::prelude::*;
 
-const FOUR_BAR: &str = include_str!("../../../examples/four_bar.toml");
+const FOUR_BAR: &str = include_str!("../../../../examples/four_bar.toml");
 
 /// The shipped four-bar with one byte range replaced by arbitrary text: mostly near-valid
 /// files, which reach deep into the reader and the compiler.

@@ -1,7 +1,7 @@
 //! Singular configurations along sweeps: change points, limits of motion, locks, det
 //! signs; the hard cases of the analysis issue, each checked against geometry.
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::stepping::singular::EventKind;
 use linkwork::stepping::tracking::OnSingular;

@@ -6,7 +6,7 @@
 
 use linkwork::constraints::{samples, Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 
-mod common;
+use crate::common;
 use common::Rng;
 
 impl Rng {

@@ -3,7 +3,7 @@
 //! accelerations, reactions, det signs and events; the closed-form groups against the
 //! textbook closed forms.
 
-mod common;
+use crate::common;
 
 use common::*;
 use linkwork::blocks::Block;

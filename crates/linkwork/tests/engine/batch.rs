@@ -1,7 +1,7 @@
 //! Positions-only and velocity-only sweeps, and batches of models on threads, against
 //! the plain full sweep.
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::{sweep, sweep_batch, Data, Model, Request, SolveError, SweepOutput};
 use std::f64::consts::PI;

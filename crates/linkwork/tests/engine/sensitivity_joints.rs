@@ -10,7 +10,7 @@
 use linkwork::constraints::{samples, Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 use linkwork::sensitivity::jet::{Jet, JetFrame};
 
-mod common;
+use crate::common;
 use common::Rng;
 
 fn vec3(rng: &mut Rng, scale: f64) -> [f64; 3] {

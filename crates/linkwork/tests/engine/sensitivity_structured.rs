@@ -6,7 +6,7 @@
 //! configuration. (Against differences of whole sweeps: `sensitivity_sweeps.rs`, whose
 //! every check also runs dq/dp alone.)
 
-mod common;
+use crate::common;
 use common::*;
 
 use linkwork::files::read_path;

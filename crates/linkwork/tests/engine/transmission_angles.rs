@@ -5,7 +5,7 @@
 //! computes itself (`Linkage.transmission_angle_of`) only pytest checks
 //! (tests/test_transmission_angles.py).
 
-mod common;
+use crate::common;
 
 use common::*;
 use linkwork::analysis::linkages::linkages;

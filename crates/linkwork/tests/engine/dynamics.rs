@@ -4,7 +4,7 @@
 //! well-conditioned factorization as the accelerations, which meet their closed forms
 //! near machine precision.
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::{
     sweep, Data, Description, DriverDesc, LinearKind, Model, MotionLaw, Options, SweepOutput,

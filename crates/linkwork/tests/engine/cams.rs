@@ -17,7 +17,7 @@
 //! An oscillating follower on a circular cam is a four-bar: pivot O, cam centre, roller
 //! centre (or knife tip), follower pivot; the coupler is R + rho (or R).
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::curves::CurveDesc;
 use linkwork::{Description, DriverDesc, JointDesc, MotionLaw};

@@ -3,7 +3,7 @@
 //! mechanisms' Phi_q: solutions, transposed solutions, pivots and det signs (through sign
 //! changes), re-pivoting when a pivot fails its threshold, and sweeps in steady state.
 
-mod common;
+use crate::common;
 use common::*;
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};

@@ -3,7 +3,7 @@
 //! tolerance is 1e-12 scaled and the Jacobians are well conditioned, so the engine sits
 //! near machine precision; 1e-10 leaves room for the closed forms' own rounding).
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::{sweep, Data, LinearKind, Model, Options, SweepOutput};
 use std::f64::consts::PI;

@@ -4,7 +4,7 @@
 //! turn and stop at their limit); the lanes take every step of the designs clear of their
 //! singular configurations and hand the others back at the step their groups miss.
 
-mod common;
+use crate::common;
 
 use common::{four_bar, four_bar_closed, FourBar};
 use linkwork::branches::{asked_branches, sweep_on};

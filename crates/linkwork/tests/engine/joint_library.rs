@@ -6,7 +6,7 @@
 //! Then the variants `samples()` does not reach against finite differences, and every
 //! refusal of bad input, named.
 
-mod common;
+use crate::common;
 use common::{four_bar_closed, rel_err, FourBar};
 use linkwork::constraints::{Constraint, ConstraintKind, Extra, Frame, Rows, MAX_ROWS};
 use linkwork::joints::gear::Gear;

@@ -4,7 +4,7 @@
 //! path's two-way check), its events the same; a step across a change point is never the
 //! guard's.
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::solve::closed_form::{self, guard::Travel};
 use linkwork::stepping::singular::EventKind;

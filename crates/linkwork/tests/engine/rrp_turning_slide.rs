@@ -7,7 +7,7 @@
 //! the group's own positions and rates. Only cargo runs this mechanism; the Python
 //! suite's slider-cranks slide on the ground, where the Coriolis term vanishes.
 
-mod common;
+use crate::common;
 
 use common::*;
 use linkwork::blocks::Block;

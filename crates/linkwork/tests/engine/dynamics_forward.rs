@@ -5,9 +5,7 @@
 use linkwork::dynamics::{simulate, Method, SimOptions, SimOutput};
 use linkwork::SolveError;
 
-#[path = "common/oscillator.rs"]
-mod oscillator_model;
-use oscillator_model::{exact, oscillator, C, MASS};
+use crate::oscillator_model::{exact, oscillator, C, MASS};
 
 /// x(t) of the damped oscillator released at rest 0.3.
 fn released(t: f64) -> f64 {

@@ -11,7 +11,7 @@
 //! agreement 1e-8 is then asked of every array (against its largest entry, with an
 //! absolute floor of 1e-9 for the sensitivities that vanish).
 
-mod common;
+use crate::common;
 
 use common::with_number;
 use linkwork::constraints::Constraint;

@@ -3,11 +3,14 @@
 //! sqrt(l^2 - (r sin(theta) - e)^2), on every path a sweep takes (the plan's closed forms
 //! with rates, positions only under the guard, the general Newton), in a batch, and a
 //! slide a translation driver moves past its stops.
-mod common;
+use crate::common;
 
 use common::{slider_crank, SliderCrank};
+use linkwork::motion::{ExpressionLaw, MotionLaw};
 use linkwork::stepping::singular::{Event, EventKind};
-use linkwork::{sweep_batch, Data, Description, JointDesc, Model, Options, Request, SolverKind, SweepOutput};
+use linkwork::{
+    sweep_batch, Data, Description, DriverDesc, JointDesc, Model, Options, Request, SolverKind, SweepOutput,
+};
 
 const SC: SliderCrank = SliderCrank { r2: 0.10, r3: 0.35, e: 0.02 };
 const TH0: f64 = 1.5;
@@ -34,6 +37,11 @@ fn stroke() -> (f64, f64) {
 /// Every time in [t0, t1] where the closed-form slide crosses `bound`: sign changes on a
 /// fine grid (well below the stroke's period), each bisected to round-off.
 fn closed_crossings(bound: f64, t0: f64, t1: f64) -> Vec<f64> {
+    crossings_of(slide, bound, t0, t1)
+}
+
+/// `closed_crossings` of another slide(t).
+fn crossings_of(slide: impl Fn(f64) -> f64, bound: f64, t0: f64, t1: f64) -> Vec<f64> {
     let n = 20_000;
     let f = |t: f64| slide(t) - bound;
     let mut out = Vec::new();
@@ -332,5 +340,51 @@ fn a_clipped_stroke_is_found_wherever_the_turn_falls_in_its_step() {
                 assert!((e.time - t).abs() < 1e-9, "{shift} {solver:?} {req:?}: {} against {t}", e.time);
             }
         }
+    }
+}
+
+/// A step whose rates cannot be solved still bounds the searches either side of it. The
+/// crank's law theta = theta0 + omega t + c (sqrt|t - tb| - sqrt(tb)), c = 1e-4 rad s^-1/2,
+/// has no finite rate at the step tb (a cusp: the general path solves the positions
+/// there, the rates not; the plan's closed forms refuse the law). tb is the step just
+/// after an outer dead centre that falls 0.3 of a step after its start, so that the slide
+/// at tb is below the one a step before: the chord between them is the turn test's rate
+/// at tb, and the two crossings of the clipped stroke's max inside that step are found
+/// only by the turn. All six crossings, at the closed form's times under that law to
+/// 1e-9 s, positions only on the general path.
+#[test]
+fn a_step_without_rates_bounds_the_crossings_either_side_of_it() {
+    const C: f64 = 1e-4;
+    let (lo, hi) = stroke();
+    let bound = hi - 1e-7;
+    let t1 = 3.0 * std::f64::consts::TAU / OMEGA;
+    let h = t1 / 150.0;
+    // the first outer dead centre (crank at asin(e / (l + r)) + 2 pi) without the cusp,
+    // at 0.3 of its step
+    let dead = ((SC.e / (SC.r3 + SC.r2)).asin() + std::f64::consts::TAU - TH0) / OMEGA;
+    let shift = (dead / h - 0.3).rem_euclid(1.0);
+    let times: Vec<f64> = (0..=150).map(|k| (k as f64 + shift) * h).collect();
+    let kb = times.partition_point(|&t| t < dead);
+    let tb = times[kb];
+    let theta = |t: f64| TH0 + OMEGA * t + C * ((t - tb).abs().sqrt() - tb.sqrt());
+    let slide_c = |t: f64| x_of(theta(t)) - x_of(TH0);
+    let expected = crossings_of(slide_c, bound, times[0], *times.last().unwrap());
+    assert_eq!(expected.len(), 6);
+    // the first pair inside the step before tb, the slide at tb below the one before it
+    assert!(times[kb - 1] < expected[0] && expected[1] < tb, "{expected:?} {tb}");
+    assert!(slide_c(tb) < slide_c(times[kb - 1]));
+    let mut desc = crank_with_travel([lo - 1e-3, bound]);
+    let text = format!("{TH0:?} + {OMEGA:?}*t + {C:?}*(sqrt(abs(t - {tb:?})) - sqrt({tb:?}))");
+    desc.drivers = vec![DriverDesc::Angle {
+        name: "crank_angle".into(),
+        body: "crank".into(),
+        law: MotionLaw::Expression(ExpressionLaw::new(&text).unwrap()),
+    }];
+    let out = swept(&desc, SolverKind::General, Request { derivatives: 0, ..Request::default() }, &times);
+    let ends = travel_ends(&out);
+    let got: Vec<f64> = ends.iter().map(|e| e.time).collect();
+    assert_eq!(got.len(), expected.len(), "{got:?} against {expected:?}");
+    for (g, t) in got.iter().zip(&expected) {
+        assert!((g - t).abs() < 1e-9, "{g} against {t}");
     }
 }

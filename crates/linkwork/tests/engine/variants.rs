@@ -2,7 +2,7 @@
 //! each against the four-bar's closed form with its own link lengths, against its own
 //! model swept alone, and the batch on one and two threads against itself.
 
-mod common;
+use crate::common;
 
 use common::{four_bar, four_bar_closed, FourBar};
 use linkwork::sensitivity::Parameter;

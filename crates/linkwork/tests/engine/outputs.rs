@@ -2,7 +2,7 @@
 //! columns are the full sweep's, bit for bit, and the kept points are the body points of
 //! the full sweep's poses, on the structured and on the general path.
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::{sweep, Data, Model, Options, Outputs, Request, SolverKind, SweepOutput};
 

@@ -3,7 +3,7 @@
 //! sign of det Phi_q) is put on the asked one, not left where its drawing lies. Checked by
 //! cargo only (`sweep::branches::on` compares each Newton block's det sign).
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::analysis::modes::assembly_modes;
 use linkwork::branches::{asked_branches, sweep_on};

@@ -1,6 +1,6 @@
 //! Outputs that would not fit are refused before a sweep starts, with what they need.
 
-mod common;
+use crate::common;
 use common::*;
 use linkwork::{Model, Outputs, Request, SolveError, SweepOutput};
 

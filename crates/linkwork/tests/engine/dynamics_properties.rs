@@ -14,9 +14,7 @@ use linkwork::dynamics::{simulate, Method, SimOptions, SimOutput};
 use linkwork::{Description, Model, Options, SolveError};
 use nalgebra::{Matrix4, Vector4};
 
-#[path = "common/oscillator.rs"]
-mod oscillator_model;
-use oscillator_model::{exact, oscillator, C, MASS};
+use crate::oscillator_model::{exact, oscillator, C, MASS};
 
 fn run(model: &Model, times: &[f64], opts: &SimOptions) -> SimOutput {
     let mut out = SimOutput::new(model, times);
