@@ -611,3 +611,35 @@ fn singular_event(model: &Model, d: &DMatrix<f64>, q: &[f64], t: f64, times: &[f
         pivot_ratio: pivot,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The quintic Hermite interpolant of the events is exact on any quintic: q and qd at
+    /// interior points of an interval not starting at 0, from the ends' q, qd and qdd.
+    #[test]
+    fn hermite_reproduces_a_quintic_and_its_rate() {
+        let c = [0.7, -1.3, 2.1, 0.4, -0.9, 1.6];
+        let f = |t: f64| c.iter().rev().fold(0.0, |a, &k| a * t + k);
+        let df = |t: f64| (1..6).rev().fold(0.0, |a, k| a * t + k as f64 * c[k]);
+        let d2f = |t: f64| (2..6).rev().fold(0.0, |a, k| a * t + (k * (k - 1)) as f64 * c[k]);
+        let sample = |t: f64| Sample {
+            t,
+            q: vec![f(t)],
+            qd: vec![df(t)],
+            qdd: vec![d2f(t)],
+            pivot: 1.0,
+            sigma: 1.0,
+            mid: 1.0,
+        };
+        let (a, b) = (sample(0.3), sample(1.1));
+        let (mut q, mut qd) = ([0.0], [0.0]);
+        for k in 0..=8 {
+            let t = 0.3 + 0.1 * k as f64;
+            hermite(&a, &b, t, &mut q, &mut qd);
+            assert!((q[0] - f(t)).abs() < 1e-13, "q at {t}: {} against {}", q[0], f(t));
+            assert!((qd[0] - df(t)).abs() < 1e-12, "qd at {t}: {} against {}", qd[0], df(t));
+        }
+    }
+}

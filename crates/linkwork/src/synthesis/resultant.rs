@@ -154,3 +154,28 @@ pub fn solve_by_resultant(rows: &[DyadRow; 4]) -> Result<Solutions, SynthesisErr
     let system = family().specialize(&params(rows))?;
     Ok(certify_points(&system, candidates(rows)))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A quadratic whose leading coefficient is negligible against the others is the line
+    /// b z + c: its one root -c / b; a proper quadratic gives both roots.
+    #[test]
+    fn quadratic_roots_of_a_negligible_leading_coefficient_are_the_line_root() {
+        let (b, c) = (C64::new(2.0, -1.0), C64::new(-3.0, 0.5));
+        for a in [C64::new(0.0, 0.0), C64::new(1e-15, 0.0)] {
+            let [r0, r1] = quadratic_roots(a, b, c);
+            let r0 = r0.expect("the line's root");
+            assert!((b * r0 + c).norm() < 1e-14, "{r0}");
+            assert!(r1.is_none());
+        }
+        // (z - 1)(z - 2i): both roots
+        let [r0, r1] = quadratic_roots(C64::new(1.0, 0.0), C64::new(-1.0, -2.0), C64::new(0.0, 2.0));
+        let mut roots = [r0.unwrap(), r1.unwrap()];
+        roots.sort_by(|x, y| x.re.total_cmp(&y.re));
+        assert!(
+            (roots[0] - C64::new(0.0, 2.0)).norm() < 1e-14 && (roots[1] - C64::new(1.0, 0.0)).norm() < 1e-14
+        );
+    }
+}
