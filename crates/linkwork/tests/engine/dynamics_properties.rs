@@ -93,6 +93,10 @@ fn a_largest_step_equal_to_the_rows_spacing_lands_on_every_row() {
             out.step
         );
         assert!(x_error(&out) < 1e-3, "{method:?}: {:.3e}", x_error(&out));
+        if method == Method::GenAlpha {
+            // one step of h_max to each time, not two halves (nor h_max and a sliver)
+            assert!(out.n_steps < times.len() + 20, "{} steps to {} times", out.n_steps, times.len());
+        }
     }
     // times 0.5 % further apart than h_max: each reached by two even steps, not by h_max
     // and a sliver of 0.5 % of it
