@@ -47,6 +47,17 @@ struct JacSlots {
     st: [u32; MAX_ROWS],
 }
 
+/// The equilibration a factorization uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Equilibration {
+    /// a new one, from the values being factored
+    New,
+    /// the last factorization's (nearby states: the output rows of a step after its
+    /// first, a step's stages, Newton's later iterations; only round-off differs), a new
+    /// one all the same where none was computed yet
+    Kept,
+}
+
 /// The compiled pattern, its values and factors (n coordinates, m rows).
 #[derive(Debug, Clone)]
 pub struct Augmented {
@@ -71,10 +82,7 @@ pub struct Augmented {
     diag: Vec<u32>,
     /// whether the last factorization was regularised
     pub regularised: bool,
-    /// factor with the equilibration of the last factorization, not a new one (the
-    /// output rows of a step after its first: nearby states, the same round-off); a
-    /// new one all the same where none was computed yet
-    pub keep_scale: bool,
+    /// whether `scale` holds an equilibration (`Equilibration::Kept` computes one where not)
     equilibrated: bool,
     work: Vec<f64>,
     /// a regularised solve's refinement: right-hand side, iterate, residual
@@ -196,7 +204,6 @@ impl Augmented {
             jac,
             diag,
             regularised: false,
-            keep_scale: false,
             equilibrated: false,
             work: vec![0.0; 2 * size],
             refine: vec![0.0; 3 * size],
@@ -294,11 +301,11 @@ impl Augmented {
     }
 
     /// Equilibrates (Ruiz, symmetric: a few sweeps of 1 / sqrt of each row's largest
-    /// entry) and factors, with -mu on the multipliers' diagonal of the equilibrated
-    /// matrix. Returns the pivots.
-    pub fn factor(&mut self, mu: f64) -> Pivots {
+    /// entry; none with `Equilibration::Kept` once one was computed) and factors, with -mu on the
+    /// multipliers' diagonal of the equilibrated matrix. Returns the pivots.
+    pub fn factor(&mut self, mu: f64, equilibration: Equilibration) -> Pivots {
         let size = self.n + self.m;
-        let sweeps = if self.keep_scale && self.equilibrated { 0 } else { 3 };
+        let sweeps = if equilibration == Equilibration::Kept && self.equilibrated { 0 } else { 3 };
         self.equilibrated = true;
         if sweeps > 0 {
             self.scale.fill(1.0);
@@ -385,21 +392,19 @@ impl Augmented {
     /// refined against A a few times (augmented-Lagrangian iterations, as in Bayo and
     /// Ledesma's ALI3-P): what the rows determine converges, the nearly dependent
     /// directions stay relaxed. Returns the pivots of A.
-    pub fn factor_solve(&mut self, b: &mut [f64]) -> Pivots {
-        let pivots = self.factor_for_solve();
+    pub fn factor_solve(&mut self, b: &mut [f64], equilibration: Equilibration) -> Pivots {
+        let pivots = self.factor_for_solve(equilibration);
         self.solve_refined(b);
         pivots
     }
 
     /// The factorization `factor_solve` uses: of A, or of the regularised matrix where A's
     /// pivot ratio is below `REGULARISE_BELOW`. Returns the pivots of A.
-    pub fn factor_for_solve(&mut self) -> Pivots {
-        let pivots = self.factor(0.0);
+    pub fn factor_for_solve(&mut self, equilibration: Equilibration) -> Pivots {
+        let pivots = self.factor(0.0, equilibration);
         if pivots.ratio < REGULARISE_BELOW {
             // the same values: the equilibration just computed (the same bits as a new one)
-            let keep = std::mem::replace(&mut self.keep_scale, true);
-            self.factor(MU);
-            self.keep_scale = keep;
+            self.factor(MU, Equilibration::Kept);
         }
         pivots
     }
@@ -442,7 +447,7 @@ impl Augmented {
     /// the body a singular M leaves free.
     pub fn null_coordinate(&mut self) -> usize {
         let size = self.n + self.m;
-        self.factor(1e-9);
+        self.factor(1e-9, Equilibration::New);
         for k in 0..self.n {
             self.scaled[self.diag[k] as usize] += 1e-9;
         }

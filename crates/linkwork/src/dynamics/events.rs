@@ -15,6 +15,7 @@
 
 use nalgebra::DMatrix;
 
+use crate::dynamics::augmented::Equilibration;
 use crate::dynamics::equilibrium::constraints_dense;
 use crate::dynamics::mass::mass_times;
 use crate::dynamics::system::System;
@@ -465,9 +466,7 @@ fn sigma_here(model: &Model, sys: &mut System, q: &[f64], t: f64, w: &mut [f64])
     sys.aug.fill(model, &sys.data.frames, q, t, 1.0, &mut sys.phi);
     // equilibrated as the workspace's last factorization (a row or a sample nearby): the
     // sweeps would cost as much as the LU, and sigma does not depend on them
-    let keep = std::mem::replace(&mut sys.aug.keep_scale, true);
-    sys.aug.factor(0.0);
-    sys.aug.keep_scale = keep;
+    sys.aug.factor(0.0, Equilibration::Kept);
     // the workspace's own solve buffer (n + m)
     let x = &mut sys.x;
     let mut growth = 0.0;
@@ -559,7 +558,7 @@ fn free_motions(model: &Model, sys: &mut System, q: &[f64], t: f64) -> Option<DM
         }
         mass_times(model, &sys.data.frames, &r, &mut x[..n]);
         x[n..].fill(0.0);
-        sys.aug.factor_solve(&mut x);
+        sys.aug.factor_solve(&mut x, Equilibration::New);
         for i in 0..n {
             basis[(k, i)] = x[i] / model.col_scale[i];
         }

@@ -14,7 +14,7 @@
 #![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
 use crate::dynamics::applied::{applied_force, tangents};
-use crate::dynamics::augmented::REGULARISE_BELOW;
+use crate::dynamics::augmented::{Equilibration, REGULARISE_BELOW};
 use crate::dynamics::energy::load_power;
 use crate::dynamics::events::Watch;
 use crate::dynamics::mass::mass_times;
@@ -71,7 +71,7 @@ pub fn integrate(
     let (mut qdd, mut lambda) = (vec![0.0; n], vec![0.0; m]);
     let mut t = times[0];
     let mut watch = Watch::new(model, opts.stop_at_travel_end);
-    watch.pivot(sys.accelerations(model, &q, &qd, t, &mut qdd, &mut lambda).ratio);
+    watch.pivot(sys.accelerations(model, &q, &qd, t, &mut qdd, &mut lambda, Equilibration::New).ratio);
     watch.accepted(model, sys, &times, t, &q, &qd, &qdd, &mut out.events);
     let mut a = qdd.clone();
     let mut nu = vec![0.0; m];
@@ -162,10 +162,9 @@ pub fn integrate(
             tangents(model, loads, &q1, &qd1, &qdd1, t1, &mut |b| aug.add_tangent(&b, 1.0, c_c));
             // the watch sees the last iteration's (the predictor's states are off the path);
             // the iterations after a step's first keep its equilibration
-            sys.aug.keep_scale = it > 1;
-            last_pivot = sys.aug.factor_solve(&mut rhs).ratio;
+            let equilibration = if it > 1 { Equilibration::Kept } else { Equilibration::New };
+            last_pivot = sys.aug.factor_solve(&mut rhs, equilibration).ratio;
             newton_pivot = newton_pivot.min(last_pivot);
-            sys.aug.keep_scale = false;
             if !rhs.iter().all(|v| v.is_finite()) {
                 break;
             }
@@ -224,7 +223,8 @@ pub fn integrate(
         }
         if lands {
             let (mut qs, mut qds) = (q.clone(), qd.clone());
-            let info = StepInfo { step: h, iterations: iterations as u32, work, keep_scale: false };
+            let info =
+                StepInfo { step: h, iterations: iterations as u32, work, equilibration: Equilibration::New };
             store_state(model, sys, out, next, t, &mut qs, &mut qds, info, opts.accelerations)?;
             next += 1;
         }

@@ -4,7 +4,7 @@
 //! qd), reporting how far each moved; beyond a tolerance, a named error. The augmented
 //! matrix at t0 also tells whether M has mass on every motion the constraints allow.
 
-use crate::dynamics::augmented::Augmented;
+use crate::dynamics::augmented::{Augmented, Equilibration};
 use crate::dynamics::system::System;
 use crate::error::SolveError;
 use crate::model::Model;
@@ -63,7 +63,7 @@ pub fn make_consistent(
     sys.set_state(q, qd);
     let mut phi = vec![0.0; model.n_rows];
     sys.aug.fill(model, &sys.data.frames, q, t0, 1.0, &mut phi);
-    let pivots = sys.aug.factor(0.0);
+    let pivots = sys.aug.factor(0.0, Equilibration::New);
     if pivots.ratio.is_nan() || pivots.ratio < MASSLESS_BELOW {
         return Err(massless(model, &mut sys.aug, t0));
     }
@@ -145,7 +145,7 @@ mod tests {
             let mut x = vec![0.0; n + m];
             x[..n].copy_from_slice(&md);
             aug.fill(&model, &frames, &q, 0.0, 1.0, &mut phi);
-            aug.factor_solve(&mut x);
+            aug.factor_solve(&mut x, Equilibration::New);
             let size = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             let bound = if exact { 1e-9 * size } else { 10.0 * size * size };
             assert!(x[..n].iter().all(|v| v.abs() < bound), "{:?} (move {size:.2e})", &x[..n]);

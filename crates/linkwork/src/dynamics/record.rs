@@ -2,6 +2,7 @@
 //! before it kept), qdd and lambda from the index-1 solve there, the energies and the
 //! reactions.
 
+use crate::dynamics::augmented::Equilibration;
 use crate::dynamics::energy::{kinetic, potential};
 use crate::dynamics::output::{Row, SimOutput};
 use crate::dynamics::system::System;
@@ -15,9 +16,9 @@ pub struct StepInfo {
     pub step: f64,
     pub iterations: u32,
     pub work: f64,
-    /// the row is not the first of its step: its factorizations keep the equilibration
-    /// of the row before (`System::project_state`)
-    pub keep_scale: bool,
+    /// `Kept` for a row not the first of its step: its factorizations keep the
+    /// equilibration of the row before (`System::project_state`)
+    pub equilibration: Equilibration,
 }
 
 /// Projects (q, qd) at t onto the constraints and stores row k: the drift before the
@@ -36,7 +37,7 @@ pub fn store_state(
     info: StepInfo,
     solve: bool,
 ) -> Result<(), SolveError> {
-    let (iterations, drift, residual, drift_d) = sys.project_state(model, q, qd, t, info.keep_scale);
+    let (iterations, drift, residual, drift_d) = sys.project_state(model, q, qd, t, info.equilibration);
     if residual.is_nan() || residual > model.options.tol_residual {
         return Err(SolveError::Step {
             step: k,
@@ -80,7 +81,7 @@ fn solve_row(model: &Model, sys: &mut System, out: &mut SimOutput, k: usize) -> 
     let t = out.times[k];
     let (q, qd) = (out.q[k * n..(k + 1) * n].to_vec(), out.qd[k * n..(k + 1) * n].to_vec());
     let (qdd, lambda) = (&mut out.qdd[k * n..(k + 1) * n], &mut out.lambda[k * m..(k + 1) * m]);
-    let pivots = sys.accelerations(model, &q, &qd, t, qdd, lambda);
+    let pivots = sys.accelerations(model, &q, &qd, t, qdd, lambda, Equilibration::New);
     if !qdd.iter().chain(lambda.iter()).all(|v| v.is_finite()) {
         return Err(SolveError::NonFinite { step: k, time: t, what: "the accelerations".into() });
     }

@@ -11,7 +11,7 @@
 #![allow(clippy::needless_range_loop)] // numeric kernels: one index runs over several arrays
 
 use crate::constraints::loads::Load;
-use crate::dynamics::augmented::REGULARISE_BELOW;
+use crate::dynamics::augmented::{Equilibration, REGULARISE_BELOW};
 use crate::dynamics::dop853 as tab;
 use crate::dynamics::energy::{kinetic, load_power, potential};
 use crate::dynamics::events::Watch;
@@ -60,11 +60,28 @@ struct Rhs {
 }
 
 impl Rhs {
-    /// f = (qd, qdd, P_nc) at (t, y); false if anything is not finite.
-    fn eval(&mut self, model: &Model, sys: &mut System, t: f64, y: &[f64], f: &mut [f64]) -> bool {
+    /// f = (qd, qdd, P_nc) at (t, y), the augmented matrix equilibrated as `equilibration` says;
+    /// false if anything is not finite.
+    fn eval(
+        &mut self,
+        model: &Model,
+        sys: &mut System,
+        t: f64,
+        y: &[f64],
+        f: &mut [f64],
+        equilibration: Equilibration,
+    ) -> bool {
         let n = self.n;
         self.evaluations += 1;
-        let pivots = sys.accelerations(model, &y[..n], &y[n..2 * n], t, &mut self.qdd, &mut self.lambda);
+        let pivots = sys.accelerations(
+            model,
+            &y[..n],
+            &y[n..2 * n],
+            t,
+            &mut self.qdd,
+            &mut self.lambda,
+            equilibration,
+        );
         self.watch.pivot(pivots.ratio);
         self.step_pivot = self.step_pivot.min(pivots.ratio);
         f[..n].copy_from_slice(&y[n..2 * n]);
@@ -106,7 +123,7 @@ pub fn integrate(
     let mut t = times[0];
     let mut k: Vec<Vec<f64>> = vec![vec![0.0; len]; tab::STAGES_EXTENDED];
     let mut f = vec![0.0; len];
-    if !rhs.eval(model, sys, t, &y, &mut f) {
+    if !rhs.eval(model, sys, t, &y, &mut f, Equilibration::New) {
         return Err(SolveError::NonFinite {
             step: 0,
             time: t,
@@ -141,7 +158,7 @@ pub fn integrate(
             let h0 = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };
             let y1: Vec<f64> = y.iter().zip(&f).map(|(a, b)| a + h0 * b).collect();
             let mut f1 = vec![0.0; len];
-            rhs.eval(model, sys, t + h0, &y1, &mut f1);
+            rhs.eval(model, sys, t + h0, &y1, &mut f1, Equilibration::New);
             let df: Vec<f64> = f1.iter().zip(&f).map(|(a, b)| a - b).collect();
             let d2 = rms(&df, &y) / h0;
             let h1 =
@@ -181,12 +198,11 @@ pub fn integrate(
             let mut finite = true;
             // the stages' matrices equilibrated as the step's first was (its f, at y): within
             // a step the entries' sizes barely change, and the sweeps cost as much as the LU
-            sys.aug.keep_scale = true;
             for s in 1..tab::STAGES {
                 combine(&tab::A[s][..s], &k[..s], h, &y, &mut stage);
                 let (head, tail) = k.split_at_mut(s);
                 let _ = head;
-                finite &= rhs.eval(model, sys, t + tab::C[s] * h, &stage, &mut tail[0]);
+                finite &= rhs.eval(model, sys, t + tab::C[s] * h, &stage, &mut tail[0], Equilibration::Kept);
                 if !finite {
                     break;
                 }
@@ -195,9 +211,8 @@ pub fn integrate(
                 combine(&tab::B, &k[..tab::STAGES], h, &y, &mut y_new);
                 let (head, tail) = k.split_at_mut(tab::STAGES);
                 let _ = head;
-                finite = rhs.eval(model, sys, t + h, &y_new, &mut tail[0]);
+                finite = rhs.eval(model, sys, t + h, &y_new, &mut tail[0], Equilibration::Kept);
             }
-            sys.aug.keep_scale = false;
             let error = if finite { error_norm(&k, h, &y, &y_new, n, &scale_of) } else { f64::INFINITY };
             out.n_steps += 1;
             if error < 1.0 {
@@ -263,14 +278,15 @@ pub fn integrate(
                 contd8(&dense, x, &y, &mut y_out);
             }
             let (qo, rest) = y_out.split_at_mut(n);
-            let info = StepInfo { step: h_step, iterations: 0, work: rest[n], keep_scale: next > first };
+            let equilibration = if next > first { Equilibration::Kept } else { Equilibration::New };
+            let info = StepInfo { step: h_step, iterations: 0, work: rest[n], equilibration };
             store_state(model, &mut aux, out, next, tk, qo, &mut rest[..n], info, opts.accelerations)?;
             next += 1;
         }
         // the step's end, projected onto the constraints; its derivative evaluated there
         y.copy_from_slice(&y_new);
         let (qs, rest) = y.split_at_mut(n);
-        let (_, _, residual, _) = sys.project_state(model, qs, &mut rest[..n], t_new, false);
+        let (_, _, residual, _) = sys.project_state(model, qs, &mut rest[..n], t_new, Equilibration::New);
         if residual.is_nan() || residual > model.options.tol_residual {
             return Err(step_error(
                 out,
@@ -285,7 +301,7 @@ pub fn integrate(
         }
         balance = kinetic(model, sys.frames()) + potential(model, sys.frames()) - y[2 * n];
         t = t_new;
-        if !rhs.eval(model, sys, t, &y, &mut f) {
+        if !rhs.eval(model, sys, t, &y, &mut f, Equilibration::New) {
             return Err(step_error(out, t, h_step, "the accelerations are not finite".into()));
         }
         let stop =
@@ -455,13 +471,11 @@ fn dense_coefficients(
 ) {
     let len = y.len();
     // equilibrated as the step's stages were
-    sys.aug.keep_scale = true;
     for s in tab::STAGES + 1..tab::STAGES_EXTENDED {
         combine(&tab::A[s][..s], &k[..s], h, y, stage);
         let (_, tail) = k.split_at_mut(s);
-        rhs.eval(model, sys, t + tab::C[s] * h, stage, &mut tail[0]);
+        rhs.eval(model, sys, t + tab::C[s] * h, stage, &mut tail[0], Equilibration::Kept);
     }
-    sys.aug.keep_scale = false;
     let f_new = &k[tab::STAGES];
     for i in 0..len {
         let dy = y_new[i] - y[i];

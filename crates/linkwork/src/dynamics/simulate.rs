@@ -1,6 +1,7 @@
 //! The entry point: a simulation over the asked times from consistent initial conditions,
 //! by the method asked, its rows stored with their energy and drift.
 
+use crate::dynamics::augmented::Equilibration;
 use crate::dynamics::initial::make_consistent;
 use crate::dynamics::options::{Method, SimOptions};
 use crate::dynamics::output::SimOutput;
@@ -76,7 +77,7 @@ pub fn simulate(
     out.moved =
         make_consistent(model, &mut sys, &mut q, &mut qd, times[0], tol(q0.is_some()), tol(qd0.is_some()))?;
     check_start(model, &q, &qd)?;
-    let start = StepInfo { step: 0.0, iterations: 0, work: 0.0, keep_scale: false };
+    let start = StepInfo { step: 0.0, iterations: 0, work: 0.0, equilibration: Equilibration::New };
     store_state(model, &mut sys, out, 0, times[0], &mut q, &mut qd, start, opts.accelerations)?;
     match opts.method {
         Method::Rk8 => rk::integrate(model, &mut sys, opts, &q, &qd, out, poll),

@@ -6,7 +6,7 @@
 
 use crate::constraints::Frame;
 use crate::dynamics::applied::{applied_force, LoadJet};
-use crate::dynamics::augmented::Augmented;
+use crate::dynamics::augmented::{Augmented, Equilibration};
 use crate::dynamics::mass::mass_times;
 use crate::math::pivots::Pivots;
 use crate::model::data::Data;
@@ -83,7 +83,9 @@ impl System {
     }
 
     /// qdd and the scaled multipliers at (q, qd, t), index-1; returns the pivots of the
-    /// augmented matrix (regularised and refined where it is singular: `factor_solve`).
+    /// augmented matrix (regularised and refined where it is singular: `factor_solve`),
+    /// equilibrated as `equilibration` says.
+    #[allow(clippy::too_many_arguments)]
     pub fn accelerations(
         &mut self,
         model: &Model,
@@ -92,6 +94,7 @@ impl System {
         t: f64,
         qdd: &mut [f64],
         lambda: &mut [f64],
+        equilibration: Equilibration,
     ) -> Pivots {
         let n = model.n_coords;
         self.set_state(q, qd);
@@ -99,7 +102,7 @@ impl System {
         applied_force(model, &self.data.frames, t, &mut self.x[..n]);
         gamma(model, &mut self.data, t);
         self.x[n..].copy_from_slice(&self.data.rhs);
-        self.pivots = self.aug.factor_solve(&mut self.x);
+        self.pivots = self.aug.factor_solve(&mut self.x, equilibration);
         qdd.copy_from_slice(&self.x[..n]);
         lambda.copy_from_slice(&self.x[n..]);
         self.pivots
@@ -140,7 +143,7 @@ impl System {
             for (r, p) in self.x[n..].iter_mut().zip(&self.phi) {
                 *r = -p;
             }
-            self.pivots = self.aug.factor_solve(&mut self.x);
+            self.pivots = self.aug.factor_solve(&mut self.x, Equilibration::New);
             for (qk, d) in q.iter_mut().zip(&self.x[..n]) {
                 *qk += d;
             }
@@ -153,8 +156,8 @@ impl System {
     /// (a step's end, the dense output between) needs one Newton step, and simplified
     /// Newton with its factors brings both the positions and the rates to round-off; the
     /// matrix is factored again only where an iteration does not halve the residual.
-    /// Its factorizations are equilibrated as the last one was if `keep_scale` (an output
-    /// row near the one before it: only round-off differs).
+    /// Its factorizations are equilibrated as `equilibration` says (`Kept` for an output row near
+    /// the one before it: only round-off differs).
     /// Returns (iterations, scaled |phi| before, after, scaled |Phi_q qd - nu| before).
     pub fn project_state(
         &mut self,
@@ -162,24 +165,11 @@ impl System {
         q: &mut [f64],
         qd: &mut [f64],
         t: f64,
-        keep_scale: bool,
-    ) -> (usize, f64, f64, f64) {
-        self.aug.keep_scale = keep_scale;
-        let result = self.project_state_inner(model, q, qd, t);
-        self.aug.keep_scale = false;
-        result
-    }
-
-    fn project_state_inner(
-        &mut self,
-        model: &Model,
-        q: &mut [f64],
-        qd: &mut [f64],
-        t: f64,
+        equilibration: Equilibration,
     ) -> (usize, f64, f64, f64) {
         let n = model.n_coords;
         let Settled { iterations, before, residual, mut fresh, mut factored } =
-            self.settle_positions(model, q, t);
+            self.settle_positions(model, q, t, equilibration);
         if !residual.is_finite() || residual > model.options.tol_residual {
             return (iterations, before, residual, f64::NAN);
         }
@@ -199,7 +189,7 @@ impl System {
                 break;
             }
             if !factored || size > 0.5 * last_d {
-                self.pivots = self.aug.factor_for_solve();
+                self.pivots = self.aug.factor_for_solve(equilibration);
                 (factored, fresh) = (true, true);
             } else {
                 fresh = false;
@@ -220,7 +210,13 @@ impl System {
     }
 
     /// The positions' part of `project_state`.
-    fn settle_positions(&mut self, model: &Model, q: &mut [f64], t: f64) -> Settled {
+    fn settle_positions(
+        &mut self,
+        model: &Model,
+        q: &mut [f64],
+        t: f64,
+        equilibration: Equilibration,
+    ) -> Settled {
         let n = model.n_coords;
         self.target.copy_from_slice(q);
         let (mut before, mut residual) = (f64::NAN, f64::NAN);
@@ -264,7 +260,11 @@ impl System {
             }
             fresh = !factored || slow;
             if fresh {
-                self.pivots = if exact { self.aug.factor(0.0) } else { self.aug.factor_for_solve() };
+                self.pivots = if exact {
+                    self.aug.factor(0.0, equilibration)
+                } else {
+                    self.aug.factor_for_solve(equilibration)
+                };
                 factored = true;
             }
             last = residual;
@@ -296,7 +296,7 @@ impl System {
         let before = self.velocity_drift(model, qd, t);
         mass_times(model, &self.data.frames, qd, &mut self.x[..n]);
         nu_into(model, t, &mut self.x[n..]);
-        self.pivots = self.aug.factor_solve(&mut self.x);
+        self.pivots = self.aug.factor_solve(&mut self.x, Equilibration::New);
         qd.copy_from_slice(&self.x[..n]);
         before
     }

@@ -320,6 +320,7 @@ fn the_augmented_solves_on_kept_pivot_sequences_match_new_choices() {
     // four turns, the states 0.05 rad or more from the change points (th = k pi): one
     // workspace that keeps its pivot sequences (and the spares it chose before) against
     // a new workspace for every state, whose sequence is chosen on that state's values
+    use linkwork::dynamics::augmented::Equilibration;
     use linkwork::dynamics::system::System;
     let model = free_parallelogram();
     let (n, m) = (model.n_coords, model.n_rows);
@@ -336,9 +337,9 @@ fn the_augmented_solves_on_kept_pivot_sequences_match_new_choices() {
         let (c, s) = (th.cos(), th.sin());
         let q = [0.0, 0.0, th, r2 * c, r2 * s, 0.0, 0.3, 0.0, th];
         let qd = [0.0, 0.0, w, -r2 * s * w, r2 * c * w, 0.0, 0.0, 0.0, w];
-        kept.accelerations(&model, &q, &qd, 0.0, &mut qdd_a, &mut l_a);
+        kept.accelerations(&model, &q, &qd, 0.0, &mut qdd_a, &mut l_a, Equilibration::New);
         let mut fresh = System::new(&model);
-        fresh.accelerations(&model, &q, &qd, 0.0, &mut qdd_b, &mut l_b);
+        fresh.accelerations(&model, &q, &qd, 0.0, &mut qdd_b, &mut l_b, Equilibration::New);
         // round-off of the solves (pivot ratios above 1e-3 here): 1e-12 of each's size
         let size = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         for (a, b) in [(&qdd_a, &qdd_b), (&l_a, &l_b)] {
