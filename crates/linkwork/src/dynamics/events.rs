@@ -49,9 +49,10 @@ pub const SINGULAR_BELOW: f64 = 1e-2;
 /// to the crossing branches).
 const EVENT_RESIDUAL: f64 = 1e-9;
 /// A step is sampled at its midpoint too where sigma_min at one of its ends is below
-/// this: where both ends are above it, a crossing between would need sigma_min to fall by
-/// that much on either side within the step (A01's is 1 throughout, A02's ends 0.1 to
-/// 0.4 around its crossings at the coarsest tolerances).
+/// this (A01's is 1 throughout, A02's ends 0.1 to 0.4 around its crossings at the
+/// coarsest tolerances), or where sigma_min falls steeply enough to cross zero within the
+/// step (`Watch::accepted`: a parallelogram turning 0.56 rad a step keeps both ends of the
+/// step holding a crossing above 0.5).
 pub const MIDPOINT_BELOW: f64 = 0.5;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
@@ -187,7 +188,19 @@ impl Watch {
         // not sampled: the ends' mean, never a dip of its own
         sample.mid = self.samples.last().map_or(f64::INFINITY, |a| 0.5 * (a.sigma + sample.sigma));
         if let (Some(a), true) = (self.samples.last(), watched) {
-            if a.sigma.min(sample.sigma) < MIDPOINT_BELOW {
+            // or where sigma_min falls into the step fast enough to reach zero inside it: a
+            // crossing stepped over whole leaves sigma_a + sigma_b = k h at its ends (a V of
+            // slope k), k taken as twice the fall seen before a (sigma bends down into a
+            // crossing); a long step of a fast motion has both ends far from the crossing
+            let falls_through = match self.samples.len() {
+                2 => {
+                    let p = &self.samples[0];
+                    let slope = (p.sigma - a.sigma) / (a.t - p.t);
+                    a.sigma + sample.sigma <= 2.0 * slope * (t - a.t)
+                }
+                _ => true,
+            };
+            if a.sigma.min(sample.sigma) < MIDPOINT_BELOW || falls_through {
                 let tm = 0.5 * (a.t + t);
                 hermite(a, &sample, tm, &mut self.q, &mut self.qd);
                 sample.mid = sigma_here(model, sys, &self.q, tm, &mut self.w);
