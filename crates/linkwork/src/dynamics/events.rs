@@ -654,4 +654,56 @@ mod tests {
             assert!((qd[0] - df(t)).abs() < 1e-12, "qd at {t}: {} against {}", qd[0], df(t));
         }
     }
+
+    /// The watch's sigma_min (inverse iteration with the sparse augmented matrix) is the
+    /// smallest singular value of Phi_q in the mass metric, sqrt of the least eigenvalue of
+    /// Phi_q M^-1 Phi_q^T computed densely here, at a regular configuration of a
+    /// parallelogram and next to its change point (bars 0.01 rad from aligned).
+    #[test]
+    fn sigma_here_is_the_least_singular_value_of_phi_q_in_the_mass_metric() {
+        use crate::{Description, Options};
+        let (r2, r1) = (0.1, 0.3);
+        let json = r#"{"name": "parallelogram", "gravity": [0.0, -9.81],
+            "bodies": [{"name": "crank", "x": 0.0, "y": 0.0, "theta": 0.5, "mass": 0.4, "inertia": 0.002},
+                       {"name": "coupler", "x": 0.08775825618903728, "y": 0.04794255386042030, "theta": 0.0,
+                        "mass": 1.1, "inertia": 0.01},
+                       {"name": "rocker", "x": 0.3, "y": 0.0, "theta": 0.5, "mass": 0.7, "inertia": 0.003}],
+            "joints": [{"type": "revolute", "name": "O2", "body_a": "ground", "body_b": "crank", "at": [0.0, 0.0]},
+                       {"type": "revolute", "name": "A", "body_a": "crank", "body_b": "coupler",
+                        "at": [0.08775825618903728, 0.04794255386042030]},
+                       {"type": "revolute", "name": "B", "body_a": "coupler", "body_b": "rocker",
+                        "at": [0.38775825618903728, 0.04794255386042030]},
+                       {"type": "revolute", "name": "O4", "body_a": "ground", "body_b": "rocker", "at": [0.3, 0.0]}]}"#;
+        let model = Model::with_options(
+            Description::from_json(json).unwrap(),
+            Options { free: true, ..Options::default() },
+        )
+        .unwrap();
+        let (n, m) = (model.n_coords, model.n_rows);
+        let mut sys = System::new(&model);
+        let mut last = 0.0;
+        for th in [0.5f64, 0.01] {
+            let q = [0.0, 0.0, th, r2 * th.cos(), r2 * th.sin(), 0.0, r1, 0.0, th];
+            let mut w = vec![1.0 / (m as f64).sqrt(); m];
+            // each call three steps of inverse iteration from the last dependency
+            let sigma = (0..6).map(|_| sigma_here(&model, &mut sys, &q, 0.0, &mut w)).last().unwrap();
+            // the dense reference from the matrix sigma_here filled: Phi_q by columns, M
+            let (mut jac, mut mass) = (DMatrix::zeros(m, n), DMatrix::zeros(n, n));
+            let (mut e, mut col) = (vec![0.0; n], vec![0.0; n]);
+            for j in 0..n {
+                e.fill(0.0);
+                e[j] = 1.0;
+                sys.aug.jacobian_times(&e, &mut col[..m]);
+                jac.column_mut(j).copy_from_slice(&col[..m]);
+                mass_times(&model, &sys.data.frames, &e, &mut col);
+                mass.column_mut(j).copy_from_slice(&col);
+            }
+            let schur = &jac * mass.try_inverse().unwrap() * jac.transpose();
+            let want = schur.symmetric_eigenvalues().min().sqrt();
+            assert!((sigma - want).abs() < 1e-10 * want, "theta {th}: sigma {sigma:e} against {want:e}");
+            last = if th < 0.1 { want / last } else { want };
+        }
+        // next to the change point the mass-metric sigma_min falls with the angle
+        assert!(last < 0.05, "sigma_min near the change point over the regular one: {last}");
+    }
 }

@@ -223,6 +223,22 @@ fn six_bars_five_bar_and_a_chain() {
 }
 
 #[test]
+fn a_groups_known_side_numbered_between_its_two_bodies() {
+    // each group reads its known sides' rows of dq/dp from around its own two bodies' rows:
+    // the Stephenson six-bar's bodies reordered so that a dyad's known side (the coupler,
+    // the crank) lies between the dyad's bodies, the first of them not the model's first
+    let times = turn(61);
+    for order in
+        [["crank", "link5", "coupler", "rocker", "output"], ["rocker", "crank", "link5", "coupler", "output"]]
+    {
+        let mut desc = six_bar_stephenson(0.0, 5.0);
+        desc.bodies.sort_by_key(|b| order.iter().position(|name| *name == b.name).unwrap());
+        let model = Model::new(desc).unwrap();
+        agree(&format!("Stephenson six-bar {order:?}"), &model, &times, &Parameter::all(&model), TOL);
+    }
+}
+
+#[test]
 fn a_tie_rod_as_the_dyads_second_link() {
     // a distance joint (a massless rod) from the crank to a rocker: a "one body" group
     let (a, b) = ([0.2 * 0.3f64.cos(), 0.2 * 0.3f64.sin()], [0.517365536421962, 0.1857115430397069]);
