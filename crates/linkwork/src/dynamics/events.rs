@@ -46,14 +46,21 @@ pub const SINGULAR_BELOW: f64 = 1e-2;
 /// The scaled |Phi| an event's configuration may keep: the interpolated q projected onto
 /// the constraints by Gauss-Newton, which near a crossing converges only linearly and
 /// may stall above the projections' tolerance (the residual is quadratic in the distance
-/// to the crossing branches).
-const EVENT_RESIDUAL: f64 = 1e-9;
+/// to the crossing branches): up to 1.1e-7 measured where long steps of a coarse
+/// tolerance leave the interpolant 1e-3 off (a parallelogram spinning at up to 120
+/// rad/s, rtol 1e-3), which a bound of 1e-9 dropped, events and all.
+const EVENT_RESIDUAL: f64 = 1e-6;
 /// A step is sampled at its midpoint too where sigma_min at one of its ends is below
 /// this (A01's is 1 throughout, A02's ends 0.1 to 0.4 around its crossings at the
 /// coarsest tolerances), or where sigma_min falls steeply enough to cross zero within the
 /// step (`Watch::accepted`: a parallelogram turning 0.56 rad a step keeps both ends of the
 /// step holding a crossing above 0.5).
 pub const MIDPOINT_BELOW: f64 = 0.5;
+/// The watch samples a step at interior points too (an integrator's dense output) where
+/// the step moves some coordinate (scaled: an angle in radians, a position over the
+/// model's length) by more than this: a smooth fast motion (a crank spinning) lets a
+/// high-order integrator step over several crossings, farther apart than its step.
+pub const WATCH_MOVE: f64 = 0.5;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
 
@@ -153,6 +160,22 @@ impl Watch {
         }
     }
 
+    /// How many samples a step from q_a to q_b needs inside it (none if the model is not
+    /// watched for singular configurations): every `WATCH_MOVE` of its largest move.
+    pub fn interior_samples(model: &Model, q_a: &[f64], q_b: &[f64]) -> usize {
+        if !(model.n_rows > 0 && model.n_rows < model.n_coords) {
+            return 0;
+        }
+        let moved =
+            q_a.iter().zip(q_b).zip(&model.col_scale).fold(0.0f64, |m, ((a, b), s)| m.max((b - a).abs() / s));
+        // a non-finite move is the step's own error to report, not the watch's
+        if moved.is_finite() {
+            (moved / WATCH_MOVE).ceil().max(1.0) as usize - 1
+        } else {
+            0
+        }
+    }
+
     /// A solve of the step under way had this pivot ratio.
     #[inline]
     pub fn pivot(&mut self, ratio: f64) {
@@ -242,7 +265,13 @@ impl Watch {
             // still falling at the end: the mirror image of the midpoint stands for beyond
             let tm = 0.5 * (b.t + c.t);
             let (mid, end) = ((tm, c.mid), (c.t, c.sigma));
-            if c.sigma < c.mid && dips(mid, end, (2.0 * c.t - tm, c.mid)) {
+            let beyond = dips(mid, end, (2.0 * c.t - tm, c.mid));
+            // or past a crossing already, between the midpoint and the end, the far side of
+            // the V lower than the midpoint: sigma_mid + sigma_end = k (t_end - t_mid) for a
+            // V of slope k, k taken as twice the fall from b to the midpoint (as in `accepted`)
+            let slope = (b.sigma - c.mid) / (tm - b.t);
+            let inside = c.mid + c.sigma <= 2.0 * slope * (c.t - tm);
+            if c.sigma < c.mid && (beyond || inside) {
                 let (lo, hi) = (b.t, c.t);
                 self.samples.drain(..k - 2);
                 self.samples.push(self.samples[1].clone());

@@ -134,6 +134,8 @@ pub fn integrate(
     // LU's pivot order (re-chosen where a pivot fails its threshold) then follows the
     // steps alone, and so do the steps' round-off, whatever times and events are asked
     let mut aux = System::new(model);
+    // the accelerations at a step's interior samples for the watch
+    let (mut qdd_j, mut lambda_j) = (vec![0.0; n], vec![0.0; model.n_rows]);
     // T + V - W_nc at the last step's end (W_nc = 0 at the start)
     sys.set_state(q, qd);
     let mut balance = kinetic(model, sys.frames()) + potential(model, sys.frames());
@@ -282,6 +284,31 @@ pub fn integrate(
             let info = StepInfo { step: h_step, iterations: 0, work: rest[n], equilibration };
             store_state(model, &mut aux, out, next, tk, qo, &mut rest[..n], info, opts.accelerations)?;
             next += 1;
+        }
+        // a step that moves the mechanism far is watched at interior points of its dense
+        // output too (accelerations there on the rows' workspace), in order, before its end
+        let inside = Watch::interior_samples(model, &y[..n], &y_new[..n]);
+        for j in 1..=inside {
+            if !have_dense {
+                dense_coefficients(
+                    model, sys, &mut rhs, &mut k, &mut dense, t, h_step, &y, &y_new, &f, &mut stage,
+                );
+                have_dense = true;
+            }
+            let x = j as f64 / (inside + 1) as f64;
+            contd8(&dense, x, &y, &mut y_out);
+            let t_j = t + x * h_step;
+            let (q_j, qd_j) = (&y_out[..n], &y_out[n..2 * n]);
+            let pivots =
+                aux.accelerations(model, q_j, qd_j, t_j, &mut qdd_j, &mut lambda_j, Equilibration::New);
+            rhs.watch.pivot(pivots.ratio.min(step_pivot));
+            let stop = rhs.watch.accepted(model, &mut aux, &times, t_j, q_j, qd_j, &qdd_j, &mut events);
+            out.events.append(&mut events);
+            if let Some(t_stop) = stop {
+                out.n_evaluations += rhs.evaluations;
+                stop_at(out, t_stop);
+                return Ok(());
+            }
         }
         // the step's end, projected onto the constraints; its derivative evaluated there
         y.copy_from_slice(&y_new);
