@@ -59,7 +59,8 @@ pub const MIDPOINT_BELOW: f64 = 0.5;
 /// The watch samples a step at interior points too (an integrator's dense output) where
 /// the step moves some coordinate (scaled: an angle in radians, a position over the
 /// model's length) by more than this: a smooth fast motion (a crank spinning) lets a
-/// high-order integrator step over several crossings, farther apart than its step.
+/// high-order integrator step over several crossings, farther apart than its step (a
+/// parallelogram's are pi apart: every 1.0 rad missed some in a third of 400 runs).
 pub const WATCH_MOVE: f64 = 0.5;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
