@@ -91,6 +91,11 @@ fn dips(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> bool {
     b.1 < WATCH_BELOW || b.1 <= slope * (b.0 - a.0).max(c.0 - b.0)
 }
 
+/// Whether a model is watched for singular configurations: it has constraints and freedoms.
+fn watched(model: &Model) -> bool {
+    model.n_rows > 0 && model.n_rows < model.n_coords
+}
+
 /// Watches the accepted steps of a simulation for events.
 pub struct Watch {
     samples: Vec<Sample>,
@@ -164,7 +169,7 @@ impl Watch {
     /// How many samples a step from q_a to q_b needs inside it (none if the model is not
     /// watched for singular configurations): every `WATCH_MOVE` of its largest move.
     pub fn interior_samples(model: &Model, q_a: &[f64], q_b: &[f64]) -> usize {
-        if !(model.n_rows > 0 && model.n_rows < model.n_coords) {
+        if !watched(model) {
             return 0;
         }
         let moved =
@@ -207,7 +212,7 @@ impl Watch {
         sample.qd.copy_from_slice(qd);
         sample.qdd.copy_from_slice(qdd);
         sample.pivot = pivot;
-        let watched = model.n_rows > 0 && model.n_rows < model.n_coords;
+        let watched = watched(model);
         sample.sigma = if watched { sigma_here(model, sys, q, t, &mut self.w) } else { f64::INFINITY };
         // not sampled: the ends' mean, never a dip of its own
         sample.mid = self.samples.last().map_or(f64::INFINITY, |a| 0.5 * (a.sigma + sample.sigma));
@@ -455,8 +460,7 @@ impl Watch {
         hi0: f64,
         (x, fx): (f64, f64),
     ) {
-        let (n, m) = (model.n_coords, model.n_rows);
-        if m == 0 || m >= n {
+        if !watched(model) {
             return;
         }
         // a window that starts before the last minimum found was searched with it
