@@ -136,7 +136,8 @@ pub fn integrate(
     }
     // the output rows and the event watch factor on a workspace of their own: the sparse
     // LU's pivot order (re-chosen where a pivot fails its threshold) then follows the
-    // steps alone, and so do the steps' round-off, whatever times and events are asked
+    // steps and their dense outputs' stages (computed where a step holds rows or watch
+    // samples), and so does the steps' round-off: other times asked change it only there
     let mut aux = System::new(model);
     // the accelerations at a step's interior samples for the watch, and the dense output
     // either side of one
