@@ -300,18 +300,26 @@ fn refused_not(model: &Model, times: &[f64], opts: &SimOptions, q0: [f64; 3], qd
 /// A parallelogram (crank r2 = 0.1 and rocker pinned 0.3 apart, a coupler of 0.3) free,
 /// drawn with the crank at 0.5 rad; its exact states at crank angle th turning at w.
 fn free_parallelogram() -> Model {
-    let json = r#"{"name": "parallelogram", "gravity": [0.0, -9.81],
-        "bodies": [{"name": "crank", "x": 0.0, "y": 0.0, "theta": 0.5, "mass": 0.4, "inertia": 0.002},
-                   {"name": "coupler", "x": 0.08775825618903728, "y": 0.04794255386042030, "theta": 0.0,
-                    "mass": 1.1, "inertia": 0.01},
-                   {"name": "rocker", "x": 0.3, "y": 0.0, "theta": 0.5, "mass": 0.7, "inertia": 0.003}],
-        "joints": [{"type": "revolute", "name": "O2", "body_a": "ground", "body_b": "crank", "at": [0.0, 0.0]},
-                   {"type": "revolute", "name": "A", "body_a": "crank", "body_b": "coupler",
-                    "at": [0.08775825618903728, 0.04794255386042030]},
-                   {"type": "revolute", "name": "B", "body_a": "coupler", "body_b": "rocker",
-                    "at": [0.38775825618903728, 0.04794255386042030]},
-                   {"type": "revolute", "name": "O4", "body_a": "ground", "body_b": "rocker", "at": [0.3, 0.0]}]}"#;
-    Model::with_options(Description::from_json(json).unwrap(), Options { free: true, ..Options::default() })
+    free_parallelogram_with("")
+}
+
+/// The free parallelogram with `loads` (JSON, the list's items).
+fn free_parallelogram_with(loads: &str) -> Model {
+    let json = format!(
+        r#"{{"name": "parallelogram", "gravity": [0.0, -9.81],
+        "bodies": [{{"name": "crank", "x": 0.0, "y": 0.0, "theta": 0.5, "mass": 0.4, "inertia": 0.002}},
+                   {{"name": "coupler", "x": 0.08775825618903728, "y": 0.04794255386042030, "theta": 0.0,
+                    "mass": 1.1, "inertia": 0.01}},
+                   {{"name": "rocker", "x": 0.3, "y": 0.0, "theta": 0.5, "mass": 0.7, "inertia": 0.003}}],
+        "joints": [{{"type": "revolute", "name": "O2", "body_a": "ground", "body_b": "crank", "at": [0.0, 0.0]}},
+                   {{"type": "revolute", "name": "A", "body_a": "crank", "body_b": "coupler",
+                    "at": [0.08775825618903728, 0.04794255386042030]}},
+                   {{"type": "revolute", "name": "B", "body_a": "coupler", "body_b": "rocker",
+                    "at": [0.38775825618903728, 0.04794255386042030]}},
+                   {{"type": "revolute", "name": "O4", "body_a": "ground", "body_b": "rocker", "at": [0.3, 0.0]}}],
+        "loads": [{loads}]}}"#
+    );
+    Model::with_options(Description::from_json(&json).unwrap(), Options { free: true, ..Options::default() })
         .unwrap()
 }
 
@@ -398,24 +406,10 @@ fn a_lightly_damped_parallelogram_keeps_its_energy_balance_through_change_points
     // steps next to a change point restore T to the balance's T + V - W (rk8's hold, which
     // changes T by at most 1e-6 of it), and W must enter it with its sign: -W instead
     // leaves T off by 2 W there (3e-7 of T)
-    let json = r#"{"name": "parallelogram", "gravity": [0.0, -9.81],
-        "bodies": [{"name": "crank", "x": 0.0, "y": 0.0, "theta": 0.5, "mass": 0.4, "inertia": 0.002},
-                   {"name": "coupler", "x": 0.08775825618903728, "y": 0.04794255386042030, "theta": 0.0,
-                    "mass": 1.1, "inertia": 0.01},
-                   {"name": "rocker", "x": 0.3, "y": 0.0, "theta": 0.5, "mass": 0.7, "inertia": 0.003}],
-        "joints": [{"type": "revolute", "name": "O2", "body_a": "ground", "body_b": "crank", "at": [0.0, 0.0]},
-                   {"type": "revolute", "name": "A", "body_a": "crank", "body_b": "coupler",
-                    "at": [0.08775825618903728, 0.04794255386042030]},
-                   {"type": "revolute", "name": "B", "body_a": "coupler", "body_b": "rocker",
-                    "at": [0.38775825618903728, 0.04794255386042030]},
-                   {"type": "revolute", "name": "O4", "body_a": "ground", "body_b": "rocker", "at": [0.3, 0.0]}],
-        "loads": [{"type": "torsion_spring", "name": "friction", "body_a": "ground", "body_b": "crank",
-                   "stiffness": 0.0, "free_angle": 0.0, "damping": 1e-9}]}"#;
-    let model = Model::with_options(
-        Description::from_json(json).unwrap(),
-        Options { free: true, ..Options::default() },
-    )
-    .unwrap();
+    let model = free_parallelogram_with(
+        r#"{"type": "torsion_spring", "name": "friction", "body_a": "ground", "body_b": "crank",
+            "stiffness": 0.0, "free_angle": 0.0, "damping": 1e-9}"#,
+    );
     let (th, w) = (0.5f64, 25.0);
     let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
     let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
