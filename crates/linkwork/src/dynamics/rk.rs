@@ -44,6 +44,11 @@ const HOLD_KINETIC: f64 = 1e-3;
 /// `hold_balance` restores at most this part of T: a loss the step's error control
 /// allows is far smaller; a larger one is left for the balance to report.
 const HOLD_CHANGE: f64 = 1e-6;
+/// A step whose end or output rows cannot be projected onto the constraints is taken again
+/// this much shorter, at most PROJECTION_RETRIES times in a row (4^-6: its local error,
+/// hence its drift, 1e-14 of the first try's).
+const RETRY_FACTOR: f64 = 0.25;
+const PROJECTION_RETRIES: usize = 6;
 /// Steps between two polls of progress and cancellation.
 const POLL_EVERY: usize = 32;
 
@@ -179,8 +184,10 @@ pub fn integrate(
     let mut y_new = vec![0.0; len];
     let mut stage = vec![0.0; len];
     let mut dense: Vec<Vec<f64>> = vec![vec![0.0; len]; tab::INTERPOLATOR_POWER];
-    let mut y_out = vec![0.0; len];
+    let (mut y_out, mut y_end) = (vec![0.0; len], vec![0.0; len]);
     let mut rejected = false;
+    // steps taken again in a row because their end or rows could not be projected
+    let mut retries = 0;
     let (mut accepted, mut stiff_count, mut nonstiff_count) = (0usize, 0usize, 0usize);
     while next < times.len() {
         if out.n_steps >= opts.max_steps {
@@ -268,39 +275,67 @@ pub fn integrate(
                 }
             }
         }
-        // the asked times this step reached, from the dense output
-        let mut have_dense = false;
+        // the dense output, where the step holds asked times before its end or the watch
+        // samples inside it (a step that moves the mechanism far): its stages on the steps'
+        // workspace, before the end's projection there
+        let inside = Watch::interior_samples(model, &y[..n], &y_new[..n]);
+        if inside > 0 || (next < times.len() && times[next] < t_new) {
+            dense_coefficients(
+                model, sys, &mut rhs, &mut k, &mut dense, t, h_step, &y, &y_new, &f, &mut stage,
+            );
+        }
+        // the step's end, projected onto the constraints, then the asked times it reached;
+        // where either cannot be projected (next to a singular configuration Gauss-Newton
+        // stalls on a state as far off the constraints as a coarse tolerance leaves it),
+        // the step is taken again shorter, its drift falling as h^8
+        y_end.copy_from_slice(&y_new);
+        let (qs, rest) = y_end.split_at_mut(n);
+        let (_, _, residual, _) = sys.project_state(model, qs, &mut rest[..n], t_new, Equilibration::New);
         let first = next;
-        while next < times.len() && times[next] <= t_new {
+        let mut failed = (residual.is_nan() || residual > model.options.tol_residual).then(|| {
+            step_error(
+                out,
+                t_new,
+                h_step,
+                format!("projection onto the constraints left |phi| = {residual:.3e}"),
+            )
+        });
+        while failed.is_none() && next < times.len() && times[next] <= t_new {
             let tk = times[next];
             if tk == t_new {
                 y_out.copy_from_slice(&y_new);
             } else {
-                if !have_dense {
-                    dense_coefficients(
-                        model, sys, &mut rhs, &mut k, &mut dense, t, h_step, &y, &y_new, &f, &mut stage,
-                    );
-                    have_dense = true;
-                }
-                let x = (tk - t) / h_step;
-                contd8(&dense, x, &y, &mut y_out);
+                contd8(&dense, (tk - t) / h_step, &y, &mut y_out);
             }
             let (qo, rest) = y_out.split_at_mut(n);
             let equilibration = if next > first { Equilibration::Kept } else { Equilibration::New };
             let info = StepInfo { step: h_step, iterations: 0, work: rest[n], equilibration };
-            store_state(model, &mut aux, out, next, tk, qo, &mut rest[..n], info, opts.accelerations)?;
-            next += 1;
-        }
-        // a step that moves the mechanism far is watched at interior points of its dense
-        // output too (accelerations there on the rows' workspace), in order, before its end
-        let inside = Watch::interior_samples(model, &y[..n], &y_new[..n]);
-        for j in 1..=inside {
-            if !have_dense {
-                dense_coefficients(
-                    model, sys, &mut rhs, &mut k, &mut dense, t, h_step, &y, &y_new, &f, &mut stage,
-                );
-                have_dense = true;
+            match store_state(model, &mut aux, out, next, tk, qo, &mut rest[..n], info, opts.accelerations) {
+                Ok(()) => next += 1,
+                Err(e @ SolveError::Step { .. }) => failed = Some(e),
+                Err(e) => return Err(e),
             }
+        }
+        if let Some(error) = failed {
+            // the rows this step stored are dropped with it
+            (next, out.n_done) = (first, first);
+            retries += 1;
+            if retries > PROJECTION_RETRIES {
+                return Err(error);
+            }
+            out.n_rejected += 1;
+            rejected = true;
+            h = h_step * RETRY_FACTOR;
+            // the step's start evaluated again: its factors' equilibration is the stages'
+            if !rhs.eval(model, sys, t, &y, &mut f, Equilibration::New) {
+                return Err(step_error(out, t, h_step, "the accelerations are not finite".into()));
+            }
+            continue;
+        }
+        retries = 0;
+        // the watch at the step's interior samples (accelerations there on the rows'
+        // workspace), in order, before its end
+        for j in 1..=inside {
             let x = j as f64 / (inside + 1) as f64;
             contd8(&dense, x, &y, &mut y_out);
             let t_j = t + x * h_step;
@@ -322,18 +357,8 @@ pub fn integrate(
                 return Ok(());
             }
         }
-        // the step's end, projected onto the constraints; its derivative evaluated there
-        y.copy_from_slice(&y_new);
+        y.copy_from_slice(&y_end);
         let (qs, rest) = y.split_at_mut(n);
-        let (_, _, residual, _) = sys.project_state(model, qs, &mut rest[..n], t_new, Equilibration::New);
-        if residual.is_nan() || residual > model.options.tol_residual {
-            return Err(step_error(
-                out,
-                t_new,
-                h_step,
-                format!("projection onto the constraints left |phi| = {residual:.3e}"),
-            ));
-        }
         if step_pivot < REGULARISE_BELOW {
             let work = rest[n];
             hold_balance(model, sys, &mut rhs.nu, qs, &mut rest[..n], work, t_new, balance);
