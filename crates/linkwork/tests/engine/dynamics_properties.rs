@@ -472,3 +472,36 @@ fn a_lightly_damped_parallelogram_keeps_its_energy_balance_through_change_points
         (0..=last).map(|k| (out.kinetic[k] + out.potential[k] - out.work[k] - e0).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-8 * e0, "balance off by {worst:.3e} of {e0}");
 }
+
+#[test]
+fn generalized_alpha_stops_with_a_named_error_where_a_crossing_step_breaks_the_energy_balance() {
+    // at rtol 5.2e-3 the index-3 iterations of a step through the parallelogram's change
+    // point converge to rates off the motion: unchecked, the crank later turned from 111
+    // rad/s forward to 284 back in one step, silently. The step that first changes T + V - W
+    // by more than a tenth of the energies stops the run, naming the singular configuration
+    // and rk8; the rows before it keep the balance, and rk8 passes every crossing
+    use linkwork::stepping::singular::EventKind;
+    let model = free_parallelogram();
+    let (th, w, rtol, dt) = (0.30f64, 95.4, 5.2e-3, 0.02);
+    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
+    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let times: Vec<f64> = (0..=50).map(|k| dt * k as f64).collect();
+    let opts = SimOptions { method: Method::GenAlpha, rtol, atol: rtol, ..SimOptions::default() };
+    let mut out = SimOutput::new(&model, &times);
+    let err = simulate(&model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true).unwrap_err();
+    let SolveError::Step { why, .. } = &err else { panic!("{err}") };
+    assert!(
+        why.contains("T + V - W") && why.contains("singular configuration") && why.contains("rk8"),
+        "{why}"
+    );
+    let done = out.n_done;
+    assert!(done >= 3, "{done} rows kept");
+    let e0 = out.kinetic[0] + out.potential[0];
+    for k in 0..done {
+        let balance = out.kinetic[k] + out.potential[k] - out.work[k];
+        assert!((balance - e0).abs() < 0.1 * e0, "row {k}: T + V - W {balance} against {e0}");
+        assert!(out.qd[k * 9 + 2] > 0.5 * w, "row {k}: the crank turns at {}", out.qd[k * 9 + 2]);
+    }
+    assert!(out.events.iter().all(|e| e.kind == EventKind::Bifurcation && e.time <= times[done]));
+    spinning_parallelogram_change_points(Method::Rk8, th, w, rtol, dt, 5.0 * rtol + 1e-2, 0.05);
+}
