@@ -483,8 +483,11 @@ impl Watch {
         };
         // Brent's method from the point of the dip, to 1e-9 of the window
         let (t, sigma2_t) = brent(lo0, hi0, x, fx * fx, 1e-9 * (hi0 - lo0), 60, sigma2);
-        // a minimum on the window's edge lies beyond it: a later window holds it
-        if (t - lo0).min(hi0 - t) < 1e-3 * (hi0 - lo0) {
+        // a minimum on the window's edge lies beyond it: a later window holds it; unless it
+        // is the dip's own point (a step's end next to a crossing, its neighbour within 1e-3
+        // of the window: sigma rises towards it, so no later window takes it as a dip)
+        let near = 1e-3 * (hi0 - lo0);
+        if (t - lo0).min(hi0 - t) < near && (t - x).abs() >= near {
             return;
         }
         self.searched = t;
