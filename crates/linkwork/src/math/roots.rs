@@ -50,3 +50,18 @@ pub(crate) fn illinois(mut a: f64, mut b: f64, mut f: impl FnMut(f64) -> Option<
     }
     Some(b)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::illinois;
+
+    /// A double root: the caller's sign change was round-off, and the ends re-evaluated
+    /// have one sign. The end nearer the root (the smaller |f|) is returned, on either
+    /// side of the bracket; the far end is a bracket's length away.
+    #[test]
+    fn ends_of_one_sign_give_the_end_with_the_smaller_residual() {
+        let square = |t: f64| Some(t * t);
+        assert_eq!(illinois(-1e-9, 2.0, square), Some(-1e-9));
+        assert_eq!(illinois(-2.0, 1e-9, square), Some(1e-9));
+    }
+}
