@@ -523,6 +523,12 @@ fn generalized_alpha_stops_with_a_named_error_where_a_crossing_step_breaks_the_e
     spinning_parallelogram_change_points(&model, Method::Rk8, th, w, rtol, dt, 5.0 * rtol + 1e-2, 0.05);
 }
 
+/// The free parallelogram with joint B drawn one ulp further (0.3877582561890373): the
+/// random runs of `benches/events_fuzz.py` draw it so.
+fn parallelogram_with_b_one_ulp_further() -> Model {
+    free_model(&parallelogram_json("").replace("0.38775825618903728", "0.3877582561890373"))
+}
+
 #[test]
 fn a_crossing_next_to_a_step_end_is_reported() {
     // with the joint B drawn one ulp further (0.3877582561890373) rk8 at rtol 9.3e-10
@@ -530,8 +536,7 @@ fn a_crossing_next_to_a_step_end_is_reported() {
     // the minimum of sigma_min is the dip's own point on its window's edge, which the
     // search took for a minimum beyond the window (a later one's) and no later window
     // took as a dip: the crossing went unreported
-    let json = parallelogram_json("").replace("0.38775825618903728", "0.3877582561890373");
-    let model = free_model(&json);
+    let model = parallelogram_with_b_one_ulp_further();
     let (th, w, rtol, dt) = (2.627936952803722, 65.55273326612968, 9.252374478445561e-10, 0.005);
     let events = spinning_parallelogram_change_points(&model, Method::Rk8, th, w, rtol, dt, 1e-5, 1e-5);
     assert!(events.iter().any(|e| (e.q[2] - 9.0 * std::f64::consts::PI).abs() < 1e-5));
@@ -543,8 +548,7 @@ fn a_crossing_just_beyond_the_runs_end_is_not_reported() {
     // sigma_min is still falling at the last step's end, its minimum on the last window's
     // edge lies beyond the run and must not be reported (searched anyway, it is, with
     // sigma_min 2.7e-4)
-    let json = parallelogram_json("").replace("0.38775825618903728", "0.3877582561890373");
-    let model = free_model(&json);
+    let model = parallelogram_with_b_one_ulp_further();
     let (th, w, rtol, dt) = (1.725003355395298, 37.47015891845926, 4.2591305544485084e-5, 0.02);
     let events = spinning_parallelogram_change_points(&model, Method::Rk8, th, w, rtol, dt, 1e-3, 1e-3);
     assert_eq!(events.len(), 12);
