@@ -712,10 +712,9 @@ mod tests {
     /// smallest singular value of Phi_q in the mass metric, sqrt of the least eigenvalue of
     /// Phi_q M^-1 Phi_q^T computed densely here, at a regular configuration of a
     /// parallelogram and next to its change point (bars 0.01 rad from aligned).
-    #[test]
-    fn sigma_here_is_the_least_singular_value_of_phi_q_in_the_mass_metric() {
+    /// A free parallelogram (crank 0.1, coupler and ground 0.3) drawn at crank angle 0.5.
+    fn parallelogram() -> Model {
         use crate::{Description, Options};
-        let (r2, r1) = (0.1, 0.3);
         let json = r#"{"name": "parallelogram", "gravity": [0.0, -9.81],
             "bodies": [{"name": "crank", "x": 0.0, "y": 0.0, "theta": 0.5, "mass": 0.4, "inertia": 0.002},
                        {"name": "coupler", "x": 0.08775825618903728, "y": 0.04794255386042030, "theta": 0.0,
@@ -727,11 +726,17 @@ mod tests {
                        {"type": "revolute", "name": "B", "body_a": "coupler", "body_b": "rocker",
                         "at": [0.38775825618903728, 0.04794255386042030]},
                        {"type": "revolute", "name": "O4", "body_a": "ground", "body_b": "rocker", "at": [0.3, 0.0]}]}"#;
-        let model = Model::with_options(
+        Model::with_options(
             Description::from_json(json).unwrap(),
             Options { free: true, ..Options::default() },
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    #[test]
+    fn sigma_here_is_the_least_singular_value_of_phi_q_in_the_mass_metric() {
+        let (r2, r1) = (0.1, 0.3);
+        let model = parallelogram();
         let (n, m) = (model.n_coords, model.n_rows);
         let mut sys = System::new(&model);
         let mut last = 0.0;
@@ -758,5 +763,56 @@ mod tests {
         }
         // next to the change point the mass-metric sigma_min falls with the angle
         assert!(last < 0.05, "sigma_min near the change point over the regular one: {last}");
+    }
+
+    /// `jacobian_at` leaves an event's configuration on the constraints where Gauss-Newton
+    /// converges, and where its first step lands further off than the interpolated point
+    /// (next to the change point, 5.8e-3 off: the step along the near-null direction
+    /// overshoots, |phi| 1.09e-2 to 4.5e-2) it keeps that point and its distance. Found by
+    /// random offsets of the parallelogram within 0.02 rad of its change point (3 in 20,000).
+    #[test]
+    fn an_events_configuration_is_projected_and_never_left_further_off_than_interpolated() {
+        let model = parallelogram();
+        let mut sys = System::new(&model);
+        let still = |t: f64, q: &[f64]| Sample {
+            t,
+            q: q.to_vec(),
+            qd: vec![0.0; 9],
+            qdd: vec![0.0; 9],
+            pivot: 1.0,
+            sigma: 1.0,
+            mid: 1.0,
+        };
+        let th = 0.3f64;
+        let near = [0.0, 0.0, th, 0.1 * th.cos() + 2e-4, 0.1 * th.sin(), 0.0, 0.3, 0.0, th + 1e-4];
+        let overshooting = [
+            0.0023675180196267524,
+            0.00018490505924680567,
+            -0.004441898225634992,
+            0.09876548787027668,
+            0.0038850798635967406,
+            -0.004404838567532607,
+            0.30302786309114343,
+            0.0037148591978456774,
+            -0.004372604720815481,
+        ];
+        for (start, converges) in [(near, true), (overshooting, false)] {
+            let (a, c) = (still(0.0, &start), still(1.0, &start));
+            let (mut interpolated, mut qd) = (vec![0.0; 9], vec![0.0; 9]);
+            hermite(&a, &c, 0.5, &mut interpolated, &mut qd);
+            let (_, before, _) = sys.project_positions(&model, &mut interpolated.clone(), 0.5, 1e-15);
+            let mut q = vec![0.0; 9];
+            let (_, residual) = jacobian_at(&model, &mut sys, &a, &c, 0.5, &mut q, &mut qd).unwrap();
+            // |phi| where the configuration is left, computed afresh
+            let phi = constraints_dense(&model, sys.frames(), &q, 0.5).0.amax();
+            assert_eq!(phi, residual, "the stated distance is the configuration's");
+            if converges {
+                assert!(residual < 1e-14 && before > 1e-5, "{before:e} projected to {residual:e}");
+            } else {
+                assert!(before > 1e-2, "{before:e}");
+                assert_eq!(residual, before);
+                assert_eq!(q, interpolated, "the interpolated point kept");
+            }
+        }
     }
 }
