@@ -11,11 +11,17 @@ pub const C: f64 = 0.8;
 /// the ground point (-1, 0): the spring's length is 1 + x. Released at rest 0.3 from its
 /// rest position; gravity acts across the slide.
 pub fn oscillator(mass: f64, damping: f64) -> Model {
+    oscillator_on_travel(mass, damping, None)
+}
+
+/// `oscillator`, its slide given a `travel` (the slide's range from the start, x = 0.3).
+pub fn oscillator_on_travel(mass: f64, damping: f64, travel: Option<[f64; 2]>) -> Model {
+    let travel = travel.map_or(String::new(), |[lo, hi]| format!(r#", "travel": [{lo:?}, {hi:?}]"#));
     let json = format!(
         r#"{{"name": "oscillator", "gravity": [0, -9.81],
             "bodies": [{{"name": "block", "x": 0.3, "y": 0.0, "mass": {mass}, "inertia": 0.1}}],
             "joints": [{{"type": "prismatic", "name": "slide", "body_a": "ground", "body_b": "block",
-                         "at": [0.3, 0.0], "axis": [1.0, 0.0]}}],
+                         "at": [0.3, 0.0], "axis": [1.0, 0.0]{travel}}}],
             "loads": [{{"type": "spring", "name": "s", "body_a": "ground", "at_a": [-1.0, 0.0],
                         "body_b": "block", "at_b": [0.3, 0.0], "stiffness": {K}, "free_length": 1.0,
                         "damping": {damping}}}]}}"#

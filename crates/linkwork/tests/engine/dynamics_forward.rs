@@ -5,7 +5,7 @@
 use linkwork::dynamics::{simulate, Method, SimOptions, SimOutput};
 use linkwork::SolveError;
 
-use crate::oscillator_model::{exact, oscillator, C, MASS};
+use crate::oscillator_model::{exact, oscillator, oscillator_on_travel, C, MASS};
 
 /// x(t) of the damped oscillator released at rest 0.3.
 fn released(t: f64) -> f64 {
@@ -92,4 +92,38 @@ fn rows_solved_later_match_the_rows_solved_in_the_run() {
     assert_eq!(eager.lambda, lazy.lambda);
     assert_eq!(eager.reactions, lazy.reactions);
     assert_eq!(eager.pivot_ratio, lazy.pivot_ratio);
+}
+
+/// A run stopped where a slider reaches an end of its travel still reports the work it
+/// did: the oscillator's slide given the travel [-0.5, 0.1] from its start (x = 0.3), the
+/// block reaches x = -0.2 on its first swing and the run stops there (the default). Each
+/// step tried evaluated the accelerations at DOP853's 11 stages after the first and at
+/// its end: at least 12 evaluations a step.
+#[test]
+fn a_run_stopped_at_the_end_of_a_travel_counts_its_evaluations() {
+    let model = oscillator_on_travel(MASS, C, Some([-0.5, 0.1]));
+    let times: Vec<f64> = (0..=100).map(|k| 0.05 * k as f64).collect();
+    let opts = SimOptions { method: Method::Rk8, rtol: 1e-10, atol: 1e-10, ..SimOptions::default() };
+    let mut out = SimOutput::new(&model, &times);
+    simulate(&model, &times, None, None, &opts, &mut out, &mut |_| true).unwrap();
+    // the rows kept are those up to x = -0.2 on the exact motion (bisected on its first
+    // swing, which ends near half a period, 0.63 s)
+    let (mut lo, mut hi) = (0.0, 0.6);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if released(mid) > -0.2 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    assert_eq!(out.n_done, times.iter().filter(|&&t| t <= lo).count());
+    assert!(out.events.iter().any(|e| e.message.contains("end of its travel")), "{:?}", out.events);
+    assert!(out.n_steps > 0);
+    assert!(
+        out.n_evaluations >= 12 * out.n_steps,
+        "{} evaluations in {} steps",
+        out.n_evaluations,
+        out.n_steps
+    );
 }

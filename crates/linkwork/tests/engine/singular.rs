@@ -438,3 +438,130 @@ fn sparse_mobility_agrees_with_the_dense_svd() {
     };
     assert_eq!(names(&dense.redundancies[0]), names(&sparse.redundancies[0]));
 }
+
+/// Switch on a sweep run backwards (times decreasing): at each change point met, the
+/// crank at 2 pi and then at pi, the parallelogram takes the antiparallelogram and then
+/// the parallelogram again, as the forward sweep does. The span of the careful step over
+/// a crossing runs backwards here: times past the crossing are those below it.
+#[test]
+fn a_backward_sweep_switches_branches_at_each_change_point() {
+    let model = Model::new(parallelogram()).unwrap();
+    let pi = std::f64::consts::PI;
+    let times = grid(2.0 * pi, 0.0, 301);
+    let (out, r) = run(&model, &times, Request { on_singular: OnSingular::Switch, ..Request::default() });
+    r.unwrap();
+    assert_eq!(out.n_steps, times.len());
+    let (r1, r2) = (0.30, 0.10);
+    for (k, q) in out.q.chunks_exact(9).enumerate() {
+        let th2 = 0.5 + times[k];
+        let th4 = q[8];
+        assert!(wrap(q[2] - th2).abs() < 1e-10, "step {k}: crank {} vs {th2}", q[2]);
+        // the antiparallelogram: O4 A parallel to O2 B
+        let a = [r2 * th2.cos() - r1, r2 * th2.sin()];
+        let b = [r1 + r2 * th4.cos(), r2 * th4.sin()];
+        if th2 > 2.0 * pi + 1e-9 || th2 < pi - 1e-9 {
+            assert!(wrap(th4 - th2).abs() < 1e-10, "step {k} (crank {th2}): not the parallelogram");
+        } else if th2 > pi + 1e-9 && th2 < 2.0 * pi - 1e-9 {
+            assert!(
+                (a[0] * b[1] - a[1] * b[0]).abs() < 1e-10,
+                "step {k} (crank {th2}): not the antiparallelogram"
+            );
+        }
+    }
+    let found: Vec<f64> = out.events.iter().map(|e| e.time).collect();
+    assert_eq!(found.len(), 2, "events at {found:?}");
+    for (t, e) in found.iter().zip([2.0 * pi - 0.5, pi - 0.5]) {
+        assert!((t - e).abs() < 1e-7, "change point at {t}, expected {e}");
+    }
+    assert!(out.events.iter().all(|e| e.message.contains("takes the other branch")));
+}
+
+/// A sweep run backwards with a grid time 1e-9 rad short of the change point at crank
+/// angle pi: Phi_q is singular to round-off there, so the careful path steps over it to
+/// the next grid time and fills this one from its interpolant. Every step stays on the
+/// parallelogram and the change point is reported once, as on the forward sweep.
+#[test]
+fn a_backward_sweep_fills_a_grid_time_next_to_a_change_point_from_the_span() {
+    let model = Model::new(parallelogram()).unwrap();
+    let t_star = std::f64::consts::PI - 0.5;
+    let h = 0.02;
+    let times: Vec<f64> = (0..61).map(|j| t_star + 1e-9 + (30 - j) as f64 * h).collect();
+    let (out, r) = run(&model, &times, Request::default());
+    r.unwrap();
+    assert_eq!(out.n_steps, times.len());
+    for (k, q) in out.q.chunks_exact(9).enumerate() {
+        let th2 = 0.5 + times[k];
+        assert!(wrap(q[2] - th2).abs() < 1e-10, "step {k}: crank {} vs {th2}", q[2]);
+        assert!(wrap(q[5]).abs() < 1e-10, "step {k}: coupler turned to {}", q[5]);
+        assert!(wrap(q[8] - th2).abs() < 1e-10, "step {k}: rocker {} vs {th2}", q[8]);
+    }
+    let found: Vec<f64> = out.events.iter().map(|e| e.time).collect();
+    assert_eq!(found.len(), 1, "events at {found:?}");
+    assert!((found[0] - t_star).abs() < 1e-7, "change point at {}", found[0]);
+}
+
+/// Ctrl-C while the careful path searches one step: the non-Grashof crank of
+/// `a_crank_driven_past_its_limit_stops_there_with_the_limit_located` driven past its
+/// limit, whose last step takes more than the 16 sub-steps between two of the careful
+/// path's polls before the limit is located. A cancellation requested there (the step's
+/// progress was asked once already; a second call for the same step comes from inside the
+/// careful path) ends the sweep at that step as cancelled, not with the limit found after
+/// it.
+#[test]
+fn a_cancellation_asked_inside_a_careful_step_is_honoured() {
+    let m = FourBar { r1: 0.40, r2: 0.30, r3: 0.25, r4: 0.20 };
+    let limit = ((m.r1 * m.r1 + m.r2 * m.r2 - (m.r3 + m.r4).powi(2)) / (2.0 * m.r1 * m.r2)).acos();
+    let model = Model::new(four_bar(&m, 0.0, 1.0)).unwrap();
+    let times = grid(0.0, 2.0, 201);
+    let step_past = times.iter().filter(|&&t| t < limit).count();
+    let mut data = Data::new(&model);
+    let mut out = SweepOutput::with_request(&model, &times, Request::default());
+    let mut asked: Vec<usize> = Vec::new();
+    let r = sweep(&model, &mut data, &times, &mut out, 1, &mut |k| {
+        let again = asked.contains(&k);
+        asked.push(k);
+        !again
+    });
+    assert_eq!(r.unwrap_err(), SolveError::Cancelled { step: step_past });
+    // asked once for each step before it, then from inside the careful path
+    assert!(asked.iter().filter(|&&k| k == step_past).count() >= 2, "{asked:?}");
+}
+
+/// Switch at the toggles of an isosceles slider-crank (crank = rod = r), in metres
+/// (r = 0.1) and in millimetres (r = 100): the slider's two branches through a toggle
+/// are x = 2 r cos(theta) and x = 0 (the rod folded back onto the crank, the slider at
+/// the crank's pivot), and the sweep takes the other one at each of the four toggles
+/// (theta = pi/2, 3 pi/2, ...) whatever the unit: the other branch is searched for in
+/// coordinates scaled by the model's length, so the unit must not change what it finds.
+#[test]
+fn switching_branches_at_a_toggle_does_not_depend_on_units() {
+    let pi = std::f64::consts::PI;
+    let th0 = 0.3;
+    let times = grid(0.0, 4.0 * pi, 301);
+    for r in [0.1, 100.0] {
+        let model = Model::new(slider_crank(&SliderCrank { r2: r, r3: r, e: 0.0 }, th0, 1.0)).unwrap();
+        let (out, res) =
+            run(&model, &times, Request { on_singular: OnSingular::Switch, ..Request::default() });
+        res.unwrap();
+        assert_eq!(out.n_steps, times.len());
+        let toggles: Vec<f64> = (0..4).map(|j| (j as f64 + 0.5) * pi - th0).collect();
+        let mut worst = 0.0f64;
+        for (k, q) in out.q.chunks_exact(9).enumerate() {
+            let th2 = th0 + times[k];
+            // the branch: the drawn one before the first toggle, then alternately
+            let crossed = toggles.iter().filter(|&&t| times[k] > t).count();
+            let x = if crossed % 2 == 0 { 2.0 * r * th2.cos() } else { 0.0 };
+            worst = worst.max((q[6] - x).abs() / r);
+        }
+        // measured 1.1e-14 (metres) and 5.8e-15 (millimetres)
+        assert!(worst < 1e-10, "r {r}: slider off its branch by {worst:e} r");
+        let found: Vec<f64> = out.events.iter().map(|e| e.time).collect();
+        assert_eq!(found.len(), 4, "r {r}: events at {found:?}");
+        for (t, e) in found.iter().zip(&toggles) {
+            assert!((t - e).abs() < 1e-7, "r {r}: toggle at {t}, expected {e}");
+        }
+        for e in &out.events {
+            assert!(e.message.contains("takes the other branch"), "r {r}: {}", e.message);
+        }
+    }
+}
