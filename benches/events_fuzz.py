@@ -9,8 +9,10 @@ A free parallelogram (crank 0.1, coupler and ground 0.3) started at crank angle 
 line) every time its crank passes a multiple of pi. Each run draws w, th, rtol
 (log-uniform in the range), a method and the rows' spacing (0.001 to 0.1 s), simulates
 1 s, and counts the bifurcations reported against the multiples of pi the crank passed
-(from its angle at the last row). Printed: each run that missed or added one ("MISS",
-with its draws), each that raised ("ERR", with the error's first words), and the counts.
+(from its angle at the last row), and the rows' energy balance against the start. Printed:
+each run that missed or added one ("MISS", with its draws), each whose T + V left its
+start by more than 5 % of the energies at some row ("OFF": rates off the motion), each
+that raised ("ERR", with the error's first words), and the counts.
 """
 
 from __future__ import annotations
@@ -58,6 +60,11 @@ PARALLELOGRAM = {
 }
 
 
+# a run whose rows' T + V - W leaves its start by more than this part of the energies has
+# left the motion somewhere (only gravity acts: T + V holds to the tolerance)
+OFF_BALANCE = 0.05
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=400)
@@ -68,7 +75,7 @@ def main() -> None:
     model = Model(PARALLELOGRAM, free=True)
     rng = np.random.default_rng(args.seed)
     lo, hi = np.log10(args.rtol[0]), np.log10(args.rtol[1])
-    counts = {"finished": 0, "missed": 0, "errors": 0}
+    counts = {"finished": 0, "missed": 0, "off": 0, "errors": 0}
     start = time.time()
     for _ in range(args.n):
         w, th = rng.uniform(17, 120), rng.uniform(0.1, 3.0)
@@ -89,6 +96,11 @@ def main() -> None:
         passed = int(np.floor(sim.q[-1, 2] / np.pi) - np.floor(th / np.pi))
         found = [e for e in sim.events if str(e.kind) == "bifurcation"]
         off = max((abs(e.q[2] - np.pi * round(e.q[2] / np.pi)) for e in found), default=0.0)
+        energy = sim.energy()
+        balance = np.abs(energy.balance).max() / (energy.kinetic[0] + abs(energy.potential[0]))
+        if balance > OFF_BALANCE:
+            counts["off"] += 1
+            print("OFF", draws, f"T + V - W leaves its start by {balance:.1%} of the energies")
         if len(found) != passed:
             counts["missed"] += 1
             print("MISS", draws, "passed", passed, "reported", len(found))
