@@ -308,9 +308,12 @@ pub fn integrate(
                 format!("projection onto the constraints left |phi| = {residual:.3e}"),
             )
         });
+        // T and V at the projected end (kept in `sys`'s frames until the balance is taken)
+        let (mut t_end, mut v_end) = (f64::NAN, f64::NAN);
         if failed.is_none() {
-            let (tk, v) = (kinetic(model, sys.frames()), potential(model, sys.frames()));
-            failed = off_balance(out, t_new, h_step, "the step's end", tk, v, y_end[2 * n], balance, peak);
+            (t_end, v_end) = (kinetic(model, sys.frames()), potential(model, sys.frames()));
+            failed =
+                off_balance(out, t_new, h_step, "the step's end", t_end, v_end, y_end[2 * n], balance, peak);
         }
         while failed.is_none() && next < times.len() && times[next] <= t_new {
             let tk = times[next];
@@ -378,10 +381,11 @@ pub fn integrate(
         if step_pivot < REGULARISE_BELOW {
             let work = rest[n];
             hold_balance(model, sys, &mut rhs.nu, qs, &mut rest[..n], work, t_new, balance);
+            // the hold may scale the rates (the positions, hence V, stay)
+            t_end = kinetic(model, sys.frames());
         }
-        let (tk, v) = (kinetic(model, sys.frames()), potential(model, sys.frames()));
-        balance = tk + v - y[2 * n];
-        peak = peak.max(tk + v.abs() + y[2 * n].abs());
+        balance = t_end + v_end - y[2 * n];
+        peak = peak.max(t_end + v_end.abs() + y[2 * n].abs());
         t = t_new;
         if !rhs.eval(model, sys, t, &y, &mut f, Equilibration::New) {
             return Err(step_error(out, t, h_step, "the accelerations are not finite".into()));
