@@ -454,6 +454,20 @@ fn generalized_alpha_passes_every_change_point_where_its_own_damping_changes_the
     );
 }
 
+/// `spinning_parallelogram_change_points` for rk8 at a coarse tolerance: each crossing
+/// located within 5 rtol + 1e-2 of k pi (the interpolant as far off as the tolerance lets
+/// it), sigma_min there below 0.05 (a configuration left off the constraints has a
+/// sigma_min of that distance).
+fn coarse_change_points(
+    model: &Model,
+    th: f64,
+    w: f64,
+    rtol: f64,
+    dt: f64,
+) -> (Vec<linkwork::stepping::singular::Event>, f64) {
+    spinning_parallelogram_change_points(model, Method::Rk8, th, w, rtol, dt, 5.0 * rtol + 1e-2, 0.05)
+}
+
 #[test]
 fn a_parallelogram_at_coarse_tolerances_keeps_every_row_and_change_point() {
     // rk8 at rtol 1e-3 to 3e-2 takes steps of 2 to 5 rad, its dense output up to 5e-3 off
@@ -471,16 +485,7 @@ fn a_parallelogram_at_coarse_tolerances_keeps_every_row_and_change_point() {
         (0.32, 73.7, 2.4e-3, 0.02),
         (0.67, 39.9, 3.3e-2, 0.02),
     ] {
-        let (events, _) = spinning_parallelogram_change_points(
-            &free_parallelogram(),
-            Method::Rk8,
-            th,
-            w,
-            rtol,
-            dt,
-            5.0 * rtol + 1e-2,
-            0.05,
-        );
+        let (events, _) = coarse_change_points(&free_parallelogram(), th, w, rtol, dt);
         stalled += events.iter().filter(|e| e.message.contains("off the constraints")).count();
     }
     assert!(stalled > 0, "no event says its configuration was left off the constraints");
@@ -500,8 +505,7 @@ fn a_step_whose_end_cannot_be_projected_is_taken_again_shorter() {
         (1.0623796918784587, 109.92768323850618, 0.08356066721664857, 1.0),
         (2.9370732982112293, 43.588507741022596, 0.058079648402463414, 1.0),
     ] {
-        let model = parallelogram_with_b_one_ulp_further();
-        spinning_parallelogram_change_points(&model, Method::Rk8, th, w, rtol, dt, 5.0 * rtol + 1e-2, 0.05);
+        coarse_change_points(&parallelogram_with_b_one_ulp_further(), th, w, rtol, dt);
     }
 }
 
@@ -518,17 +522,7 @@ fn rows_and_step_ends_next_to_a_change_point_keep_their_rates_on_the_motion() {
         (1.3213708206419725, 111.39462010775227, 0.004861619957284883, 0.02),
         (1.7210519006663336, 70.3384650495031, 0.0013192882146244496, 0.1),
     ] {
-        let model = parallelogram_with_b_one_ulp_further();
-        let (_, balance) = spinning_parallelogram_change_points(
-            &model,
-            Method::Rk8,
-            th,
-            w,
-            rtol,
-            dt,
-            5.0 * rtol + 1e-2,
-            0.05,
-        );
+        let (_, balance) = coarse_change_points(&parallelogram_with_b_one_ulp_further(), th, w, rtol, dt);
         assert!(balance < 0.05, "th {th}: T + V - W {balance} of E0 off");
     }
 }
@@ -590,7 +584,7 @@ fn generalized_alpha_stops_with_a_named_error_where_a_crossing_step_breaks_the_e
         assert!(out.qd[k * 9 + 2] > 0.5 * w, "row {k}: the crank turns at {}", out.qd[k * 9 + 2]);
     }
     assert!(out.events.iter().all(|e| e.kind == EventKind::Bifurcation && e.time <= times[done]));
-    spinning_parallelogram_change_points(&model, Method::Rk8, th, w, rtol, dt, 5.0 * rtol + 1e-2, 0.05);
+    coarse_change_points(&model, th, w, rtol, dt);
 }
 
 /// The free parallelogram with joint B drawn one ulp further (0.3877582561890373): the
