@@ -4,9 +4,10 @@
 //! - a singular configuration passed (a bifurcation; a limit if a driver row is in the
 //!   dependency): looked for where the smallest singular value of Phi_q (mass metric)
 //!   at the accepted steps' ends has a local minimum that a V through it could bring to
-//!   zero within the steps (whatever their size), located at the minimum of its square
-//!   on the interpolant (Brent's method), the event's configuration that q projected
-//!   onto the constraints;
+//!   zero within the steps (whatever their size; a sample off the constraints, an
+//!   integrator's dense output, projected onto them first), located at the minimum of
+//!   its square on the interpolant (Brent's method), the event's configuration that q
+//!   projected onto the constraints;
 //! - a lock: the whole motion stops and reverses (every rate zero at once: a swing's end,
 //!   a crank that stops short of a dead centre), located where qd turns against itself;
 //! - a slider's limits (`travel`): the end of the travel it is given, and its geometric
@@ -18,7 +19,7 @@ use nalgebra::DMatrix;
 use crate::dynamics::augmented::Equilibration;
 use crate::dynamics::equilibrium::constraints_dense;
 use crate::dynamics::mass::mass_times;
-use crate::dynamics::system::System;
+use crate::dynamics::system::{max_abs, System};
 use crate::dynamics::travel::GEOMETRIC_BELOW;
 use crate::math::minimize::brent;
 use crate::math::roots::illinois;
@@ -63,6 +64,12 @@ pub const MIDPOINT_BELOW: f64 = 0.5;
 /// high-order integrator step over several crossings, farther apart than its step (a
 /// parallelogram's are pi apart: every 1.0 rad missed some in a third of 400 runs).
 pub const WATCH_MOVE: f64 = 0.5;
+/// A sample further than this (scaled |phi|) off the constraints is projected onto them
+/// before the watch uses it (`Watch::settle`): rk8's dense output inside a long step lies
+/// up to 0.23 off at rtol 3e-3 (its ends are projected), and sigma_min taken there is off
+/// by several times that (0.30 for 0.47 on the constraints, 0.77 for 0.43, both 0.1 off),
+/// enough to hide a crossing's V or to leave a crossing looking like a close pass.
+pub const WATCH_RESIDUAL: f64 = 1e-3;
 /// Shares below this are left out of an event's constraints and coordinates.
 const SHARE_FLOOR: f64 = 0.05;
 
@@ -78,6 +85,8 @@ struct Sample {
     pivot: f64,
     sigma: f64,
     mid: f64,
+    /// whether the sample was brought onto the constraints (`Watch::settle`)
+    settled: bool,
 }
 
 /// Whether b, between a and c ((t, sigma_min) each), is a minimum of sigma_min worth a
@@ -215,6 +224,8 @@ impl Watch {
         sample.pivot = pivot;
         let watched = watched(model);
         sample.sigma = if watched { sigma_here(model, sys, q, t, &mut self.w) } else { f64::INFINITY };
+        sample.settled =
+            watched && max_abs(&sys.phi) > WATCH_RESIDUAL && self.settle(model, sys, &mut sample);
         // not sampled: the ends' mean, never a dip of its own
         sample.mid = self.samples.last().map_or(f64::INFINITY, |a| 0.5 * (a.sigma + sample.sigma));
         if let (Some(a), true) = (self.samples.last(), watched) {
@@ -230,7 +241,9 @@ impl Watch {
                 }
                 _ => true,
             };
-            if a.sigma.min(sample.sigma) < MIDPOINT_BELOW || falls_through {
+            // or where an end was projected: the projection moves it along the constraints,
+            // its spacing to its neighbour no longer the watch's (0.67 rad at rtol 0.1)
+            if a.sigma.min(sample.sigma) < MIDPOINT_BELOW || falls_through || a.settled || sample.settled {
                 let tm = 0.5 * (a.t + t);
                 hermite(a, &sample, tm, &mut self.q, &mut self.qd);
                 sample.mid = sigma_here(model, sys, &self.q, tm, &mut self.w);
@@ -290,6 +303,27 @@ impl Watch {
         events.sort_by(|a, b| a.time.total_cmp(&b.time));
     }
 
+    /// Brings a sample off the constraints (an integrator's dense output inside a long
+    /// step) onto them: q and qd projected, qdd solved there, sigma_min taken again; the
+    /// sample is kept as it was where the projection does not bring q closer. Returns
+    /// whether it was moved.
+    fn settle(&mut self, model: &Model, sys: &mut System, s: &mut Sample) -> bool {
+        let (q0, qd0) = (s.q.clone(), s.qd.clone());
+        let (_, before, residual, _) = sys.project_state(model, &mut s.q, &mut s.qd, s.t, Equilibration::New);
+        if !residual.is_finite() || residual >= before {
+            s.q.copy_from_slice(&q0);
+            s.qd.copy_from_slice(&qd0);
+            return false;
+        }
+        if residual > model.options.tol_residual {
+            sys.project_velocities(model, &s.q, &mut s.qd, s.t);
+        }
+        let mut lambda = vec![0.0; model.n_rows];
+        sys.accelerations(model, &s.q, &s.qd, s.t, &mut s.qdd, &mut lambda, Equilibration::New);
+        s.sigma = sigma_here(model, sys, &s.q, s.t, &mut self.w);
+        true
+    }
+
     fn empty(&self, n: usize) -> Sample {
         Sample {
             t: 0.0,
@@ -299,6 +333,7 @@ impl Watch {
             pivot: f64::INFINITY,
             sigma: f64::INFINITY,
             mid: f64::INFINITY,
+            settled: false,
         }
     }
 
@@ -697,6 +732,7 @@ mod tests {
             pivot: 1.0,
             sigma: 1.0,
             mid: 1.0,
+            settled: false,
         };
         let (a, b) = (sample(0.3), sample(1.1));
         let (mut q, mut qd) = ([0.0], [0.0]);
@@ -782,6 +818,7 @@ mod tests {
             pivot: 1.0,
             sigma: 1.0,
             mid: 1.0,
+            settled: false,
         };
         let th = 0.3f64;
         let near = [0.0, 0.0, th, 0.1 * th.cos() + 2e-4, 0.1 * th.sin(), 0.0, 0.3, 0.0, th + 1e-4];
