@@ -117,6 +117,8 @@ pub fn integrate(
     let mut lowest = f64::NAN;
     // the smallest pivot ratio of those steps
     let mut met_pivot = f64::INFINITY;
+    // the events already looked at for a crossing
+    let mut seen = out.events.len();
     let mut peak = kinetic(model, sys.frames()) + potential(model, sys.frames()).abs();
     while next < times.len() {
         if out.n_steps >= opts.max_steps {
@@ -297,9 +299,10 @@ pub fn integrate(
         let stop = watch.accepted(model, sys, &times, t, &q, &qd, &qdd, &mut out.events);
         // a crossing the watch found in this step (its iterations need not have met a small
         // pivot where the step passed it at a distance): the balance from the step's start on
-        if lowest.is_nan() && out.events.iter().any(|e| e.kind == EventKind::Bifurcation) {
+        if lowest.is_nan() && out.events[seen..].iter().any(|e| e.kind == EventKind::Bifurcation) {
             lowest = before.min(balance);
         }
+        seen = out.events.len();
         if let Some(t_stop) = stop {
             stop_at(out, t_stop);
             return Ok(());
