@@ -299,7 +299,7 @@ fn refused_not(model: &Model, times: &[f64], opts: &SimOptions, q0: [f64; 3], qd
 
 /// A parallelogram (crank r2 = 0.1 and rocker pinned 0.3 apart, a coupler of 0.3) free,
 /// drawn with the crank at 0.5 rad; its exact states at crank angle th turning at w.
-fn free_parallelogram() -> Model {
+pub(crate) fn free_parallelogram() -> Model {
     free_parallelogram_with("")
 }
 
