@@ -304,7 +304,7 @@ pub(crate) fn free_parallelogram() -> Model {
 }
 
 /// The free parallelogram with `loads` (JSON, the list's items).
-fn free_parallelogram_with(loads: &str) -> Model {
+pub(crate) fn free_parallelogram_with(loads: &str) -> Model {
     free_model(&parallelogram_json(loads))
 }
 
