@@ -248,7 +248,9 @@ fn generalized_alpha_stops_where_its_crossings_add_energy() {
 /// The run-level check measures the rise of T + V - W, not of T + V: the free
 /// parallelogram driven by a constant torque on its crank through its change points
 /// gains kinetic energy from the torque's work, and generalized-alpha at rtol 1e-6 runs
-/// through with every crossing reported and T + V - W held.
+/// through with every crossing reported and T + V - W held (measured: T from 3.2 J to
+/// 8.7 J, W 5.5 J, the balance 1.9e-3 J at most, 8 crossings). Measuring T + V + W would
+/// stop it at 0.13 s.
 #[test]
 fn generalized_alpha_lets_work_done_raise_the_energy_through_crossings() {
     let model = crate::dynamics_properties::free_parallelogram_with(
@@ -266,15 +268,7 @@ fn generalized_alpha_lets_work_done_raise_the_energy_through_crossings() {
     let worst = (0..out.n_done)
         .map(|k| (out.kinetic[k] + out.potential[k] - out.work[k] - e0).abs())
         .fold(0.0, f64::max);
-    eprintln!(
-        "MEAS5 T0 {} T {} W {} worst {worst} crank {} events {}",
-        out.kinetic[0],
-        out.kinetic[last],
-        out.work[last],
-        out.q[9 * last + 2],
-        out.events.len()
-    );
-    // the torque's work is most of the energy at the end, and is what T gained
+    // the torque's work is a large part of the energy at the end, and is what T gained
     assert!(out.work[last] > 0.5 * out.kinetic[0], "work {} against T0 {}", out.work[last], out.kinetic[0]);
     assert!(worst < 1e-3 * out.work[last], "T + V - W off by {worst:.3e}");
     let turned = (out.q[9 * last + 2] / std::f64::consts::PI).floor() - (th / std::f64::consts::PI).floor();
