@@ -149,6 +149,21 @@ fn n_four_bar_one() -> linkwork::Model {
         .unwrap()
 }
 
+/// `n_four_bar_one` under rk8 at `rtol` (= atol), rows every `dt` s from 0 to n dt, all
+/// of them done: the cranks from vertical at -1 rad/s about their pivots, the coupler
+/// translating at 1 m/s.
+fn n_four_bar_one_run(rtol: f64, dt: f64, n: usize) -> SimOutput {
+    let model = n_four_bar_one();
+    let times: Vec<f64> = (0..=n).map(|k| dt * k as f64).collect();
+    let opts = SimOptions { method: Method::Rk8, rtol, atol: rtol, ..SimOptions::default() };
+    let mut out = SimOutput::new(&model, &times);
+    // (x, y, theta) of crank0, crank1, coupler1
+    let qd0 = [0.0, 0.0, -1.0, 0.0, 0.0, -1.0, 1.0, 0.0, 0.0];
+    simulate(&model, &times, None, Some(&qd0), &opts, &mut out, &mut |_| true).unwrap();
+    assert_eq!(out.n_done, times.len());
+    out
+}
+
 /// The benchmark's tightest replications pass its singular configurations (all bars on
 /// one line, every half turn of the cranks) at rtol 1e-11: there the step ends' and rows'
 /// projections stall regularised and finish with unregularised Newton steps. Over 3 s
@@ -159,15 +174,7 @@ fn n_four_bar_one() -> linkwork::Model {
 fn the_n_four_bar_passes_its_crossings_on_its_branch_at_tight_tolerances() {
     use linkwork::stepping::singular::EventKind;
     use std::f64::consts::PI;
-    let model = n_four_bar_one();
-    let times: Vec<f64> = (0..=60).map(|k| 0.05 * k as f64).collect();
-    let opts = SimOptions { method: Method::Rk8, rtol: 1e-11, atol: 1e-11, ..SimOptions::default() };
-    let mut out = SimOutput::new(&model, &times);
-    // (x, y, theta) of crank0, crank1, coupler1: the cranks turn at -1 rad/s about their
-    // pivots, the coupler translates at 1 m/s
-    let qd0 = [0.0, 0.0, -1.0, 0.0, 0.0, -1.0, 1.0, 0.0, 0.0];
-    simulate(&model, &times, None, Some(&qd0), &opts, &mut out, &mut |_| true).unwrap();
-    assert_eq!(out.n_done, times.len());
+    let out = n_four_bar_one_run(1e-11, 0.05, 60);
     let rows: Vec<&[f64]> = out.q.chunks(9).collect();
     // the branch: measured 3e-15 at most
     for (k, q) in rows.iter().enumerate() {
@@ -198,13 +205,7 @@ fn the_n_four_bar_passes_its_crossings_on_its_branch_at_tight_tolerances() {
 /// linearly instead (measured: up to 7 a row here, up to 39 on N = 2).
 #[test]
 fn the_rows_projections_converge_as_newtons_do() {
-    let model = n_four_bar_one();
-    let times: Vec<f64> = (0..=300).map(|k| 0.01 * k as f64).collect();
-    let opts = SimOptions { method: Method::Rk8, rtol: 1e-4, atol: 1e-4, ..SimOptions::default() };
-    let mut out = SimOutput::new(&model, &times);
-    let qd0 = [0.0, 0.0, -1.0, 0.0, 0.0, -1.0, 1.0, 0.0, 0.0];
-    simulate(&model, &times, None, Some(&qd0), &opts, &mut out, &mut |_| true).unwrap();
-    assert_eq!(out.n_done, times.len());
+    let out = n_four_bar_one_run(1e-4, 0.01, 300);
     let drift = out.drift.iter().fold(0.0f64, |a, d| a.max(*d));
     assert!(drift > 1e-7, "the rows start {drift:.1e} off the constraints: nothing to project");
     for (k, &it) in out.iterations.iter().enumerate() {
