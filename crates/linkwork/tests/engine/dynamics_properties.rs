@@ -585,7 +585,8 @@ fn generalized_alpha_stops_with_a_named_error_where_a_crossing_step_breaks_the_e
     // point converge to rates off the motion: unchecked, the crank later turned from 111
     // rad/s forward to 284 back in one step, silently. The step that first changes T + V - W
     // by more than a tenth of the energies stops the run, naming the singular configuration
-    // and rk8; the rows before it keep the balance, and rk8 passes every crossing
+    // and rk8 (now the run-level check, T + V - W 7 % below its highest, stops it first, at
+    // the row of 0.04 s); the rows before it keep the balance, and rk8 passes every crossing
     use linkwork::stepping::singular::EventKind;
     let model = free_parallelogram();
     let (th, w, rtol, dt) = (0.30f64, 95.4, 5.2e-3, 0.02);
@@ -601,7 +602,7 @@ fn generalized_alpha_stops_with_a_named_error_where_a_crossing_step_breaks_the_e
         "{why}"
     );
     let done = out.n_done;
-    assert!(done >= 3, "{done} rows kept");
+    assert!(done >= 2, "{done} rows kept");
     let e0 = out.kinetic[0] + out.potential[0];
     for k in 0..done {
         let balance = out.kinetic[k] + out.potential[k] - out.work[k];
