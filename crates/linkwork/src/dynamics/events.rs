@@ -266,7 +266,7 @@ impl Watch {
             ];
             for i in 1..4 {
                 if fine[i].0 > self.tested && dips(fine[i - 1], fine[i], fine[i + 1]) {
-                    self.singular(model, sys, times, events, fine[i - 1].0, fine[i + 1].0, fine[i]);
+                    self.singular(model, sys, times, events, fine[i - 1].0, fine[i + 1].0, fine[i], false);
                 }
             }
             self.tested = fine[3].0;
@@ -296,7 +296,7 @@ impl Watch {
                 self.samples.drain(..k - 2);
                 self.samples.push(self.samples[1].clone());
                 // [b, c, c]: the search runs over [b, c] only (an empty second interval)
-                self.singular(model, sys, times, events, lo, hi, mid);
+                self.singular(model, sys, times, events, lo, hi, mid, true);
             }
         }
         // a search's window reaches back past the last step's locks and limits
@@ -484,7 +484,8 @@ impl Watch {
     /// Phi_q M^-1 Phi_q^T (inverse iteration on the augmented matrix), falls like |t - t*|
     /// into a crossing whatever the rank lost; Brent's method finds the minimum of its
     /// square on the interpolant, an event if the scaled Phi_q is singular there (below
-    /// `SINGULAR_BELOW`).
+    /// `SINGULAR_BELOW`). `last`: the window ends at the run's end, which no later window
+    /// searches.
     #[allow(clippy::too_many_arguments)]
     fn singular(
         &mut self,
@@ -495,6 +496,7 @@ impl Watch {
         lo0: f64,
         hi0: f64,
         (x, fx): (f64, f64),
+        last: bool,
     ) {
         if !watched(model) {
             return;
@@ -521,8 +523,12 @@ impl Watch {
         // a minimum on the window's edge lies beyond it: a later window holds it; unless it
         // is the dip's own point (a step's end next to a crossing, its neighbour within 1e-3
         // of the window: sigma rises towards it, so no later window takes it as a dip)
+        // A run's last window has no later one: there only a minimum at its end within
+        // Brent's reach (1e-9 of the window) lies beyond it; crossings 1.4e-5 and 8.4e-5
+        // rad of crank inside were dropped as beyond by the wider margin.
         let near = 1e-3 * (hi0 - lo0);
-        if (t - lo0).min(hi0 - t) < near && (t - x).abs() >= near {
+        let near_end = if last { 1e-7 * (hi0 - lo0) } else { near };
+        if ((t - lo0) < near || hi0 - t < near_end) && (t - x).abs() >= near {
             return;
         }
         self.searched = t;

@@ -469,6 +469,19 @@ fn coarse_change_points(
 }
 
 #[test]
+fn a_change_point_just_inside_the_runs_end_is_reported() {
+    // the crank passes its last change point 8.4e-5 rad (first draw) and 1.4e-5 rad
+    // (second) before the run's end (`benches/events_fuzz.py`'s seeds 6 and 5): the last window's minimum lies that close to its edge, which the
+    // margin of a window with a later one (1e-3 of it) took for beyond the run
+    for (th, w, rtol, dt) in [
+        (1.9919907412003828, 27.27712603606075, 0.0035389968351408076, 0.005),
+        (2.480263101078953, 84.98722664878422, 0.09123886699789102, 0.001),
+    ] {
+        coarse_change_points(&parallelogram_with_b_one_ulp_further(), th, w, rtol, dt);
+    }
+}
+
+#[test]
 fn a_parallelogram_at_coarse_tolerances_keeps_every_row_and_change_point() {
     // rk8 at rtol 1e-3 to 3e-2 takes steps of 2 to 5 rad, its dense output up to 5e-3 off
     // the constraints between them. Next to a crossing Gauss-Newton converges only
