@@ -519,15 +519,16 @@ impl Watch {
             sigma_here(model, sys, q, t, w).powi(2)
         };
         // Brent's method from the point of the dip, to 1e-9 of the window
-        let (t, sigma2_t) = brent(lo0, hi0, x, fx * fx, 1e-9 * (hi0 - lo0), 60, sigma2);
+        let tol = 1e-9 * (hi0 - lo0);
+        let (t, sigma2_t) = brent(lo0, hi0, x, fx * fx, tol, 60, sigma2);
         // a minimum on the window's edge lies beyond it: a later window holds it; unless it
         // is the dip's own point (a step's end next to a crossing, its neighbour within 1e-3
         // of the window: sigma rises towards it, so no later window takes it as a dip)
-        // A run's last window has no later one: there only a minimum at its end within
-        // Brent's reach (1e-9 of the window) lies beyond it; crossings 1.4e-5 and 8.4e-5
-        // rad of crank inside were dropped as beyond by the wider margin.
+        // A run's last window has no later one: there only a minimum at its end, within
+        // twice Brent's stopping distance (tol + 1e-12 |t|), lies beyond it; crossings 1.4e-5
+        // and 8.4e-5 rad of crank inside were dropped as beyond by the wider margin.
         let near = 1e-3 * (hi0 - lo0);
-        let near_end = if last { 1e-7 * (hi0 - lo0) } else { near };
+        let near_end = if last { 4.0 * (tol + 1e-12 * hi0.abs()) } else { near };
         if ((t - lo0) < near || hi0 - t < near_end) && (t - x).abs() >= near {
             return;
         }

@@ -482,6 +482,32 @@ fn a_change_point_just_inside_the_runs_end_is_reported() {
 }
 
 #[test]
+fn a_change_point_a_microsecond_from_the_runs_end_is_reported_inside_it_and_not_beyond() {
+    // at rtol 1e-10 the crossings' times are exact far below 1e-6 s: a run that ends 1e-6 s
+    // (2.5e-5 rad of crank) after one reports it, a run that ends as long before does not
+    use linkwork::stepping::singular::EventKind;
+    let model = free_parallelogram();
+    let (th, w) = (0.5f64, 25.0f64);
+    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
+    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let opts = SimOptions { method: Method::Rk8, rtol: 1e-10, atol: 1e-10, ..SimOptions::default() };
+    let crossings = |t_end: f64| -> Vec<f64> {
+        let times: Vec<f64> = (0..=10).map(|k| t_end * k as f64 / 10.0).collect();
+        let mut out = SimOutput::new(&model, &times);
+        simulate(&model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true).unwrap();
+        out.events.iter().filter(|e| e.kind == EventKind::Bifurcation).map(|e| e.time).collect()
+    };
+    let all = crossings(0.3);
+    assert!(all.len() >= 2, "{all:?}");
+    let t1 = all[1];
+    let inside = crossings(t1 + 1e-6);
+    assert_eq!(inside.len(), 2, "ending 1e-6 s after {t1}: {inside:?}");
+    assert!((inside[1] - t1).abs() < 1e-9, "{} against {t1}", inside[1]);
+    let beyond = crossings(t1 - 1e-6);
+    assert_eq!(beyond.len(), 1, "ending 1e-6 s before {t1}: {beyond:?}");
+}
+
+#[test]
 fn a_parallelogram_at_coarse_tolerances_keeps_every_row_and_change_point() {
     // rk8 at rtol 1e-3 to 3e-2 takes steps of 2 to 5 rad, its dense output up to 5e-3 off
     // the constraints between them. Next to a crossing Gauss-Newton converges only
