@@ -62,8 +62,8 @@ const BALANCE_FALL: f64 = 0.05;
 /// to 1e-3 atol; a row that lands within about that of a change point can be projected onto
 /// the other branch, its rates onto that branch's tangent (a parallelogram's crank from 78
 /// rad/s to 56 and its rocker to 39, T 54 % low, at rtol 5.3e-2). Such a step is taken
-/// again with its iterations run to tol_residual, which leaves the projection nothing to
-/// move across.
+/// again with its iterations run to tol_residual, which leaves the positions' projection
+/// nothing to move across; a change left after that is the rates' own projection, kept.
 const ROW_BALANCE: f64 = 0.01;
 
 /// The method's constants from rho_inf.
