@@ -3,7 +3,7 @@
 //! named errors of a massless free coordinate and of a run out of steps.
 
 use linkwork::dynamics::{simulate, Method, SimOptions, SimOutput};
-use linkwork::SolveError;
+use linkwork::{Model, SolveError};
 
 use crate::oscillator_model::{exact, oscillator, oscillator_on_travel, C, MASS};
 
@@ -213,6 +213,18 @@ fn the_rows_projections_converge_as_newtons_do() {
     }
 }
 
+/// The parallelogram `model` started at crank angle th turning at w, generalized-alpha at
+/// rtol = atol for 1 s with rows dt apart: the run's output and result.
+fn gen_alpha_spin(model: &Model, th: f64, w: f64, rtol: f64, dt: f64) -> (SimOutput, Result<(), SolveError>) {
+    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
+    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let times: Vec<f64> = (0..=(1.0 / dt).round() as usize).map(|k| dt * k as f64).collect();
+    let opts = SimOptions { method: Method::GenAlpha, rtol, atol: rtol, ..SimOptions::default() };
+    let mut out = SimOutput::new(model, &times);
+    let result = simulate(model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true);
+    (out, result)
+}
+
 /// Generalized-alpha's iterations at a singular configuration can leave rates off the
 /// motion that add energy over the steps after it, a few per cent a crossing: the free
 /// parallelogram spun at 51.2 rad/s (rtol 1.7e-3, rows 5 ms apart) went on to 92 rad/s in
@@ -228,12 +240,8 @@ fn generalized_alpha_stops_where_its_crossings_add_energy() {
         (1.5909112242802657f64, 51.223846514200204f64, 0.0017092257245735572, "pivot ratio"),
         (1.0954095212286235, 45.15458427443309, 0.0009005904308464587, "passed at t ="),
     ] {
-        let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-        let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
-        let times: Vec<f64> = (0..=200).map(|k| 0.005 * k as f64).collect();
-        let opts = SimOptions { method: Method::GenAlpha, rtol, atol: rtol, ..SimOptions::default() };
-        let mut out = SimOutput::new(&model, &times);
-        let e = simulate(&model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true).unwrap_err();
+        let (out, result) = gen_alpha_spin(&model, th, w, rtol, 0.005);
+        let e = result.unwrap_err();
         let named = |why: &str| why.contains("rose by") && why.contains(which) && why.contains("rk8");
         assert!(matches!(&e, SolveError::Step { why, .. } if named(why)), "w {w}: {e}");
         let e0 = out.kinetic[0] + out.potential[0];
@@ -241,7 +249,7 @@ fn generalized_alpha_stops_where_its_crossings_add_energy() {
         let worst = (0..rows)
             .map(|k| (out.kinetic[k] + out.potential[k] - out.work[k] - e0) / e0)
             .fold(0.0, f64::max);
-        assert!(rows > 10 && rows < times.len(), "w {w}: {rows} rows kept");
+        assert!(rows > 10 && rows < out.times.len(), "w {w}: {rows} rows kept");
         assert!(worst < 0.05, "w {w}: a row kept is {worst:.3} above the start");
     }
 }
@@ -256,13 +264,9 @@ fn generalized_alpha_stops_where_its_crossings_add_energy() {
 fn generalized_alpha_rows_landing_on_a_change_point_keep_the_motions_rates() {
     let model = crate::dynamics_properties::free_parallelogram();
     let (th, w, rtol) = (1.9207966582590175f64, 77.90540909999646f64, 0.05318267564478165);
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
-    let times: Vec<f64> = (0..=1000).map(|k| 0.001 * k as f64).collect();
-    let opts = SimOptions { method: Method::GenAlpha, rtol, atol: rtol, ..SimOptions::default() };
-    let mut out = SimOutput::new(&model, &times);
-    simulate(&model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true).unwrap();
-    assert_eq!(out.n_done, times.len());
+    let (out, result) = gen_alpha_spin(&model, th, w, rtol, 0.001);
+    result.unwrap();
+    assert_eq!(out.n_done, 1001);
     let e0 = out.kinetic[0] + out.potential[0];
     for k in 0..out.n_done {
         let balance = (out.kinetic[k] + out.potential[k] - out.work[k] - e0) / e0;
@@ -282,17 +286,13 @@ fn generalized_alpha_rows_landing_on_a_change_point_keep_the_motions_rates() {
 fn generalized_alpha_stops_where_its_crossings_take_energy() {
     let model = crate::dynamics_properties::free_parallelogram();
     let (th, w, rtol) = (1.595015740408186f64, 117.98065934070071f64, 0.001215246883793422);
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
-    let times: Vec<f64> = (0..=10).map(|k| 0.1 * k as f64).collect();
-    let opts = SimOptions { method: Method::GenAlpha, rtol, atol: rtol, ..SimOptions::default() };
-    let mut out = SimOutput::new(&model, &times);
-    let e = simulate(&model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true).unwrap_err();
+    let (out, result) = gen_alpha_spin(&model, th, w, rtol, 0.1);
+    let e = result.unwrap_err();
     let named =
         |why: &str| why.contains("fell by") && why.contains("singular configuration") && why.contains("rk8");
     assert!(matches!(&e, SolveError::Step { why, .. } if named(why)), "{e}");
     let e0 = out.kinetic[0] + out.potential[0];
-    assert!(out.n_done >= 3 && out.n_done < times.len(), "{} rows kept", out.n_done);
+    assert!(out.n_done >= 3 && out.n_done < out.times.len(), "{} rows kept", out.n_done);
     for k in 0..out.n_done {
         let balance = (out.kinetic[k] + out.potential[k] - out.work[k] - e0) / e0;
         assert!(balance.abs() < 0.04, "row {k}: T + V - W {balance:.3} of the start");
@@ -306,13 +306,9 @@ fn torque_through_crossings(torque: f64) -> (SimOutput, f64, (usize, f64)) {
     let model = crate::dynamics_properties::free_parallelogram_with(&format!(
         r#"{{"type": "torque", "name": "drive", "body": "crank", "law": {{"type": "constant", "value": {torque}}}}}"#
     ));
-    let (th, w) = (0.5f64, 20.0f64);
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
-    let times: Vec<f64> = (0..=200).map(|k| 0.005 * k as f64).collect();
-    let opts = SimOptions { method: Method::GenAlpha, rtol: 1e-6, atol: 1e-6, ..SimOptions::default() };
-    let mut out = SimOutput::new(&model, &times);
-    simulate(&model, &times, Some(&q0), Some(&qd0), &opts, &mut out, &mut |_| true).unwrap();
+    let th = 0.5f64;
+    let (out, result) = gen_alpha_spin(&model, th, 20.0, 1e-6, 0.005);
+    result.unwrap();
     let last = out.n_done - 1;
     let e0 = out.kinetic[0] + out.potential[0];
     let worst = (0..out.n_done)
