@@ -14,7 +14,7 @@ use crate::constraints::{Constraint, Frame, Rows, MAX_ROWS};
 use crate::dynamics::applied::TangentBlock;
 use crate::dynamics::mass::mass_block;
 use crate::math::pivots::Pivots;
-use crate::math::sparse_lu::{colamd_order, SparseLu};
+use crate::math::sparse_lu::{colamd_order, Lane, LaneFactors, SparseLu, LANES};
 use crate::model::Model;
 
 /// A pivot ratio below this makes `factor_solve` regularise: the constraints are near a
@@ -56,6 +56,16 @@ pub enum Equilibration {
     /// first, a step's stages, Newton's later iterations; only round-off differs), a new
     /// one all the same where none was computed yet
     Kept,
+}
+
+/// `LANES` sets of the pattern's values (the output rows of one step), equilibrated and
+/// factored side by side (`Augmented::factor_lanes`).
+#[derive(Debug, Clone)]
+pub struct AugLanes {
+    /// each lane's values in the pattern's order (unscaled)
+    pub values: [Vec<f64>; LANES],
+    scaled: Vec<Lane>,
+    factors: LaneFactors,
 }
 
 /// The compiled pattern, its values and factors (n coordinates, m rows).
@@ -263,11 +273,16 @@ impl Augmented {
 
     /// phi_q qd (m): the constraints' rates from the Jacobian in `values`.
     pub fn jacobian_times(&self, x: &[f64], out: &mut [f64]) {
+        self.jacobian_times_of(&self.values, x, out);
+    }
+
+    /// phi_q qd (m) from the Jacobian in `values` (the pattern's order).
+    fn jacobian_times_of(&self, values: &[f64], x: &[f64], out: &mut [f64]) {
         out.fill(0.0);
         let n = self.n;
         for (c, &xc) in x[..n].iter().enumerate() {
             let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
-            for (&r, v) in self.row_idx[lo..hi].iter().zip(&self.values[lo..hi]) {
+            for (&r, v) in self.row_idx[lo..hi].iter().zip(&values[lo..hi]) {
                 if r >= n {
                     out[r - n] += v * xc;
                 }
@@ -439,6 +454,76 @@ impl Augmented {
         }
         b.copy_from_slice(x);
         self.refine = buffer;
+    }
+
+    /// A workspace for `LANES` sets of this pattern's values.
+    pub fn lanes(&self) -> AugLanes {
+        let nnz = self.row_idx.len();
+        AugLanes {
+            values: std::array::from_fn(|_| vec![0.0; nnz]),
+            scaled: vec![[0.0; LANES]; nnz],
+            factors: LaneFactors::default(),
+        }
+    }
+
+    /// Structural entries of the matrix.
+    pub fn entries(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Whether an equilibration is in place for `factor_lanes` to keep.
+    pub fn is_equilibrated(&self) -> bool {
+        self.equilibrated
+    }
+
+    /// Keeps the values last filled as lane k's.
+    pub fn keep_lane(&self, lanes: &mut AugLanes, k: usize) {
+        lanes.values[k].copy_from_slice(&self.values);
+    }
+
+    /// Factors the lanes' values equilibrated as the last factorization was (as `factor`
+    /// with `Equilibration::Kept` and no regularisation, lane by lane) on the pivot
+    /// sequence in use. Per lane: Some(its pivots) where every pivot passes its threshold
+    /// there, else None (that lane is left to `factor`). Nothing of the scalar
+    /// factorization changes.
+    pub fn factor_lanes(&self, lanes: &mut AugLanes) -> [Option<Pivots>; LANES] {
+        if !self.equilibrated {
+            return [None; LANES];
+        }
+        let size = self.n + self.m;
+        let (col_ptr, row_idx, scale) = (&self.col_ptr[..], &self.row_idx[..], &self.scale[..size]);
+        let [v0, v1, v2, v3] = &lanes.values;
+        let nnz = row_idx.len();
+        let (v0, v1, v2, v3) = (&v0[..nnz], &v1[..nnz], &v2[..nnz], &v3[..nnz]);
+        let scaled = &mut lanes.scaled[..nnz];
+        for (c, &sc) in scale.iter().enumerate() {
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                let sr = scale[row_idx[p]];
+                scaled[p] = [v0[p] * sr * sc, v1[p] * sr * sc, v2[p] * sr * sc, v3[p] * sr * sc];
+            }
+        }
+        self.lu.factor_lanes(&lanes.scaled, &mut lanes.factors)
+    }
+
+    /// Solves each lane's system with its factors from `factor_lanes` (b in, x out), as
+    /// `solve` does lane by lane.
+    pub fn solve_lanes(&self, lanes: &mut AugLanes, b: &mut [Lane]) {
+        for (x, s) in b.iter_mut().zip(&self.scale) {
+            for v in x.iter_mut() {
+                *v *= s;
+            }
+        }
+        self.lu.solve_lanes(&mut lanes.factors, b);
+        for (x, s) in b.iter_mut().zip(&self.scale) {
+            for v in x.iter_mut() {
+                *v *= s;
+            }
+        }
+    }
+
+    /// phi_q x (m) with lane k's Jacobian.
+    pub fn lane_jacobian_times(&self, lanes: &AugLanes, k: usize, x: &[f64], out: &mut [f64]) {
+        self.jacobian_times_of(&lanes.values[k], x, out);
     }
 
     /// The column of the coordinate most involved in a (near) null direction of A: one

@@ -33,6 +33,7 @@ pub mod options;
 pub mod output;
 pub mod record;
 pub mod rk;
+pub mod row_lanes;
 pub mod simulate;
 pub mod system;
 pub mod travel;

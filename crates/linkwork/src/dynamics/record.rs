@@ -5,6 +5,7 @@
 use crate::dynamics::augmented::Equilibration;
 use crate::dynamics::energy::{kinetic, potential};
 use crate::dynamics::output::{Row, SimOutput};
+use crate::dynamics::row_lanes::{Projected, RowLanes};
 use crate::dynamics::system::System;
 use crate::error::SolveError;
 use crate::model::Model;
@@ -37,7 +38,26 @@ pub fn store_state(
     info: StepInfo,
     solve: bool,
 ) -> Result<(), SolveError> {
-    let (iterations, drift, residual, drift_d) = sys.project_state(model, q, qd, t, info.equilibration);
+    let projected = sys.project_state(model, q, qd, t, info.equilibration);
+    store_projected(model, sys, out, k, t, q, qd, info, projected, solve)
+}
+
+/// Stores row k as `store_state` does, from a projection already made (`project_state`'s
+/// or a lane's, `RowLanes::project`: iterations, scaled |phi| before and after, scaled
+/// |Phi_q qd - nu| before), `sys`'s frames at the projected (q, qd).
+#[allow(clippy::too_many_arguments)]
+pub fn store_projected(
+    model: &Model,
+    sys: &mut System,
+    out: &mut SimOutput,
+    k: usize,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    info: StepInfo,
+    (iterations, drift, residual, drift_d): Projected,
+    solve: bool,
+) -> Result<(), SolveError> {
     if residual.is_nan() || residual > model.options.tol_residual {
         return Err(SolveError::Step {
             step: k,
@@ -61,6 +81,46 @@ pub fn store_state(
         solve_row(model, sys, out, k)?;
     }
     Ok(())
+}
+
+/// Stores rows k..k + count from the states loaded in `lanes` (one step's rows after its
+/// first, `info` theirs but for the work done, which each lane holds), in order: projected
+/// as lanes where they take that path (`RowLanes::project`), by `store_state` where not,
+/// each checked by `check` (row index in; an error stops the rows there) once stored.
+/// Returns how many rows were stored and the error that stopped them (a row that cannot
+/// be projected, or the check's); other errors are returned as such.
+#[allow(clippy::too_many_arguments)]
+pub fn store_lanes(
+    model: &Model,
+    sys: &mut System,
+    out: &mut SimOutput,
+    lanes: &mut RowLanes,
+    k: usize,
+    count: usize,
+    info: StepInfo,
+    check: &mut dyn FnMut(&SimOutput, usize) -> Option<SolveError>,
+) -> Result<(usize, Option<SolveError>), SolveError> {
+    let projected = lanes.project(model, sys, count);
+    for (j, projected) in projected.into_iter().enumerate().take(count) {
+        let info = StepInfo { work: lanes.work[j], ..info };
+        let (q, qd, t) = (&mut lanes.q[j], &mut lanes.qd[j], lanes.t[j]);
+        let stored = match projected {
+            Some(p) => {
+                sys.set_state(q, qd);
+                store_projected(model, sys, out, k + j, t, q, qd, info, p, false)
+            }
+            None => store_state(model, sys, out, k + j, t, q, qd, info, false),
+        };
+        let failed = match stored {
+            Ok(()) => check(out, k + j).map(|e| (j + 1, e)),
+            Err(e @ SolveError::Step { .. }) => Some((j, e)),
+            Err(e) => return Err(e),
+        };
+        if let Some((stored, error)) = failed {
+            return Ok((stored, Some(error)));
+        }
+    }
+    Ok((count, None))
 }
 
 /// qdd, the multipliers (in the rows' units), the reactions and the pivot ratio of the

@@ -17,10 +17,12 @@ use crate::dynamics::energy::{kinetic, load_power, potential};
 use crate::dynamics::events::Watch;
 use crate::dynamics::options::{relative_sizes, SimOptions};
 use crate::dynamics::output::SimOutput;
-use crate::dynamics::record::{store_state, StepInfo};
+use crate::dynamics::record::{store_lanes, store_state, StepInfo};
+use crate::dynamics::row_lanes::RowLanes;
 use crate::dynamics::system::System;
 use crate::dynamics::travel::stop_at;
 use crate::error::SolveError;
+use crate::math::sparse_lu::LANES;
 use crate::model::Model;
 use crate::solve::assembly::nu_into;
 
@@ -150,6 +152,8 @@ pub fn integrate(
     // steps and their dense outputs' stages (computed where a step holds rows or watch
     // samples), and so does the steps' round-off: other times asked change it only there
     let mut aux = System::new(model);
+    // a step's rows after its first, projected up to LANES at once on `aux`
+    let mut row_lanes = RowLanes::for_model(model, &aux);
     // the accelerations at a step's interior samples for the watch, and the dense output
     // either side of one
     let (mut qdd_j, mut y_dx) = (vec![0.0; n], vec![0.0; len]);
@@ -316,6 +320,34 @@ pub fn integrate(
                 off_balance(out, t_new, h_step, "the step's end", t_end, v_end, y_end[2 * n], balance, peak);
         }
         while failed.is_none() && next < times.len() && times[next] <= t_new {
+            // after the step's first row (its factorization sets the equilibration the
+            // others keep), up to LANES rows at once where they are only projected
+            let count = if next > first && !opts.accelerations {
+                times[next..].iter().take(LANES).take_while(|&&tk| tk <= t_new).count()
+            } else {
+                1
+            };
+            if let (true, Some(lanes)) = (count >= 2, row_lanes.as_mut()) {
+                for j in 0..count {
+                    let tk = times[next + j];
+                    if tk == t_new {
+                        y_out.copy_from_slice(&y_new);
+                    } else {
+                        contd8(&dense, (tk - t) / h_step, &y, &mut y_out);
+                    }
+                    lanes.load(j, tk, &y_out);
+                }
+                let info =
+                    StepInfo { step: h_step, iterations: 0, work: 0.0, equilibration: Equilibration::Kept };
+                let mut check = |out: &SimOutput, k: usize| {
+                    let (tr, vr, wr) = (out.kinetic[k], out.potential[k], out.work[k]);
+                    off_balance(out, out.times[k], h_step, "an output row", tr, vr, wr, balance, peak)
+                };
+                let stored;
+                (stored, failed) = store_lanes(model, &mut aux, out, lanes, next, count, info, &mut check)?;
+                next += stored;
+                continue;
+            }
             let tk = times[next];
             if tk == t_new {
                 y_out.copy_from_slice(&y_new);

@@ -110,7 +110,7 @@ impl System {
 
     /// Fills the augmented matrix and phi at positions q (the frames moved there) and
     /// returns the scaled |phi|: each projection iteration starts so.
-    fn fill_at(&mut self, model: &Model, q: &[f64], t: f64) -> f64 {
+    pub(crate) fn fill_at(&mut self, model: &Model, q: &[f64], t: f64) -> f64 {
         self.data.q.copy_from_slice(q);
         update_frames(&mut self.data);
         self.aug.fill(model, &self.data.frames, q, t, 1.0, &mut self.phi);

@@ -34,6 +34,9 @@ use faer::sparse::SymbolicSparseColMatRef;
 
 use crate::math::pivots::Pivots;
 
+mod lanes;
+pub use lanes::{Lane, LaneFactors, LANES};
+
 /// A replayed pivot smaller than this fraction of its column's largest candidate makes
 /// the factorization choose its pivots again.
 pub const PIVOT_THRESHOLD: f64 = 0.1;

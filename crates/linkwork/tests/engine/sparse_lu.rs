@@ -398,3 +398,61 @@ fn sweeps_keep_one_pivot_sequence_and_agree_with_the_dense_lu() {
         assert!(ratio > 1e-3, "{name}: smallest pivot ratio {ratio}");
     }
 }
+
+/// Four value sets, each near the one that chose the pivot sequence (entries moved up to
+/// 2 % of their size) or drawn anew, factored side by side (`factor_lanes`): each lane's
+/// pivots are the scalar replay's (`factor_replayed`) and its solution the scalar solve's,
+/// to the bit (the lanes do each lane's operations in the scalar order, without fused
+/// multiply-adds); a lane whose values fail the threshold on that sequence is None where
+/// the scalar replay is, whatever the other lanes hold.
+#[test]
+fn lanes_factor_and_solve_as_the_scalar_replay_does_to_the_bit() {
+    use linkwork::sparse_lu::{Lane, LaneFactors, LANES};
+    let mut rng = Rng(0xC0FFEE1234567);
+    let (mut passed, mut failed) = (0, 0);
+    for (name, n, ptr, rows) in patterns() {
+        for order in orders(n, &mut rng) {
+            let mut lu = SparseLu::new(n, &ptr, &rows, &order);
+            let base: Vec<f64> = rows.iter().map(|_| rng.next()).collect();
+            lu.factor(&base);
+            let mut f = LaneFactors::default();
+            for trial in 0..12 {
+                let sets: [Vec<f64>; LANES] = std::array::from_fn(|k| {
+                    if (trial + k) % 5 == 4 {
+                        rows.iter().map(|_| rng.next()).collect()
+                    } else {
+                        base.iter().map(|v| v * (1.0 + 0.02 * rng.next())).collect()
+                    }
+                });
+                let values: Vec<Lane> =
+                    (0..rows.len()).map(|p| std::array::from_fn(|k| sets[k][p])).collect();
+                let got = lu.factor_lanes(&values, &mut f);
+                let b: Vec<Lane> = (0..n).map(|_| std::array::from_fn(|_| rng.next())).collect();
+                let mut x = b.clone();
+                lu.solve_lanes(&mut f, &mut x);
+                for k in 0..LANES {
+                    let mut scalar = lu.clone();
+                    let want = scalar.factor_replayed(&sets[k]);
+                    assert_eq!(got[k], want, "{name}, trial {trial}, lane {k}");
+                    if want.is_none() {
+                        failed += 1;
+                        continue;
+                    }
+                    passed += 1;
+                    let mut y: Vec<f64> = b.iter().map(|v| v[k]).collect();
+                    scalar.solve(&mut y);
+                    for i in 0..n {
+                        assert_eq!(
+                            x[i][k].to_bits(),
+                            y[i].to_bits(),
+                            "{name}, trial {trial}, lane {k}, x[{i}]"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("{passed} lanes passed their pivots' threshold, {failed} failed it");
+    // both outcomes met
+    assert!(passed > 300 && failed > 20, "{passed} passed, {failed} failed");
+}
