@@ -322,12 +322,11 @@ pub fn integrate(
         while failed.is_none() && next < times.len() && times[next] <= t_new {
             // after the step's first row (its factorization sets the equilibration the
             // others keep), up to LANES rows at once where they are only projected
-            let count = if next > first && !opts.accelerations {
-                times[next..].iter().take(LANES).take_while(|&&tk| tk <= t_new).count()
-            } else {
-                1
-            };
-            if let (true, Some(lanes)) = (count >= 2, row_lanes.as_mut()) {
+            let lanes = row_lanes.as_mut().filter(|_| next > first && !opts.accelerations);
+            let count = lanes
+                .as_ref()
+                .map_or(1, |_| times[next..].iter().take(LANES).take_while(|&&tk| tk <= t_new).count());
+            if let (true, Some(lanes)) = (count >= 2, lanes) {
                 for j in 0..count {
                     let tk = times[next + j];
                     if tk == t_new {
