@@ -2,8 +2,9 @@
 //! time: `System::project_state`'s common path (one factorization at the row's state,
 //! simplified Newton for the positions, then for the rates, with no regularisation),
 //! its factorization and its solves done for the lanes at once (`Augmented::factor_lanes`).
-//! Each lane's arithmetic is the scalar path's, operation for operation, so a lane's row
-//! is the same bits as `project_state` gives it on the same pivot sequence. A lane that
+//! Each lane's arithmetic is the scalar path's, operation for operation, on the same
+//! pivot sequence; a lane's row differs from `project_state`'s only by round-off (the
+//! frames' cos and sin are turned from other bases: `angle::turned`). A lane that
 //! leaves that path (a pivot that fails its threshold or calls for regularisation, an
 //! iteration that must factor again, a residual that does not settle) is marked for the
 //! scalar projection, which then handles it as it would any row.
@@ -18,8 +19,8 @@ use crate::solve::assembly::nu_into;
 /// The fewest entries of the augmented matrix for which the lanes pay: they save part of
 /// each row's factorization and solves and add a fixed cost per row (the lanes' copies
 /// and bookkeeping). Measured side by side (`benches/results/dynamics-2026-11-29c.md`):
-/// IFToMM A01 (23 entries) 4 to 9 % slower with them, A02 with N = 1 and 2 and Andrews'
-/// squeezer 8 to 15 % faster.
+/// IFToMM A01 (23 entries) 4 to 9 % slower with them; A02 (N = 1: 107 entries, and N = 2:
+/// 191) and Andrews' squeezer 2 to 21 % faster, by tolerance.
 pub const MIN_ENTRIES: usize = 64;
 
 /// A lane's projection: (iterations, scaled |phi| before, after, scaled |Phi_q qd - nu|
