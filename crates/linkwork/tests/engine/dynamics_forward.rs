@@ -461,12 +461,14 @@ fn every_rows_rates_lie_on_the_velocity_constraints() {
 /// The rows go to lanes where the augmented matrix has `MIN_ENTRIES` entries or more: A02
 /// (N = 1: 3 bodies, 4 pins) takes them, a one-body oscillator on a slide does not (its
 /// rows are cheaper one at a time: the lanes' copies outweigh a replay that small).
+/// Measured: 107 entries and 23.
 #[test]
 fn rows_go_to_lanes_where_the_augmented_matrix_is_large_enough() {
     use linkwork::dynamics::row_lanes::{RowLanes, MIN_ENTRIES};
     use linkwork::dynamics::system::System;
     let (large, small) = (n_four_bar_one(), oscillator(1.0, 0.0));
     let (large_sys, small_sys) = (System::new(&large), System::new(&small));
+    eprintln!("entries: A02 (N = 1) {}, oscillator {}", large_sys.aug.entries(), small_sys.aug.entries());
     assert!(large_sys.aug.entries() >= MIN_ENTRIES && small_sys.aug.entries() < MIN_ENTRIES);
     assert!(RowLanes::for_model(&large, &large_sys).is_some());
     assert!(RowLanes::for_model(&small, &small_sys).is_none());
