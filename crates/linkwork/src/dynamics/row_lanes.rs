@@ -199,14 +199,7 @@ impl RowLanes {
             if !any {
                 break;
             }
-            self.solve(sys, &settling, count);
-            for k in 0..count {
-                if settling[k] {
-                    for (qk, d) in q[k].iter_mut().zip(&self.x[..n]) {
-                        *qk += d[k];
-                    }
-                }
-            }
+            self.solve_into(sys, &settling, count, q);
             if it + 1 == MAX_PROJECTION {
                 for k in 0..count {
                     if settling[k] {
@@ -265,14 +258,7 @@ impl RowLanes {
             if !any {
                 break;
             }
-            self.solve(sys, &solving, count);
-            for k in 0..count {
-                if solving[k] {
-                    for (v, d) in qd[k].iter_mut().zip(&self.x[..n]) {
-                        *v += d[k];
-                    }
-                }
-            }
+            self.solve_into(sys, &solving, count, qd);
         }
         for k in 0..count {
             match stage[k] {
@@ -289,9 +275,17 @@ impl RowLanes {
         out
     }
 
-    /// Solves the lanes' systems with their factors; lanes not `active` (and those past
-    /// `count`) get a zero right-hand side, so their arithmetic stays finite.
-    fn solve(&mut self, sys: &System, active: &[bool; LANES], count: usize) {
+    /// Solves the lanes' systems (right-hand sides in `x`) with their factors and adds
+    /// each `active` lane's first n components (its correction) to its `states`. Lanes
+    /// not active (and those past `count`) get a zero right-hand side, so their
+    /// arithmetic stays finite.
+    fn solve_into(
+        &mut self,
+        sys: &System,
+        active: &[bool; LANES],
+        count: usize,
+        states: &mut [Vec<f64>; LANES],
+    ) {
         for x in self.x.iter_mut() {
             for k in 0..LANES {
                 if k >= count || !active[k] {
@@ -300,5 +294,12 @@ impl RowLanes {
             }
         }
         sys.aug.solve_lanes(&mut self.aug, &mut self.x);
+        for (k, state) in states.iter_mut().enumerate().take(count) {
+            if active[k] {
+                for (v, d) in state.iter_mut().zip(&self.x) {
+                    *v += d[k];
+                }
+            }
+        }
     }
 }

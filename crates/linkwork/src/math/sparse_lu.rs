@@ -361,9 +361,13 @@ impl SparseLu {
 
     /// The diagnostics of the factors in place.
     fn pivots(&self) -> Pivots {
-        let diag = &self.lu[self.lu.len() - self.n..];
+        self.pivots_of(self.lu[self.lu.len() - self.n..].iter().copied())
+    }
+
+    /// The diagnostics of the pivots `diag` (U(j, j) of each step) on this sequence.
+    fn pivots_of(&self, mut diag: impl Iterator<Item = f64> + Clone) -> Pivots {
         let (mut lo, mut hi, mut at, mut negative, mut finite) = (f64::INFINITY, 0.0f64, 0, 0usize, true);
-        for (j, &d) in diag.iter().enumerate() {
+        for (j, d) in diag.clone().enumerate() {
             finite &= d.is_finite();
             negative += (d < 0.0) as usize;
             let d = d.abs();
@@ -373,7 +377,7 @@ impl SparseLu {
             hi = hi.max(d);
         }
         if !finite {
-            let j = diag.iter().position(|d| !d.is_finite()).unwrap_or(0);
+            let j = diag.position(|d| !d.is_finite()).unwrap_or(0);
             return Pivots { ratio: f64::NAN, column: self.col_of_step[j] as usize, det_sign: 0.0 };
         }
         let sign = if negative % 2 == 0 { self.perm_sign } else { -self.perm_sign };

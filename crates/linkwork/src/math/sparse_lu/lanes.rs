@@ -103,24 +103,7 @@ impl SparseLu {
 
     /// `pivots` of one lane's diagonal.
     fn lane_pivots(&self, diag: &[Lane], k: usize) -> Pivots {
-        let (mut lo, mut hi, mut at, mut negative, mut finite) = (f64::INFINITY, 0.0f64, 0, 0usize, true);
-        for (j, d) in diag.iter().enumerate() {
-            let d = d[k];
-            finite &= d.is_finite();
-            negative += (d < 0.0) as usize;
-            let d = d.abs();
-            if d < lo {
-                (lo, at) = (d, j);
-            }
-            hi = hi.max(d);
-        }
-        if !finite {
-            let j = diag.iter().position(|d| !d[k].is_finite()).unwrap_or(0);
-            return Pivots { ratio: f64::NAN, column: self.col_of_step[j] as usize, det_sign: 0.0 };
-        }
-        let sign = if negative % 2 == 0 { self.perm_sign } else { -self.perm_sign };
-        let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
-        Pivots { ratio, column: self.col_of_step[at] as usize, det_sign: if lo > 0.0 { sign } else { 0.0 } }
+        self.pivots_of(diag.iter().map(|d| d[k]))
     }
 
     /// Solves each lane's A x = b in place with its factors from `factor_lanes` (b: n
