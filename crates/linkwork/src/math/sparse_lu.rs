@@ -584,13 +584,27 @@ impl SparseLu {
         self.fill = (0..covered.len() as u32).filter(|&p| !covered[p as usize]).collect();
         // column j -= L(:, k) U(k, j) for each k in U(:, j), ascending
         let (mut ops, mut op_ptr) = (Vec::new(), vec![0u32]);
+        let mut level = vec![0u32; nl + nu + n];
+        let mut column: Vec<(u32, [u32; 3])> = Vec::new();
         for (j, col) in u_cols.iter().enumerate() {
+            column.clear();
             for &k in col {
                 let u = position(k, j);
                 for e in l_ptr[k as usize]..l_ptr[k as usize + 1] {
-                    ops.push([position(l_row[e as usize], j), e, u]);
+                    let t = position(l_row[e as usize], j);
+                    // an update waits for its U entry's last update and follows its
+                    // target's previous one: the depth at which it can run
+                    let depth = (level[u as usize] + 1).max(level[t as usize]);
+                    level[t as usize] = depth;
+                    column.push((depth, [t, e, u]));
                 }
             }
+            // by depth, in order within one: independent updates side by side (the
+            // chains through U(k, j) no longer serialise the column), each target's
+            // updates in their order and every read after its last write, so the
+            // factors are the same bits
+            column.sort_by_key(|&(depth, _)| depth);
+            ops.extend(column.iter().map(|&(_, op)| op));
             op_ptr.push(ops.len() as u32);
         }
         // the bounds that the unchecked loops of `replay` and the solves rely on
