@@ -89,6 +89,9 @@ pub struct Augmented {
     /// each body's own block (`blocks[(i, i)]`, looked up at every fill)
     body_blocks: Vec<[u32; 9]>,
     jac: Vec<JacSlots>,
+    /// the entries of Phi_q in the pattern, column by column: (position in `values`,
+    /// constraint row, coordinate), for the products with Phi_q and its transpose
+    jac_entries: Vec<[u32; 3]>,
     diag: Vec<u32>,
     /// whether the last factorization was regularised
     pub regularised: bool,
@@ -195,6 +198,11 @@ impl Augmented {
             })
             .collect();
         let diag = (0..size).map(|k| slot(k, k)).collect();
+        let jac_entries = (0..n)
+            .flat_map(|c| (col_ptr[c]..col_ptr[c + 1]).map(move |p| (p, c)))
+            .filter(|&(p, _)| row_idx[p] >= n)
+            .map(|(p, c)| [p as u32, (row_idx[p] - n) as u32, c as u32])
+            .collect();
         let order = colamd_order(size, &col_ptr, &row_idx);
         let lu = SparseLu::new(size, &col_ptr, &row_idx, &order);
         let nnz = row_idx.len();
@@ -212,6 +220,7 @@ impl Augmented {
             blocks,
             body_blocks,
             jac,
+            jac_entries,
             diag,
             regularised: false,
             equilibrated: false,
@@ -279,28 +288,16 @@ impl Augmented {
     /// phi_q qd (m) from the Jacobian in `values` (the pattern's order).
     fn jacobian_times_of(&self, values: &[f64], x: &[f64], out: &mut [f64]) {
         out.fill(0.0);
-        let n = self.n;
-        for (c, &xc) in x[..n].iter().enumerate() {
-            let (lo, hi) = (self.col_ptr[c], self.col_ptr[c + 1]);
-            for (&r, v) in self.row_idx[lo..hi].iter().zip(&values[lo..hi]) {
-                if r >= n {
-                    out[r - n] += v * xc;
-                }
-            }
+        for &[p, r, c] in &self.jac_entries {
+            out[r as usize] += values[p as usize] * x[c as usize];
         }
     }
 
     /// Phi_q^T y (n): the multipliers' generalized forces.
     pub fn jacobian_transpose_times(&self, y: &[f64], out: &mut [f64]) {
         out.fill(0.0);
-        let n = self.n;
-        for c in 0..n {
-            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                let r = self.row_idx[p];
-                if r >= n {
-                    out[c] += self.values[p] * y[r - n];
-                }
-            }
+        for &[p, r, c] in &self.jac_entries {
+            out[c as usize] += self.values[p as usize] * y[r as usize];
         }
     }
 
