@@ -56,7 +56,8 @@ pub struct RowLanes {
     dq: Vec<f64>,
     rhs: Vec<f64>,
     rate: Vec<f64>,
-    nu: Vec<f64>,
+    /// each lane's nu at its time
+    nu: Vec<Vec<f64>>,
 }
 
 impl RowLanes {
@@ -80,7 +81,7 @@ impl RowLanes {
             dq: vec![0.0; n],
             rhs: vec![0.0; n + m],
             rate: vec![0.0; m],
-            nu: vec![0.0; m],
+            nu: vec![vec![0.0; m]; LANES],
         }
     }
 
@@ -213,6 +214,7 @@ impl RowLanes {
         let mut before_d = [f64::NAN; LANES];
         let mut last_d = [f64::INFINITY; LANES];
         for k in 0..count {
+            nu_into(model, t[k], &mut self.nu[k]);
             if stage[k] == Stage::Running && iterations[k] == 0 {
                 // no position correction: the scalar path factors at the rates' first
                 // correction (the same values, the same bits), which is then fresh
@@ -226,9 +228,9 @@ impl RowLanes {
                 if stage[k] != Stage::Running {
                     continue;
                 }
-                nu_into(model, t[k], &mut self.nu);
+                let nu = &self.nu[k];
                 sys.aug.lane_jacobian_times(&self.aug, k, &qd[k], &mut self.rate);
-                let size = self.rate.iter().zip(&self.nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()));
+                let size = self.rate.iter().zip(nu).fold(0.0f64, |a, (r, v)| a.max((r - v).abs()));
                 let speed = qd[k].iter().zip(&model.col_scale).fold(0.0f64, |a, (v, s)| a.max((v / s).abs()));
                 if it == 0 {
                     before_d[k] = size;
@@ -250,7 +252,7 @@ impl RowLanes {
                 }
                 last_d[k] = size;
                 for (i, x) in self.x.iter_mut().enumerate() {
-                    x[k] = if i < n { 0.0 } else { self.nu[i - n] - self.rate[i - n] };
+                    x[k] = if i < n { 0.0 } else { nu[i - n] - self.rate[i - n] };
                 }
                 solving[k] = true;
                 any = true;
