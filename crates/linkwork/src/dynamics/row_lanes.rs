@@ -213,13 +213,10 @@ impl RowLanes {
         // kept at its last fill), with the factors of its start
         let mut before_d = [f64::NAN; LANES];
         let mut last_d = [f64::INFINITY; LANES];
+        // a lane with no position correction keeps `fresh` as it started (true): the scalar
+        // path factors at the rates' first correction (the same values, the same bits)
         for k in 0..count {
             nu_into(model, t[k], &mut self.nu[k]);
-            if stage[k] == Stage::Running && iterations[k] == 0 {
-                // no position correction: the scalar path factors at the rates' first
-                // correction (the same values, the same bits), which is then fresh
-                fresh[k] = true;
-            }
         }
         for it in 0..6 {
             let mut any = false;
