@@ -215,8 +215,8 @@ impl RowLanes {
         let mut last_d = [f64::INFINITY; LANES];
         // a lane with no position correction keeps `fresh` as it started (true): the scalar
         // path factors at the rates' first correction (the same values, the same bits)
-        for k in 0..count {
-            nu_into(model, t[k], &mut self.nu[k]);
+        for (nu, &tk) in self.nu.iter_mut().zip(t).take(count) {
+            nu_into(model, tk, nu);
         }
         for it in 0..6 {
             let mut any = false;
