@@ -350,6 +350,77 @@ fn generalized_alpha_lets_work_taken_lower_the_energy_through_crossings() {
     assert_eq!(reported as f64, turned);
 }
 
+/// Row k of `run` (A02, N = 1) moved off the constraints by (off, off_d) in q and qd.
+fn moved_row(run: &SimOutput, k: usize, (off, off_d): (f64, f64)) -> (Vec<f64>, Vec<f64>) {
+    let n = run.n_coords;
+    let mut q = run.q[k * n..(k + 1) * n].to_vec();
+    let mut qd = run.qd[k * n..(k + 1) * n].to_vec();
+    for i in 0..n {
+        q[i] += off * (1.3 * (i + k) as f64).sin();
+        qd[i] += off_d * (0.7 * (i + 2 * k) as f64).cos();
+    }
+    (q, qd)
+}
+
+/// Rows start + 1 .. start + 1 + LANES of `run` (A02, N = 1), moved off by `offsets`,
+/// projected four at a time (`RowLanes::project`) and one at a time
+/// (`System::project_state`, rows after a step's first), both workspaces as a step leaves
+/// them: its first row (`start`, 1e-6 off) projected with a new equilibration. Per row:
+/// where the lane took it, its projection (checked: the scalar path's iterations, its
+/// scaled drifts to 1e-14) and |q - q*|, |qd - qd*|; None where the lane left it (checked:
+/// untouched). A projection of no row (count 0) is checked to touch none.
+fn lanes_against_scalar(
+    model: &Model,
+    run: &SimOutput,
+    start: usize,
+    offsets: &[(f64, f64)],
+) -> Vec<Option<(linkwork::dynamics::row_lanes::Projected, f64, f64)>> {
+    use linkwork::dynamics::augmented::Equilibration;
+    use linkwork::dynamics::row_lanes::RowLanes;
+    use linkwork::dynamics::system::System;
+    use linkwork::sparse_lu::LANES;
+    let rows: Vec<(Vec<f64>, Vec<f64>)> =
+        (0..LANES).map(|j| moved_row(run, start + 1 + j, offsets[j])).collect();
+    let times: Vec<f64> = (0..LANES).map(|j| run.times[start + 1 + j]).collect();
+    let (mut lanes_sys, mut scalar_sys) = (System::new(model), System::new(model));
+    let (q0, qd0) = moved_row(run, start, (1e-6, 1e-6));
+    for sys in [&mut lanes_sys, &mut scalar_sys] {
+        let (mut q, mut qd) = (q0.clone(), qd0.clone());
+        sys.project_state(model, &mut q, &mut qd, run.times[start], Equilibration::New);
+    }
+    let mut lanes = RowLanes::new(model, &lanes_sys);
+    for (j, (q, qd)) in rows.iter().enumerate() {
+        let y: Vec<f64> = q.iter().chain(qd).copied().chain([0.0]).collect();
+        lanes.load(j, times[j], &y);
+    }
+    let untouched = |lanes: &RowLanes, j: usize| lanes.q[j] == rows[j].0 && lanes.qd[j] == rows[j].1;
+    let none = lanes.project(model, &mut lanes_sys, 0);
+    assert!(none.iter().all(|p| p.is_none()), "count 0 projected a lane");
+    assert!((0..LANES).all(|j| untouched(&lanes, j)), "count 0 moved a state");
+    let got = lanes.project(model, &mut lanes_sys, LANES);
+    (0..LANES)
+        .map(|j| {
+            let (mut want_q, mut want_qd) = rows[j].clone();
+            let want =
+                scalar_sys.project_state(model, &mut want_q, &mut want_qd, times[j], Equilibration::Kept);
+            let Some(got) = got[j] else {
+                assert!(untouched(&lanes, j), "row {j} of {start}: a state left was changed");
+                return None;
+            };
+            let at = format!("row {j} of {start}, {:?} off", offsets[j]);
+            assert_eq!(got.0, want.0, "{at}: iterations");
+            // the scaled drifts, to round-off of the unit-scaled rows (of Phi_q qd: its
+            // terms' size, the rates of order 1 to 10 here; measured 1.8e-15 at most)
+            for (a, b) in [(got.1, want.1), (got.2, want.2), (got.3, want.3)] {
+                assert!((a - b).abs() <= 1e-14, "{at}: {got:?} against {want:?}");
+            }
+            let dq = lanes.q[j].iter().zip(&want_q).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            let dqd = lanes.qd[j].iter().zip(&want_qd).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            Some((got, dq, dqd))
+        })
+        .collect()
+}
+
 /// A step's output rows projected four at a time (`RowLanes::project`) are the rows the
 /// scalar projection (`System::project_state`, rows after a step's first) gives: the same
 /// iterations and, to round-off, the same states. States: A02 (N = 1) along a run, moved
@@ -359,60 +430,20 @@ fn generalized_alpha_lets_work_taken_lower_the_energy_through_crossings() {
 /// which the scalar path must factor again for, is left to it (None) untouched.
 #[test]
 fn rows_projected_in_lanes_are_the_scalar_projections() {
-    use linkwork::dynamics::augmented::Equilibration;
-    use linkwork::dynamics::row_lanes::RowLanes;
-    use linkwork::dynamics::system::System;
-    use linkwork::sparse_lu::LANES;
     let model = n_four_bar_one();
     let run = n_four_bar_one_run(1e-8, 0.05, 40);
-    let n = model.n_coords;
     let (mut worst_q, mut worst_qd, mut lanes_taken) = (0.0f64, 0.0f64, 0);
     for start in (1..37).step_by(4) {
-        let state = |k: usize, off: f64| {
-            let mut q = run.q[k * n..(k + 1) * n].to_vec();
-            let mut qd = run.qd[k * n..(k + 1) * n].to_vec();
-            for i in 0..n {
-                q[i] += off * (1.3 * (i + k) as f64).sin();
-                qd[i] += off * (0.7 * (i + 2 * k) as f64).cos();
-            }
-            (q, qd)
-        };
         let far = start == 21;
-        let rows: [(Vec<f64>, Vec<f64>); LANES] =
-            std::array::from_fn(|j| state(start + 1 + j, if far && j == 2 { 0.2 } else { 1e-6 }));
-        let times: [f64; LANES] = std::array::from_fn(|j| run.times[start + 1 + j]);
-        // both workspaces as a step leaves them: its first row projected with a new equilibration
-        let (mut lanes_sys, mut scalar_sys) = (System::new(&model), System::new(&model));
-        let (q0, qd0) = state(start, 1e-6);
-        for sys in [&mut lanes_sys, &mut scalar_sys] {
-            let (mut q, mut qd) = (q0.clone(), qd0.clone());
-            sys.project_state(&model, &mut q, &mut qd, run.times[start], Equilibration::New);
-        }
-        let mut lanes = RowLanes::new(&model, &lanes_sys);
-        for (j, (q, qd)) in rows.iter().enumerate() {
-            let y: Vec<f64> = q.iter().chain(qd).copied().chain([0.0]).collect();
-            lanes.load(j, times[j], &y);
-        }
-        let got = lanes.project(&model, &mut lanes_sys, LANES);
-        let (q, qd) = (&lanes.q, &lanes.qd);
-        for j in 0..LANES {
-            let (mut want_q, mut want_qd) = rows[j].clone();
-            let want =
-                scalar_sys.project_state(&model, &mut want_q, &mut want_qd, times[j], Equilibration::Kept);
+        let offsets: Vec<(f64, f64)> =
+            (0..4).map(|j| if far && j == 2 { (0.2, 0.2) } else { (1e-6, 1e-6) }).collect();
+        for (j, row) in lanes_against_scalar(&model, &run, start, &offsets).into_iter().enumerate() {
             if far && j == 2 {
-                assert!(got[j].is_none(), "row {j} of {start}: the far state was projected in the lane");
-                assert!(q[j] == rows[j].0 && qd[j] == rows[j].1, "the far state was changed");
+                assert!(row.is_none(), "row {j} of {start}: the far state was projected in the lane");
                 continue;
             }
-            let got = got[j].unwrap_or_else(|| panic!("row {j} of {start} left to the scalar path"));
-            assert_eq!(got.0, want.0, "row {j} of {start}: iterations");
-            // the scaled drifts, to round-off of the unit-scaled rows (of Phi_q qd: its
-            // terms' size, the rates of order 1 to 10 here; measured 1.8e-15 at most)
-            for (a, b) in [(got.1, want.1), (got.2, want.2), (got.3, want.3)] {
-                assert!((a - b).abs() <= 1e-14, "row {j} of {start}: {got:?} against {want:?}");
-            }
-            worst_q = q[j].iter().zip(&want_q).fold(worst_q, |m, (a, b)| m.max((a - b).abs()));
-            worst_qd = qd[j].iter().zip(&want_qd).fold(worst_qd, |m, (a, b)| m.max((a - b).abs()));
+            let (_, dq, dqd) = row.unwrap_or_else(|| panic!("row {j} of {start} left to the scalar path"));
+            (worst_q, worst_qd) = (worst_q.max(dq), worst_qd.max(dqd));
             lanes_taken += 1;
         }
     }
@@ -423,28 +454,14 @@ fn rows_projected_in_lanes_are_the_scalar_projections() {
 
 /// Rows far further off than a dense output leaves them are the scalar projections where
 /// a lane takes them (the same iterations, up to 24 here) and untouched where it leaves
-/// them to the scalar path (None: 7 of 108, where that path factors again or a pivot fails its threshold). Four rows of
-/// A02 (N = 1) at once, moved off by 1e-6 to 0.3 in q and qd, or in qd alone (q on the
-/// constraints or 1e-9 off: no position correction or one); no row asked (count 0) is no
-/// row touched.
+/// them to the scalar path (None: 7 of 108, where that path factors again or a pivot fails
+/// its threshold). Four rows of A02 (N = 1) at once, moved off by 1e-6 to 0.3 in q and qd,
+/// or in qd alone (q on the constraints or 1e-9 off: no position correction or one); no
+/// row asked (count 0) is no row touched.
 #[test]
 fn rows_the_lanes_cannot_settle_as_the_scalar_path_are_left_to_it() {
-    use linkwork::dynamics::augmented::Equilibration;
-    use linkwork::dynamics::row_lanes::RowLanes;
-    use linkwork::dynamics::system::System;
-    use linkwork::sparse_lu::LANES;
     let model = n_four_bar_one();
     let run = n_four_bar_one_run(1e-8, 0.05, 40);
-    let n = model.n_coords;
-    let state = |k: usize, (off, off_d): (f64, f64)| {
-        let mut q = run.q[k * n..(k + 1) * n].to_vec();
-        let mut qd = run.qd[k * n..(k + 1) * n].to_vec();
-        for i in 0..n {
-            q[i] += off * (1.3 * (i + k) as f64).sin();
-            qd[i] += off_d * (0.7 * (i + 2 * k) as f64).cos();
-        }
-        (q, qd)
-    };
     // (q, qd) moved off by as much; the last four rows' q on the constraints or 1e-9 off
     // (no position correction or one) and their rates off
     let offsets = [1e-6, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3].map(|o| (o, o));
@@ -454,47 +471,13 @@ fn rows_the_lanes_cannot_settle_as_the_scalar_path_are_left_to_it() {
     // rows settled in lanes with no position correction and with one (18 and 17 here)
     let mut corrections = [0; 2];
     for start in (1..37).step_by(4) {
-        for group in offsets.chunks(LANES) {
-            let rows: Vec<(Vec<f64>, Vec<f64>)> =
-                (0..LANES).map(|j| state(start + 1 + j, group[j])).collect();
-            let times: Vec<f64> = (0..LANES).map(|j| run.times[start + 1 + j]).collect();
-            let (mut lanes_sys, mut scalar_sys) = (System::new(&model), System::new(&model));
-            let (q0, qd0) = state(start, (1e-6, 1e-6));
-            for sys in [&mut lanes_sys, &mut scalar_sys] {
-                let (mut q, mut qd) = (q0.clone(), qd0.clone());
-                sys.project_state(&model, &mut q, &mut qd, run.times[start], Equilibration::New);
-            }
-            let mut lanes = RowLanes::new(&model, &lanes_sys);
-            for (j, (q, qd)) in rows.iter().enumerate() {
-                let y: Vec<f64> = q.iter().chain(qd).copied().chain([0.0]).collect();
-                lanes.load(j, times[j], &y);
-            }
-            let none = lanes.project(&model, &mut lanes_sys, 0);
-            assert!(none.iter().all(|p| p.is_none()), "count 0 projected a lane");
-            assert!((0..LANES).all(|j| lanes.q[j] == rows[j].0 && lanes.qd[j] == rows[j].1));
-            let got = lanes.project(&model, &mut lanes_sys, LANES);
-            for j in 0..LANES {
-                let (mut want_q, mut want_qd) = rows[j].clone();
-                let want = scalar_sys.project_state(
-                    &model,
-                    &mut want_q,
-                    &mut want_qd,
-                    times[j],
-                    Equilibration::Kept,
-                );
-                let Some(got) = got[j] else {
-                    assert!(lanes.q[j] == rows[j].0 && lanes.qd[j] == rows[j].1, "a state left was changed");
+        for group in offsets.chunks(4) {
+            for row in lanes_against_scalar(&model, &run, start, group) {
+                let Some((got, dq, dqd)) = row else {
                     left += 1;
                     continue;
                 };
-                let at = format!("row {j} of {start}, {:?} off", group[j]);
-                assert_eq!(got.0, want.0, "{at}: iterations");
-                for (a, b) in [(got.1, want.1), (got.2, want.2), (got.3, want.3)] {
-                    assert!((a - b).abs() <= 1e-14, "{at}: {got:?} against {want:?}");
-                }
-                worst_q = lanes.q[j].iter().zip(&want_q).fold(worst_q, |m, (a, b)| m.max((a - b).abs()));
-                worst_qd = lanes.qd[j].iter().zip(&want_qd).fold(worst_qd, |m, (a, b)| m.max((a - b).abs()));
-                longest = longest.max(got.0);
+                (worst_q, worst_qd, longest) = (worst_q.max(dq), worst_qd.max(dqd), longest.max(got.0));
                 if got.0 < 2 {
                     corrections[got.0] += 1;
                 }
