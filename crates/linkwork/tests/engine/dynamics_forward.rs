@@ -547,3 +547,39 @@ fn rows_go_to_lanes_where_the_augmented_matrix_is_large_enough() {
     assert!(RowLanes::for_model(&large, &large_sys).is_some());
     assert!(RowLanes::for_model(&small, &small_sys).is_none());
 }
+
+/// Phi_q^T y (`jacobian_transpose_times`, the constraint forces of gen-alpha's residual)
+/// is the adjoint of Phi_q x (`jacobian_times`): y . (Phi_q x) = (Phi_q^T y) . x for every
+/// pair, to round-off of the products' terms (entries and vectors of order 1: 1e-13), at
+/// states of an A02 (N = 1) run. Phi_q x itself is checked against the joints' own rows
+/// (`every_rows_rates_lie_on_the_velocity_constraints`).
+#[test]
+fn phi_q_transpose_times_is_the_adjoint_of_phi_q_times() {
+    use linkwork::dynamics::augmented::Augmented;
+    use linkwork::dynamics::mass::frames_of;
+    let model = n_four_bar_one();
+    let run = n_four_bar_one_run(1e-6, 0.05, 20);
+    let (n, m) = (model.n_coords, model.n_rows);
+    let mut aug = Augmented::new(&model);
+    let mut frames = vec![linkwork::constraints::Frame::GROUND; model.n_bodies];
+    let mut phi = vec![0.0; m];
+    let (mut jx, mut jty) = (vec![0.0; m], vec![0.0; n]);
+    let mut smallest = f64::INFINITY;
+    for k in 0..run.n_done {
+        let q = &run.q[k * n..(k + 1) * n];
+        frames_of(q, &vec![0.0; n], &mut frames);
+        aug.fill(&model, &frames, q, run.times[k], 1.0, &mut phi);
+        for pair in 0..3 {
+            let x: Vec<f64> = (0..n).map(|i| (0.9 * (i + 5 * pair + k) as f64).sin()).collect();
+            let y: Vec<f64> = (0..m).map(|i| (1.7 * (i + 3 * pair + k) as f64).cos()).collect();
+            aug.jacobian_times(&x, &mut jx);
+            aug.jacobian_transpose_times(&y, &mut jty);
+            let (a, b): (f64, f64) =
+                (y.iter().zip(&jx).map(|(u, v)| u * v).sum(), x.iter().zip(&jty).map(|(u, v)| u * v).sum());
+            assert!((a - b).abs() <= 1e-13, "state {k}, pair {pair}: {a} against {b}");
+            smallest = smallest.min(jty.iter().fold(0.0f64, |s, v| s.max(v.abs())));
+        }
+    }
+    // the forces are not all zero (an emptied product would pass the identity with Phi_q x = 0 only)
+    assert!(smallest > 0.1, "|Phi_q^T y| as small as {smallest}");
+}
