@@ -216,8 +216,7 @@ fn the_rows_projections_converge_as_newtons_do() {
 /// The parallelogram `model` started at crank angle th turning at w, generalized-alpha at
 /// rtol = atol for 1 s with rows dt apart: the run's output and result.
 fn gen_alpha_spin(model: &Model, th: f64, w: f64, rtol: f64, dt: f64) -> (SimOutput, Result<(), SolveError>) {
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let (q0, qd0) = crate::dynamics_properties::spin_state(th, w);
     let times: Vec<f64> = (0..=(1.0 / dt).round() as usize).map(|k| dt * k as f64).collect();
     let opts = SimOptions { method: Method::GenAlpha, rtol, atol: rtol, ..SimOptions::default() };
     let mut out = SimOutput::new(model, &times);
@@ -609,8 +608,7 @@ fn rk8_rows_between_step_ends_carry_their_own_work() {
         r#"{"type": "friction", "name": "damper", "joint": "O2", "viscous": 0.002}"#,
     );
     let (th, w) = (0.5f64, 20.0f64);
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let (q0, qd0) = crate::dynamics_properties::spin_state(th, w);
     let times: Vec<f64> = (0..=250).map(|k| 0.002 * k as f64).collect();
     // the rows' accelerations left to a solve after the run, as the Python binding asks:
     // only then are rows projected in lanes

@@ -308,6 +308,14 @@ pub(crate) fn free_parallelogram_with(loads: &str) -> Model {
     free_model(&parallelogram_json(loads))
 }
 
+/// The free parallelogram's (q, qd) with its crank at `th` turning at `w` rad/s (the
+/// coupler translating, the rocker turning with the crank).
+pub(crate) fn spin_state(th: f64, w: f64) -> ([f64; 9], [f64; 9]) {
+    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
+    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    (q0, qd0)
+}
+
 fn free_model(json: &str) -> Model {
     Model::with_options(Description::from_json(json).unwrap(), Options { free: true, ..Options::default() })
         .unwrap()
@@ -386,8 +394,7 @@ fn spinning_parallelogram_change_points(
 ) -> (Vec<linkwork::stepping::singular::Event>, f64) {
     use linkwork::stepping::singular::EventKind;
     use std::f64::consts::PI;
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let (q0, qd0) = spin_state(th, w);
     let times: Vec<f64> = (0..=(1.0 / dt).round() as usize).map(|k| dt * k as f64).collect();
     let opts = SimOptions { method, rtol, atol: rtol, ..SimOptions::default() };
     let mut out = SimOutput::new(model, &times);
@@ -488,8 +495,7 @@ fn a_change_point_a_microsecond_from_the_runs_end_is_reported_inside_it_and_not_
     use linkwork::stepping::singular::EventKind;
     let model = free_parallelogram();
     let (th, w) = (0.5f64, 25.0f64);
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let (q0, qd0) = spin_state(th, w);
     let opts = SimOptions { method: Method::Rk8, rtol: 1e-10, atol: 1e-10, ..SimOptions::default() };
     let crossings = |t_end: f64| -> Vec<f64> {
         let times: Vec<f64> = (0..=10).map(|k| t_end * k as f64 / 10.0).collect();
@@ -602,8 +608,7 @@ fn a_lightly_damped_parallelogram_keeps_its_energy_balance_through_change_points
             "stiffness": 0.0, "free_angle": 0.0, "damping": 1e-9}"#,
     );
     let (th, w) = (0.5f64, 25.0);
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let (q0, qd0) = spin_state(th, w);
     let times: Vec<f64> = (0..=200).map(|k| 0.005 * k as f64).collect();
     let opts = SimOptions { rtol: 1e-10, atol: 1e-10, ..SimOptions::default() };
     let mut out = SimOutput::new(&model, &times);
@@ -629,8 +634,7 @@ fn generalized_alpha_stops_with_a_named_error_where_a_crossing_step_breaks_the_e
     use linkwork::stepping::singular::EventKind;
     let model = free_parallelogram();
     let (th, w, rtol, dt) = (0.30f64, 95.4, 5.2e-3, 0.02);
-    let q0 = [0.0, 0.0, th, 0.1 * th.cos(), 0.1 * th.sin(), 0.0, 0.3, 0.0, th];
-    let qd0 = [0.0, 0.0, w, -0.1 * w * th.sin(), 0.1 * w * th.cos(), 0.0, 0.0, 0.0, w];
+    let (q0, qd0) = spin_state(th, w);
     let times: Vec<f64> = (0..=50).map(|k| dt * k as f64).collect();
     let opts = SimOptions { method: Method::GenAlpha, rtol, atol: rtol, ..SimOptions::default() };
     let mut out = SimOutput::new(&model, &times);
